@@ -1,0 +1,62 @@
+# Finds every third-party dependency once and normalises it to one target named
+# nsg::dep::<name>. Modules link these names only; nothing else calls find_*.
+include_guard(GLOBAL)
+find_package(PkgConfig REQUIRED)
+find_package(Threads REQUIRED)
+
+function(nsg_alias_pkg name module)
+  pkg_check_modules(NSG_PC_${name} REQUIRED IMPORTED_TARGET ${module})
+  add_library(nsg::dep::${name} ALIAS PkgConfig::NSG_PC_${name})
+endfunction()
+
+# JSON: simdjson for the big tables, nlohmann for small documents.
+find_package(simdjson REQUIRED)
+add_library(nsg_dep_simdjson INTERFACE)
+target_link_libraries(nsg_dep_simdjson INTERFACE simdjson::simdjson)
+add_library(nsg::dep::simdjson ALIAS nsg_dep_simdjson)
+
+find_package(nlohmann_json 3.10 REQUIRED)
+add_library(nsg::dep::json ALIAS nlohmann_json::nlohmann_json)
+
+find_package(CLI11 REQUIRED)
+add_library(nsg_dep_cli11 INTERFACE)
+target_link_libraries(nsg_dep_cli11 INTERFACE CLI11::CLI11)
+add_library(nsg::dep::cli11 ALIAS nsg_dep_cli11)
+
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+add_library(nsg::dep::eigen ALIAS Eigen3::Eigen)
+
+nsg_alias_pkg(crypto libcrypto)
+nsg_alias_pkg(turbojpeg libturbojpeg)
+nsg_alias_pkg(png libpng)
+nsg_alias_pkg(tiff libtiff-4)
+nsg_alias_pkg(archive libarchive)
+nsg_alias_pkg(geographiclib geographiclib)
+
+# libgeotiff ships neither a pkg-config file nor a CMake config on Debian 12.
+find_path(NSG_GEOTIFF_INCLUDE geotiff.h PATH_SUFFIXES geotiff REQUIRED)
+find_library(NSG_GEOTIFF_LIB NAMES geotiff REQUIRED)
+add_library(nsg_dep_geotiff INTERFACE)
+target_include_directories(nsg_dep_geotiff INTERFACE ${NSG_GEOTIFF_INCLUDE})
+target_link_libraries(nsg_dep_geotiff INTERFACE ${NSG_GEOTIFF_LIB} nsg::dep::tiff)
+add_library(nsg::dep::geotiff ALIAS nsg_dep_geotiff)
+
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs ml)
+add_library(nsg_dep_opencv INTERFACE)
+target_include_directories(nsg_dep_opencv INTERFACE ${OpenCV_INCLUDE_DIRS})
+target_link_libraries(nsg_dep_opencv INTERFACE ${OpenCV_LIBS})
+add_library(nsg::dep::opencv ALIAS nsg_dep_opencv)
+
+# valijson is header-only; its nlohmann adapter is what we use.
+find_path(NSG_VALIJSON_INCLUDE valijson/validator.hpp REQUIRED)
+add_library(nsg_dep_valijson INTERFACE)
+target_include_directories(nsg_dep_valijson INTERFACE ${NSG_VALIJSON_INCLUDE})
+target_link_libraries(nsg_dep_valijson INTERFACE nsg::dep::json)
+add_library(nsg::dep::valijson ALIAS nsg_dep_valijson)
+
+if(NSG_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(NSG_BUILD_BENCH)
+  find_package(benchmark REQUIRED)
+endif()

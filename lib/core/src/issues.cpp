@@ -1,0 +1,59 @@
+#include "nsg/core/issues.h"
+
+#include "nsg/core/error.h"
+
+namespace nsg {
+
+const char* severity_name(Severity s) {
+  switch (s) {
+    case Severity::kInfo: return "info";
+    case Severity::kWarning: return "warning";
+    case Severity::kError: return "error";
+  }
+  return "error";
+}
+
+void Issues::add(Severity severity, std::string check, std::string subject, std::string message) {
+  items_.push_back({severity, std::move(check), std::move(subject), std::move(message)});
+}
+
+void Issues::append(const Issues& other) {
+  items_.insert(items_.end(), other.items_.begin(), other.items_.end());
+}
+
+size_t Issues::count(Severity s) const {
+  size_t n = 0;
+  for (const Issue& i : items_) n += (i.severity == s);
+  return n;
+}
+
+size_t Issues::count_check(const std::string& check) const {
+  size_t n = 0;
+  for (const Issue& i : items_) n += (i.check == check);
+  return n;
+}
+
+std::string Issues::format() const {
+  std::string out;
+  for (const Issue& i : items_) {
+    out += severity_name(i.severity);
+    out += ' ';
+    out += i.check;
+    out += ' ';
+    out += i.subject;
+    out += ": ";
+    out += i.message;
+    out += '\n';
+  }
+  return out;
+}
+
+void Issues::throw_if_errors(const std::string& file) const {
+  for (const Issue& i : items_) {
+    if (i.severity == Severity::kError) {
+      throw DataError(file, i.subject, i.check + ": " + i.message + " (strict mode)");
+    }
+  }
+}
+
+}  // namespace nsg

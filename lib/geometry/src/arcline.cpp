@@ -1,0 +1,1 @@
+// Placeholder: arcline (Dubins) discretization, bit-identical to the devkit (in progress).

@@ -1,0 +1,58 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "nsg/core/atomic_file.h"
+#include "nsg/core/error.h"
+#include "nsg/core/files.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+
+namespace nsg {
+
+namespace {
+size_t count_files(const fs::path& dir) {
+  size_t n = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++n;
+  return n;
+}
+}  // namespace
+
+TEST(AtomicFile, CommitReplacesTargetAndLeavesNoTemp) {
+  test::TempDir dir("atomic");
+  write_file_atomic(dir / "sub/out.txt", "first");
+  write_file_atomic(dir / "sub/out.txt", "second");
+  EXPECT_EQ(read_file(dir / "sub/out.txt"), "second");
+  EXPECT_EQ(count_files(dir / "sub"), 1u);
+}
+
+TEST(AtomicFile, AbandonedWriterLeavesNothing) {
+  test::TempDir dir("atomic");
+  {
+    AtomicFileWriter w(dir / "out.bin");
+    w.write("partial");
+    EXPECT_TRUE(fs::exists(w.temp_path()));
+  }  // destroyed without commit, as on an exception
+  EXPECT_EQ(count_files(dir.path()), 0u);
+}
+
+TEST(AtomicFile, UnwritableFolderIsAnIoErrorNamingThePath) {
+  try {
+    write_file_atomic("/proc/nsg-cannot-write/x.txt", "x");
+    FAIL() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("/proc/nsg-cannot-write"), std::string::npos);
+  }
+}
+
+TEST(Files, ReadMissingFileNamesIt) {
+  try {
+    read_file("/nonexistent/nsg.json");
+    FAIL();
+  } catch (const IoError& e) {
+    EXPECT_EQ(e.file(), "/nonexistent/nsg.json");
+  }
+}
+
+}  // namespace nsg

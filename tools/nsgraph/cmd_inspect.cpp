@@ -1,0 +1,12 @@
+// `nsgraph inspect <what>`: debugging views of the inputs (DESIGN.md §2).
+#include "commands.h"
+
+namespace nsg::cli {
+
+void add_inspect_command(CLI::App& root, Context& ctx) {
+  CLI::App* inspect = root.add_subcommand("inspect", "Print what the toolkit reads from a release (JSON)");
+  inspect->require_subcommand(1);
+  (void)ctx;
+}
+
+}  // namespace nsg::cli
