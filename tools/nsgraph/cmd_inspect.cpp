@@ -6,7 +6,8 @@ namespace nsg::cli {
 void add_inspect_command(CLI::App& root, Context& ctx) {
   CLI::App* inspect = root.add_subcommand("inspect", "Print what the toolkit reads from a release (JSON)");
   inspect->require_subcommand(1);
-  (void)ctx;
+  add_inspect_centerlines(*inspect, ctx);
+  add_inspect_sweep(*inspect, ctx);
 }
 
 }  // namespace nsg::cli

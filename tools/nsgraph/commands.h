@@ -16,6 +16,13 @@ struct Context {
 
 using AddCommand = void (*)(CLI::App& root, Context& ctx);
 
+// Top-level commands (tools/nsgraph/cmd_<name>.cpp), listed in main.cpp's table.
 void add_inspect_command(CLI::App& root, Context& ctx);
+void add_synth_command(CLI::App& root, Context& ctx);
+void add_score_command(CLI::App& root, Context& ctx);
+
+// `inspect` subcommands (cmd_inspect_<what>.cpp), added by add_inspect_command.
+void add_inspect_centerlines(CLI::App& inspect, Context& ctx);
+void add_inspect_sweep(CLI::App& inspect, Context& ctx);
 
 }  // namespace nsg::cli

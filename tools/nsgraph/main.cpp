@@ -12,7 +12,9 @@ namespace {
 
 // The one explicit command table (no self-registering statics).
 constexpr nsg::cli::AddCommand kCommands[] = {
+    &nsg::cli::add_synth_command,
     &nsg::cli::add_inspect_command,
+    &nsg::cli::add_score_command,
 };
 
 int run(int argc, char** argv) {
