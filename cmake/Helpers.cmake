@@ -23,11 +23,15 @@ function(nsg_add_library module)
   target_link_libraries(nsg_${module} PUBLIC ${ARG_DEPS} PRIVATE ${ARG_PRIVATE_DEPS} nsg_build_flags)
 endfunction()
 
-# nsg_add_test(<module> SOURCES ... DEPS ...): one GoogleTest binary per module;
-# CTest names are <module>/<Suite>.<Test> so `ctest -R graph/` runs one module.
+# nsg_add_test(<module> [PART <part>] SOURCES ... DEPS ...): a GoogleTest binary
+# test_<module>[_<part>]; CTest names are <module>/<Suite>.<Test> so `ctest -R graph/`
+# runs one module whichever binary holds the test.
 function(nsg_add_test module)
-  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "" "PART" "SOURCES;DEPS" ${ARGN})
   set(target test_${module})
+  if(ARG_PART)
+    set(target test_${module}_${ARG_PART})
+  endif()
   add_executable(${target} ${ARG_SOURCES})
   target_link_libraries(${target} PRIVATE ${ARG_DEPS} nsg_test_support GTest::gtest GTest::gtest_main nsg_build_flags)
   gtest_discover_tests(${target}

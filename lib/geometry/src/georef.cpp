@@ -1,0 +1,1 @@
+// Placeholder: georeferencing (GeographicLib) lands with the reader.
