@@ -3,6 +3,7 @@
 // roads, buildings, traffic) and the sensor simulators (lidar_sim.cpp, camera_sim.cpp).
 // Everything is in the global map frame: metres, x east, y north, z up.
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
