@@ -1,0 +1,80 @@
+#pragma once
+// The directed lane graph of one location (DESIGN.md §4 "Lane graph"): every lane and lane
+// connector discretized exactly like the devkit, joined per lane without duplicated joint
+// poses, resampled along arc length to evenly spaced nodes at most `max_spacing_m` apart,
+// and joined across connectivity (the end node of A is the start node of B).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "nsg/core/issues.h"
+#include "nsg/geometry/arcline.h"
+
+namespace nsg::graph {
+
+// One lane or lane connector as the map gives it (reader-independent, so tests can build
+// analytic maps without JSON).
+struct LaneSource {
+  std::string token;
+  bool is_connector = false;
+  std::vector<geometry::ArclinePath> paths;  // arcline_path_3[token]
+  bool has_connectivity = true;              // token present in `connectivity`
+  std::vector<std::string> outgoing;
+  std::vector<std::string> incoming;
+};
+
+struct LaneGraphOptions {
+  double max_spacing_m = 2.0;         // cap on the distance between consecutive nodes
+  double source_resolution_m = 0.5;   // devkit discretization before resampling
+  double join_tolerance_m = 0.05;     // lane ends closer than this become one node
+  bool strict = false;                // map defects become errors
+  void validate() const;              // throws ConfigError naming the field
+};
+
+struct Node {
+  double x_m = 0.0;
+  double y_m = 0.0;
+};
+
+struct Edge {
+  int32_t source = -1;  // node index
+  int32_t target = -1;
+  int32_t lane = -1;    // index into LaneGraph::lanes
+};
+
+struct Lane {
+  std::string token;
+  bool is_connector = false;
+  double length_m = 0.0;       // polyline length of the joined discretization
+  std::vector<int32_t> nodes;  // node chain from start to end (after joining)
+  std::vector<int32_t> successors;    // lane indices from `outgoing` that resolved
+};
+
+struct LaneGraph {
+  std::vector<Node> nodes;
+  std::vector<Edge> edges;  // lane by lane, in lane order, from start to end
+  std::vector<Lane> lanes;  // input order (lanes then connectors, as the map lists them)
+
+  double edge_length_m(const Edge& e) const;
+  double max_edge_length_m() const;
+  // Lane index of a token, or −1.
+  int32_t find_lane(const std::string& token) const;
+};
+
+// Builds the graph. Map defects (dangling connectivity, unmirrored incoming/outgoing,
+// lanes without paths, ends farther apart than the tolerance, isolated lanes) are added
+// to `issues` as errors (checks "graph.*"); with options.strict the first one throws
+// DataError naming `map_label` and the token.
+LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGraphOptions& options,
+                           Issues* issues, const std::string& map_label = "");
+
+// Points of a polyline resampled along its arc length into n = ceil(length / max_spacing) + 1
+// evenly spaced points (n ≥ 2), first and last kept exactly.
+std::vector<Node> resample_polyline(const std::vector<Node>& polyline, double max_spacing_m);
+
+// The joined centerline of one lane: devkit discretization of each path, without the
+// repeated joint pose between consecutive paths.
+std::vector<Node> joined_centerline(const std::vector<geometry::ArclinePath>& paths,
+                                    double resolution_m);
+
+}  // namespace nsg::graph

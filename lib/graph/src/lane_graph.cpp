@@ -1,0 +1,234 @@
+#include "nsg/graph/lane_graph.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "nsg/core/error.h"
+#include "nsg/core/strings.h"
+
+namespace nsg::graph {
+namespace {
+
+double distance(const Node& a, const Node& b) { return std::hypot(b.x_m - a.x_m, b.y_m - a.y_m); }
+
+// Union–find over node indices; the representative is the smallest index so the merged
+// graph does not depend on the order in which joins are found.
+class NodeUnion {
+ public:
+  explicit NodeUnion(size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
+  int32_t find(int32_t i) {
+    while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
+    return i;
+  }
+  void join(int32_t a, int32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a == b) return;
+    if (b < a) std::swap(a, b);
+    parent_[b] = a;
+  }
+
+ private:
+  std::vector<int32_t> parent_;
+};
+
+bool contains(const std::vector<std::string>& list, const std::string& token) {
+  return std::find(list.begin(), list.end(), token) != list.end();
+}
+
+// Map defects found while building; reported as warnings, or thrown with --strict.
+struct DefectLog {
+  std::vector<Issue> found;
+  void add(const std::string& check, const std::string& token, const std::string& message) {
+    found.push_back({Severity::kWarning, "graph." + check, token, message});
+  }
+};
+
+void check_connectivity(const std::vector<LaneSource>& sources,
+                        const std::unordered_map<std::string, int32_t>& index, DefectLog* log) {
+  for (const LaneSource& a : sources) {
+    if (!a.has_connectivity) {
+      log->add("missing_connectivity", a.token, "token has no entry in `connectivity`");
+      continue;
+    }
+    for (const std::string& b : a.outgoing) {
+      auto it = index.find(b);
+      if (it == index.end()) {
+        log->add("dangling_connectivity", a.token,
+                 "outgoing names " + b + ", which is neither a lane nor a lane connector");
+      } else if (sources[it->second].has_connectivity && !contains(sources[it->second].incoming, a.token)) {
+        log->add("unmirrored_connectivity", a.token,
+                 "outgoing names " + b + " but its incoming list does not name " + a.token);
+      }
+    }
+    for (const std::string& c : a.incoming) {
+      auto it = index.find(c);
+      if (it == index.end()) {
+        log->add("dangling_connectivity", a.token,
+                 "incoming names " + c + ", which is neither a lane nor a lane connector");
+      } else if (sources[it->second].has_connectivity && !contains(sources[it->second].outgoing, a.token)) {
+        log->add("unmirrored_connectivity", a.token,
+                 "incoming names " + c + " but its outgoing list does not name " + a.token);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void LaneGraphOptions::validate() const {
+  if (!(max_spacing_m > 0.0) || !std::isfinite(max_spacing_m))
+    throw ConfigError("", "graph.max_spacing_m", "expected a positive number of metres");
+  if (!(source_resolution_m > 0.0) || !std::isfinite(source_resolution_m))
+    throw ConfigError("", "graph.source_resolution_m", "expected a positive number of metres");
+  if (!(join_tolerance_m >= 0.0) || !std::isfinite(join_tolerance_m))
+    throw ConfigError("", "graph.join_tolerance_m", "expected a non-negative number of metres");
+}
+
+double LaneGraph::edge_length_m(const Edge& e) const { return distance(nodes[e.source], nodes[e.target]); }
+
+double LaneGraph::max_edge_length_m() const {
+  double longest = 0.0;
+  for (const Edge& e : edges) longest = std::max(longest, edge_length_m(e));
+  return longest;
+}
+
+int32_t LaneGraph::find_lane(const std::string& token) const {
+  for (size_t i = 0; i < lanes.size(); ++i)
+    if (lanes[i].token == token) return static_cast<int32_t>(i);
+  return -1;
+}
+
+std::vector<Node> joined_centerline(const std::vector<geometry::ArclinePath>& paths,
+                                    double resolution_m) {
+  std::vector<Node> line;
+  for (size_t p = 0; p < paths.size(); ++p) {
+    std::vector<geometry::Pose2> poses = geometry::discretize_arcline(paths[p], resolution_m);
+    // The last pose of a path repeats the next path's start pose (the devkit keeps both);
+    // keep the stored start pose of the next path.
+    if (p + 1 < paths.size() && !poses.empty()) poses.pop_back();
+    for (const geometry::Pose2& pose : poses) line.push_back({pose.x, pose.y});
+  }
+  return line;
+}
+
+std::vector<Node> resample_polyline(const std::vector<Node>& polyline, double max_spacing_m) {
+  if (polyline.empty()) return {};
+  std::vector<double> cumulative(polyline.size(), 0.0);
+  for (size_t i = 1; i < polyline.size(); ++i)
+    cumulative[i] = cumulative[i - 1] + distance(polyline[i - 1], polyline[i]);
+  const double length = cumulative.back();
+  const size_t n = std::max<size_t>(static_cast<size_t>(std::ceil(length / max_spacing_m)) + 1, 2);
+  std::vector<Node> out;
+  out.reserve(n);
+  out.push_back(polyline.front());
+  size_t seg = 1;
+  for (size_t k = 1; k + 1 < n; ++k) {
+    const double s = length * static_cast<double>(k) / static_cast<double>(n - 1);
+    while (seg + 1 < polyline.size() && cumulative[seg] < s) ++seg;
+    const double seg_len = cumulative[seg] - cumulative[seg - 1];
+    const double t = seg_len > 0.0 ? (s - cumulative[seg - 1]) / seg_len : 0.0;
+    const Node& a = polyline[seg - 1];
+    const Node& b = polyline[seg];
+    out.push_back({a.x_m + t * (b.x_m - a.x_m), a.y_m + t * (b.y_m - a.y_m)});
+  }
+  out.push_back(polyline.back());
+  return out;
+}
+
+LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGraphOptions& options,
+                           Issues* issues, const std::string& map_label) {
+  options.validate();
+  DefectLog log;
+  std::unordered_map<std::string, int32_t> index;
+  for (size_t i = 0; i < sources.size(); ++i) {
+    if (!index.emplace(sources[i].token, static_cast<int32_t>(i)).second)
+      log.add("duplicate_token", sources[i].token, "token appears twice among lanes and connectors");
+  }
+  check_connectivity(sources, index, &log);
+
+  // 1. Each lane on its own: discretize, join, resample.
+  LaneGraph raw;
+  raw.lanes.resize(sources.size());
+  for (size_t i = 0; i < sources.size(); ++i) {
+    const LaneSource& src = sources[i];
+    Lane& lane = raw.lanes[i];
+    lane.token = src.token;
+    lane.is_connector = src.is_connector;
+    if (src.paths.empty()) {
+      log.add("no_arcline_path", src.token, "lane has no arcline_path_3 entry; left out of the graph");
+      continue;
+    }
+    const std::vector<Node> line = joined_centerline(src.paths, options.source_resolution_m);
+    for (size_t k = 1; k < line.size(); ++k) lane.length_m += distance(line[k - 1], line[k]);
+    for (const Node& node : resample_polyline(line, options.max_spacing_m)) {
+      lane.nodes.push_back(static_cast<int32_t>(raw.nodes.size()));
+      raw.nodes.push_back(node);
+    }
+  }
+
+  // 2. Join ends across connectivity.
+  NodeUnion joins(raw.nodes.size());
+  std::vector<bool> connected(sources.size(), false);
+  for (size_t a = 0; a < sources.size(); ++a) {
+    for (const std::string& token : sources[a].outgoing) {
+      auto it = index.find(token);
+      if (it == index.end()) continue;
+      const int32_t b = it->second;
+      Lane& from = raw.lanes[a];
+      const Lane& to = raw.lanes[b];
+      if (from.nodes.empty() || to.nodes.empty()) continue;
+      const double gap = distance(raw.nodes[from.nodes.back()], raw.nodes[to.nodes.front()]);
+      if (gap > options.join_tolerance_m) {
+        log.add("ends_apart", sources[a].token,
+                "end is " + format_double(gap) + " m from the start of outgoing " + token +
+                    " (tolerance " + format_double(options.join_tolerance_m) + " m); not joined");
+        continue;
+      }
+      joins.join(from.nodes.back(), to.nodes.front());
+      from.successors.push_back(b);
+      connected[a] = connected[b] = true;
+    }
+  }
+  for (size_t i = 0; i < sources.size(); ++i) {
+    if (!connected[i] && !raw.lanes[i].nodes.empty())
+      log.add("isolated_lane", sources[i].token, "lane joins no other lane");
+  }
+
+  // 3. Compact: representatives keep their own position; ids in order of first use.
+  LaneGraph graph;
+  graph.lanes = std::move(raw.lanes);
+  std::vector<int32_t> new_id(raw.nodes.size(), -1);
+  for (size_t i = 0; i < raw.nodes.size(); ++i) {
+    const int32_t rep = joins.find(static_cast<int32_t>(i));
+    if (new_id[rep] < 0) {
+      new_id[rep] = static_cast<int32_t>(graph.nodes.size());
+      graph.nodes.push_back(raw.nodes[rep]);
+    }
+    new_id[i] = new_id[rep];
+  }
+  for (size_t l = 0; l < graph.lanes.size(); ++l) {
+    Lane& lane = graph.lanes[l];
+    for (int32_t& n : lane.nodes) n = new_id[n];
+    for (size_t k = 1; k < lane.nodes.size(); ++k) {
+      if (lane.nodes[k - 1] == lane.nodes[k]) continue;  // a zero-length lane joined to itself
+      graph.edges.push_back({lane.nodes[k - 1], lane.nodes[k], static_cast<int32_t>(l)});
+    }
+  }
+
+  for (const Issue& issue : log.found) {
+    if (issues) issues->add(issue.severity, issue.check, issue.subject, issue.message);
+  }
+  if (options.strict && !log.found.empty()) {
+    const Issue& first = log.found.front();
+    throw DataError(map_label, first.subject,
+                    first.check + ": " + first.message + " (--strict; " +
+                        std::to_string(log.found.size()) + " map defect(s) in all)");
+  }
+  return graph;
+}
+
+}  // namespace nsg::graph
