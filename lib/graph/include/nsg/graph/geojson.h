@@ -1,0 +1,17 @@
+#pragma once
+// GeoJSON export of a lane graph for QGIS (DESIGN.md §6): WGS 84 lon/lat through the
+// devkit's projection of the location, one LineString feature per directed edge (first
+// coordinate = source) with its lane token.
+#include <ostream>
+#include <string>
+#include <string_view>
+
+#include "nsg/graph/lane_graph.h"
+
+namespace nsg::graph {
+
+void write_geojson(const LaneGraph& graph, std::string_view location, std::ostream& out);
+// Writes atomically (temp + rename).
+void write_geojson_file(const LaneGraph& graph, std::string_view location, const std::string& path);
+
+}  // namespace nsg::graph

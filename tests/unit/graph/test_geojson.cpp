@@ -1,0 +1,50 @@
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "graph_fixtures.h"
+#include "nsg/geometry/georef.h"
+#include "nsg/graph/geojson.h"
+
+namespace nsg::graph {
+namespace {
+
+TEST(GeoJson, EdgesRoundTripToMapMetresWithinOneMillimetre) {
+  // Shift the T-junction into the map (y > 0 everywhere) near Boston's far corner.
+  std::vector<LaneSource> map = test::t_junction();
+  for (LaneSource& s : map)
+    for (geometry::ArclinePath& p : s.paths) {
+      p.start_pose.x += 2900;
+      p.start_pose.y += 2050;
+    }
+  const LaneGraph g = build_lane_graph(map, {}, nullptr);
+  std::ostringstream text;
+  write_geojson(g, "boston-seaport", text);
+  const nlohmann::json doc = nlohmann::json::parse(text.str());
+  ASSERT_EQ(doc["type"], "FeatureCollection");
+  ASSERT_EQ(doc["features"].size(), g.edges.size());
+  const geometry::AzimuthalProjection projection("boston-seaport");
+  for (size_t e = 0; e < g.edges.size(); ++e) {
+    const nlohmann::json& f = doc["features"][e];
+    EXPECT_EQ(f["properties"]["lane_token"], g.lanes[g.edges[e].lane].token);
+    const auto& coords = f["geometry"]["coordinates"];
+    ASSERT_EQ(coords.size(), 2u);
+    for (int end = 0; end < 2; ++end) {
+      const Node& n = g.nodes[end == 0 ? g.edges[e].source : g.edges[e].target];
+      const auto xy = projection.to_map(coords[end][0].get<double>(), coords[end][1].get<double>());
+      EXPECT_NEAR(xy[0], n.x_m, 1e-3);
+      EXPECT_NEAR(xy[1], n.y_m, 1e-3);
+      // Same answer as the devkit's own formula.
+      const geometry::LonLat devkit = geometry::map_to_lonlat("boston-seaport", n.x_m, n.y_m);
+      EXPECT_NEAR(coords[end][0].get<double>(), devkit.lon_deg, 1e-9);
+      EXPECT_NEAR(coords[end][1].get<double>(), devkit.lat_deg, 1e-9);
+    }
+  }
+  // Lon/lat order: Boston is west of Greenwich and north of the equator.
+  EXPECT_LT(doc["features"][0]["geometry"]["coordinates"][0][0].get<double>(), -70.0);
+  EXPECT_GT(doc["features"][0]["geometry"]["coordinates"][0][1].get<double>(), 42.0);
+}
+
+}  // namespace
+}  // namespace nsg::graph
