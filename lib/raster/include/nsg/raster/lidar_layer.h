@@ -1,0 +1,65 @@
+#pragma once
+// The LiDAR layer: per 0.2 m cell the lowest point over all sweeps of a location (the
+// paper's trick: the ground under a moving car is seen in other sweeps and is lower than
+// the car, so moving objects vanish). Accumulation per scene, then an associative and
+// commutative reduction, so the result depends neither on scene order nor thread count.
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "nsg/raster/sparse_grid.h"
+
+namespace nsg::raster {
+
+struct LidarOptions {
+  double resolution_m = 0.2;
+  double roof_half_size_m = 1.0;  // drop |x| < this and |y| < this in the sensor frame (devkit remove_close)
+  double max_range_m = 60.0;      // drop points farther (in the sensor's xy plane)
+  void validate() const;
+};
+
+// The kept point of a cell. Ordering for "lowest": z, then the source (sweep, point) ids,
+// so equal heights resolve the same way in every reduction order.
+struct LidarCell {
+  float z = std::numeric_limits<float>::infinity();  // +inf = no data
+  float x = 0.0f, y = 0.0f;  // global position of the kept point
+  uint8_t intensity = 0;
+  int32_t sweep = -1;        // a stable sweep id (sample_data index in the database)
+  int32_t point = -1;        // index of the point in its sweep file
+
+  bool has_data() const { return sweep >= 0; }
+  bool lower_than(const LidarCell& o) const {
+    if (z != o.z) return z < o.z;
+    if (sweep != o.sweep) return sweep < o.sweep;
+    return point < o.point;
+  }
+};
+
+class LidarLayer {
+ public:
+  explicit LidarLayer(double resolution_m = 0.2) : resolution_m_(resolution_m) {}
+
+  // Adds one sweep already filtered and in the global frame: xyz (float32, stride
+  // `stride` floats per point, intensity at offset 3) with the original point indices.
+  void add_points(const float* xyzi, size_t count, size_t stride, int32_t sweep_id,
+                  const int32_t* point_ids = nullptr);
+  // Lowest-wins union with another layer of the same resolution.
+  void merge(const LidarLayer& other);
+
+  const SparseGrid<LidarCell>& cells() const { return cells_; }
+  double resolution_m() const { return resolution_m_; }
+  size_t covered_cells() const;
+
+ private:
+  void offer(CellIndex c, const LidarCell& cell);
+
+  double resolution_m_;
+  SparseGrid<LidarCell> cells_;
+};
+
+// Keeps the points of a sweep (float32 × `stride`, sensor frame) outside the roof square
+// and within range; returns their indices (so cells can name their source point).
+std::vector<int32_t> select_sweep_points(const float* points, size_t count, size_t stride,
+                                         const LidarOptions& options);
+
+}  // namespace nsg::raster

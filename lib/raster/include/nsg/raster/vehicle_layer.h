@@ -1,0 +1,46 @@
+#pragma once
+// The vehicle layer (DESIGN.md §4 "Vehicles"): each box footprint filled with its heading
+// = clockwise bearing of the box's forward axis from map north (+y) / 2π, in [0, 1);
+// −1 where no box. Overlaps: the higher score wins, then the later `order` (annotations
+// use score 1 and the key-frame order, so the latest key frame wins).
+#include <cstdint>
+#include <vector>
+
+#include "nsg/raster/sparse_grid.h"
+
+namespace nsg::raster {
+
+struct VehicleBox {
+  double center_x_m = 0.0;
+  double center_y_m = 0.0;
+  double yaw_rad = 0.0;   // heading of the box's forward (length) axis, CCW from +x
+  double length_m = 0.0;  // along the forward axis
+  double width_m = 0.0;
+  double score = 1.0;
+  int64_t order = 0;      // tie-break: larger wins (e.g. key-frame timestamp)
+};
+
+struct VehicleCell {
+  float heading = -1.0f;  // −1 = no vehicle
+  float score = -1.0f;
+  int64_t order = -1;
+};
+
+// Heading in [0, 1) of a forward axis with yaw `yaw_rad` (CCW from east).
+double heading_fraction(double yaw_rad);
+
+class VehicleLayer {
+ public:
+  explicit VehicleLayer(double resolution_m = 0.2) : resolution_m_(resolution_m) {}
+  // Fills every cell whose centre lies inside the box footprint.
+  void add_box(const VehicleBox& box);
+  void merge(const VehicleLayer& other);
+  const SparseGrid<VehicleCell>& cells() const { return cells_; }
+
+ private:
+  void offer(CellIndex c, const VehicleCell& v);
+  double resolution_m_;
+  SparseGrid<VehicleCell> cells_;
+};
+
+}  // namespace nsg::raster

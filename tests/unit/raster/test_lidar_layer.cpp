@@ -1,0 +1,81 @@
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "nsg/core/rng.h"
+#include "nsg/raster/lidar_layer.h"
+
+namespace nsg::raster {
+namespace {
+
+TEST(LidarLayer, KeepsTheLowestPointPerCell) {
+  LidarLayer layer;
+  const std::vector<float> a{10.05f, 20.05f, 1.5f, 200.0f, 10.15f, 20.15f, 0.1f, 12.0f};  // one cell
+  layer.add_points(a.data(), 2, 4, /*sweep=*/7);
+  const LidarCell* cell = layer.cells().find(cell_of(10.1, 20.1, 0.2));
+  ASSERT_NE(cell, nullptr);
+  EXPECT_FLOAT_EQ(cell->z, 0.1f);
+  EXPECT_EQ(cell->intensity, 12);
+  EXPECT_EQ(cell->sweep, 7);
+  EXPECT_EQ(cell->point, 1);
+  EXPECT_EQ(layer.covered_cells(), 1u);
+}
+
+TEST(LidarLayer, CellsFollowFloorOfMapMetres) {
+  EXPECT_EQ(cell_of(0.0, 0.0, 0.2), (CellIndex{0, 0}));
+  EXPECT_EQ(cell_of(0.19999, 0.2, 0.2), (CellIndex{0, 1}));
+  EXPECT_EQ(cell_of(-0.01, 5.0, 0.2), (CellIndex{-1, 25}));
+}
+
+TEST(LidarLayer, MemoryFollowsCoveredAreaNotExtent) {
+  LidarLayer layer;
+  // Two points 3 km apart: two blocks, not a 15 000 × 15 000 canvas.
+  const std::vector<float> p{1.0f, 1.0f, 0.0f, 1.0f, 3000.0f, 3000.0f, 0.0f, 1.0f};
+  layer.add_points(p.data(), 2, 4, 0);
+  EXPECT_EQ(layer.cells().block_count(), 2u);
+  EXPECT_LT(layer.cells().memory_bytes(), 1u << 20);
+}
+
+TEST(LidarLayer, ReductionIsOrderAndGroupingIndependent) {
+  Rng rng(42);
+  std::vector<std::vector<float>> sweeps(12);
+  for (auto& s : sweeps)
+    for (int i = 0; i < 2000; ++i) {
+      s.push_back(static_cast<float>(rng.uniform(0, 20)));
+      s.push_back(static_cast<float>(rng.uniform(0, 20)));
+      s.push_back(static_cast<float>(rng.uniform_int(0, 3)) * 0.5f);  // many equal heights
+      s.push_back(static_cast<float>(rng.uniform_int(0, 255)));
+    }
+  auto accumulate = [&](const std::vector<int>& order) {
+    LidarLayer part;
+    for (int s : order) part.add_points(sweeps[s].data(), sweeps[s].size() / 4, 4, s);
+    return part;
+  };
+  LidarLayer all = accumulate({0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11});
+  LidarLayer a = accumulate({11, 3, 5, 7, 1, 9}), b = accumulate({10, 0, 8, 2, 6, 4});
+  LidarLayer ba;
+  ba.merge(b);
+  ba.merge(a);
+  size_t compared = 0;
+  all.cells().for_each([&](CellIndex c, const LidarCell& x) {
+    const LidarCell* y = ba.cells().find(c);
+    ASSERT_NE(y, nullptr);
+    EXPECT_EQ(x.z, y->z);
+    EXPECT_EQ(x.sweep, y->sweep);
+    EXPECT_EQ(x.point, y->point);
+    compared += x.has_data();
+  });
+  EXPECT_EQ(compared, ba.covered_cells());
+  EXPECT_GT(compared, 9000u);
+}
+
+TEST(LidarLayer, RoofSquareAndRangeAreDropped) {
+  const std::vector<float> p{0.5f, 0.9f, 0, 0, 0, 0.5f, 1.0f, 0, 0, 0,  // roof / just outside
+                             -0.99f, -0.99f, 0, 0, 0, 70.0f, 0.0f, 0, 0, 0, 59.0f, 0.0f, 0, 0, 0};
+  LidarOptions options;
+  const std::vector<int32_t> kept = select_sweep_points(p.data(), 5, 5, options);
+  EXPECT_EQ(kept, (std::vector<int32_t>{1, 4}));
+}
+
+}  // namespace
+}  // namespace nsg::raster
