@@ -8,6 +8,7 @@ void add_inspect_command(CLI::App& root, Context& ctx) {
   inspect->require_subcommand(1);
   add_inspect_centerlines(*inspect, ctx);
   add_inspect_sweep(*inspect, ctx);
+  add_inspect_graph(*inspect, ctx);
 }
 
 }  // namespace nsg::cli

@@ -24,5 +24,6 @@ void add_score_command(CLI::App& root, Context& ctx);
 // `inspect` subcommands (cmd_inspect_<what>.cpp), added by add_inspect_command.
 void add_inspect_centerlines(CLI::App& inspect, Context& ctx);
 void add_inspect_sweep(CLI::App& inspect, Context& ctx);
+void add_inspect_graph(CLI::App& inspect, Context& ctx);
 
 }  // namespace nsg::cli
