@@ -1,8 +1,102 @@
-// Placeholder until this command lands; replaced by its implementation.
+// `nsgraph score`: the benchmark metrics of a submission against a ground truth
+// (METRICS.md). Validation problems of the submission exit 1; unreadable input exits 2.
+#include <cstdio>
+#include <memory>
+
 #include "commands.h"
+#include "nsg/core/atomic_file.h"
+#include "nsg/core/error.h"
+#include "nsg/core/log.h"
+#include "nsg/core/strings.h"
+#include "nsg/metrics/io.h"
+#include "nsg/metrics/score.h"
+#include "nsg/validate/schema.h"
+#include "nsg/validate/submission.h"
 
 namespace nsg::cli {
+namespace {
 
-void add_score_command(CLI::App& parent, Context& ctx) { (void)parent; (void)ctx; }
+struct ScoreCliOptions {
+  std::string ground_truth;
+  std::string submission;
+  std::string split = "test";
+  std::string out;            // JSON report file ("" = none)
+  std::string format = "json";  // what stdout prints: json | md | csv
+  std::string schemas;        // schemas folder override
+  int threads = 1;
+
+  void validate() const {
+    NSG_CHECK(format == "json" || format == "md" || format == "csv", ConfigError, "", "--format",
+              "json, md or csv, got '" + format + "'");
+    NSG_CHECK(!split.empty(), ConfigError, "", "--split", "a split name");
+  }
+};
+
+// Schema and structural checks; returns the problems (empty = valid).
+Issues check_submission(const nlohmann::json& doc, const ScoreCliOptions& o) {
+  const std::filesystem::path dir = validate::find_schemas_dir(o.schemas);
+  Issues issues = validate::validate_against_schema(dir / "v1" / "submission.schema.json", doc,
+                                                    o.submission, "submission.schema");
+  issues.append(validate::check_submission_structure(doc, o.submission));
+  return issues;
+}
+
+int run_score(const ScoreCliOptions& o) {
+  o.validate();
+  metrics::ScoreOptions options;
+  options.threads = o.threads;
+  options.validate();
+
+  const nlohmann::json doc = metrics::read_json_file(o.submission);
+  const Issues issues = check_submission(doc, o);
+  if (!issues.empty()) {
+    std::fputs(issues.format().c_str(), stderr);
+    log::error(strprintf("%zu problem(s) in submission %s; not scored", issues.size(),
+                         o.submission.c_str()));
+    return kExitProblems;
+  }
+  const metrics::GraphSet pred = metrics::graphs_from_submission(doc, o.submission);
+  const metrics::GraphSet gt = metrics::load_ground_truth(o.ground_truth, o.split);
+
+  metrics::ScoreReport report = metrics::score(gt, pred, options);
+  report.ground_truth = o.ground_truth;
+  report.submission = o.submission;
+  report.split = o.split;
+
+  const nlohmann::json json = metrics::report_to_json(report);
+  if (!o.out.empty()) write_file_atomic(o.out, json.dump(1) + "\n");
+  const std::string shown = o.format == "md"    ? metrics::report_to_markdown(report)
+                            : o.format == "csv" ? metrics::report_to_csv(report)
+                                                : json.dump(1) + "\n";
+  std::fputs(shown.c_str(), stdout);
+
+  const metrics::AggregateReport& a = report.aggregate;
+  auto show = [](const std::optional<double>& v) { return v ? strprintf("%.4f", *v) : std::string("undefined"); };
+  log::info(strprintf("scored %lld tiles (%lld missing, %lld extra): APLS %s, F1 %s, TOPO F1 %s",
+                      static_cast<long long>(a.n_tiles), static_cast<long long>(a.n_missing_predictions),
+                      static_cast<long long>(a.n_extra_predictions), show(a.mean[metrics::kApls]).c_str(),
+                      show(a.mean[metrics::kF1]).c_str(), show(a.mean[metrics::kTopoF1]).c_str()));
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_score_command(CLI::App& parent, Context& ctx) {
+  auto opts = std::make_shared<ScoreCliOptions>();
+  CLI::App* cmd = parent.add_subcommand("score", "Score a submission against a ground truth (METRICS.md v1)");
+  cmd->add_option("--ground-truth", opts->ground_truth,
+                  "Dataset folder (its tiles of --split) or a file in the submission format")
+      ->required();
+  cmd->add_option("--submission", opts->submission, "Submission JSON (schemas/v1/submission.schema.json)")
+      ->required();
+  cmd->add_option("--split", opts->split, "Split of a dataset ground truth")->capture_default_str();
+  cmd->add_option("--out", opts->out, "Write the JSON report here (atomically)");
+  cmd->add_option("--format", opts->format, "What stdout prints: json, md (paper-style table) or csv (per tile)")
+      ->capture_default_str();
+  cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores); output does not depend on it")
+      ->capture_default_str();
+  cmd->add_option("--schemas", opts->schemas, "Folder of the published schemas (default: installed/source)");
+  cmd->callback([opts, &ctx]() { ctx.run = [opts]() { return run_score(*opts); }; });
+}
 
 }  // namespace nsg::cli

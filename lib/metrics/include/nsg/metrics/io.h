@@ -1,0 +1,32 @@
+#pragma once
+// Reading graph sets: the submission format (schemas/v1/submission.schema.json) and a
+// dataset's tiles of one split, as folders (tiles/<split>/<key>/<key>.graph.json) or
+// WebDataset shards (shards/<split>-NNNNNN.tar, members <key>.graph.json).
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "nsg/metrics/graph.h"
+
+namespace nsg::metrics {
+
+// Parses an already validated submission document. Throws DataError naming `file`, the
+// tile key and the JSON path when the structure is still wrong.
+GraphSet graphs_from_submission(const nlohmann::json& doc, const std::string& file);
+// Reads JSON text; throws IoError (unreadable) or ParseError (not JSON) naming the file.
+nlohmann::json read_json_file(const std::filesystem::path& path);
+
+// One dataset graph document {schema_version, key, nodes: [{id, u, v, x, y}],
+// edges: [{source, target, lane_token}]}: ids become indices. Throws ParseError /
+// DataError naming `file` and the record.
+Graph graph_from_dataset_json(const std::string& text, const std::string& file);
+
+// A dataset folder's tiles of `split`: folder layout if tiles/<split>/ exists, else the
+// shards/<split>-*.tar files. Throws IoError if neither is present.
+GraphSet load_dataset_split(const std::filesystem::path& dataset, const std::string& split);
+
+// Ground truth: a dataset directory (its `split`) or a submission-format file.
+GraphSet load_ground_truth(const std::filesystem::path& path, const std::string& split);
+
+}  // namespace nsg::metrics

@@ -1,0 +1,84 @@
+#pragma once
+// Per-tile measurements (values + the integer counts that explain them), a mergeable
+// aggregate (sums and defined/undefined counts) and its finalization (METRICS.md
+// "Aggregation"). Undefined values are std::nullopt, never 0.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nsg/metrics/graph.h"
+#include "nsg/metrics/params.h"
+
+namespace nsg::metrics {
+
+// Per-tile metrics, in report order. Names: metric_name().
+enum Metric : int {
+  kApls, kAplsGtToPred, kAplsPredToGt,
+  kAplsDirected, kAplsDirectedGtToPred, kAplsDirectedPredToGt,
+  kAplsStrict, kAplsStrictGtToPred, kAplsStrictPredToGt,
+  kDirectionAccuracy, kDirectionAccuracyLengthWeighted, kDirectionMatchedFraction,
+  kF1, kIou,
+  kChamferPx2, kChamferM2, kChamferMeanM,
+  kGeoPrecision, kGeoRecall, kGeoF1,
+  kTopoPrecision, kTopoRecall, kTopoF1,
+  kTopoDirectedPrecision, kTopoDirectedRecall, kTopoDirectedF1,
+  kMetricCount
+};
+// Per-tile integer counts. Names: count_name().
+enum Count : int {
+  kMissingPrediction,
+  kGtSelfLoopsDropped, kGtDuplicateEdgesDropped, kPredSelfLoopsDropped, kPredDuplicateEdgesDropped,
+  kGtPx, kPredPx, kInterPx, kUnionPx,
+  kGeoGtSamples, kGeoPredSamples, kGeoMatched, kTopoSeeds,
+  kAplsGtPairs, kAplsPredPairs,
+  kDirectionPredEdges, kDirectionMatched, kDirectionCorrect,
+  kCountCount
+};
+const char* metric_name(int metric);
+const char* count_name(int count);
+
+using MetricValues = std::array<std::optional<double>, kMetricCount>;
+using Counts = std::array<int64_t, kCountCount>;
+
+struct TileMeasurement {
+  std::string key;
+  MetricValues values{};
+  Counts counts{};
+};
+
+// Scores one tile. `pred` == nullptr means the tile is missing from the submission: it is
+// scored as an empty prediction and counted (missing_prediction = 1).
+TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pred,
+                        const MetricParams& params);
+
+// Mergeable sums over tiles. Merge tiles (and shards) in key order for bit-identical
+// output regardless of threads.
+struct Aggregate {
+  int64_t n_tiles = 0;
+  int64_t n_missing_predictions = 0;
+  int64_t n_extra_predictions = 0;
+  std::array<double, kMetricCount> value_sums{};
+  std::array<int64_t, kMetricCount> n_defined{};
+  std::array<int64_t, kMetricCount> n_undefined{};
+  Counts count_sums{};
+
+  void add(const TileMeasurement& tile);
+  void merge(const Aggregate& other);
+};
+
+struct AggregateReport {
+  int64_t n_tiles = 0;
+  int64_t n_missing_predictions = 0;
+  int64_t n_extra_predictions = 0;
+  MetricValues mean{};  // macro mean over tiles where defined
+  std::array<int64_t, kMetricCount> n_defined{};
+  std::array<int64_t, kMetricCount> n_undefined{};
+  std::optional<double> pooled_f1, pooled_iou, pooled_geo_precision, pooled_geo_recall,
+      pooled_geo_f1;
+  Counts sums{};
+};
+AggregateReport finalize(const Aggregate& aggregate);
+
+}  // namespace nsg::metrics

@@ -1,0 +1,41 @@
+#pragma once
+// Scoring a submission against a ground truth: tiles in parallel, merged in key order,
+// and the report in JSON (schemas/v1/score-report.schema.json), Markdown and CSV.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "nsg/metrics/graph.h"
+#include "nsg/metrics/measure.h"
+#include "nsg/metrics/params.h"
+
+namespace nsg::metrics {
+
+struct ScoreOptions {
+  MetricParams params;
+  int threads = 1;  // 0 = all cores; output never depends on it
+  void validate() const;
+};
+
+struct ScoreReport {
+  MetricParams params;
+  std::vector<TileMeasurement> tiles;      // GT keys, sorted
+  std::vector<std::string> missing_tiles;  // GT keys absent from the submission
+  std::vector<std::string> extra_tiles;    // submission keys not in the GT (ignored)
+  AggregateReport aggregate;
+  // Free-form provenance copied into the JSON report (paths, split).
+  std::string ground_truth, submission, split;
+};
+
+ScoreReport score(const GraphSet& gt, const GraphSet& pred, const ScoreOptions& options);
+
+nlohmann::json measurement_to_json(const TileMeasurement& tile);
+nlohmann::json aggregate_to_json(const AggregateReport& aggregate);
+nlohmann::json report_to_json(const ScoreReport& report);
+// Paper-style table (APLS, direction, F1, IoU, Chamfer, GEO, TOPO) plus counts.
+std::string report_to_markdown(const ScoreReport& report);
+// One row per tile: key, every metric (empty = undefined), every count.
+std::string report_to_csv(const ScoreReport& report);
+
+}  // namespace nsg::metrics

@@ -1,0 +1,217 @@
+#include "nsg/metrics/io.h"
+
+#include <archive.h>
+#include <archive_entry.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <unordered_map>
+
+#include "nsg/core/error.h"
+#include "nsg/core/files.h"
+#include "nsg/core/strings.h"
+
+namespace fs = std::filesystem;
+
+namespace nsg::metrics {
+namespace {
+
+constexpr const char* kGraphSuffix = ".graph.json";
+
+double finite_number(const nlohmann::json& j, const std::string& file, const std::string& path) {
+  NSG_CHECK(j.is_number(), DataError, file, path, "a number");
+  const double x = j.get<double>();
+  NSG_CHECK(std::isfinite(x), DataError, file, path, "a finite number");
+  return x;
+}
+
+std::vector<double> scores(const nlohmann::json& tile, const char* name, size_t expected_size,
+                           const std::string& file, const std::string& path) {
+  std::vector<double> out;
+  if (!tile.contains(name)) return out;
+  const nlohmann::json& a = tile.at(name);
+  NSG_CHECK(a.is_array() && a.size() == expected_size, DataError, file, path + "/" + name,
+            "an array of " + std::to_string(expected_size) + " numbers");
+  for (size_t k = 0; k < a.size(); ++k)
+    out.push_back(finite_number(a[k], file, path + "/" + name + "/" + std::to_string(k)));
+  return out;
+}
+
+// JSON pointer escaping of a key (RFC 6901).
+std::string pointer_token(const std::string& key) {
+  std::string out;
+  for (char c : key) {
+    if (c == '~') out += "~0";
+    else if (c == '/') out += "~1";
+    else out += c;
+  }
+  return out;
+}
+
+Graph graph_from_submission_tile(const nlohmann::json& tile, const std::string& file,
+                                 const std::string& path) {
+  NSG_CHECK(tile.is_object(), DataError, file, path, "an object {nodes, edges}");
+  NSG_CHECK(tile.contains("nodes") && tile.at("nodes").is_array(), DataError, file,
+            path + "/nodes", "an array of [u, v]");
+  NSG_CHECK(tile.contains("edges") && tile.at("edges").is_array(), DataError, file,
+            path + "/edges", "an array of [i, j]");
+  Graph g;
+  const nlohmann::json& nodes = tile.at("nodes");
+  g.nodes.reserve(nodes.size());
+  for (size_t k = 0; k < nodes.size(); ++k) {
+    const std::string p = path + "/nodes/" + std::to_string(k);
+    NSG_CHECK(nodes[k].is_array() && nodes[k].size() == 2, DataError, file, p, "[u, v]");
+    g.nodes.push_back({finite_number(nodes[k][0], file, p + "/0"), finite_number(nodes[k][1], file, p + "/1")});
+  }
+  const nlohmann::json& edges = tile.at("edges");
+  const auto n = static_cast<int64_t>(g.nodes.size());
+  g.edges.reserve(edges.size());
+  for (size_t k = 0; k < edges.size(); ++k) {
+    const std::string p = path + "/edges/" + std::to_string(k);
+    NSG_CHECK(edges[k].is_array() && edges[k].size() == 2, DataError, file, p, "[i, j]");
+    std::array<int64_t, 2> e{};
+    for (int s = 0; s < 2; ++s) {
+      const nlohmann::json& x = edges[k][s];
+      NSG_CHECK(x.is_number_integer(), DataError, file, p + "/" + std::to_string(s), "an integer node index");
+      e[s] = x.get<int64_t>();
+      NSG_CHECK(e[s] >= 0 && e[s] < n, DataError, file, p + "/" + std::to_string(s),
+                "a node index in [0, " + std::to_string(n) + ")");
+    }
+    g.edges.push_back(e);
+  }
+  g.node_scores = scores(tile, "node_scores", g.nodes.size(), file, path);
+  g.edge_scores = scores(tile, "edge_scores", g.edges.size(), file, path);
+  return g;
+}
+
+std::string id_key(const nlohmann::json& id) { return id.dump(); }
+
+void insert_tile(GraphSet& set, const std::string& key, Graph graph, const std::string& file) {
+  NSG_CHECK(set.emplace(key, std::move(graph)).second, DataError, file, key, "each tile key once");
+}
+
+void load_folder_split(const fs::path& dir, GraphSet& out) {
+  std::vector<fs::path> keys;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir))
+    if (e.is_directory()) keys.push_back(e.path());
+  std::sort(keys.begin(), keys.end());
+  for (const fs::path& k : keys) {
+    const std::string key = k.filename().string();
+    const fs::path file = k / (key + kGraphSuffix);
+    require_file(file, "tile graph");
+    insert_tile(out, key, graph_from_dataset_json(read_file(file), file.string()), file.string());
+  }
+}
+
+void load_tar(const fs::path& tar, GraphSet& out) {
+  std::unique_ptr<archive, decltype(&archive_read_free)> a(archive_read_new(), &archive_read_free);
+  archive_read_support_format_tar(a.get());
+  archive_read_support_filter_none(a.get());
+  const std::string name = tar.string();
+  if (archive_read_open_filename(a.get(), name.c_str(), 1 << 16) != ARCHIVE_OK)
+    throw IoError(name, "", std::string("a readable tar file: ") + archive_error_string(a.get()));
+  archive_entry* entry = nullptr;
+  while (true) {
+    const int rc = archive_read_next_header(a.get(), &entry);
+    if (rc == ARCHIVE_EOF) break;
+    if (rc != ARCHIVE_OK)
+      throw ParseError(name, "", std::string("a valid tar member header: ") + archive_error_string(a.get()));
+    const std::string member = fs::path(archive_entry_pathname(entry)).filename().string();
+    if (!ends_with(member, kGraphSuffix)) continue;
+    const la_int64_t size = archive_entry_size(entry);
+    NSG_CHECK(size >= 0 && size < (int64_t{1} << 31), ParseError, name, member, "a member size below 2 GB");
+    std::string text(static_cast<size_t>(size), '\0');
+    const la_ssize_t got = archive_read_data(a.get(), text.data(), text.size());
+    NSG_CHECK(got == size, ParseError, name, member, "the member's full contents (truncated shard?)");
+    const std::string key = member.substr(0, member.size() - std::string(kGraphSuffix).size());
+    insert_tile(out, key, graph_from_dataset_json(text, name + ":" + member), name);
+  }
+}
+
+}  // namespace
+
+nlohmann::json read_json_file(const fs::path& path) {
+  const std::string text = read_file(path);
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw ParseError(path.string(), "byte " + std::to_string(e.byte), std::string("valid JSON: ") + e.what());
+  }
+}
+
+GraphSet graphs_from_submission(const nlohmann::json& doc, const std::string& file) {
+  NSG_CHECK(doc.is_object(), DataError, file, "", "a JSON object {schema_version, tiles}");
+  NSG_CHECK(doc.contains("tiles") && doc.at("tiles").is_object(), DataError, file, "/tiles",
+            "an object of tile key -> graph");
+  GraphSet out;
+  for (const auto& [key, tile] : doc.at("tiles").items())
+    out.emplace(key, graph_from_submission_tile(tile, file, "/tiles/" + pointer_token(key)));
+  return out;
+}
+
+Graph graph_from_dataset_json(const std::string& text, const std::string& file) {
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw ParseError(file, "byte " + std::to_string(e.byte), std::string("valid JSON: ") + e.what());
+  }
+  NSG_CHECK(doc.is_object() && doc.contains("nodes") && doc["nodes"].is_array() &&
+                doc.contains("edges") && doc["edges"].is_array(),
+            DataError, file, "", "a graph object with arrays nodes and edges");
+  Graph g;
+  std::unordered_map<std::string, int64_t> index_of;
+  const nlohmann::json& nodes = doc["nodes"];
+  for (size_t k = 0; k < nodes.size(); ++k) {
+    const std::string p = "/nodes/" + std::to_string(k);
+    const nlohmann::json& n = nodes[k];
+    NSG_CHECK(n.is_object() && n.contains("id") && n.contains("u") && n.contains("v"), DataError,
+              file, p, "a node {id, u, v, x, y}");
+    NSG_CHECK(index_of.emplace(id_key(n["id"]), static_cast<int64_t>(k)).second, DataError, file,
+              p + "/id", "a unique node id");
+    g.nodes.push_back({finite_number(n["u"], file, p + "/u"), finite_number(n["v"], file, p + "/v")});
+  }
+  const nlohmann::json& edges = doc["edges"];
+  for (size_t k = 0; k < edges.size(); ++k) {
+    const std::string p = "/edges/" + std::to_string(k);
+    const nlohmann::json& e = edges[k];
+    NSG_CHECK(e.is_object() && e.contains("source") && e.contains("target"), DataError, file, p,
+              "an edge {source, target, lane_token}");
+    const auto s = index_of.find(id_key(e["source"]));
+    const auto t = index_of.find(id_key(e["target"]));
+    NSG_CHECK(s != index_of.end(), DataError, file, p + "/source", "the id of a node of this graph");
+    NSG_CHECK(t != index_of.end(), DataError, file, p + "/target", "the id of a node of this graph");
+    g.edges.push_back({s->second, t->second});
+  }
+  return g;
+}
+
+GraphSet load_dataset_split(const fs::path& dataset, const std::string& split) {
+  GraphSet out;
+  const fs::path folder = dataset / "tiles" / split;
+  if (fs::is_directory(folder)) {
+    load_folder_split(folder, out);
+    return out;
+  }
+  std::vector<fs::path> shards;
+  const fs::path shard_dir = dataset / "shards";
+  if (fs::is_directory(shard_dir)) {
+    for (const fs::directory_entry& e : fs::directory_iterator(shard_dir)) {
+      const std::string name = e.path().filename().string();
+      if (starts_with(name, split + "-") && ends_with(name, ".tar")) shards.push_back(e.path());
+    }
+  }
+  NSG_CHECK(!shards.empty(), IoError, dataset.string(), split,
+            "tiles/" + split + "/ or shards/" + split + "-NNNNNN.tar");
+  std::sort(shards.begin(), shards.end());
+  for (const fs::path& s : shards) load_tar(s, out);
+  return out;
+}
+
+GraphSet load_ground_truth(const fs::path& path, const std::string& split) {
+  if (fs::is_directory(path)) return load_dataset_split(path, split);
+  return graphs_from_submission(read_json_file(path), path.string());
+}
+
+}  // namespace nsg::metrics

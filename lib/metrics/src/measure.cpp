@@ -1,0 +1,154 @@
+#include "nsg/metrics/measure.h"
+
+#include "internal.h"
+#include "nsg/core/error.h"
+
+namespace nsg::metrics {
+namespace {
+constexpr const char* kMetricNames[kMetricCount] = {
+    "apls", "apls_gt_to_pred", "apls_pred_to_gt",
+    "apls_directed", "apls_directed_gt_to_pred", "apls_directed_pred_to_gt",
+    "apls_strict", "apls_strict_gt_to_pred", "apls_strict_pred_to_gt",
+    "direction_accuracy", "direction_accuracy_length_weighted", "direction_matched_fraction",
+    "f1", "iou",
+    "chamfer_px2", "chamfer_m2", "chamfer_mean_m",
+    "geo_precision", "geo_recall", "geo_f1",
+    "topo_precision", "topo_recall", "topo_f1",
+    "topo_directed_precision", "topo_directed_recall", "topo_directed_f1"};
+constexpr const char* kCountNames[kCountCount] = {
+    "missing_prediction",
+    "gt_self_loops_dropped", "gt_duplicate_edges_dropped",
+    "pred_self_loops_dropped", "pred_duplicate_edges_dropped",
+    "gt_px", "pred_px", "inter_px", "union_px",
+    "geo_gt_samples", "geo_pred_samples", "geo_matched", "topo_seeds",
+    "apls_gt_pairs", "apls_pred_pairs",
+    "direction_pred_edges", "direction_matched", "direction_correct"};
+
+void set_apls(MetricValues& v, int first, const detail::AplsResult& r) {
+  v[first] = r.apls;
+  v[first + 1] = r.gt_to_pred;
+  v[first + 2] = r.pred_to_gt;
+}
+}  // namespace
+
+const char* metric_name(int metric) {
+  NSG_CHECK(metric >= 0 && metric < kMetricCount, InternalError, "", "", "metric index");
+  return kMetricNames[metric];
+}
+const char* count_name(int count) {
+  NSG_CHECK(count >= 0 && count < kCountCount, InternalError, "", "", "count index");
+  return kCountNames[count];
+}
+
+TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pred,
+                        const MetricParams& params) {
+  const Graph empty;
+  CleanGraph g, p;
+  try {
+    g = clean_graph(gt);
+    p = clean_graph(pred != nullptr ? *pred : empty);
+  } catch (const DataError& e) {
+    throw DataError("", key + "/" + e.record(), e.expected());
+  }
+  TileMeasurement t;
+  t.key = key;
+  MetricValues& v = t.values;
+  Counts& c = t.counts;
+  c[kMissingPrediction] = pred == nullptr ? 1 : 0;
+  c[kGtSelfLoopsDropped] = g.self_loops_dropped;
+  c[kGtDuplicateEdgesDropped] = g.duplicate_edges_dropped;
+  c[kPredSelfLoopsDropped] = p.self_loops_dropped;
+  c[kPredDuplicateEdgesDropped] = p.duplicate_edges_dropped;
+
+  const detail::AplsFamily apls = detail::compute_apls(g, p, params);
+  set_apls(v, kApls, apls.undirected);
+  set_apls(v, kAplsDirected, apls.directed);
+  set_apls(v, kAplsStrict, apls.strict);
+  c[kAplsGtPairs] = apls.undirected.gt_pairs;
+  c[kAplsPredPairs] = apls.undirected.pred_pairs;
+
+  const detail::DirectionResult dir = detail::compute_direction(g, p, params);
+  v[kDirectionAccuracy] = dir.accuracy;
+  v[kDirectionAccuracyLengthWeighted] = dir.accuracy_length_weighted;
+  v[kDirectionMatchedFraction] = dir.matched_fraction;
+  c[kDirectionPredEdges] = dir.pred_edges;
+  c[kDirectionMatched] = dir.matched;
+  c[kDirectionCorrect] = dir.correct;
+
+  const detail::MaskResult mask = detail::compute_masks(g, p, params);
+  c[kGtPx] = mask.gt_px;
+  c[kPredPx] = mask.pred_px;
+  c[kInterPx] = mask.inter_px;
+  c[kUnionPx] = mask.union_px;
+  v[kF1] = detail::ratio(2.0 * static_cast<double>(mask.inter_px),
+                         static_cast<double>(mask.gt_px + mask.pred_px));
+  v[kIou] = detail::ratio(static_cast<double>(mask.inter_px), static_cast<double>(mask.union_px));
+
+  const detail::ChamferResult ch = detail::compute_chamfer(g, p, params);
+  v[kChamferPx2] = ch.px2;
+  v[kChamferM2] = ch.m2;
+  v[kChamferMeanM] = ch.mean_m;
+
+  const detail::GeoTopoResult gt_r = detail::compute_geo_topo(g, p, params);
+  v[kGeoPrecision] = gt_r.geo_precision;
+  v[kGeoRecall] = gt_r.geo_recall;
+  v[kGeoF1] = gt_r.geo_f1;
+  v[kTopoPrecision] = gt_r.topo_precision;
+  v[kTopoRecall] = gt_r.topo_recall;
+  v[kTopoF1] = gt_r.topo_f1;
+  v[kTopoDirectedPrecision] = gt_r.topo_directed_precision;
+  v[kTopoDirectedRecall] = gt_r.topo_directed_recall;
+  v[kTopoDirectedF1] = gt_r.topo_directed_f1;
+  c[kGeoGtSamples] = gt_r.gt_samples;
+  c[kGeoPredSamples] = gt_r.pred_samples;
+  c[kGeoMatched] = gt_r.matched;
+  c[kTopoSeeds] = gt_r.seeds;
+  return t;
+}
+
+void Aggregate::add(const TileMeasurement& tile) {
+  ++n_tiles;
+  n_missing_predictions += tile.counts[kMissingPrediction];
+  for (int m = 0; m < kMetricCount; ++m) {
+    if (tile.values[m]) {
+      value_sums[m] += *tile.values[m];
+      ++n_defined[m];
+    } else {
+      ++n_undefined[m];
+    }
+  }
+  for (int k = 0; k < kCountCount; ++k) count_sums[k] += tile.counts[k];
+}
+
+void Aggregate::merge(const Aggregate& other) {
+  n_tiles += other.n_tiles;
+  n_missing_predictions += other.n_missing_predictions;
+  n_extra_predictions += other.n_extra_predictions;
+  for (int m = 0; m < kMetricCount; ++m) {
+    value_sums[m] += other.value_sums[m];
+    n_defined[m] += other.n_defined[m];
+    n_undefined[m] += other.n_undefined[m];
+  }
+  for (int k = 0; k < kCountCount; ++k) count_sums[k] += other.count_sums[k];
+}
+
+AggregateReport finalize(const Aggregate& a) {
+  AggregateReport r;
+  r.n_tiles = a.n_tiles;
+  r.n_missing_predictions = a.n_missing_predictions;
+  r.n_extra_predictions = a.n_extra_predictions;
+  r.n_defined = a.n_defined;
+  r.n_undefined = a.n_undefined;
+  r.sums = a.count_sums;
+  for (int m = 0; m < kMetricCount; ++m)
+    r.mean[m] = detail::ratio(a.value_sums[m], static_cast<double>(a.n_defined[m]));
+  const auto s = [&](int k) { return static_cast<double>(a.count_sums[k]); };
+  r.pooled_f1 = detail::ratio(2.0 * s(kInterPx), s(kGtPx) + s(kPredPx));
+  r.pooled_iou = detail::ratio(s(kInterPx), s(kUnionPx));
+  r.pooled_geo_precision = detail::ratio(s(kGeoMatched), s(kGeoPredSamples));
+  r.pooled_geo_recall = detail::ratio(s(kGeoMatched), s(kGeoGtSamples));
+  r.pooled_geo_f1 = detail::ratio(2.0 * s(kGeoMatched), s(kGeoGtSamples) + s(kGeoPredSamples));
+  return r;
+}
+
+}  // namespace nsg::metrics

@@ -1,0 +1,141 @@
+#include "nsg/metrics/score.h"
+
+#include <sstream>
+
+#include "nsg/core/error.h"
+#include "nsg/core/parallel.h"
+#include "nsg/core/strings.h"
+
+namespace nsg::metrics {
+namespace {
+
+nlohmann::json optional_json(const std::optional<double>& v) {
+  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+std::string md_value(const std::optional<double>& v, int decimals = 4) {
+  return v ? strprintf("%.*f", decimals, *v) : std::string("—");
+}
+
+}  // namespace
+
+void ScoreOptions::validate() const {
+  params.validate();
+  NSG_CHECK(threads >= 0 && threads <= 1024, ConfigError, "", "threads",
+            "0 (all cores) or a thread count up to 1024");
+}
+
+ScoreReport score(const GraphSet& gt, const GraphSet& pred, const ScoreOptions& options) {
+  options.validate();
+  ScoreReport report;
+  report.params = options.params;
+  std::vector<const std::string*> keys;
+  for (const auto& [key, graph] : gt) {
+    keys.push_back(&key);
+    if (pred.find(key) == pred.end()) report.missing_tiles.push_back(key);
+  }
+  for (const auto& [key, graph] : pred)
+    if (gt.find(key) == gt.end()) report.extra_tiles.push_back(key);
+
+  // Each tile writes its own slot; the reduction below runs in key order, so the report
+  // is identical for every thread count.
+  report.tiles.resize(keys.size());
+  parallel_for(keys.size(), options.threads, [&](size_t k) {
+    const std::string& key = *keys[k];
+    const auto p = pred.find(key);
+    report.tiles[k] = measure(key, gt.at(key), p == pred.end() ? nullptr : &p->second, options.params);
+  });
+  Aggregate agg;
+  for (const TileMeasurement& t : report.tiles) agg.add(t);
+  agg.n_extra_predictions = static_cast<int64_t>(report.extra_tiles.size());
+  report.aggregate = finalize(agg);
+  return report;
+}
+
+nlohmann::json measurement_to_json(const TileMeasurement& tile) {
+  nlohmann::json j = nlohmann::json::object();
+  for (int m = 0; m < kMetricCount; ++m) j[metric_name(m)] = optional_json(tile.values[m]);
+  nlohmann::json counts = nlohmann::json::object();
+  for (int c = 0; c < kCountCount; ++c) counts[count_name(c)] = tile.counts[c];
+  j["counts"] = std::move(counts);
+  return j;
+}
+
+nlohmann::json aggregate_to_json(const AggregateReport& a) {
+  nlohmann::json mean = nlohmann::json::object(), defined = nlohmann::json::object(),
+                 undefined = nlohmann::json::object(), sums = nlohmann::json::object();
+  for (int m = 0; m < kMetricCount; ++m) {
+    mean[metric_name(m)] = optional_json(a.mean[m]);
+    defined[metric_name(m)] = a.n_defined[m];
+    undefined[metric_name(m)] = a.n_undefined[m];
+  }
+  for (int c = 0; c < kCountCount; ++c) sums[count_name(c)] = a.sums[c];
+  return {{"n_tiles", a.n_tiles},
+          {"n_missing_predictions", a.n_missing_predictions},
+          {"n_extra_predictions", a.n_extra_predictions},
+          {"mean", mean},
+          {"n_defined", defined},
+          {"n_undefined", undefined},
+          {"pooled",
+           {{"f1", optional_json(a.pooled_f1)},
+            {"iou", optional_json(a.pooled_iou)},
+            {"geo_precision", optional_json(a.pooled_geo_precision)},
+            {"geo_recall", optional_json(a.pooled_geo_recall)},
+            {"geo_f1", optional_json(a.pooled_geo_f1)}}},
+          {"sums", sums}};
+}
+
+nlohmann::json report_to_json(const ScoreReport& r) {
+  nlohmann::json tiles = nlohmann::json::object();
+  for (const TileMeasurement& t : r.tiles) tiles[t.key] = measurement_to_json(t);
+  return {{"schema_version", "1"},
+          {"metrics_version", kMetricsVersion},
+          {"params", r.params.to_json()},
+          {"ground_truth", r.ground_truth},
+          {"submission", r.submission},
+          {"split", r.split},
+          {"missing_tiles", r.missing_tiles},
+          {"extra_tiles", r.extra_tiles},
+          {"tiles", tiles},
+          {"aggregate", aggregate_to_json(r.aggregate)}};
+}
+
+std::string report_to_markdown(const ScoreReport& r) {
+  const AggregateReport& a = r.aggregate;
+  std::ostringstream out;
+  out << "| APLS ↑ | APLS dir. ↑ | APLS strict ↑ | Dir. acc. ↑ | F1 ↑ | IoU ↑ | Chamfer (m²) ↓ "
+         "| mean Chamfer (m) ↓ | GEO F1 ↑ | TOPO F1 ↑ |\n"
+      << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+      << "| " << md_value(a.mean[kApls]) << " | " << md_value(a.mean[kAplsDirected]) << " | "
+      << md_value(a.mean[kAplsStrict]) << " | " << md_value(a.mean[kDirectionAccuracy]) << " | "
+      << md_value(a.mean[kF1]) << " | " << md_value(a.mean[kIou]) << " | "
+      << md_value(a.mean[kChamferM2], 2) << " | " << md_value(a.mean[kChamferMeanM], 3) << " | "
+      << md_value(a.mean[kGeoF1]) << " | " << md_value(a.mean[kTopoF1]) << " |\n\n";
+  out << "Macro means over " << a.n_tiles << " tiles (metrics v" << kMetricsVersion << "); "
+      << a.n_missing_predictions << " missing predictions scored as empty, "
+      << a.n_extra_predictions << " extra keys ignored. Pooled: F1 " << md_value(a.pooled_f1)
+      << ", IoU " << md_value(a.pooled_iou) << ", GEO P/R/F1 " << md_value(a.pooled_geo_precision)
+      << " / " << md_value(a.pooled_geo_recall) << " / " << md_value(a.pooled_geo_f1) << ".\n\n";
+  out << "| metric | mean | defined | undefined |\n|---|---:|---:|---:|\n";
+  for (int m = 0; m < kMetricCount; ++m)
+    out << "| `" << metric_name(m) << "` | " << md_value(a.mean[m], 6) << " | " << a.n_defined[m]
+        << " | " << a.n_undefined[m] << " |\n";
+  return out.str();
+}
+
+std::string report_to_csv(const ScoreReport& r) {
+  std::ostringstream out;
+  out << "key";
+  for (int m = 0; m < kMetricCount; ++m) out << ',' << metric_name(m);
+  for (int c = 0; c < kCountCount; ++c) out << ',' << count_name(c);
+  out << '\n';
+  for (const TileMeasurement& t : r.tiles) {
+    out << t.key;  // keys have no commas or quotes (DESIGN.md §5)
+    for (int m = 0; m < kMetricCount; ++m) out << ',' << (t.values[m] ? format_double(*t.values[m]) : "");
+    for (int c = 0; c < kCountCount; ++c) out << ',' << t.counts[c];
+    out << '\n';
+  }
+  return out.str();
+}
+
+}  // namespace nsg::metrics

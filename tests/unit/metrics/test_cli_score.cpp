@@ -1,0 +1,82 @@
+// `nsgraph score` end to end: exit codes 0/1/2, formats, and the report schema.
+#include <gtest/gtest.h>
+
+#include "nsg/metrics/io.h"
+#include "nsg/validate/schema.h"
+#include "test_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using nsg::test::run_nsgraph;
+
+const fs::path kGolden = nsg::test::shared_dir() / "golden" / "metrics";
+const std::string kSchemas = (nsg::test::source_dir() / "schemas").string();
+
+std::vector<std::string> score_args(const fs::path& submission) {
+  return {"score", "--ground-truth", (kGolden / "gt.json").string(), "--submission",
+          submission.string(), "--schemas", kSchemas};
+}
+
+TEST(CliScore, ReportIsWrittenAndValidatesAgainstSchema) {
+  nsg::test::TempDir dir("score-cli");
+  auto args = score_args(kGolden / "pred.json");
+  args.insert(args.end(), {"--out", (dir / "report.json").string(), "--threads", "2", "-q"});
+  const auto r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json report = nsg::metrics::read_json_file(dir / "report.json");
+  EXPECT_EQ(nlohmann::json::parse(r.out), report);
+  EXPECT_EQ(report["metrics_version"], "1");
+  EXPECT_EQ(report["aggregate"]["n_missing_predictions"], 1);
+  const nsg::Issues issues = nsg::validate::validate_against_schema(
+      fs::path(kSchemas) / "v1" / "score-report.schema.json", report, "report.json", "report.schema");
+  EXPECT_TRUE(issues.empty()) << issues.format();
+}
+
+TEST(CliScore, MarkdownTable) {
+  auto args = score_args(kGolden / "pred.json");
+  args.insert(args.end(), {"--format", "md"});
+  const auto r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("| APLS ↑ | APLS dir. ↑"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| 0.8244 | 0.7433 |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| `topo_directed_f1` |"), std::string::npos);
+}
+
+TEST(CliScore, CsvHasOneRowPerTile) {
+  auto args = score_args(kGolden / "pred.json");
+  args.insert(args.end(), {"--format", "csv"});
+  const auto r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1 + 43);
+  EXPECT_EQ(r.out.rfind("key,apls,", 0), 0u);
+}
+
+TEST(CliScore, InvalidSubmissionExits1NamingFileKeyAndPath) {
+  nsg::test::TempDir dir("score-cli");
+  const fs::path bad = dir / "bad.json";
+  nsg::test::write_text(bad, R"({"schema_version":"1","tiles":{"straight-gap":{"nodes":[[1,2],[3,4]],"edges":[[0,5]]},)"
+                             R"("curve-gap":{"nodes":[["x",2]],"edges":[]}}})");
+  const auto r = run_nsgraph(score_args(bad));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find(bad.string() + ":/tiles/straight-gap/edges/0/1"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("submission.indices"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("/tiles/curve-gap/nodes/0/0"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
+}
+
+TEST(CliScore, UnreadableOrMalformedInputExits2) {
+  nsg::test::TempDir dir("score-cli");
+  const fs::path truncated = dir / "truncated.json";
+  nsg::test::write_text(truncated, R"({"schema_version":"1","tiles":{"a":{"nodes":[[1,)");
+  auto r = run_nsgraph(score_args(truncated));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(truncated.string()), std::string::npos) << r.err;
+  r = run_nsgraph(score_args(dir / "absent.json"));
+  EXPECT_EQ(r.exit_code, 2);
+  auto args = score_args(kGolden / "pred.json");
+  args.insert(args.end(), {"--format", "xml"});
+  EXPECT_EQ(run_nsgraph(args).exit_code, 2);
+}
+
+}  // namespace

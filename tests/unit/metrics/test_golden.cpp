@@ -1,0 +1,95 @@
+// Reproduces every value of ../shared/golden/metrics/expected.json (per tile and
+// aggregate) from gt.json and pred.json to 1e-9; null stays null.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "nsg/metrics/io.h"
+#include "nsg/metrics/score.h"
+#include "test_support.h"
+
+namespace nsg::metrics {
+namespace {
+
+const std::filesystem::path kGolden = nsg::test::shared_dir() / "golden" / "metrics";
+
+void expect_close(const nlohmann::json& want, const nlohmann::json& got, const std::string& where) {
+  if (want.is_null()) {
+    EXPECT_TRUE(got.is_null()) << where << ": expected null, got " << got.dump();
+    return;
+  }
+  ASSERT_TRUE(got.is_number()) << where << ": expected " << want.dump() << ", got " << got.dump();
+  const double w = want.get<double>(), g = got.get<double>();
+  EXPECT_LE(std::abs(w - g), 1e-9 * std::max(1.0, std::abs(w)))
+      << where << ": expected " << want.dump() << ", got " << got.dump();
+}
+
+class Golden : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const GraphSet gt = graphs_from_submission(read_json_file(kGolden / "gt.json"), "gt.json");
+    const GraphSet pred = graphs_from_submission(read_json_file(kGolden / "pred.json"), "pred.json");
+    ScoreOptions options;
+    options.threads = 2;
+    report_ = new nlohmann::json(report_to_json(score(gt, pred, options)));
+    expected_ = new nlohmann::json(read_json_file(kGolden / "expected.json"));
+  }
+  static void TearDownTestSuite() {
+    delete report_;
+    delete expected_;
+  }
+  static nlohmann::json* report_;
+  static nlohmann::json* expected_;
+};
+nlohmann::json* Golden::report_ = nullptr;
+nlohmann::json* Golden::expected_ = nullptr;
+
+TEST_F(Golden, SameTileKeys) {
+  std::vector<std::string> want, got;
+  for (const auto& [k, v] : (*expected_)["tiles"].items()) want.push_back(k);
+  for (const auto& [k, v] : (*report_)["tiles"].items()) got.push_back(k);
+  EXPECT_EQ(want, got);
+}
+
+TEST_F(Golden, EveryTileValueAndCount) {
+  for (const auto& [key, tile] : (*expected_)["tiles"].items()) {
+    const nlohmann::json& ours = (*report_)["tiles"][key];
+    for (const auto& [name, value] : tile.items()) {
+      if (name == "counts") {
+        for (const auto& [count, n] : value.items())
+          EXPECT_EQ(n, ours["counts"][count]) << key << " counts." << count;
+      } else {
+        expect_close(value, ours[name], key + "." + name);
+      }
+    }
+  }
+}
+
+TEST_F(Golden, EveryAggregateValue) {
+  const nlohmann::json& want = (*expected_)["aggregate"];
+  const nlohmann::json& got = (*report_)["aggregate"];
+  for (const char* n : {"n_tiles", "n_missing_predictions", "n_extra_predictions"})
+    EXPECT_EQ(want[n], got[n]) << n;
+  for (const char* group : {"mean", "pooled"})
+    for (const auto& [name, value] : want[group].items())
+      expect_close(value, got[group][name], std::string(group) + "." + name);
+  for (const char* group : {"n_defined", "n_undefined", "sums"})
+    for (const auto& [name, value] : want[group].items())
+      EXPECT_EQ(value, got[group][name]) << group << "." << name;
+}
+
+TEST_F(Golden, MissingTileListed) {
+  EXPECT_EQ((*report_)["missing_tiles"], nlohmann::json::array({"edge-missing-pred"}));
+  EXPECT_EQ((*report_)["metrics_version"], "1");
+}
+
+TEST_F(Golden, ThreadCountDoesNotChangeTheReport) {
+  const GraphSet gt = graphs_from_submission(read_json_file(kGolden / "gt.json"), "gt.json");
+  const GraphSet pred = graphs_from_submission(read_json_file(kGolden / "pred.json"), "pred.json");
+  ScoreOptions one;
+  one.threads = 1;
+  EXPECT_EQ(report_to_json(score(gt, pred, one)).dump(), report_->dump());
+}
+
+}  // namespace
+}  // namespace nsg::metrics
