@@ -1,0 +1,48 @@
+#pragma once
+// Camera JPEG decoding (nuscenes-format.md §4.3) with libturbojpeg's scaled decode; the
+// library type stays behind a pimpl.
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace nsg::nuscenes {
+
+// Decoded size = ceil(full / denominator), as libjpeg's DCT scaling gives.
+enum class JpegScale : int { kFull = 1, kHalf = 2, kQuarter = 4 };
+
+// Interleaved 8-bit RGB, row-major, row 0 at the top.
+struct RgbImage {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> pixels;  // width * height * 3
+  const std::uint8_t* at(int x, int y) const { return pixels.data() + (static_cast<size_t>(y) * width + x) * 3; }
+};
+
+// Size a full-resolution width/height decodes to at `scale`.
+int scaled_dimension(int full, JpegScale scale);
+
+// A reusable decoder (one per thread: not thread-safe). Errors name the file.
+class JpegDecoder {
+ public:
+  JpegDecoder();
+  ~JpegDecoder();
+  JpegDecoder(const JpegDecoder&) = delete;
+  JpegDecoder& operator=(const JpegDecoder&) = delete;
+
+  // Decodes the file into `out` (its buffer is reused). Throws IoError if unreadable,
+  // ParseError(file, "", ...) on corrupt or truncated data.
+  void decode_file(const std::filesystem::path& file, JpegScale scale, RgbImage& out);
+  RgbImage decode_file(const std::filesystem::path& file, JpegScale scale = JpegScale::kFull);
+  // Decodes bytes in memory; `name` is used in error messages.
+  void decode(const std::uint8_t* data, size_t size, JpegScale scale, RgbImage& out, const std::string& name);
+  // Full-resolution width and height from the header only.
+  std::pair<int, int> read_size(const std::uint8_t* data, size_t size, const std::string& name);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace nsg::nuscenes

@@ -1,0 +1,40 @@
+#pragma once
+// LiDAR sweeps (`.pcd.bin`, nuscenes-format.md §4.1) and the sweep → global chain (§4.4).
+#include <filesystem>
+#include <vector>
+
+#include "nsg/geometry/transform.h"
+#include "nsg/nuscenes/token.h"
+
+namespace nsg::nuscenes {
+
+class Database;
+
+// One point as stored in the file: 5 little-endian float32 (ring stored as float).
+struct LidarPoint {
+  float x, y, z;
+  float intensity;
+  float ring;
+};
+static_assert(sizeof(LidarPoint) == 20, "LidarPoint must match the file record");
+inline constexpr size_t kLidarPointStrideFloats = 5;
+
+// Reads the whole file with a single read into `points` (reused: capacity is kept).
+// Throws IoError (missing/unreadable), ParseError if the size is not a multiple of 20
+// bytes or a value is not finite (naming the file and the point index).
+void read_lidar_points(const std::filesystem::path& file, std::vector<LidarPoint>& points);
+std::vector<LidarPoint> read_lidar_points(const std::filesystem::path& file);
+
+// global_from_sensor for one sample_data: its calibrated_sensor (sensor → ego) followed
+// by its OWN ego_pose (ego → global).
+geometry::Rigid3 global_from_sensor(const Database& db, Index sample_data_index);
+
+// Transforms points (sensor frame) in place to the global frame of `sample_data_index`,
+// in two float32 steps like the devkit (sensor → ego, then ego → global).
+void sensor_to_global(const Database& db, Index sample_data_index, std::vector<LidarPoint>& points);
+
+// Reads a lidar sample_data's file (dataroot/filename) and returns its points in the
+// global frame. Throws DataError if the sample_data is not a lidar record.
+std::vector<LidarPoint> load_sweep_global(const Database& db, Index sample_data_index);
+
+}  // namespace nsg::nuscenes

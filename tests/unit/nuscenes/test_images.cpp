@@ -1,0 +1,138 @@
+// Camera JPEG scaled decode (test images written with turbojpeg here) and the 8-bit
+// semantic-mask PNG reader (test images written with libpng here).
+#include <gtest/gtest.h>
+#include <png.h>
+#include <turbojpeg.h>
+
+#include <cstdio>
+
+#include "nsg/nuscenes/camera.h"
+#include "nsg/nuscenes/semantic_mask.h"
+#include "nuscenes_fixture.h"
+
+namespace nsg::nuscenes {
+namespace {
+
+// A width×height JPEG: left half red, right half blue; quality 95, 4:2:0 like nuScenes.
+std::string encode_test_jpeg(int width, int height) {
+  std::vector<unsigned char> rgb(static_cast<size_t>(width) * height * 3);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      unsigned char* p = &rgb[(static_cast<size_t>(y) * width + x) * 3];
+      p[0] = x < width / 2 ? 255 : 0;
+      p[1] = 0;
+      p[2] = x < width / 2 ? 0 : 255;
+    }
+  }
+  tjhandle h = tjInitCompress();
+  unsigned char* jpeg = nullptr;
+  unsigned long size = 0;
+  const int rc = tjCompress2(h, rgb.data(), width, 0, height, TJPF_RGB, &jpeg, &size, TJSAMP_420, 95, 0);
+  std::string out = rc == 0 ? std::string(reinterpret_cast<char*>(jpeg), size) : std::string();
+  tjFree(jpeg);
+  tjDestroy(h);
+  return out;
+}
+
+TEST(Jpeg, ScaledSizes) {
+  EXPECT_EQ(scaled_dimension(1600, JpegScale::kFull), 1600);
+  EXPECT_EQ(scaled_dimension(1600, JpegScale::kHalf), 800);
+  EXPECT_EQ(scaled_dimension(900, JpegScale::kQuarter), 225);
+  EXPECT_EQ(scaled_dimension(101, JpegScale::kHalf), 51);  // rounds up
+  EXPECT_EQ(scaled_dimension(61, JpegScale::kQuarter), 16);
+}
+
+TEST(Jpeg, DecodesAtEachScaleWithOneDecoder) {
+  test::TempDir dir("jpeg");
+  const std::string jpeg = encode_test_jpeg(160, 90);
+  ASSERT_FALSE(jpeg.empty());
+  test::write_text(dir / "cam.jpg", jpeg);
+  JpegDecoder decoder;
+  RgbImage image;
+  const struct {
+    JpegScale scale;
+    int w, h;
+  } cases[] = {{JpegScale::kFull, 160, 90}, {JpegScale::kHalf, 80, 45}, {JpegScale::kQuarter, 40, 23}};
+  for (const auto& c : cases) {
+    decoder.decode_file(dir / "cam.jpg", c.scale, image);
+    EXPECT_EQ(image.width, c.w);
+    EXPECT_EQ(image.height, c.h);
+    ASSERT_EQ(image.pixels.size(), static_cast<size_t>(c.w) * c.h * 3);
+    // Far from the colour edge: red on the left, blue on the right (JPEG is lossy).
+    const std::uint8_t* left = image.at(c.w / 8, c.h / 2);
+    const std::uint8_t* right = image.at(c.w - 1 - c.w / 8, c.h / 2);
+    EXPECT_GT(left[0], 230);
+    EXPECT_LT(left[2], 30);
+    EXPECT_LT(right[0], 30);
+    EXPECT_GT(right[2], 230);
+  }
+}
+
+TEST(Jpeg, OddSizeRoundsUp) {
+  test::TempDir dir("jpeg");
+  test::write_text(dir / "odd.jpg", encode_test_jpeg(101, 61));
+  JpegDecoder decoder;
+  const RgbImage half = decoder.decode_file(dir / "odd.jpg", JpegScale::kHalf);
+  EXPECT_EQ(half.width, 51);
+  EXPECT_EQ(half.height, 31);
+}
+
+TEST(Jpeg, CorruptDataNamesTheFile) {
+  test::TempDir dir("jpeg");
+  const std::string jpeg = encode_test_jpeg(64, 48);
+  test::write_text(dir / "truncated.jpg", jpeg.substr(0, jpeg.size() / 2));
+  test::write_text(dir / "garbage.jpg", "this is not a jpeg at all");
+  JpegDecoder decoder;
+  test::expect_error<ParseError>([&] { decoder.decode_file(dir / "truncated.jpg"); }, "truncated.jpg", {"JPEG"});
+  test::expect_error<ParseError>([&] { decoder.decode_file(dir / "garbage.jpg"); }, "garbage.jpg", {"JPEG"});
+  test::expect_error<IoError>([&] { decoder.decode_file(dir / "missing.jpg"); }, "missing.jpg", {});
+  // The decoder stays usable after an error.
+  test::write_text(dir / "ok.jpg", jpeg);
+  EXPECT_EQ(decoder.decode_file(dir / "ok.jpg", JpegScale::kQuarter).width, 16);
+}
+
+// Writes an 8-bit PNG with the simplified libpng API; format PNG_FORMAT_GRAY or _RGB.
+void write_png(const std::filesystem::path& file, int width, int height, png_uint_32 format,
+               const std::vector<std::uint8_t>& pixels) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = static_cast<png_uint_32>(width);
+  image.height = static_cast<png_uint_32>(height);
+  image.format = format;
+  ASSERT_NE(png_image_write_to_file(&image, file.c_str(), 0, pixels.data(), 0, nullptr), 0) << image.message;
+}
+
+TEST(SemanticMask, ReadsGray8ClassIds) {
+  test::TempDir dir("png");
+  write_png(dir / "mask.png", 3, 2, PNG_FORMAT_GRAY, {0, 1, 2, 7, 255, 13});
+  const GrayImage mask = read_semantic_mask(dir / "mask.png");
+  EXPECT_EQ(mask.width, 3);
+  EXPECT_EQ(mask.height, 2);
+  EXPECT_EQ(mask.at(2, 0), 2);
+  EXPECT_EQ(mask.at(0, 1), 7);
+  EXPECT_EQ(mask.at(1, 1), 255);
+}
+
+TEST(SemanticMask, ReadsTheFixtureSemanticPrior) {
+  const GrayImage prior = read_semantic_mask(test::fixture_root() / "maps" / (test::kMap + ".png"));
+  EXPECT_EQ(prior.width, 4);
+  EXPECT_EQ(prior.height, 3);
+  EXPECT_EQ(prior.at(1, 0), 255);
+  EXPECT_EQ(prior.at(3, 2), 255);
+  EXPECT_EQ(prior.at(0, 2), 0);
+}
+
+TEST(SemanticMask, RejectsRgbAndNonPng) {
+  test::TempDir dir("png");
+  write_png(dir / "rgb.png", 2, 2, PNG_FORMAT_RGB, std::vector<std::uint8_t>(12, 9));
+  test::expect_error<ParseError>([&] { read_semantic_mask(dir / "rgb.png"); }, "rgb.png", {"8-bit single-channel"});
+  test::write_text(dir / "text.png", "not a png file");
+  test::expect_error<ParseError>([&] { read_semantic_mask(dir / "text.png"); }, "text.png", {"PNG"});
+  write_png(dir / "cut.png", 64, 64, PNG_FORMAT_GRAY, std::vector<std::uint8_t>(64 * 64, 3));
+  const std::string bytes = test::read_text(dir / "cut.png");
+  test::write_text(dir / "cut.png", bytes.substr(0, bytes.size() - 30));
+  test::expect_error<ParseError>([&] { read_semantic_mask(dir / "cut.png"); }, "cut.png", {});
+}
+
+}  // namespace
+}  // namespace nsg::nuscenes
