@@ -14,6 +14,22 @@ find_package(simdjson REQUIRED)
 add_library(nsg_dep_simdjson INTERFACE)
 target_link_libraries(nsg_dep_simdjson INTERFACE simdjson::simdjson)
 add_library(nsg::dep::simdjson ALIAS nsg_dep_simdjson)
+# simdjson's On-Demand API is compiled inline with the kernel the compiler flags allow;
+# without them it is the scalar "fallback" kernel (several times slower on the big
+# tables). When the build machine has AVX2/BMI2/PCLMUL (x86-64 "haswell"), the files that
+# parse JSON get those flags (not FMA: no contraction of our float arithmetic). A binary
+# built this way needs such a CPU; -DNSG_SIMDJSON_HASWELL=OFF builds a portable one.
+include(CheckCXXSourceRuns)
+check_cxx_source_runs([=[
+int main() {
+  __builtin_cpu_init();
+  return (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi2") &&
+          __builtin_cpu_supports("pclmul")) ? 0 : 1;
+}]=] NSG_HOST_HAS_HASWELL)
+option(NSG_SIMDJSON_HASWELL "Compile JSON parsing for AVX2/BMI2/PCLMUL CPUs" ${NSG_HOST_HAS_HASWELL})
+if(NSG_SIMDJSON_HASWELL)
+  target_compile_options(nsg_dep_simdjson INTERFACE -mavx2 -mbmi -mbmi2 -mlzcnt -mpclmul)
+endif()
 
 find_package(nlohmann_json 3.10 REQUIRED)
 add_library(nsg::dep::json ALIAS nlohmann_json::nlohmann_json)
