@@ -1,0 +1,101 @@
+#pragma once
+// The world config of `nsgraph synth` (samples/synth/*.json): everything that shapes the
+// synthetic release except the seed. Parsed strictly: unknown keys and out-of-range values
+// are ConfigErrors naming the key.
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace nsg::synth {
+
+struct CityConfig {
+  std::array<double, 2> origin_m{200.0, 200.0};  // south-west corner of the street grid
+  int blocks_x = 2;                              // blocks between the grid's streets
+  int blocks_y = 2;
+  double block_size_m = 90.0;  // street centre to street centre
+  double lane_width_m = 3.5;
+  int max_lanes_per_direction = 2;  // 1..3
+  double one_way_fraction = 0.25;   // of interior streets
+  double parking_fraction = 0.5;    // streets with a parking strip along both curbs
+  double ring_corner_radius_m = 30.0;  // the perimeter ring road's rounded corners
+  double sidewalk_width_m = 3.0;
+  double park_fraction = 0.2;        // blocks that are parks (vegetation, no buildings)
+  double ground_resolution_m = 0.1;  // cell size of the ground material raster
+  void validate() const;
+};
+
+struct TrafficConfig {
+  int moving_vehicles_per_scene = 12;
+  double parked_spacing_m = 7.0;  // mean distance between parked cars along a strip
+  double parked_occupancy = 0.6;  // fraction of parking slots taken
+  int pedestrians_per_scene = 10;
+  double annotation_range_m = 50.0;  // objects annotated within this distance of the ego
+  void validate() const;
+};
+
+struct ScenesConfig {
+  int count = 2;
+  int samples_per_scene = 6;  // key frames (2 Hz) per scene
+  double ego_speed_mps = 8.0;
+  int64_t first_timestamp_us = 1532402927647951;
+  void validate() const;
+};
+
+struct LidarConfig {
+  double rate_hz = 20.0;
+  int beams = 32;
+  int points_per_sweep = 34720;
+  int roof_points = 8000;
+  double max_range_m = 100.0;
+  double range_noise_m = 0.02;
+  void validate() const;
+};
+
+struct CameraConfig {
+  double rate_hz = 12.0;
+  std::vector<std::string> channels;  // subset of the six CAM_* channels; default all six
+  int width_px = 1600;
+  int height_px = 900;
+  int jpeg_quality = 80;
+  double label_noise_rate = 0.0;
+  void validate() const;
+};
+
+struct DetectionsConfig {
+  std::string name = "synthetic_detector";  // file name under <dataroot>/detections/
+  double position_noise_m = 0.3;
+  double yaw_noise_rad = 0.05;
+  double miss_rate = 0.1;
+  double false_positives_per_sample = 0.5;
+  double score_true_mean = 0.75;   // scores of true positives ~ N(mean, 0.1) clamped
+  double score_false_mean = 0.3;   // scores of false positives
+  void validate() const;
+};
+
+struct SynthConfig {
+  std::string location = "boston-seaport";
+  std::string version = "v1.0-mini";
+  std::array<double, 2> map_size_m{700.0, 700.0};  // canvas_edge of the synthetic map
+  uint64_t seed = 0;
+  CityConfig city;
+  TrafficConfig traffic;
+  ScenesConfig scenes;
+  LidarConfig lidar;
+  CameraConfig camera;
+  DetectionsConfig detections;
+
+  bool right_hand_traffic() const { return location == "boston-seaport"; }
+  void validate() const;
+  // Parses JSON text; `file` names the source in errors.
+  static SynthConfig from_json_text(const std::string& text, const std::string& file);
+  static SynthConfig from_file(const std::filesystem::path& path);
+  // The resolved config as JSON (2-space indent), for logs and docs.
+  std::string to_json() const;
+};
+
+// The six camera channels in the order of the real sensor table.
+const std::vector<std::string>& all_camera_channels();
+
+}  // namespace nsg::synth

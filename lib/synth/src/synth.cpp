@@ -1,1 +1,0 @@
-// Placeholder until the synth module lands.
