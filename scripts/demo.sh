@@ -10,8 +10,8 @@ out="$root/demo-out"
 py=/usr/bin/python3
 mkdir -p "$out"
 
-have() {  # have <command>: is the subcommand in this build?
-  "$exe" "$1" --help >/dev/null 2>&1
+have() {  # have <command>: is the subcommand listed in this build's --help?
+  "$exe" --help | sed -n '/^Subcommands:/,$p' | grep -qE "^  $1( |$)"
 }
 step() { printf '\n== %s\n' "$*"; }
 next=()
@@ -51,20 +51,24 @@ else
   next+=("synth (issue 3)")
 fi
 
+step "inspect graph ($location, lane graph at ≤ 2 m, GeoJSON for QGIS)"
+if [ -n "${location:-}" ]; then
+  "$exe" inspect graph --dataroot "$out/release" --location "$location" --geojson "$out/lanes.geojson" \
+    | "$py" -c 'import json, sys
+d = json.load(sys.stdin)
+print("%d nodes, %d edges, longest edge %.3f m, %d map defects; GeoJSON: %s"
+      % (d["nodes"], d["edges"], d["max_edge_length_m"], len(d["defects"]), d["geojson"]))'
+fi
+
 for stage in generate validate preview train predict; do
-  if have "$stage"; then
-    step "$stage"
-    echo "(wired in scripts/demo.sh once the stage lands)"
-  else
-    next+=("$stage")
-  fi
+  next+=("$stage")  # wired here as each stage lands (issues 6, 7, 9, 10)
 done
 
 step "score"
 if have score && [ -f "$root/../shared/golden/metrics/gt.json" ]; then
   # Until `predict` exists the scorer runs on the golden graph pairs.
   "$exe" score --ground-truth "$root/../shared/golden/metrics/gt.json" \
-    --submission "$root/../shared/golden/metrics/pred.json" --format md --out "$out/score-golden.json" || true
+    --submission "$root/../shared/golden/metrics/pred.json" --format md --out "$out/score-golden.json"
 else
   next+=("score")
 fi
