@@ -78,3 +78,44 @@ TEST_F(GraphOnSynth, ClippingPreservesInsideLength) {
 
 }  // namespace
 }  // namespace nsg::graph
+
+namespace nsg::graph {
+namespace {
+
+TEST_F(GraphOnSynth, InspectGraphCommandReportsCountsAndWritesGeoJson) {
+  const auto release = (dir_->path() / "release").string();
+  const auto geojson = (dir_->path() / "lanes.geojson").string();
+  const auto r = nsg::test::run_nsgraph(
+      {"inspect", "graph", "--dataroot", release, "--location", location_, "--geojson", geojson, "--strict"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json out = nlohmann::json::parse(r.out);
+  const LaneGraph g = build_lane_graph(*map_, {}, nullptr);
+  EXPECT_EQ(out["nodes"].get<size_t>(), g.nodes.size());
+  EXPECT_EQ(out["edges"].get<size_t>(), g.edges.size());
+  EXPECT_LE(out["max_edge_length_m"].get<double>(), 2.0 + 1e-9);
+  EXPECT_TRUE(out["defects"].empty());
+  const nlohmann::json doc = nlohmann::json::parse(std::ifstream(geojson));
+  EXPECT_EQ(doc["features"].size(), g.edges.size());
+
+  // A bbox keeps only the clipped part.
+  const auto clipped = nsg::test::run_nsgraph(
+      {"inspect", "graph", "--dataroot", release, "--location", location_, "--bbox", "100,100,151.2,151.2"});
+  ASSERT_EQ(clipped.exit_code, 0) << clipped.err;
+  EXPECT_LT(nlohmann::json::parse(clipped.out)["edges"].get<size_t>(), g.edges.size());
+}
+
+TEST_F(GraphOnSynth, InspectGraphBadInputExitsTwo) {
+  const auto release = (dir_->path() / "release").string();
+  auto r = nsg::test::run_nsgraph({"inspect", "graph", "--dataroot", release, "--location", "atlantis"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("atlantis"), std::string::npos);
+  r = nsg::test::run_nsgraph({"inspect", "graph", "--dataroot", release, "--location", location_, "--bbox", "1,2,x,4"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--bbox"), std::string::npos);
+  r = nsg::test::run_nsgraph({"inspect", "graph", "--dataroot", dir_->path().string(), "--location", location_});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(location_ + ".json"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace nsg::graph
