@@ -35,6 +35,7 @@ void LidarLayer::offer(CellIndex c, const LidarCell& cell) {
 
 void LidarLayer::add_points(const float* xyzi, size_t count, size_t stride, int32_t sweep_id,
                             const int32_t* point_ids) {
+  SparseGrid<LidarCell>::Cursor cursor;
   for (size_t i = 0; i < count; ++i) {
     const float* p = xyzi + i * stride;
     LidarCell cell;
@@ -44,7 +45,8 @@ void LidarLayer::add_points(const float* xyzi, size_t count, size_t stride, int3
     cell.intensity = static_cast<uint8_t>(std::clamp(std::lround(p[3]), 0L, 255L));
     cell.sweep = sweep_id;
     cell.point = point_ids ? point_ids[i] : static_cast<int32_t>(i);
-    offer(cell_of(p[0], p[1], resolution_m_), cell);
+    LidarCell& current = cells_.at(cell_of(p[0], p[1], resolution_m_), cursor);
+    if (!current.has_data() || cell.lower_than(current)) current = cell;
   }
 }
 

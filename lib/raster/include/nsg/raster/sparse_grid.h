@@ -36,9 +36,21 @@ class SparseGrid {
 
   T& at(CellIndex c) {
     const BlockKey k = block_of(c);
-    std::unique_ptr<Block>& block = blocks_[k];
-    if (!block) block = std::make_unique<Block>(kBlockCells * kBlockCells);
-    return (*block)[offset(c, k)];
+    return block_for(k)[offset(c, k)];
+  }
+  // The last block used, so runs of nearby cells (a sweep's points come in scan order)
+  // skip the map lookup. Valid while the grid lives; blocks never move once allocated.
+  struct Cursor {
+    BlockKey key;
+    Block* block = nullptr;
+  };
+  T& at(CellIndex c, Cursor& cursor) {
+    const BlockKey k = block_of(c);
+    if (cursor.block == nullptr || k.bx != cursor.key.bx || k.by != cursor.key.by) {
+      cursor.block = &block_for(k);
+      cursor.key = k;
+    }
+    return (*cursor.block)[offset(c, k)];
   }
   // nullptr when the block was never touched.
   const T* find(CellIndex c) const {
@@ -67,6 +79,11 @@ class SparseGrid {
   }
 
  private:
+  Block& block_for(BlockKey k) {
+    std::unique_ptr<Block>& block = blocks_[k];
+    if (!block) block = std::make_unique<Block>(kBlockCells * kBlockCells);
+    return *block;
+  }
   static int64_t floor_div(int64_t a) { return a >= 0 ? a / kBlockCells : -((-a + kBlockCells - 1) / kBlockCells); }
   static BlockKey block_of(CellIndex c) { return {floor_div(c.col), floor_div(c.row)}; }
   static size_t offset(CellIndex c, BlockKey k) {

@@ -1,0 +1,54 @@
+#pragma once
+// The raster stage over one location of a release (DESIGN.md §4 "LiDAR", "Vehicles"):
+// every LIDAR_TOP sweep (key and non-key) of every scene at the location is read,
+// filtered in the sensor frame, moved to the global frame with the sweep's own ego pose
+// and binned lowest-z; vehicle boxes come from a detection results file or from the
+// vehicle.* annotations. Scenes run in parallel and are reduced in scene order with the
+// layers' order-free merges, so the result is identical at any thread count.
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "nsg/raster/lidar_layer.h"
+#include "nsg/raster/vehicle_layer.h"
+
+namespace nsg::nuscenes {
+class Database;
+}
+
+namespace nsg::raster {
+
+struct RasterOptions {
+  LidarOptions lidar;  // resolution (shared by both layers), roof square, max range
+  // A nuScenes detection results file; empty = boxes from the vehicle.* annotations.
+  std::filesystem::path detections_file;
+  double detection_score_threshold = 0.3;  // keep detections with score ≥ this
+  std::string lidar_channel = "LIDAR_TOP";
+  void validate() const;  // ConfigError naming the bad field
+};
+
+struct AccumulateStats {
+  size_t scenes = 0;
+  size_t sweeps = 0;          // sample_data files read (key and non-key)
+  size_t points_read = 0;
+  size_t points_kept = 0;     // after the roof square and the range filter
+  size_t vehicle_boxes = 0;   // boxes rasterized (after class / score filtering)
+  size_t covered_cells = 0;   // LiDAR cells holding a point
+  size_t lidar_blocks = 0;    // allocated 64×64 blocks of the LiDAR layer
+};
+
+struct LocationLayers {
+  LidarLayer lidar;
+  VehicleLayer vehicles;
+  AccumulateStats stats;
+};
+
+// Rasterizes `location` (log.location) of `db`. `threads` as nsg::parallel_for (0 = all
+// cores). Only the detections of the location's samples are used (a results file may hold
+// other samples too). Throws ConfigError (bad options), DataError (no scene at the
+// location), IoError / ParseError from the sweep and results readers.
+LocationLayers accumulate_location(const nuscenes::Database& db, const std::string& location,
+                                   const RasterOptions& options, int threads);
+
+}  // namespace nsg::raster
