@@ -59,7 +59,7 @@ void BM_MeasureTile(benchmark::State& state) {
   state.counters["nodes"] = static_cast<double>(gt.nodes.size());
   state.SetItemsProcessed(state.iterations());
 }
-BENCHMARK(BM_MeasureTile)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MeasureTile)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
