@@ -11,6 +11,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
 #include "nsg/core/strings.h"
+#include "nsg/validate/submission.h"
 
 namespace fs = std::filesystem;
 
@@ -35,17 +36,6 @@ std::vector<double> scores(const nlohmann::json& tile, const char* name, size_t 
             "an array of " + std::to_string(expected_size) + " numbers");
   for (size_t k = 0; k < a.size(); ++k)
     out.push_back(finite_number(a[k], file, path + "/" + name + "/" + std::to_string(k)));
-  return out;
-}
-
-// JSON pointer escaping of a key (RFC 6901).
-std::string pointer_token(const std::string& key) {
-  std::string out;
-  for (char c : key) {
-    if (c == '~') out += "~0";
-    else if (c == '/') out += "~1";
-    else out += c;
-  }
   return out;
 }
 
@@ -146,7 +136,7 @@ GraphSet graphs_from_submission(const nlohmann::json& doc, const std::string& fi
             "an object of tile key -> graph");
   GraphSet out;
   for (const auto& [key, tile] : doc.at("tiles").items())
-    out.emplace(key, graph_from_submission_tile(tile, file, "/tiles/" + pointer_token(key)));
+    out.emplace(key, graph_from_submission_tile(tile, file, "/tiles/" + validate::json_pointer_token(key)));
   return out;
 }
 

@@ -5,23 +5,13 @@
 namespace nsg::validate {
 namespace {
 
-std::string pointer_token(const std::string& key) {
-  std::string out;
-  for (char c : key) {
-    if (c == '~') out += "~0";
-    else if (c == '/') out += "~1";
-    else out += c;
-  }
-  return out;
-}
-
 bool finite_number(const nlohmann::json& j) {
   return j.is_number() && std::isfinite(j.get<double>());
 }
 
 void check_tile(const std::string& key, const nlohmann::json& tile, const std::string& file,
                 const SubmissionLimits& limits, Issues& issues) {
-  const std::string base = file + ":/tiles/" + pointer_token(key);
+  const std::string base = file + ":/tiles/" + json_pointer_token(key);
   if (!tile.is_object()) return;  // the schema reports it
   const nlohmann::json* nodes = tile.contains("nodes") && tile["nodes"].is_array() ? &tile["nodes"] : nullptr;
   const nlohmann::json* edges = tile.contains("edges") && tile["edges"].is_array() ? &tile["edges"] : nullptr;
@@ -78,6 +68,16 @@ Issues check_submission_structure(const nlohmann::json& doc, const std::string& 
   if (!doc.is_object() || !doc.contains("tiles") || !doc["tiles"].is_object()) return issues;
   for (const auto& [key, tile] : doc["tiles"].items()) check_tile(key, tile, file_label, limits, issues);
   return issues;
+}
+
+std::string json_pointer_token(const std::string& key) {
+  std::string out;
+  for (char c : key) {
+    if (c == '~') out += "~0";
+    else if (c == '/') out += "~1";
+    else out += c;
+  }
+  return out;
 }
 
 }  // namespace nsg::validate

@@ -17,6 +17,9 @@ struct SubmissionLimits {
 };
 
 // Check names: submission.indices, submission.finite, submission.scores, submission.size.
+// A key escaped as one JSON Pointer reference token (RFC 6901: ~ → ~0, / → ~1).
+std::string json_pointer_token(const std::string& key);
+
 Issues check_submission_structure(const nlohmann::json& doc, const std::string& file_label,
                                   const SubmissionLimits& limits = {});
 
