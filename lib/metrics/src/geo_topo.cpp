@@ -233,55 +233,174 @@ struct TopoSums {
   double precision_sum = 0.0, recall_sum = 0.0;
 };
 
-// Candidates grouped by GT sample (CSR), each with its global rank and pred sample.
-struct CandidatesByG {
-  std::vector<int32_t> offset;                    // size N_G + 1
-  std::vector<std::pair<int32_t, int32_t>> rank_p;  // (rank in the sorted list, p)
+// Candidate ranks (indices into the sorted list) grouped by sample, each group ascending.
+struct RanksBy {
+  std::vector<int32_t> offset;  // size N + 1
+  std::vector<int32_t> ranks;
 };
 
-// Rules 6-8 on the undirected or the directed sample graphs. The restricted
-// matching visits its candidates in global (q, g, p) order through a bitmap of ranks,
-// which avoids sorting per seed.
+RanksBy ranks_by(size_t n, const std::vector<Candidate>& cands, bool by_g) {
+  RanksBy r;
+  r.offset.assign(n + 1, 0);
+  for (const Candidate& c : cands) ++r.offset[(by_g ? c.g : c.p) + 1];
+  for (size_t k = 0; k < n; ++k) r.offset[k + 1] += r.offset[k];
+  r.ranks.resize(cands.size());
+  std::vector<int32_t> fill(r.offset.begin(), r.offset.end() - 1);
+  for (size_t k = 0; k < cands.size(); ++k)
+    r.ranks[fill[by_g ? cands[k].g : cands[k].p]++] = static_cast<int32_t>(k);
+  return r;
+}
+
+// The greedy matching of rule 4 restricted to candidates whose g and p are both "in",
+// kept up to date while the in-sets change from seed to seed. Consecutive seeds have
+// nearly the same reach sets, so only the candidates whose presence changed, and those
+// whose status a flip affects, are re-decided. A candidate is accepted iff it is present
+// and no accepted candidate of lower rank shares its g or p; re-deciding candidates in
+// increasing rank (a flip only affects higher ranks) reproduces exactly the one-pass
+// greedy scan over the restricted list.
+class IncrementalMatching {
+ public:
+  IncrementalMatching(const std::vector<Candidate>& cands, const RanksBy& by_g, const RanksBy& by_p)
+      : cands_(cands), by_g_(by_g), by_p_(by_p), accepted_(cands.size(), 0),
+        queued_(cands.size(), 0), in_g_(by_g.offset.size() - 1, 0),
+        in_p_(by_p.offset.size() - 1, 0) {}
+
+  void set_g(int32_t g, bool in) { set(in_g_, by_g_, g, in); }
+  void set_p(int32_t p, bool in) { set(in_p_, by_p_, p, in); }
+  bool has_g(int32_t g) const { return in_g_[g] != 0; }
+  bool has_p(int32_t p) const { return in_p_[p] != 0; }
+
+  // Settles the pending re-decisions; returns the size of the restricted matching.
+  int64_t matched() {
+    while (!heap_.empty()) {
+      std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
+      const int32_t rank = heap_.back();
+      heap_.pop_back();
+      queued_[rank] = 0;
+      const Candidate& c = cands_[rank];
+      const uint8_t now = in_g_[c.g] && in_p_[c.p] && !accepted_below(by_g_, c.g, rank) &&
+                          !accepted_below(by_p_, c.p, rank);
+      if (now == accepted_[rank]) continue;
+      accepted_[rank] = now;
+      m_ += now ? 1 : -1;
+      // Newly accepted: only accepted candidates above can lose; newly rejected: only
+      // present, rejected ones above can win.
+      push_above(by_g_, c.g, rank, now != 0);
+      push_above(by_p_, c.p, rank, now != 0);
+    }
+    return m_;
+  }
+
+ private:
+  // Only a candidate whose other side is in changes presence; one leaving matters only
+  // if it was accepted.
+  void set(std::vector<uint8_t>& in, const RanksBy& by, int32_t x, bool value) {
+    if ((in[x] != 0) == value) return;
+    in[x] = value ? 1 : 0;
+    const std::vector<uint8_t>& other = &in == &in_g_ ? in_p_ : in_g_;
+    for (int32_t k = by.offset[x]; k < by.offset[x + 1]; ++k) {
+      const int32_t rank = by.ranks[k];
+      const Candidate& c = cands_[rank];
+      if (!other[&in == &in_g_ ? c.p : c.g]) continue;
+      if (value || accepted_[rank]) push(rank);
+    }
+  }
+  bool accepted_below(const RanksBy& by, int32_t x, int32_t rank) const {
+    for (int32_t k = by.offset[x]; k < by.offset[x + 1] && by.ranks[k] < rank; ++k)
+      if (accepted_[by.ranks[k]]) return true;
+    return false;
+  }
+  void push_above(const RanksBy& by, int32_t x, int32_t rank, bool accepted_now) {
+    for (int32_t k = by.offset[x + 1] - 1; k >= by.offset[x] && by.ranks[k] > rank; --k) {
+      const int32_t r = by.ranks[k];
+      if (accepted_now ? accepted_[r] != 0 : (accepted_[r] == 0 && present(r))) push(r);
+    }
+  }
+  bool present(int32_t rank) const {
+    return in_g_[cands_[rank].g] != 0 && in_p_[cands_[rank].p] != 0;
+  }
+  void push(int32_t rank) {
+    if (queued_[rank]) return;
+    queued_[rank] = 1;
+    heap_.push_back(rank);
+    std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+  }
+
+  const std::vector<Candidate>& cands_;
+  const RanksBy& by_g_;
+  const RanksBy& by_p_;
+  std::vector<uint8_t> accepted_, queued_, in_g_, in_p_;
+  std::vector<int32_t> heap_;
+  int64_t m_ = 0;
+};
+
+// Moves the in-set of one side from `prev` to `next` (the new reach set), using `seen`
+// stamps to find the samples that left.
+template <class SetIn, class Has>
+void update_in_set(std::vector<int32_t>& prev, const std::vector<int32_t>& next,
+                   std::vector<int32_t>& seen, int32_t stamp, SetIn set_in, Has has) {
+  for (int32_t x : next) seen[x] = stamp;
+  for (int32_t x : prev)
+    if (seen[x] != stamp) set_in(x, false);
+  for (int32_t x : next)
+    if (!has(x)) set_in(x, true);
+  prev.assign(next.begin(), next.end());
+}
+
+// Seed indices ordered by a walk of the GT sample graph chain by chain (a, interior
+// samples, b), so that consecutive seeds are neighbours.
+std::vector<int32_t> walk_order(const SampleGraph& gt,
+                                const std::vector<std::pair<int32_t, int32_t>>& seeds) {
+  std::vector<int32_t> pos_of(gt.size(), -1);
+  int32_t next = 0;
+  auto visit = [&](int32_t x) {
+    if (pos_of[x] < 0) pos_of[x] = next++;
+  };
+  for (const Chain& c : gt.chains) {
+    visit(c.a);
+    for (int32_t k = 0; k + 1 < c.k; ++k) visit(c.first + k);
+    visit(c.b);
+  }
+  std::vector<int32_t> order(seeds.size());
+  for (size_t s = 0; s < seeds.size(); ++s) order[s] = static_cast<int32_t>(s);
+  std::sort(order.begin(), order.end(), [&](int32_t x, int32_t y) {
+    return pos_of[seeds[x].first] < pos_of[seeds[y].first];
+  });
+  return order;
+}
+
+// Rules 6-8 on the undirected or the directed sample graphs, seeds in increasing g.
 TopoSums topo_sums(const SampleGraph& gt, const SampleGraph& pred, bool directed,
-                   const std::vector<Candidate>& cands, const CandidatesByG& by_g,
+                   const std::vector<Candidate>& cands, const RanksBy& by_g, const RanksBy& by_p,
                    const std::vector<std::pair<int32_t, int32_t>>& seeds, double radius_px) {
   TopoSums sums;
   RadiusSearch search_g(gt), search_p(pred);
-  // Stamps avoid clearing per-seed marks.
-  std::vector<int32_t> in_p(pred.size(), -1), used_g(gt.size(), -1), used_p(pred.size(), -1);
-  std::vector<uint64_t> bits((cands.size() + 63) / 64, 0);
-  for (size_t s = 0; s < seeds.size(); ++s) {
-    const auto stamp = static_cast<int32_t>(s);
+  IncrementalMatching matching(cands, by_g, by_p);
+  std::vector<int32_t> prev_g, prev_p;
+  std::vector<int32_t> seen_g(gt.size(), -1), seen_p(pred.size(), -1);
+  // Seeds are visited along the chains (consecutive reach sets then differ little) and
+  // summed afterwards in increasing g, as rule 7 adds them.
+  const std::vector<int32_t> order = walk_order(gt, seeds);
+  std::vector<int64_t> m_of(seeds.size(), 0), n_rp(seeds.size(), 0), n_rg(seeds.size(), 0);
+  for (size_t o = 0; o < order.size(); ++o) {
+    const auto stamp = static_cast<int32_t>(o);
+    const int32_t s = order[o];
     const std::vector<int32_t>& rp = search_p.run(seeds[s].second, directed, radius_px);
-    for (int32_t p : rp) in_p[p] = stamp;
-    const size_t n_rp = rp.size();
+    update_in_set(
+        prev_p, rp, seen_p, stamp, [&](int32_t x, bool in) { matching.set_p(x, in); },
+        [&](int32_t x) { return matching.has_p(x); });
     const std::vector<int32_t>& rg = search_g.run(seeds[s].first, directed, radius_px);
-    size_t lo = bits.size(), hi = 0;  // range of words of `bits` set for this seed
-    for (int32_t g : rg) {
-      for (int32_t k = by_g.offset[g]; k < by_g.offset[g + 1]; ++k) {
-        const auto [rank, p] = by_g.rank_p[k];
-        if (in_p[p] != stamp) continue;
-        const size_t wi = static_cast<size_t>(rank) >> 6;
-        lo = std::min(lo, wi);
-        hi = std::max(hi, wi + 1);
-        bits[wi] |= uint64_t{1} << (rank & 63);
-      }
-    }
-    int64_t m = 0;
-    for (size_t wi = lo; wi < hi; ++wi) {
-      uint64_t w = bits[wi];
-      bits[wi] = 0;
-      while (w != 0) {
-        const int bit = __builtin_ctzll(w);
-        w &= w - 1;
-        const Candidate& c = cands[(static_cast<size_t>(wi) << 6) + bit];
-        if (used_g[c.g] == stamp || used_p[c.p] == stamp) continue;
-        used_g[c.g] = used_p[c.p] = stamp;
-        ++m;
-      }
-    }
-    sums.precision_sum += static_cast<double>(m) / static_cast<double>(n_rp);
-    sums.recall_sum += static_cast<double>(m) / static_cast<double>(rg.size());
+    update_in_set(
+        prev_g, rg, seen_g, stamp, [&](int32_t x, bool in) { matching.set_g(x, in); },
+        [&](int32_t x) { return matching.has_g(x); });
+    m_of[s] = matching.matched();
+    n_rp[s] = static_cast<int64_t>(prev_p.size());
+    n_rg[s] = static_cast<int64_t>(prev_g.size());
+  }
+  for (size_t s = 0; s < seeds.size(); ++s) {
+    const auto m = static_cast<double>(m_of[s]);
+    sums.precision_sum += m / static_cast<double>(n_rp[s]);
+    sums.recall_sum += m / static_cast<double>(n_rg[s]);
   }
   return sums;
 }
@@ -300,16 +419,7 @@ GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred,
   const std::vector<Candidate> cands = candidates(g, p, params.geo_match_px);
   std::vector<int32_t> match_of_g(g.size(), -1);
   std::vector<uint8_t> p_used(p.size(), 0);
-  CandidatesByG by_g;
-  by_g.offset.assign(g.size() + 1, 0);
-  for (const Candidate& c : cands) ++by_g.offset[c.g + 1];
-  for (size_t k = 0; k < g.size(); ++k) by_g.offset[k + 1] += by_g.offset[k];
-  by_g.rank_p.resize(cands.size());
-  {
-    std::vector<int32_t> fill(by_g.offset.begin(), by_g.offset.end() - 1);
-    for (size_t k = 0; k < cands.size(); ++k)
-      by_g.rank_p[fill[cands[k].g]++] = {static_cast<int32_t>(k), cands[k].p};
-  }
+  const RanksBy by_g = ranks_by(g.size(), cands, true), by_p = ranks_by(p.size(), cands, false);
   for (size_t k = 0; k < cands.size(); ++k) {
     const Candidate& c = cands[k];
     if (match_of_g[c.g] >= 0 || p_used[c.p]) continue;
@@ -329,8 +439,8 @@ GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred,
     if (match_of_g[k] >= 0) seeds.push_back({static_cast<int32_t>(k), match_of_g[k]});
   r.seeds = static_cast<int64_t>(seeds.size());
   const double radius_px = params.topo_radius_m / params.resolution_m + kRadiusTolPx;
-  const TopoSums und = topo_sums(g, p, false, cands, by_g, seeds, radius_px);
-  const TopoSums dir = topo_sums(g, p, true, cands, by_g, seeds, radius_px);
+  const TopoSums und = topo_sums(g, p, false, cands, by_g, by_p, seeds, radius_px);
+  const TopoSums dir = topo_sums(g, p, true, cands, by_g, by_p, seeds, radius_px);
   r.topo_precision = ratio(und.precision_sum, np);
   r.topo_recall = ratio(und.recall_sum, ng);
   r.topo_f1 = f1_of(r.topo_precision, r.topo_recall);

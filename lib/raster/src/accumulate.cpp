@@ -19,6 +19,7 @@ using nuscenes::Index;
 
 void RasterOptions::validate() const {
   lidar.validate();
+  camera.validate();
   if (!(detection_score_threshold >= 0.0 && detection_score_threshold <= 1.0))
     throw ConfigError("", "raster.detection_score_threshold", "expected a score in [0, 1]");
   if (lidar_channel.empty()) throw ConfigError("", "raster.lidar_channel", "expected a channel name (LIDAR_TOP)");

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 
+#include "nsg/raster/color_layer.h"
 #include "nsg/raster/lidar_layer.h"
 #include "nsg/raster/vehicle_layer.h"
 
@@ -25,6 +26,9 @@ struct RasterOptions {
   std::filesystem::path detections_file;
   double detection_score_threshold = 0.3;  // keep detections with score ≥ this
   std::string lidar_channel = "LIDAR_TOP";
+  // Camera colouring runs separately (colorize_location), so a cluster share colours only
+  // the cells of its own tiles; kept here so one options struct configures the stage.
+  CameraOptions camera;
   void validate() const;  // ConfigError naming the bad field
 };
 

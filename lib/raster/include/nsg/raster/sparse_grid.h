@@ -58,6 +58,12 @@ class SparseGrid {
     auto it = blocks_.find(k);
     return it == blocks_.end() ? nullptr : &(*it->second)[offset(c, k)];
   }
+  // The cells of block (bx, by), row-major, allocated on first use; for bulk writers
+  // that bucket their cells by block first.
+  T* block_data(int64_t bx, int64_t by) { return block_for({bx, by}).data(); }
+  // floor(a / kBlockCells): the block coordinate of a cell coordinate.
+  static int64_t floor_div(int64_t a) { return a >= 0 ? a / kBlockCells : -((-a + kBlockCells - 1) / kBlockCells); }
+
   size_t block_count() const { return blocks_.size(); }
   size_t memory_bytes() const { return blocks_.size() * kBlockCells * kBlockCells * sizeof(T); }
 
@@ -84,7 +90,6 @@ class SparseGrid {
     if (!block) block = std::make_unique<Block>(kBlockCells * kBlockCells);
     return *block;
   }
-  static int64_t floor_div(int64_t a) { return a >= 0 ? a / kBlockCells : -((-a + kBlockCells - 1) / kBlockCells); }
   static BlockKey block_of(CellIndex c) { return {floor_div(c.col), floor_div(c.row)}; }
   static size_t offset(CellIndex c, BlockKey k) {
     return static_cast<size_t>((c.row - k.by * kBlockCells) * kBlockCells + (c.col - k.bx * kBlockCells));

@@ -1,0 +1,60 @@
+#pragma once
+// In-memory rasters and their GeoTIFF encoding (DESIGN.md §5, §6). libtiff and libgeotiff
+// stay behind this interface.
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace nsg::io {
+
+enum class SampleType { kUInt8, kFloat32 };
+
+// Row-major, bands interleaved (pixel-major), row 0 = north edge, column 0 = west edge.
+struct Raster {
+  int width = 0;
+  int height = 0;
+  int bands = 1;
+  SampleType type = SampleType::kUInt8;
+  std::vector<uint8_t> data;  // width*height*bands*bytes_per_sample(), native little-endian
+
+  size_t bytes_per_sample() const;
+  size_t expected_bytes() const;  // width*height*bands*bytes_per_sample()
+  // Throws DataError if sizes are not positive or data has the wrong length.
+  void validate() const;
+};
+
+// Where a raster lies: the map frame of `location` (origin from geometry::location_info),
+// its north-west corner in map metres and the square pixel size.
+struct GeoRef {
+  std::string location;
+  double x_west_m = 0.0;
+  double y_north_m = 0.0;
+  double resolution_m = 0.2;
+  // Throws ConfigError for an unknown location or a non-finite / non-positive value.
+  void validate() const;
+};
+
+struct GeoTiffOptions {
+  int deflate_level = 1;           // 1 (fast) … 9 (small)
+  std::optional<double> nodata;    // written as the GDAL_NODATA tag when set
+  void validate() const;           // throws ConfigError
+};
+
+// Encodes uint8 1- or 3-band or float32 1-band rasters as a deflate GeoTIFF in memory,
+// with the location's azimuthal-equidistant CRS (DESIGN.md §6). Identical input gives
+// identical bytes (no time stamps or software tags).
+std::vector<uint8_t> encode_geotiff(const Raster& raster, const GeoRef& georef,
+                                    const GeoTiffOptions& options = {});
+
+// Decodes what encode_geotiff writes (uint8 1/3-band, float32 1-band, strips, contiguous
+// samples, any compression libtiff knows). Throws ParseError naming `name` otherwise. If
+// `georef` is given the file must carry ModelTiepoint and ModelPixelScale with square
+// pixels; georef->location is the known location whose origin matches the file's
+// ProjCenterLat/Long keys, or "" if none does.
+Raster decode_geotiff(std::span<const uint8_t> bytes, const std::string& name,
+                      GeoRef* georef = nullptr);
+
+}  // namespace nsg::io

@@ -1,0 +1,62 @@
+#pragma once
+// `generate` and `merge` (DESIGN.md §4, §5, §7): a release in, NuScenesGraph shards,
+// maps and a manifest out — in one process or as `count` shares of a cluster job.
+//
+// A run is a list of work items in a stable order: per location (in config order), its
+// maps, then its shards of train, val and test. Every share plans every location (LiDAR
+// accumulation, regions, crops: cheap and needed to number the shards) and does the items
+// j with j % count == index (camera colouring and tile writing: the expensive part, only
+// for its own tiles). Outputs go to temp names and are renamed; after each item the share's
+// done-record (parts/share-<i>-of-<n>.json) is rewritten with the item's hashes, so a
+// rerun skips verified items and redoes missing or corrupt ones. `merge` checks every
+// share's record and file and writes manifest.json; a one-share run merges by itself.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nsg/pipeline/config.h"
+
+namespace nsg::pipeline {
+
+struct ShareSpec {
+  int index = 0;
+  int count = 1;
+  void validate() const;  // ConfigError
+};
+
+// --shard-index/--num-shards when given; else SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT;
+// else JOB_COMPLETION_INDEX with an explicit --num-shards; else 0 of 1.
+ShareSpec resolve_share(std::optional<int> index, std::optional<int> count);
+
+struct StageTimes {
+  double load_s = 0, graph_s = 0, lidar_s = 0, plan_s = 0, camera_s = 0, tiles_s = 0, merge_s = 0;
+};
+
+struct GenerateSummary {
+  std::vector<std::string> locations;
+  size_t sweeps = 0;           // LiDAR sweeps accumulated (every share reads all)
+  size_t images = 0;           // camera images decoded for this share's tiles
+  size_t tiles_written = 0;    // by this share, this run
+  size_t items_done = 0;       // work items finished by this share, this run
+  size_t items_skipped = 0;    // verified from an earlier run
+  size_t tiles_planned = 0;    // whole run
+  bool manifest_written = false;
+  StageTimes seconds;
+};
+
+struct GenerateRun {
+  std::filesystem::path out;
+  ShareSpec share;
+  int threads = 0;        // 0 = all cores; results do not depend on it
+  bool progress = true;
+};
+
+GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run);
+
+// Verifies every share's done-record and output file under `out` and writes manifest.json.
+// Throws DataError naming every missing share, missing item or corrupt file.
+void merge(const std::filesystem::path& out);
+
+}  // namespace nsg::pipeline

@@ -1,0 +1,273 @@
+#include "nsg/pipeline/generate.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "nsg/core/atomic_file.h"
+#include "nsg/core/error.h"
+#include "nsg/core/files.h"
+#include "nsg/core/log.h"
+#include "nsg/core/parallel.h"
+#include "nsg/core/progress.h"
+#include "nsg/core/rng.h"
+#include "nsg/core/sha256.h"
+#include "nsg/core/strings.h"
+#include "nsg/geometry/georef.h"
+#include "nsg/graph/from_map.h"
+#include "nsg/graph/geojson.h"
+#include "nsg/graph/segment_index.h"
+#include "nsg/io/tar.h"
+#include "nsg/nuscenes/database.h"
+#include "nsg/nuscenes/map_expansion.h"
+#include "nsg/pipeline/tile_files.h"
+#include "nsg/raster/accumulate.h"
+#include "nsg/raster/color_layer.h"
+#include "nsg/tiling/tile.h"
+#include "outputs.h"
+#include "plan.h"
+
+namespace nsg::pipeline {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using nlohmann::ordered_json;
+
+void ShareSpec::validate() const {
+  if (count < 1) throw ConfigError("", "--num-shards", "at least 1");
+  if (index < 0 || index >= count)
+    throw ConfigError("", "--shard-index", "an index in [0, " + std::to_string(count) + ")");
+}
+
+namespace {
+
+std::optional<int> env_int(const char* name) {
+  const char* v = std::getenv(name);
+  if (v == nullptr || *v == '\0') return std::nullopt;
+  char* end = nullptr;
+  const long x = std::strtol(v, &end, 10);
+  if (*end != '\0' || x < 0 || x > 1'000'000) throw ConfigError("", std::string("$") + name, "a non-negative integer");
+  return static_cast<int>(x);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+ShareSpec resolve_share(std::optional<int> index, std::optional<int> count) {
+  ShareSpec s;
+  if (index || count) {
+    if (!index || !count) {
+      // JOB_COMPLETION_INDEX (Kubernetes Indexed Job) pairs with an explicit count.
+      if (count && !index) index = env_int("JOB_COMPLETION_INDEX");
+      if (!index || !count) throw ConfigError("", "--shard-index/--num-shards", "both, or neither");
+    }
+    s = {*index, *count};
+  } else if (auto slurm_id = env_int("SLURM_ARRAY_TASK_ID")) {
+    auto slurm_count = env_int("SLURM_ARRAY_TASK_COUNT");
+    if (!slurm_count) throw ConfigError("", "$SLURM_ARRAY_TASK_COUNT", "set together with SLURM_ARRAY_TASK_ID");
+    // Arrays may start at 1 (--array=1-N): SLURM_ARRAY_TASK_MIN says where.
+    const int min = env_int("SLURM_ARRAY_TASK_MIN").value_or(0);
+    s = {*slurm_id - min, *slurm_count};
+  }
+  s.validate();
+  return s;
+}
+
+size_t LocationPlan::count(const std::string& split) const {
+  return static_cast<size_t>(std::count_if(crops.begin(), crops.end(),
+                                           [&](const tiling::Crop& c) { return c.split == split; }));
+}
+
+ordered_json plan_json(const LocationPlan& p) {
+  ordered_json regions = ordered_json::array();
+  for (const tiling::Region& r : p.regions)
+    regions.push_back({{"name", r.name},
+                       {"split", r.split},
+                       {"bounds_m", {r.bounds.x_west_m, r.bounds.y_south_m, r.bounds.x_east_m, r.bounds.y_north_m}}});
+  ordered_json counts = ordered_json::object();
+  for (std::string_view s : tiling::kSplitNames) counts[std::string(s)] = p.count(std::string(s));
+  ordered_json shards = ordered_json::array();
+  for (const PlannedShard& s : p.shards)
+    shards.push_back({{"name", s.name},
+                      {"split", s.split},
+                      {"tiles", s.count},
+                      {"first_key", p.keys[s.first]},
+                      {"last_key", p.keys[s.first + s.count - 1]}});
+  return {{"name", p.location},
+          {"map_version", p.map_version},
+          {"lane_graph",
+           {{"nodes", p.graph_nodes}, {"edges", p.graph_edges}, {"lanes", p.graph_lanes}, {"map_defects", p.map_defects}}},
+          {"regions", regions},
+          {"counts", counts},
+          {"shards", shards}};
+}
+
+namespace {
+
+// Everything a location needs while its items run.
+struct LocationState {
+  LocationPlan plan;
+  graph::LaneGraph graph;
+  std::unique_ptr<graph::SegmentIndex> index;
+  raster::LocationLayers layers;
+};
+
+std::vector<std::string> resolve_locations(const GenerateConfig& config, const nuscenes::Database& db) {
+  if (!config.locations.empty()) {
+    for (const std::string& l : config.locations) {
+      const bool present = std::any_of(db.log.begin(), db.log.end(), [&](const nuscenes::Log& g) { return g.location == l; });
+      if (!present) throw ConfigError("", "locations", "locations with logs in the release ('" + l + "' has none)");
+    }
+    return config.locations;
+  }
+  // Every location with a log, in the devkit's order of the four maps, then others by name.
+  std::set<std::string> present;
+  for (const nuscenes::Log& g : db.log) present.insert(g.location);
+  std::vector<std::string> out;
+  for (const geometry::LocationInfo& info : geometry::known_locations())
+    if (present.erase(std::string(info.name))) out.emplace_back(info.name);
+  out.insert(out.end(), present.begin(), present.end());
+  return out;
+}
+
+uint64_t location_seed(uint64_t seed, const std::string& location) {
+  return mix64(seed ^ hash_string(location.data(), location.size()));
+}
+
+// Orders crops by split (train, val, test), names them and cuts shards of `per_shard`.
+void assign_keys_and_shards(LocationPlan& plan, int64_t per_shard, std::map<std::string, int64_t>& next_shard) {
+  std::vector<tiling::Crop> ordered;
+  for (std::string_view split : tiling::kSplitNames) {
+    const size_t first = ordered.size();
+    for (const tiling::Crop& c : plan.crops)
+      if (c.split == split) ordered.push_back(c);
+    for (size_t i = first; i < ordered.size(); ++i)
+      plan.keys.push_back(tiling::tile_key(plan.location, std::string(split), static_cast<int64_t>(i - first)));
+    for (size_t i = first; i < ordered.size(); i += static_cast<size_t>(per_shard)) {
+      PlannedShard s;
+      s.split = std::string(split);
+      s.name = s.split + "-" + strprintf("%06lld", static_cast<long long>(next_shard[s.split]++));
+      s.first = i;
+      s.count = std::min(static_cast<size_t>(per_shard), ordered.size() - i);
+      plan.shards.push_back(s);
+    }
+  }
+  plan.crops = std::move(ordered);
+}
+
+}  // namespace
+
+GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
+  config.validate();
+  run.share.validate();
+  GenerateSummary summary;
+  auto t0 = std::chrono::steady_clock::now();
+  const nuscenes::Database db = nuscenes::Database::load(config.dataroot, config.version);
+  summary.seconds.load_s = seconds_since(t0);
+  summary.locations = resolve_locations(config, db);
+
+  OutputWriter out(run.out, config, run.share);
+  const int64_t per_shard = config.output.resolved_tiles_per_shard();
+  std::map<std::string, int64_t> next_shard;
+  size_t item_index = 0;
+  for (const std::string& location : summary.locations) {
+    LocationState st;
+    st.plan.location = location;
+    t0 = std::chrono::steady_clock::now();
+    const nuscenes::MapExpansion map = nuscenes::load_map_expansion(config.dataroot, location);
+    Issues defects;
+    st.graph = graph::build_lane_graph(map, config.graph, &defects);
+    st.index = std::make_unique<graph::SegmentIndex>(st.graph);
+    st.plan.map_version = map.version();
+    st.plan.graph_nodes = st.graph.nodes.size();
+    st.plan.graph_edges = st.graph.edges.size();
+    st.plan.graph_lanes = st.graph.lanes.size();
+    st.plan.map_defects = defects.items().size();
+    summary.seconds.graph_s += seconds_since(t0);
+
+    t0 = std::chrono::steady_clock::now();
+    log::info("generate: " + location + ": accumulating LiDAR");
+    st.layers = raster::accumulate_location(db, location, config.raster, run.threads);
+    summary.sweeps += st.layers.stats.sweeps;
+    summary.seconds.lidar_s += seconds_since(t0);
+
+    t0 = std::chrono::steady_clock::now();
+    const uint64_t seed = location_seed(config.seed, location);
+    st.plan.regions = tiling::plan_regions(st.layers.lidar, config.split_options_for(location), config.crop_size_m(), seed);
+    st.plan.crops = tiling::plan_crops(st.layers.lidar, st.plan.regions, config.crops, seed);
+    assign_keys_and_shards(st.plan, per_shard, next_shard);
+    summary.tiles_planned += st.plan.crops.size();
+    summary.seconds.plan_s += seconds_since(t0);
+    log::info(strprintf("generate: %s: %zu regions, %zu train / %zu val / %zu test tiles", location.c_str(),
+                        st.plan.regions.size(), st.plan.count("train"), st.plan.count("val"), st.plan.count("test")));
+
+    // This location's items, and the ones this share does.
+    std::vector<WorkItem> items;
+    items.push_back({ItemKind::kMaps, 0, 0, "maps/" + location});
+    for (size_t s = 0; s < st.plan.shards.size(); ++s)
+      items.push_back({ItemKind::kShard, 0, s, out.shard_item_id(st.plan.shards[s])});
+    std::vector<WorkItem> mine;
+    for (const WorkItem& item : items) {
+      const bool ours = item_index++ % static_cast<size_t>(run.share.count) == static_cast<size_t>(run.share.index);
+      if (!ours) continue;
+      if (out.verified(item.id)) {
+        ++summary.items_skipped;
+        continue;
+      }
+      mine.push_back(item);
+    }
+    out.add_plan(plan_json(st.plan));
+    if (mine.empty()) continue;
+
+    // Camera colours only for the cells of this share's tiles.
+    t0 = std::chrono::steady_clock::now();
+    raster::ColorLayer color(config.resolution_m);
+    const bool cameras = config.raster.camera.rgb || config.raster.camera.semantic;
+    std::vector<raster::CellRect> rects;
+    for (const WorkItem& item : mine) {
+      if (item.kind != ItemKind::kShard) continue;
+      const PlannedShard& s = st.plan.shards[item.shard];
+      for (size_t i = s.first; i < s.first + s.count; ++i) {
+        const tiling::Crop& c = st.plan.crops[i];
+        rects.push_back({c.col0, c.row0, c.col0 + config.crops.size_px, c.row0 + config.crops.size_px});
+      }
+    }
+    if (cameras && !rects.empty()) {
+      log::info(strprintf("generate: %s: colouring %zu tiles from the cameras", location.c_str(), rects.size()));
+      color = raster::colorize_location(db, location, st.layers.lidar, rects, config.raster.camera, run.threads);
+      summary.images += color.stats().images_used;
+    }
+    summary.seconds.camera_s += seconds_since(t0);
+
+    t0 = std::chrono::steady_clock::now();
+    const tiling::LocationRasters layers{&st.layers.lidar, cameras ? &color : nullptr, &st.layers.vehicles, &st.graph,
+                                         st.index.get()};
+    for (const WorkItem& item : mine) {
+      if (item.kind == ItemKind::kMaps) {
+        out.write_maps(item.id, location, st.graph, st.plan);
+      } else {
+        summary.tiles_written += out.write_shard(item.id, db, st.plan, st.plan.shards[item.shard], layers, run);
+      }
+      ++summary.items_done;
+    }
+    summary.seconds.tiles_s += seconds_since(t0);
+  }
+  out.finish();
+  if (run.share.count == 1) {
+    t0 = std::chrono::steady_clock::now();
+    merge(run.out);
+    summary.manifest_written = true;
+    summary.seconds.merge_s = seconds_since(t0);
+  }
+  return summary;
+}
+
+}  // namespace nsg::pipeline

@@ -1,0 +1,212 @@
+// `merge`: checks that every share of a run finished and that every output still hashes
+// as recorded, then writes manifest.json (DESIGN.md §5, §7).
+#include <algorithm>
+#include <map>
+#include <regex>
+
+#include "nsg/core/atomic_file.h"
+#include "nsg/core/error.h"
+#include "nsg/core/files.h"
+#include "nsg/core/sha256.h"
+#include "nsg/core/strings.h"
+#include "nsg/core/version.h"
+#include "nsg/geometry/georef.h"
+#include "nsg/pipeline/generate.h"
+#include "nsg/pipeline/tile_files.h"
+#include "outputs.h"
+
+namespace nsg::pipeline {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using nlohmann::ordered_json;
+
+namespace {
+
+struct ShareRecord {
+  fs::path path;
+  int index = 0, count = 0;
+  ordered_json doc;
+};
+
+std::vector<ShareRecord> read_records(const fs::path& out) {
+  const fs::path parts = out / "parts";
+  if (!fs::is_directory(parts))
+    throw IoError(parts.string(), "", "the done-records of a generate run (no parts/ folder: did generate run here?)");
+  static const std::regex kName(R"(share-(\d{6})-of-(\d{6})\.json)");
+  std::vector<ShareRecord> records;
+  for (const auto& entry : fs::directory_iterator(parts)) {
+    std::smatch m;
+    const std::string name = entry.path().filename().string();
+    if (!std::regex_match(name, m, kName)) continue;
+    ShareRecord r{entry.path(), std::stoi(m[1]), std::stoi(m[2]), {}};
+    try {
+      r.doc = ordered_json::parse(read_file(entry.path()));
+    } catch (const json::exception& e) {
+      throw ParseError(entry.path().string(), "", std::string("a done-record (JSON): ") + e.what());
+    }
+    records.push_back(std::move(r));
+  }
+  std::sort(records.begin(), records.end(), [](const ShareRecord& a, const ShareRecord& b) {
+    return a.count != b.count ? a.count < b.count : a.index < b.index;
+  });
+  return records;
+}
+
+ordered_json input_file(const fs::path& root, const fs::path& path) {
+  return {{"file", fs::relative(path, root).generic_string()},
+          {"sha256", sha256_file(path)},
+          {"bytes", fs::file_size(path)}};
+}
+
+ordered_json inputs_json(const ordered_json& config, const ordered_json& plan) {
+  const fs::path root = config["dataroot"].get<std::string>();
+  const std::string version = config["version"].get<std::string>();
+  ordered_json tables = ordered_json::array();
+  std::vector<fs::path> table_files;
+  for (const auto& e : fs::directory_iterator(root / version))
+    if (e.path().extension() == ".json") table_files.push_back(e.path());
+  std::sort(table_files.begin(), table_files.end());
+  for (const fs::path& p : table_files) tables.push_back(input_file(root, p));
+  ordered_json maps = ordered_json::object();
+  for (const auto& location : plan) {
+    const std::string name = location["name"].get<std::string>();
+    ordered_json m = input_file(root, root / "maps" / "expansion" / (name + ".json"));
+    m["version"] = location["map_version"];
+    maps[name] = m;
+  }
+  const std::string detections = config["vehicles"]["detections"].get<std::string>();
+  return {{"dataroot", root.string()},
+          {"version", version},
+          {"tables", tables},
+          {"map_expansion", maps},
+          {"detections", detections.empty() ? ordered_json(nullptr) : input_file(root, detections)}};
+}
+
+ordered_json georeference_json(const ordered_json& plan) {
+  ordered_json locations = ordered_json::object();
+  for (const auto& location : plan) {
+    const std::string name = location["name"].get<std::string>();
+    const geometry::LocationInfo& info = geometry::location_info(name);
+    locations[name] = {{"origin_lat_deg", info.origin_lat_deg},
+                       {"origin_lon_deg", info.origin_lon_deg},
+                       {"proj", geometry::aeqd_proj_string(name)}};
+  }
+  return {{"frame", "map metres east (x) and north (y) of each location's south-west corner"},
+          {"projection",
+           "the devkit's: azimuthal equidistant on a sphere of radius 6378137 m about the origin; GeoTIFFs carry it "
+           "as a user-defined CRS, GeoJSON is WGS 84 lon/lat"},
+          {"note", "nuScenes does not guarantee that its maps align with GPS coordinates"},
+          {"locations", locations}};
+}
+
+}  // namespace
+
+void merge(const fs::path& out) {
+  const std::vector<ShareRecord> all = read_records(out);
+  if (all.empty()) throw IoError((out / "parts").string(), "", "done-records share-<i>-of-<n>.json");
+  const int count = all.front().count;
+  std::vector<std::string> problems;
+  std::map<int, const ShareRecord*> shares;
+  for (const ShareRecord& r : all) {
+    if (r.count != count) {
+      problems.push_back(r.path.string() + ": a record of a " + std::to_string(r.count) +
+                         "-share run next to a " + std::to_string(count) + "-share run (remove the stale one)");
+      continue;
+    }
+    shares[r.index] = &r;
+  }
+  for (int i = 0; i < count; ++i) {
+    auto it = shares.find(i);
+    if (it == shares.end())
+      problems.push_back(strprintf("share %d of %d: missing (no parts/share-%06d-of-%06d.json)", i, count, i, count));
+    else if (!it->second->doc.value("complete", false))
+      problems.push_back(strprintf("share %d of %d: not finished (rerun it)", i, count));
+  }
+  if (!problems.empty()) throw DataError(out.string(), "merge", "every share finished:\n  " + join(problems, "\n  "));
+
+  const ShareRecord& first = *shares.at(0);
+  const ordered_json& plan = first.doc["plan"];
+  std::map<std::string, std::pair<const ordered_json*, int>> items;  // id → item, share
+  for (const auto& [index, record] : shares) {
+    if (record->doc["config_sha256"] != first.doc["config_sha256"] || record->doc["plan"] != plan)
+      problems.push_back(strprintf("share %d of %d: ran with another config or plan than share 0", index, count));
+    for (const auto& item : record->doc["items"]) items[item["id"].get<std::string>()] = {&item, index};
+  }
+
+  // Every planned item, in plan order, must be recorded and verify on disk.
+  const bool tar = first.doc["config"]["output"]["layout"] == "tar";
+  ordered_json shards = ordered_json::array(), maps = ordered_json::array();
+  std::map<std::string, int64_t> split_tiles, split_shards;
+  const auto check = [&](const std::string& id) -> const ordered_json* {
+    auto it = items.find(id);
+    if (it == items.end()) {
+      problems.push_back(id + ": missing from every done-record");
+      return nullptr;
+    }
+    std::string why;
+    if (!verify_item(out, *it->second.first, &why)) {
+      problems.push_back(id + " (share " + std::to_string(it->second.second) + "): " + why);
+      return nullptr;
+    }
+    return it->second.first;
+  };
+  for (const auto& location : plan) {
+    if (const ordered_json* item = check("maps/" + location["name"].get<std::string>()))
+      for (const auto& f : (*item)["files"]) maps.push_back(f);
+    for (const auto& shard : location["shards"]) {
+      const std::string name = shard["name"].get<std::string>();
+      const ordered_json* item = check(tar ? "shards/" + name + ".tar" : "tiles/" + name);
+      if (item == nullptr) continue;
+      const std::string split = shard["split"].get<std::string>();
+      split_tiles[split] += shard["tiles"].get<int64_t>();
+      ++split_shards[split];
+      ordered_json entry = {{"name", name}, {"split", split}, {"location", location["name"]}, {"tiles", shard["tiles"]},
+                            {"first_key", shard["first_key"]}, {"last_key", shard["last_key"]}};
+      if (tar) {
+        entry["file"] = (*item)["files"][0]["file"];
+        entry["sha256"] = (*item)["files"][0]["sha256"];
+        entry["bytes"] = (*item)["files"][0]["bytes"];
+      } else {
+        entry["folder"] = "tiles/" + split;
+        entry["sha256"] = (*item)["digest"];
+        uint64_t bytes = 0;
+        for (const auto& f : (*item)["files"]) bytes += f["bytes"].get<uint64_t>();
+        entry["bytes"] = bytes;
+      }
+      shards.push_back(entry);
+    }
+  }
+  if (!problems.empty())
+    throw DataError(out.string(), "merge", "every planned output present and intact:\n  " + join(problems, "\n  "));
+
+  ordered_json counts = ordered_json::object();
+  int64_t total = 0;
+  for (std::string_view s : tiling::kSplitNames) {
+    const std::string split(s);
+    counts[split] = {{"tiles", split_tiles[split]}, {"shards", split_shards[split]}};
+    total += split_tiles[split];
+  }
+  counts["total_tiles"] = total;
+  const ordered_json& config = first.doc["config"];
+  const ordered_json manifest = {
+      {"schema_version", "1"},
+      {"tool", {{"name", "nsgraph"}, {"version", kVersion}}},
+      {"seed", config["seed"]},
+      {"config", config},
+      {"inputs", inputs_json(config, plan)},
+      {"georeference", georeference_json(plan)},
+      {"layout", tar ? "tar" : "folder"},
+      {"tile_format",
+       {{"resolution_m", config["resolution_m"]},
+        {"size_px", config["crops"]["size_px"]},
+        {"key_pattern", "<location>-<split>-<NNNNNN>"},
+        {"files", tile_file_suffixes()}}},
+      {"locations", plan},
+      {"counts", counts},
+      {"shards", shards},
+      {"maps", maps}};
+  write_file_atomic(out / "manifest.json", manifest.dump(1) + "\n");
+}
+
+}  // namespace nsg::pipeline

@@ -1,0 +1,233 @@
+#include "outputs.h"
+
+#include <algorithm>
+#include <set>
+
+#include "nsg/core/atomic_file.h"
+#include "nsg/core/error.h"
+#include "nsg/core/files.h"
+#include "nsg/core/parallel.h"
+#include "nsg/core/progress.h"
+#include "nsg/core/sha256.h"
+#include "nsg/core/strings.h"
+#include "nsg/core/version.h"
+#include "nsg/geometry/georef.h"
+#include "nsg/graph/geojson.h"
+#include "nsg/io/tar.h"
+#include "nsg/nuscenes/database.h"
+#include "nsg/pipeline/tile_files.h"
+
+namespace nsg::pipeline {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using nlohmann::ordered_json;
+
+fs::path done_record_path(const fs::path& out, const ShareSpec& share) {
+  return out / "parts" / strprintf("share-%06d-of-%06d.json", share.index, share.count);
+}
+
+std::string config_digest(const GenerateConfig& config) { return sha256_hex(config_to_json(config).dump()); }
+
+std::string item_digest(const ordered_json& files) {
+  if (files.size() == 1) return files[0]["sha256"].get<std::string>();
+  std::string lines;
+  for (const auto& f : files) lines += f["file"].get<std::string>() + '\0' + f["sha256"].get<std::string>() + "\n";
+  return sha256_hex(lines);
+}
+
+bool verify_item(const fs::path& out, const ordered_json& item, std::string* why) {
+  if (!item.contains("files") || !item["files"].is_array()) {
+    *why = "the record lists no files";
+    return false;
+  }
+  for (const auto& f : item["files"]) {
+    const fs::path path = out / f["file"].get<std::string>();
+    std::error_code ec;
+    const auto size = fs::file_size(path, ec);
+    if (ec) {
+      *why = path.string() + " is missing";
+      return false;
+    }
+    if (size != f["bytes"].get<uint64_t>() || sha256_file(path) != f["sha256"].get<std::string>()) {
+      *why = path.string() + " does not match its recorded sha256/size (corrupt or changed)";
+      return false;
+    }
+  }
+  return true;
+}
+
+OutputWriter::OutputWriter(fs::path out, const GenerateConfig& config, ShareSpec share)
+    : out_(std::move(out)), config_(config), share_(share), config_digest_(config_digest(config)) {
+  std::error_code ec;
+  fs::create_directories(out_ / "parts", ec);
+  if (ec) throw IoError(out_.string(), "", "a writable output folder (" + ec.message() + ")");
+  const fs::path record = done_record_path(out_, share_);
+  if (!fs::exists(record)) return;
+  try {
+    const ordered_json old = ordered_json::parse(read_file(record));
+    if (old.value("config_sha256", "") != config_digest_) return;  // another config: redo everything
+    for (const auto& item : old.at("items")) previous_[item.at("id").get<std::string>()] = item;
+  } catch (const json::exception&) {
+    // A damaged record is not trusted: every item is redone.
+  }
+}
+
+std::string OutputWriter::shard_item_id(const PlannedShard& shard) const {
+  return config_.output.layout == Layout::kTar ? "shards/" + shard.name + ".tar" : "tiles/" + shard.name;
+}
+
+bool OutputWriter::verified(const std::string& id) {
+  auto it = previous_.find(id);
+  if (it == previous_.end()) return false;
+  std::string why;
+  if (!verify_item(out_, it->second, &why)) return false;
+  items_.push_back(it->second);
+  save(false);
+  return true;
+}
+
+void OutputWriter::add_plan(ordered_json location_plan) { plans_.push_back(std::move(location_plan)); }
+
+namespace {
+
+ordered_json file_entry(const fs::path& out, const std::string& relative) {
+  const fs::path path = out / relative;
+  return {{"file", relative}, {"sha256", sha256_file(path)}, {"bytes", fs::file_size(path)}};
+}
+
+ordered_json lonlat_ring(const std::string& location, const tiling::RectM& r) {
+  ordered_json ring = ordered_json::array();
+  const double xs[5] = {r.x_west_m, r.x_east_m, r.x_east_m, r.x_west_m, r.x_west_m};
+  const double ys[5] = {r.y_south_m, r.y_south_m, r.y_north_m, r.y_north_m, r.y_south_m};
+  for (int i = 0; i < 5; ++i) {
+    const geometry::LonLat p = geometry::map_to_lonlat(location, xs[i], ys[i]);
+    ring.push_back({p.lon_deg, p.lat_deg});
+  }
+  return ordered_json::array({ring});
+}
+
+ordered_json polygon_feature(const std::string& location, const tiling::RectM& r, ordered_json properties) {
+  return {{"type", "Feature"},
+          {"properties", std::move(properties)},
+          {"geometry", {{"type", "Polygon"}, {"coordinates", lonlat_ring(location, r)}}}};
+}
+
+std::string regions_geojson(const LocationPlan& plan, double resolution_m, int size_px) {
+  ordered_json features = ordered_json::array();
+  for (const tiling::Region& r : plan.regions)
+    features.push_back(polygon_feature(plan.location, r.bounds,
+                                       {{"kind", "region"}, {"name", r.name}, {"split", r.split},
+                                        {"bounds_m", {r.bounds.x_west_m, r.bounds.y_south_m, r.bounds.x_east_m,
+                                                      r.bounds.y_north_m}}}));
+  for (size_t i = 0; i < plan.crops.size(); ++i) {
+    const tiling::Crop& c = plan.crops[i];
+    features.push_back(polygon_feature(plan.location, c.bounds(resolution_m, size_px),
+                                       {{"kind", "crop"}, {"key", plan.keys[i]}, {"split", c.split},
+                                        {"region", c.region}, {"lidar_coverage", c.lidar_coverage}}));
+  }
+  const ordered_json doc = {{"type", "FeatureCollection"},
+                            {"name", plan.location + " split regions and crops"},
+                            {"features", features}};
+  return doc.dump(1) + "\n";
+}
+
+// Names of the scenes whose sweeps a tile holds, in scene-table order.
+std::vector<std::string> scene_names(const nuscenes::Database& db, const std::vector<int32_t>& sweeps) {
+  std::set<nuscenes::Index> scenes;
+  for (int32_t sd : sweeps) scenes.insert(db.sample[db.sample_data[sd].sample].scene);
+  std::vector<std::string> names;
+  for (nuscenes::Index s : scenes) names.push_back(db.scene[s].name);
+  return names;
+}
+
+}  // namespace
+
+void OutputWriter::write_maps(const std::string& id, const std::string& location, const graph::LaneGraph& graph,
+                              const LocationPlan& plan) {
+  const std::string lanes = "maps/" + location + "/lanes.geojson";
+  const std::string regions = "maps/" + location + "/regions.geojson";
+  graph::write_geojson_file(graph, location, (out_ / lanes).string());
+  write_file_atomic(out_ / regions, regions_geojson(plan, config_.resolution_m, config_.crops.size_px));
+  ordered_json files = ordered_json::array({file_entry(out_, lanes), file_entry(out_, regions)});
+  record_item(id, {{"id", id}, {"kind", "maps"}, {"location", location}, {"files", files}});
+}
+
+size_t OutputWriter::write_shard(const std::string& id, const nuscenes::Database& db, const LocationPlan& plan,
+                                 const PlannedShard& shard, const tiling::LocationRasters& layers,
+                                 const GenerateRun& run) {
+  const bool tar = config_.output.layout == Layout::kTar;
+  std::unique_ptr<io::TarWriter> writer;
+  if (tar) writer = std::make_unique<io::TarWriter>(out_ / id);
+  ordered_json files = ordered_json::array();
+  Progress progress("tiles " + shard.name, shard.count, run.progress);
+  // Tiles are cut and encoded in parallel batches and written in key order, so memory
+  // stays at one batch and the bytes do not depend on the thread count.
+  const size_t batch = static_cast<size_t>(std::max(8, 4 * resolve_threads(run.threads)));
+  for (size_t b = shard.first; b < shard.first + shard.count; b += batch) {
+    const size_t n = std::min(batch, shard.first + shard.count - b);
+    std::vector<std::vector<TileFile>> encoded(n);
+    parallel_for(n, run.threads, [&](size_t k) {
+      const size_t i = b + k;
+      const tiling::Tile tile = tiling::extract_tile(layers, plan.location, plan.crops[i], plan.keys[i],
+                                                     config_.resolution_m, config_.crops.size_px);
+      TileFileOptions options;
+      options.deflate_level = config_.output.deflate_level;
+      options.scenes = scene_names(db, tile.sweeps);
+      encoded[k] = encode_tile_files(tile, options);
+    });
+    for (size_t k = 0; k < n; ++k) {
+      for (const TileFile& f : encoded[k]) {
+        if (tar) {
+          writer->add(f.name, f.bytes);
+        } else {
+          const std::string relative = "tiles/" + shard.split + "/" + plan.keys[b + k] + "/" + f.name;
+          write_file_atomic(out_ / relative, std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size()));
+          files.push_back({{"file", relative}, {"sha256", sha256_hex(std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size()))}, {"bytes", f.bytes.size()}});
+        }
+      }
+      progress.advance();
+    }
+  }
+  if (tar) {
+    const io::TarWriter::Result r = writer->finish();
+    files.push_back({{"file", id}, {"sha256", r.sha256_hex}, {"bytes", r.bytes}});
+  }
+  progress.finish();
+  record_item(id, {{"id", id},
+                   {"kind", "shard"},
+                   {"location", plan.location},
+                   {"split", shard.split},
+                   {"shard", shard.name},
+                   {"tiles", shard.count},
+                   {"files", files}});
+  return shard.count;
+}
+
+void OutputWriter::record_item(const std::string& id, ordered_json item) {
+  item["digest"] = item_digest(item["files"]);
+  for (auto& existing : items_)
+    if (existing["id"] == id) {
+      existing = std::move(item);
+      save(false);
+      return;
+    }
+  items_.push_back(std::move(item));
+  save(false);
+}
+
+void OutputWriter::save(bool complete) {
+  const ordered_json record = {{"schema_version", "1"},
+                               {"tool_version", kVersion},
+                               {"share", {{"index", share_.index}, {"count", share_.count}}},
+                               {"config_sha256", config_digest_},
+                               {"config", config_to_json(config_)},
+                               {"complete", complete},
+                               {"plan", complete ? plans_ : ordered_json::array()},
+                               {"items", items_}};
+  write_file_atomic(done_record_path(out_, share_), record.dump(1) + "\n");
+}
+
+void OutputWriter::finish() { save(true); }
+
+}  // namespace nsg::pipeline

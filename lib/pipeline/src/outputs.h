@@ -1,0 +1,63 @@
+#pragma once
+// The output side of a share (private to the pipeline): tile shards (tar or folders),
+// the maps of a location, and the share's done-record, rewritten after every item.
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "nsg/pipeline/config.h"
+#include "nsg/pipeline/generate.h"
+#include "nsg/tiling/tile.h"
+#include "plan.h"
+
+namespace nsg::nuscenes {
+class Database;
+}
+namespace nsg::graph {
+struct LaneGraph;
+}
+
+namespace nsg::pipeline {
+
+// parts/share-<i>-of-<n>.json
+std::filesystem::path done_record_path(const std::filesystem::path& out, const ShareSpec& share);
+// Files of an item as recorded: [{file (relative to out), sha256, bytes}].
+// The item digest: a single file's sha256, or the sha256 of "<file>\0<sha256>\n" lines.
+std::string item_digest(const nlohmann::ordered_json& files);
+// Re-hashes the recorded files; false (with `why`) when one is missing or differs.
+bool verify_item(const std::filesystem::path& out, const nlohmann::ordered_json& item, std::string* why);
+std::string config_digest(const GenerateConfig& config);
+
+class OutputWriter {
+ public:
+  OutputWriter(std::filesystem::path out, const GenerateConfig& config, ShareSpec share);
+
+  std::string shard_item_id(const PlannedShard& shard) const;
+  // True when an earlier run of this share (same config) recorded the item and its files
+  // still hash the same; the item is then carried into the new record.
+  bool verified(const std::string& id);
+  void add_plan(nlohmann::ordered_json location_plan);
+  void write_maps(const std::string& id, const std::string& location, const graph::LaneGraph& graph,
+                  const LocationPlan& plan);
+  // Returns the number of tiles written.
+  size_t write_shard(const std::string& id, const nuscenes::Database& db, const LocationPlan& plan,
+                     const PlannedShard& shard, const tiling::LocationRasters& layers, const GenerateRun& run);
+  // Marks the record complete (with the whole plan) and writes it.
+  void finish();
+
+ private:
+  void record_item(const std::string& id, nlohmann::ordered_json item);
+  void save(bool complete);
+
+  std::filesystem::path out_;
+  const GenerateConfig& config_;
+  ShareSpec share_;
+  std::string config_digest_;
+  std::map<std::string, nlohmann::ordered_json> previous_;  // items of an earlier record with this config
+  nlohmann::ordered_json items_ = nlohmann::ordered_json::array();
+  nlohmann::ordered_json plans_ = nlohmann::ordered_json::array();
+};
+
+}  // namespace nsg::pipeline

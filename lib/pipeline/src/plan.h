@@ -1,0 +1,45 @@
+#pragma once
+// The plan of a run (private to the pipeline): per location its regions, ordered crops,
+// keys and shards; and the work items in their stable order.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "nsg/tiling/crops.h"
+#include "nsg/tiling/regions.h"
+
+namespace nsg::pipeline {
+
+struct PlannedShard {
+  std::string name;   // "<split>-NNNNNN"
+  std::string split;
+  size_t first = 0;   // index into LocationPlan::crops
+  size_t count = 0;
+};
+
+struct LocationPlan {
+  std::string location;
+  std::string map_version;
+  size_t graph_nodes = 0, graph_edges = 0, graph_lanes = 0, map_defects = 0;
+  std::vector<tiling::Region> regions;
+  std::vector<tiling::Crop> crops;  // train, then val, then test; plan order inside a split
+  std::vector<std::string> keys;    // one per crop
+  std::vector<PlannedShard> shards;
+  size_t count(const std::string& split) const;
+};
+
+enum class ItemKind { kMaps, kShard };
+
+struct WorkItem {
+  ItemKind kind = ItemKind::kMaps;
+  size_t location = 0;  // index into the plan's locations
+  size_t shard = 0;     // index into LocationPlan::shards (kShard)
+  std::string id;       // "maps/<location>" or "shards/<split>-NNNNNN.tar" / "tiles/<split>-NNNNNN"
+};
+
+// The plan as it is recorded (done-records, manifest): regions, counts, shards.
+nlohmann::ordered_json plan_json(const LocationPlan& plan);
+
+}  // namespace nsg::pipeline

@@ -1,0 +1,91 @@
+#pragma once
+// The camera layers (DESIGN.md §4 "RGB and semantics"): every kept LiDAR point of a
+// location is coloured from the key-frame camera images near it. A view is usable when the
+// point projects inside the image (devkit bounds 1 < u < W−1, 1 < v < H−1) with depth >
+// min_depth_m and no LiDAR return of that key frame hides it; the closest usable view
+// wins, RGB bilinear from the (scaled-decoded) JPEG, class nearest from the full-size mask.
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "nsg/raster/lidar_layer.h"
+#include "nsg/raster/sparse_grid.h"
+
+namespace nsg::nuscenes {
+class Database;
+}
+
+namespace nsg::raster {
+
+inline constexpr uint8_t kCoverageLidar = 1, kCoverageRgb = 2, kCoverageSemantic = 4;
+
+struct ColorCell {
+  uint8_t r = 0, g = 0, b = 0;
+  uint8_t semantic = 255;  // 255 = no class
+  uint8_t flags = 0;       // kCoverageRgb | kCoverageSemantic (LiDAR = 1 comes from LidarLayer)
+  float depth_m = std::numeric_limits<float>::infinity();  // depth of the winning view
+};
+
+// Half-open cell ranges [col0, col1) × [row0, row1).
+struct CellRect {
+  int64_t col0 = 0, row0 = 0, col1 = 0, row1 = 0;
+  bool contains(CellIndex c) const { return c.col >= col0 && c.col < col1 && c.row >= row0 && c.row < row1; }
+};
+
+struct CameraOptions {
+  bool rgb = true;
+  bool semantic = true;
+  std::filesystem::path semantic_root;  // empty = <dataroot>/semantic; masks at <root>/<CHANNEL>/<basename>.png
+  double view_radius_m = 40.0;          // key-frame ego poses farther (in xy) from the point are not considered
+  double min_depth_m = 1.0;             // devkit min_dist
+  // Occlusion: the view is rejected when a LiDAR return of the image's key frame projects
+  // within ± occlusion_window_px (full-resolution pixels) sideways, at or above the point
+  // in the image, and is closer by more than occlusion_margin_m. Only returns at or above
+  // count: flat ground in front of a point always lies below it in the image, so it never
+  // hides it, while any object hiding it covers its pixel and the rows above. The window
+  // must exceed the LiDAR's beam spacing in the image (≈ 29 px at 1266 px focal, 32 beams).
+  int occlusion_window_px = 32;
+  double occlusion_margin_m = 0.15;
+  int jpeg_scale_denom = 2;  // 1, 2 or 4 (turbojpeg scaled decode)
+  std::string lidar_channel = "LIDAR_TOP";  // the key-frame sweep used for occlusion
+  void validate() const;  // ConfigError naming the bad field
+};
+
+struct ColorStats {
+  size_t points = 0;          // kept LiDAR points considered (inside the regions)
+  size_t images = 0;          // key-frame camera images at the location
+  size_t images_used = 0;     // images that won at least one candidate test (decoded)
+  size_t occluded_views = 0;  // views rejected by the occlusion test
+};
+
+class ColorLayer {
+ public:
+  explicit ColorLayer(double resolution_m = 0.2) : resolution_m_(resolution_m) {}
+  const SparseGrid<ColorCell>& cells() const { return cells_; }
+  double resolution_m() const { return resolution_m_; }
+  size_t rgb_cells() const { return rgb_cells_; }
+  size_t semantic_cells() const { return semantic_cells_; }
+  const ColorStats& stats() const { return stats_; }
+
+ private:
+  friend ColorLayer colorize_location(const nuscenes::Database&, const std::string&, const LidarLayer&,
+                                      const std::vector<CellRect>&, const CameraOptions&, int);
+  double resolution_m_;
+  SparseGrid<ColorCell> cells_;
+  size_t rgb_cells_ = 0, semantic_cells_ = 0;
+  ColorStats stats_;
+};
+
+// Colours the kept LiDAR points of `lidar` (from accumulate_location of the same db and
+// location) inside `regions` (empty vector = every covered cell). Deterministic: the same
+// result at any thread count (`threads` as nsg::parallel_for, 0 = all cores). Throws
+// ConfigError (bad options), DataError (no scene at the location, a camera without
+// intrinsics or size), IoError naming the first missing semantic mask when
+// options.semantic, IoError / ParseError from the JPEG, PNG and sweep readers.
+ColorLayer colorize_location(const nuscenes::Database& db, const std::string& location, const LidarLayer& lidar,
+                             const std::vector<CellRect>& regions, const CameraOptions& options, int threads);
+
+}  // namespace nsg::raster

@@ -1,0 +1,322 @@
+#include "nsg/raster/color_layer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <thread>
+#include <utility>
+
+#include "nsg/core/error.h"
+#include "nsg/core/parallel.h"
+#include "nsg/geometry/transform.h"
+#include "nsg/nuscenes/camera.h"
+#include "nsg/nuscenes/database.h"
+#include "nsg/nuscenes/lidar.h"
+#include "nsg/nuscenes/semantic_mask.h"
+
+namespace nsg::raster {
+
+namespace fs = std::filesystem;
+using nuscenes::Database;
+using nuscenes::Index;
+
+void CameraOptions::validate() const {
+  if (!rgb && !semantic) throw ConfigError("", "camera.rgb / camera.semantic", "at least one of them enabled");
+  if (!(view_radius_m > 0.0)) throw ConfigError("", "camera.view_radius_m", "expected > 0 m");
+  if (!(min_depth_m >= 0.0)) throw ConfigError("", "camera.min_depth_m", "expected ≥ 0 m");
+  if (occlusion_window_px < 0 || occlusion_window_px > 512)
+    throw ConfigError("", "camera.occlusion_window_px", "expected 0..512 px");
+  if (!(occlusion_margin_m >= 0.0)) throw ConfigError("", "camera.occlusion_margin_m", "expected ≥ 0 m");
+  if (jpeg_scale_denom != 1 && jpeg_scale_denom != 2 && jpeg_scale_denom != 4)
+    throw ConfigError("", "camera.jpeg_scale_denom", "expected 1, 2 or 4");
+  if (lidar_channel.empty()) throw ConfigError("", "camera.lidar_channel", "expected a channel name (LIDAR_TOP)");
+}
+
+namespace {
+
+constexpr int kZCellPx = 8;          // z-buffer cell (full-resolution pixels)
+constexpr size_t kChunkImages = 16;  // images in flight at once: bounds memory, not results
+
+// A kept LiDAR point to colour.
+struct Target {
+  float x, y, z;
+  CellIndex cell;
+};
+
+// The targets sorted by LiDAR block, with each block's [begin, end) range, so an image
+// visits only the blocks within its view radius.
+struct TargetIndex {
+  double resolution_m = 0.2;
+  std::vector<Target> targets;
+  std::map<std::pair<int64_t, int64_t>, std::pair<size_t, size_t>> blocks;  // (by, bx) → range
+};
+
+int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+TargetIndex collect_targets(const LidarLayer& lidar, const std::vector<CellRect>& regions) {
+  TargetIndex index;
+  index.resolution_m = lidar.resolution_m();
+  lidar.cells().for_each([&](CellIndex c, const LidarCell& cell) {
+    if (!cell.has_data()) return;
+    if (!regions.empty() && std::none_of(regions.begin(), regions.end(), [&](const CellRect& r) { return r.contains(c); }))
+      return;
+    const std::pair<int64_t, int64_t> key{floor_div(c.row, kBlockCells), floor_div(c.col, kBlockCells)};
+    auto [it, fresh] = index.blocks.try_emplace(key, index.targets.size(), index.targets.size());
+    index.targets.push_back({cell.x, cell.y, cell.z, c});
+    it->second.second = index.targets.size();  // for_each visits a block's cells contiguously
+  });
+  return index;
+}
+
+// One key-frame camera image and what it needs.
+struct ImageJob {
+  Index camera = nuscenes::kNoIndex;  // sample_data row
+  Index lidar = nuscenes::kNoIndex;   // the key-frame sweep of the same sample (kNoIndex: none)
+  fs::path mask;                      // semantic mask (empty when semantics are off)
+};
+
+std::vector<ImageJob> plan_images(const Database& db, const std::string& location, const CameraOptions& options) {
+  std::vector<char> at_location(db.scene.size(), 0);
+  bool any = false;
+  for (Index s = 0; s < static_cast<Index>(db.scene.size()); ++s) {
+    at_location[static_cast<size_t>(s)] = db.log[db.scene[s].log].location == location;
+    any = any || at_location[static_cast<size_t>(s)];
+  }
+  if (!any) throw DataError(db.log.file(), "location " + location, "at least one log (with a scene) at this location");
+  const fs::path root = options.semantic_root.empty() ? db.dataroot() / "semantic" : options.semantic_root;
+  std::vector<ImageJob> jobs;
+  for (Index i = 0; i < static_cast<Index>(db.sample_data.size()); ++i) {
+    const nuscenes::SampleData& sd = db.sample_data[i];
+    if (sd.modality != nuscenes::Modality::kCamera || !sd.is_key_frame) continue;
+    if (!at_location[static_cast<size_t>(db.sample[sd.sample].scene)]) continue;
+    ImageJob job{i, db.key_frame(sd.sample, options.lidar_channel), {}};
+    if (options.semantic) {
+      job.mask = root / db.channel(sd) / (fs::path(sd.filename).stem().string() + ".png");
+      // Fail before any work: a release without masks is a configuration question.
+      if (!fs::exists(job.mask))
+        throw IoError(job.mask.string(), "sample_data " + sd.token.str(),
+                      "the semantic class mask of this key-frame image (<semantic_root>/<CHANNEL>/<basename>.png); "
+                      "set camera.semantic_root, or disable camera.semantic");
+    }
+    jobs.push_back(std::move(job));
+  }
+  return jobs;
+}
+
+// Pinhole projection of one image: camera_from_global and K, as the devkit chain does.
+struct ViewGeometry {
+  geometry::Rigid3 camera_from_global;
+  Eigen::Matrix3d k;
+  int width = 0, height = 0;
+  double ego_x = 0.0, ego_y = 0.0;
+
+  // Depth and pixel of a global point; false when behind the camera plane.
+  bool project(double x, double y, double z, double& depth, double& u, double& v) const {
+    const Eigen::Vector3d p = camera_from_global.apply(Eigen::Vector3d(x, y, z));
+    const Eigen::Vector3d q = k * p;
+    depth = p.z();
+    if (!(q.z() > 0.0)) return false;
+    u = q.x() / q.z();
+    v = q.y() / q.z();
+    return true;
+  }
+  bool inside(double u, double v) const { return u > 1.0 && u < width - 1.0 && v > 1.0 && v < height - 1.0; }
+};
+
+ViewGeometry view_geometry(const Database& db, Index camera) {
+  const nuscenes::SampleData& sd = db.sample_data[camera];
+  const nuscenes::CalibratedSensor& cs = db.calibrated_sensor[sd.calibrated_sensor];
+  if (!cs.camera_intrinsic)
+    throw DataError(db.calibrated_sensor.file(), "token " + cs.token.str(), "a camera_intrinsic for camera " +
+                                                                               db.channel(sd));
+  if (sd.width <= 2 || sd.height <= 2)
+    throw DataError(db.sample_data.file(), "token " + sd.token.str(), "the image width and height of a camera record");
+  ViewGeometry g;
+  g.camera_from_global = nuscenes::global_from_sensor(db, camera).inverse();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) g.k(r, c) = (*cs.camera_intrinsic)[r][c];
+  g.width = sd.width;
+  g.height = sd.height;
+  const nuscenes::EgoPose& ego = db.ego_pose[sd.ego_pose];
+  g.ego_x = ego.translation[0];
+  g.ego_y = ego.translation[1];
+  return g;
+}
+
+// Minimum depth of the key frame's LiDAR returns per kZCellPx² image cell.
+class DepthBuffer {
+ public:
+  DepthBuffer(const ViewGeometry& view, int window_px)
+      : cols_(view.width / kZCellPx + 1), rows_(view.height / kZCellPx + 1), window_px_(window_px),
+        depth_(static_cast<size_t>(cols_) * rows_, std::numeric_limits<float>::infinity()) {}
+
+  void add_sweep(const Database& db, Index lidar, const ViewGeometry& view, std::vector<nuscenes::LidarPoint>& buf) {
+    nuscenes::read_lidar_points(db.file_path(db.sample_data[lidar]), buf);
+    // The ego's own roof returns (devkit remove_close) are not obstacles.
+    std::erase_if(buf, [](const nuscenes::LidarPoint& p) { return std::abs(p.x) < 1.0f && std::abs(p.y) < 1.0f; });
+    nuscenes::sensor_to_global(db, lidar, buf);
+    for (const nuscenes::LidarPoint& p : buf) {
+      double depth, u, v;
+      if (!view.project(p.x, p.y, p.z, depth, u, v) || !(depth > 0.0)) continue;
+      if (u < 0.0 || v < 0.0 || u >= view.width || v >= view.height) continue;
+      float& d = depth_[static_cast<size_t>(static_cast<int>(v) / kZCellPx) * cols_ + static_cast<int>(u) / kZCellPx];
+      d = std::min(d, static_cast<float>(depth));
+    }
+  }
+  // The closest return within ± window sideways and from window above down to the point's row.
+  float closest_above(double u, double v) const {
+    const int c0 = std::max(0, static_cast<int>(std::floor((u - window_px_) / kZCellPx)));
+    const int c1 = std::min(cols_ - 1, static_cast<int>(std::floor((u + window_px_) / kZCellPx)));
+    const int r0 = std::max(0, static_cast<int>(std::floor((v - window_px_) / kZCellPx)));
+    const int r1 = std::min(rows_ - 1, static_cast<int>(std::floor(v / kZCellPx)));
+    float best = std::numeric_limits<float>::infinity();
+    for (int r = r0; r <= r1; ++r)
+      for (int c = c0; c <= c1; ++c) best = std::min(best, depth_[static_cast<size_t>(r) * cols_ + c]);
+    return best;
+  }
+
+ private:
+  int cols_, rows_, window_px_;
+  std::vector<float> depth_;
+};
+
+// A usable view of a target from one image.
+struct Candidate {
+  uint32_t target;
+  float depth;
+  float u, v;
+  uint8_t rgb[3];
+  uint8_t cls;
+};
+
+struct ImageResult {
+  std::vector<Candidate> candidates;
+  size_t occluded = 0;
+};
+
+// The best view so far of each target (depth = +inf: none yet).
+struct Best {
+  float depth = std::numeric_limits<float>::infinity();
+  uint8_t rgb[3] = {0, 0, 0};
+  uint8_t cls = 255;
+};
+
+void sample_rgb(const nuscenes::RgbImage& img, int denom, Candidate& c) {
+  // Scaled pixel k averages full pixels [k·d, k·d + d − 1]; pixel centres are integer u, v.
+  const double off = (denom - 1) / 2.0;
+  const double xs = std::clamp((c.u - off) / denom, 0.0, img.width - 1.0);
+  const double ys = std::clamp((c.v - off) / denom, 0.0, img.height - 1.0);
+  const int x0 = static_cast<int>(xs), y0 = static_cast<int>(ys);
+  const int x1 = std::min(x0 + 1, img.width - 1), y1 = std::min(y0 + 1, img.height - 1);
+  const double fx = xs - x0, fy = ys - y0;
+  for (int k = 0; k < 3; ++k) {
+    const double top = img.at(x0, y0)[k] * (1 - fx) + img.at(x1, y0)[k] * fx;
+    const double bottom = img.at(x0, y1)[k] * (1 - fx) + img.at(x1, y1)[k] * fx;
+    c.rgb[k] = static_cast<uint8_t>(std::clamp(std::lround(top * (1 - fy) + bottom * fy), 0L, 255L));
+  }
+}
+
+ImageResult process_image(const Database& db, const ImageJob& job, const TargetIndex& index,
+                          const std::vector<Best>& best, const CameraOptions& options) {
+  ImageResult out;
+  const ViewGeometry view = view_geometry(db, job.camera);
+  DepthBuffer zbuf(view, options.occlusion_window_px);
+  std::vector<nuscenes::LidarPoint> buf;
+  if (job.lidar != nuscenes::kNoIndex) zbuf.add_sweep(db, job.lidar, view, buf);
+
+  const double r = options.view_radius_m, r2 = r * r;
+  const auto visit_block = [&](size_t begin, size_t end) {
+    for (size_t t = begin; t < end; ++t) {
+      const Target& p = index.targets[t];
+      const double dx = p.x - view.ego_x, dy = p.y - view.ego_y;
+      if (dx * dx + dy * dy > r2) continue;
+      double depth, u, v;
+      if (!view.project(p.x, p.y, p.z, depth, u, v) || !(depth > options.min_depth_m) || !view.inside(u, v)) continue;
+      if (!(depth < best[t].depth)) continue;  // an earlier image already saw it closer
+      if (zbuf.closest_above(u, v) < depth - options.occlusion_margin_m) {
+        ++out.occluded;
+        continue;
+      }
+      out.candidates.push_back({static_cast<uint32_t>(t), static_cast<float>(depth), static_cast<float>(u),
+                                static_cast<float>(v), {0, 0, 0}, 255});
+    }
+  };
+  const double block_m = kBlockCells * index.resolution_m;
+  const auto block_floor = [&](double m) { return static_cast<int64_t>(std::floor(m / block_m)); };
+  for (int64_t by = block_floor(view.ego_y - r); by <= block_floor(view.ego_y + r); ++by) {
+    for (int64_t bx = block_floor(view.ego_x - r); bx <= block_floor(view.ego_x + r); ++bx) {
+      const auto it = index.blocks.find({by, bx});
+      if (it != index.blocks.end()) visit_block(it->second.first, it->second.second);
+    }
+  }
+  if (out.candidates.empty()) return out;
+
+  const fs::path jpeg = db.file_path(db.sample_data[job.camera]);
+  if (options.rgb) {
+    nuscenes::JpegDecoder decoder;
+    nuscenes::RgbImage img;
+    decoder.decode_file(jpeg, static_cast<nuscenes::JpegScale>(options.jpeg_scale_denom), img);
+    const auto scale = static_cast<nuscenes::JpegScale>(options.jpeg_scale_denom);
+    if (img.width != nuscenes::scaled_dimension(view.width, scale) ||
+        img.height != nuscenes::scaled_dimension(view.height, scale))
+      throw DataError(jpeg.string(), "", "an image of the sample_data's size " + std::to_string(view.width) + "×" +
+                                             std::to_string(view.height));
+    for (Candidate& c : out.candidates) sample_rgb(img, options.jpeg_scale_denom, c);
+  }
+  if (options.semantic) {
+    const nuscenes::GrayImage mask = nuscenes::read_semantic_mask(job.mask);
+    if (mask.width != view.width || mask.height != view.height)
+      throw DataError(job.mask.string(), "", "a mask of the image's size " + std::to_string(view.width) + "×" +
+                                                 std::to_string(view.height));
+    for (Candidate& c : out.candidates) c.cls = mask.at(static_cast<int>(std::lround(c.u)), static_cast<int>(std::lround(c.v)));
+  }
+  return out;
+}
+
+}  // namespace
+
+ColorLayer colorize_location(const Database& db, const std::string& location, const LidarLayer& lidar,
+                             const std::vector<CellRect>& regions, const CameraOptions& options, int threads) {
+  options.validate();
+  const std::vector<ImageJob> jobs = plan_images(db, location, options);
+  const TargetIndex index = collect_targets(lidar, regions);
+  ColorLayer layer(lidar.resolution_m());
+  layer.stats_.points = index.targets.size();
+  layer.stats_.images = jobs.size();
+  if (index.targets.empty()) return layer;
+
+  std::vector<Best> best(index.targets.size());
+  std::vector<ImageResult> results;
+  for (size_t first = 0; first < jobs.size(); first += kChunkImages) {
+    const size_t n = std::min(kChunkImages, jobs.size() - first);
+    results.assign(n, {});
+    parallel_for(n, threads, [&](size_t k) { results[k] = process_image(db, jobs[first + k], index, best, options); });
+    // Apply in image order; a strictly closer view replaces, so ties keep the earlier
+    // image and the result depends neither on the chunking nor on the thread count.
+    for (const ImageResult& res : results) {
+      layer.stats_.occluded_views += res.occluded;
+      layer.stats_.images_used += !res.candidates.empty();
+      for (const Candidate& c : res.candidates) {
+        Best& b = best[c.target];
+        if (!(c.depth < b.depth)) continue;
+        b.depth = c.depth;
+        std::copy(c.rgb, c.rgb + 3, b.rgb);
+        b.cls = c.cls;
+      }
+    }
+  }
+
+  const uint8_t flags = (options.rgb ? kCoverageRgb : 0) | (options.semantic ? kCoverageSemantic : 0);
+  SparseGrid<ColorCell>::Cursor cursor;
+  for (size_t t = 0; t < index.targets.size(); ++t) {
+    const Best& b = best[t];
+    if (!std::isfinite(b.depth)) continue;
+    ColorCell& cell = layer.cells_.at(index.targets[t].cell, cursor);
+    cell = {b.rgb[0], b.rgb[1], b.rgb[2], options.semantic ? b.cls : uint8_t{255}, flags, b.depth};
+    layer.rgb_cells_ += options.rgb;
+    layer.semantic_cells_ += options.semantic;
+  }
+  return layer;
+}
+
+}  // namespace nsg::raster

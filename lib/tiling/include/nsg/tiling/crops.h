@@ -1,0 +1,58 @@
+#pragma once
+// Crop sampling inside split regions (DESIGN.md §4 "Splits"): crops are aligned to the
+// 0.2 m cell grid, lie wholly inside one region and are kept only when enough of their
+// cells hold LiDAR. Train crops go to random positions (a count per km² of covered area,
+// or a total); val/test crops to a non-overlapping grid (random on request).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "nsg/tiling/regions.h"
+
+namespace nsg::raster {
+class LidarLayer;
+}
+
+namespace nsg::tiling {
+
+enum class Placement { kRandom, kGrid };
+Placement parse_placement(const std::string& text, const std::string& field);  // ConfigError
+const char* placement_name(Placement p);
+
+struct CropOptions {
+  int size_px = 256;
+  double min_lidar_coverage = 0.5;  // fraction of the crop's cells holding LiDAR
+  Placement train = Placement::kRandom;
+  Placement val = Placement::kGrid;
+  Placement test = Placement::kGrid;
+  // Random placement: wanted crops = per_km2 × covered km² of the region, or `total`
+  // spread over the split's regions by covered area when > 0.
+  double random_per_km2 = 1500.0;
+  int64_t random_total = 0;
+  int attempts_per_crop = 20;  // random draws per wanted crop before giving up
+  void validate() const;
+};
+
+struct Crop {
+  std::string region;   // Region::name
+  std::string split;
+  int64_t col0 = 0;     // south-west cell of the crop (cells [col0, col0+size) × [row0, row0+size))
+  int64_t row0 = 0;
+  double lidar_coverage = 0.0;
+  RectM bounds(double resolution_m, int size_px) const;
+};
+
+// Fraction of the cells of the size×size window at (col0, row0) that hold LiDAR; reads
+// only the blocks under the window.
+double window_coverage(const raster::LidarLayer& lidar, int64_t col0, int64_t row0, int size_px);
+// LiDAR-covered cells inside a rectangle (cells whose centre lies inside).
+int64_t covered_cells_in(const raster::LidarLayer& lidar, const RectM& rect);
+
+// The crops of one location: regions in order, each region's crops in placement order
+// (grid: south to north, west to east; random: draw order). Deterministic for a seed;
+// each region draws from its own RNG stream (hash of the region name), so adding a
+// region does not move the crops of another.
+std::vector<Crop> plan_crops(const raster::LidarLayer& lidar, const std::vector<Region>& regions,
+                             const CropOptions& options, uint64_t seed);
+
+}  // namespace nsg::tiling

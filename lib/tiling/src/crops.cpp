@@ -1,0 +1,152 @@
+#include "nsg/tiling/crops.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "nsg/core/error.h"
+#include "nsg/core/rng.h"
+#include "nsg/raster/lidar_layer.h"
+
+namespace nsg::tiling {
+
+Placement parse_placement(const std::string& text, const std::string& field) {
+  if (text == "random") return Placement::kRandom;
+  if (text == "grid") return Placement::kGrid;
+  throw ConfigError("", field, "'random' or 'grid' (got '" + text + "')");
+}
+
+const char* placement_name(Placement p) { return p == Placement::kRandom ? "random" : "grid"; }
+
+void CropOptions::validate() const {
+  if (size_px < 8 || size_px > 4096) throw ConfigError("", "crops.size_px", "a crop edge of 8 to 4096 pixels");
+  if (!(min_lidar_coverage >= 0.0 && min_lidar_coverage <= 1.0))
+    throw ConfigError("", "crops.min_lidar_coverage", "a fraction in [0, 1]");
+  if (!(random_per_km2 >= 0.0 && random_per_km2 <= 1e6))
+    throw ConfigError("", "crops.random_per_km2", "a density in [0, 1e6] crops per km²");
+  if (random_total < 0) throw ConfigError("", "crops.random_total", "a count ≥ 0 (0 = use random_per_km2)");
+  if (attempts_per_crop < 1) throw ConfigError("", "crops.attempts_per_crop", "at least 1");
+}
+
+RectM Crop::bounds(double resolution_m, int size_px) const {
+  return {static_cast<double>(col0) * resolution_m, static_cast<double>(row0) * resolution_m,
+          static_cast<double>(col0 + size_px) * resolution_m, static_cast<double>(row0 + size_px) * resolution_m};
+}
+
+namespace {
+
+using raster::CellIndex;
+using raster::kBlockCells;
+
+int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+// Covered cells of the half-open cell window [col0, col1) × [row0, row1), block by block.
+int64_t covered_cells_window(const raster::LidarLayer& lidar, int64_t col0, int64_t row0, int64_t col1, int64_t row1) {
+  int64_t n = 0;
+  for (int64_t by = floor_div(row0, kBlockCells); by * kBlockCells < row1; ++by)
+    for (int64_t bx = floor_div(col0, kBlockCells); bx * kBlockCells < col1; ++bx) {
+      const raster::LidarCell* first = lidar.cells().find({bx * kBlockCells, by * kBlockCells});
+      if (first == nullptr) continue;
+      const int64_t c0 = std::max(col0, bx * kBlockCells) - bx * kBlockCells;
+      const int64_t c1 = std::min(col1, (bx + 1) * kBlockCells) - bx * kBlockCells;
+      const int64_t r0 = std::max(row0, by * kBlockCells) - by * kBlockCells;
+      const int64_t r1 = std::min(row1, (by + 1) * kBlockCells) - by * kBlockCells;
+      for (int64_t r = r0; r < r1; ++r)
+        for (int64_t c = c0; c < c1; ++c) n += first[r * kBlockCells + c].has_data() ? 1 : 0;
+    }
+  return n;
+}
+
+// Cells whose centre lies in [lo, hi): first = ceil(lo/res − 0.5), end = ceil(hi/res − 0.5).
+int64_t first_cell(double lo_m, double res) { return static_cast<int64_t>(std::ceil(lo_m / res - 0.5)); }
+
+struct CellSpan {
+  int64_t col0, row0, col1, row1;
+};
+CellSpan cells_of(const RectM& r, double res) {
+  return {first_cell(r.x_west_m, res), first_cell(r.y_south_m, res), first_cell(r.x_east_m, res),
+          first_cell(r.y_north_m, res)};
+}
+
+// Crops wholly inside the region: south-west corners in [lo, hi] (cells).
+struct CornerRange {
+  int64_t col_lo, col_hi, row_lo, row_hi;
+  bool empty() const { return col_hi < col_lo || row_hi < row_lo; }
+};
+CornerRange corner_range(const RectM& r, double res, int size_px) {
+  return {static_cast<int64_t>(std::ceil(r.x_west_m / res - 1e-9)),
+          static_cast<int64_t>(std::floor(r.x_east_m / res + 1e-9)) - size_px,
+          static_cast<int64_t>(std::ceil(r.y_south_m / res - 1e-9)),
+          static_cast<int64_t>(std::floor(r.y_north_m / res + 1e-9)) - size_px};
+}
+
+void grid_crops(const raster::LidarLayer& lidar, const Region& region, const CropOptions& o,
+                std::vector<Crop>& out) {
+  const CornerRange range = corner_range(region.bounds, lidar.resolution_m(), o.size_px);
+  if (range.empty()) return;
+  for (int64_t row = range.row_lo; row <= range.row_hi; row += o.size_px)
+    for (int64_t col = range.col_lo; col <= range.col_hi; col += o.size_px) {
+      const double cov = window_coverage(lidar, col, row, o.size_px);
+      if (cov >= o.min_lidar_coverage && cov > 0.0) out.push_back({region.name, region.split, col, row, cov});
+    }
+}
+
+void random_crops(const raster::LidarLayer& lidar, const Region& region, int64_t wanted, const CropOptions& o,
+                  uint64_t seed, std::vector<Crop>& out) {
+  const CornerRange range = corner_range(region.bounds, lidar.resolution_m(), o.size_px);
+  if (range.empty() || wanted <= 0) return;
+  Rng rng(seed, hash_string(region.name.data(), region.name.size()));
+  int64_t kept = 0;
+  for (int64_t attempt = 0; attempt < wanted * o.attempts_per_crop && kept < wanted; ++attempt) {
+    const int64_t col = rng.uniform_int(range.col_lo, range.col_hi);
+    const int64_t row = rng.uniform_int(range.row_lo, range.row_hi);
+    const double cov = window_coverage(lidar, col, row, o.size_px);
+    if (cov < o.min_lidar_coverage || cov <= 0.0) continue;
+    out.push_back({region.name, region.split, col, row, cov});
+    ++kept;
+  }
+}
+
+Placement placement_of(const CropOptions& o, const std::string& split) {
+  return split == "train" ? o.train : split == "val" ? o.val : o.test;
+}
+
+}  // namespace
+
+double window_coverage(const raster::LidarLayer& lidar, int64_t col0, int64_t row0, int size_px) {
+  const int64_t n = covered_cells_window(lidar, col0, row0, col0 + size_px, row0 + size_px);
+  return static_cast<double>(n) / (static_cast<double>(size_px) * size_px);
+}
+
+int64_t covered_cells_in(const raster::LidarLayer& lidar, const RectM& rect) {
+  const CellSpan s = cells_of(rect, lidar.resolution_m());
+  return covered_cells_window(lidar, s.col0, s.row0, s.col1, s.row1);
+}
+
+std::vector<Crop> plan_crops(const raster::LidarLayer& lidar, const std::vector<Region>& regions,
+                             const CropOptions& options, uint64_t seed) {
+  options.validate();
+  const double cell_km2 = lidar.resolution_m() * lidar.resolution_m() * 1e-6;
+  // Covered area per region, and per split (to spread a total over the split's regions).
+  std::vector<double> covered_km2(regions.size());
+  std::map<std::string, double> split_km2;
+  for (size_t i = 0; i < regions.size(); ++i) {
+    covered_km2[i] = static_cast<double>(covered_cells_in(lidar, regions[i].bounds)) * cell_km2;
+    split_km2[regions[i].split] += covered_km2[i];
+  }
+  std::vector<Crop> crops;
+  for (size_t i = 0; i < regions.size(); ++i) {
+    const Region& region = regions[i];
+    if (placement_of(options, region.split) == Placement::kGrid) {
+      grid_crops(lidar, region, options, crops);
+      continue;
+    }
+    const double share = split_km2[region.split] > 0 ? covered_km2[i] / split_km2[region.split] : 0.0;
+    const double wanted = options.random_total > 0 ? static_cast<double>(options.random_total) * share
+                                                   : options.random_per_km2 * covered_km2[i];
+    random_crops(lidar, region, static_cast<int64_t>(std::llround(wanted)), options, seed, crops);
+  }
+  return crops;
+}
+
+}  // namespace nsg::tiling

@@ -1,0 +1,181 @@
+#include "nsg/tiling/regions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+
+#include "nsg/core/error.h"
+#include "nsg/core/rng.h"
+#include "nsg/raster/lidar_layer.h"
+#include "nsg/tiling/crops.h"
+
+namespace nsg::tiling {
+
+bool is_split_name(std::string_view name) {
+  return std::find(kSplitNames.begin(), kSplitNames.end(), name) != kSplitNames.end();
+}
+
+bool RectM::contains(const RectM& inner) const {
+  return inner.x_west_m >= x_west_m && inner.x_east_m <= x_east_m && inner.y_south_m >= y_south_m &&
+         inner.y_north_m <= y_north_m;
+}
+
+double RectM::distance_to(const RectM& o) const {
+  const double dx = std::max({0.0, o.x_west_m - x_east_m, x_west_m - o.x_east_m});
+  const double dy = std::max({0.0, o.y_south_m - y_north_m, y_south_m - o.y_north_m});
+  return std::hypot(dx, dy);
+}
+
+void SplitOptions::validate(double crop_size_m) const {
+  const auto bad = [](const std::string& field, const std::string& expected) {
+    throw ConfigError("", "splits." + field, expected);
+  };
+  if (!(buffer_m >= crop_size_m))
+    bad("buffer_m", "a buffer of at least one crop (" + std::to_string(crop_size_m) + " m)");
+  if (!(block_size_m == 0.0 || block_size_m >= crop_size_m + buffer_m))
+    bad("block_size_m", "0 (automatic) or at least one crop plus the buffer");
+  for (double r : {ratios.train, ratios.val, ratios.test})
+    if (!(r >= 0.0 && r <= 1.0)) bad("ratios", "ratios in [0, 1]");
+  if (std::abs(ratios.train + ratios.val + ratios.test - 1.0) > 1e-6) bad("ratios", "train + val + test = 1");
+  if (!(min_block_coverage >= 0.0 && min_block_coverage <= 1.0)) bad("min_block_coverage", "a fraction in [0, 1]");
+  std::set<std::string> names;
+  for (const Region& r : regions) {
+    if (r.name.empty() || r.name.find('.') != std::string::npos)
+      bad("regions", "region names without dots ('" + r.name + "')");
+    if (!names.insert(r.name).second) bad("regions", "unique region names ('" + r.name + "' repeats)");
+    if (!is_split_name(r.split)) bad("regions." + r.name + ".split", "train, val or test (got '" + r.split + "')");
+    if (!r.bounds.valid()) bad("regions." + r.name + ".bounds_m", "[x_west, y_south, x_east, y_north] with west < east, south < north");
+    if (r.bounds.width_m() < crop_size_m || r.bounds.height_m() < crop_size_m)
+      bad("regions." + r.name + ".bounds_m", "a region holding at least one crop");
+  }
+  for (size_t i = 0; i < regions.size(); ++i)
+    for (size_t j = i + 1; j < regions.size(); ++j)
+      if (regions[i].split != regions[j].split && regions[i].bounds.distance_to(regions[j].bounds) < buffer_m - 1e-6)
+        bad("regions", "regions of different splits at least buffer_m apart ('" + regions[i].name + "' and '" +
+                           regions[j].name + "' are closer)");
+}
+
+double min_split_gap_m(const std::vector<Region>& regions) {
+  double gap = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < regions.size(); ++i)
+    for (size_t j = i + 1; j < regions.size(); ++j)
+      if (regions[i].split != regions[j].split) gap = std::min(gap, regions[i].bounds.distance_to(regions[j].bounds));
+  return gap;
+}
+
+namespace {
+
+struct Extent {
+  int64_t col0 = 0, row0 = 0, col1 = 0, row1 = 0;  // half-open, cells
+  bool empty() const { return col1 <= col0 || row1 <= row0; }
+};
+
+// Bounding box of the allocated LiDAR blocks that hold at least one point.
+Extent covered_extent(const raster::LidarLayer& lidar) {
+  Extent e{std::numeric_limits<int64_t>::max(), std::numeric_limits<int64_t>::max(),
+           std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::min()};
+  lidar.cells().for_each([&](raster::CellIndex c, const raster::LidarCell& cell) {
+    if (!cell.has_data()) return;
+    e.col0 = std::min(e.col0, c.col);
+    e.row0 = std::min(e.row0, c.row);
+    e.col1 = std::max(e.col1, c.col + 1);
+    e.row1 = std::max(e.row1, c.row + 1);
+  });
+  return e;
+}
+
+// Automatic block edge: about four blocks across the longer side of the covered extent
+// (so even a small release gets a train and a test block), never less than one crop
+// plus the buffer, rounded up to whole cells.
+double auto_block_size_m(double extent_w_m, double extent_h_m, double crop_size_m, double buffer_m) {
+  const double from_extent = std::max(extent_w_m, extent_h_m) / 4.0;
+  return std::max(from_extent, crop_size_m + buffer_m);
+}
+
+int split_rank(const std::string& split) {  // who keeps the ground between two splits
+  return split == "test" ? 2 : split == "val" ? 1 : 0;
+}
+
+struct Block {
+  int64_t bx = 0, by = 0;
+  RectM bounds;
+  std::string split;
+};
+
+}  // namespace
+
+std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOptions& options, double crop_size_m,
+                                 uint64_t seed) {
+  options.validate(crop_size_m);
+  if (!options.regions.empty()) return options.regions;
+  const Extent e = covered_extent(lidar);
+  if (e.empty()) return {};
+  const double res = lidar.resolution_m();
+  const double x0 = static_cast<double>(e.col0) * res, y0 = static_cast<double>(e.row0) * res;
+  const double w = static_cast<double>(e.col1 - e.col0) * res, h = static_cast<double>(e.row1 - e.row0) * res;
+  double block_m = options.block_size_m > 0 ? options.block_size_m
+                                            : auto_block_size_m(w, h, crop_size_m, options.buffer_m);
+  block_m = std::ceil(block_m / res - 1e-9) * res;
+  const int64_t nx = static_cast<int64_t>(std::ceil(w / block_m - 1e-9));
+  const int64_t ny = static_cast<int64_t>(std::ceil(h / block_m - 1e-9));
+  const int64_t block_cells = static_cast<int64_t>(std::llround(block_m / res));
+
+  // Blocks with enough coverage, ordered by a seeded hash of their grid position.
+  std::vector<Block> blocks;
+  for (int64_t by = 0; by < ny; ++by)
+    for (int64_t bx = 0; bx < nx; ++bx) {
+      Block b{bx, by, {x0 + bx * block_m, y0 + by * block_m, x0 + (bx + 1) * block_m, y0 + (by + 1) * block_m}, ""};
+      const double cells = static_cast<double>(block_cells * block_cells);
+      if (static_cast<double>(covered_cells_in(lidar, b.bounds)) >= options.min_block_coverage * cells)
+        blocks.push_back(b);
+    }
+  const auto rank = [&](const Block& b) {
+    return mix64(seed ^ mix64(static_cast<uint64_t>(b.bx) * 0x9E3779B97F4A7C15ull + static_cast<uint64_t>(b.by)));
+  };
+  std::vector<size_t> order(blocks.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    const uint64_t ra = rank(blocks[a]), rb = rank(blocks[b]);
+    return ra != rb ? ra < rb : a < b;
+  });
+  const double n = static_cast<double>(blocks.size());
+  size_t n_test = static_cast<size_t>(std::llround(n * options.ratios.test));
+  if (n_test == 0 && options.ratios.test > 0 && blocks.size() >= 2) n_test = 1;
+  size_t n_val = static_cast<size_t>(std::llround(n * options.ratios.val));
+  if (n_test + n_val > blocks.size()) n_val = blocks.size() - n_test;
+  for (size_t k = 0; k < order.size(); ++k)
+    blocks[order[k]].split = k < n_test ? "test" : k < n_test + n_val ? "val" : "train";
+
+  // Buffers: a block gives up `buffer_m` on each side that faces (edge or corner) a block
+  // of a split ranked higher; equal ranks never meet across different splits.
+  std::map<std::pair<int64_t, int64_t>, const Block*> at;
+  for (const Block& b : blocks) at[{b.bx, b.by}] = &b;
+  std::vector<Region> regions;
+  for (const Block& b : blocks) {
+    RectM r = b.bounds;
+    // Edge neighbours first; a corner neighbour then costs only the west/east side, and
+    // only if the edge cuts did not already open the gap.
+    for (const bool corners : {false, true})
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          if ((dx != 0 && dy != 0) != corners || (dx == 0 && dy == 0)) continue;
+          auto it = at.find({b.bx + dx, b.by + dy});
+          if (it == at.end() || split_rank(it->second->split) <= split_rank(b.split)) continue;
+          if (r.distance_to(it->second->bounds) >= options.buffer_m) continue;
+          if (dx < 0) r.x_west_m = b.bounds.x_west_m + options.buffer_m;
+          if (dx > 0) r.x_east_m = b.bounds.x_east_m - options.buffer_m;
+          if (dy < 0 && !corners) r.y_south_m = b.bounds.y_south_m + options.buffer_m;
+          if (dy > 0 && !corners) r.y_north_m = b.bounds.y_north_m - options.buffer_m;
+        }
+    if (r.width_m() < crop_size_m || r.height_m() < crop_size_m) continue;
+    char name[64];
+    std::snprintf(name, sizeof name, "%s-%02lld-%02lld", b.split.c_str(), static_cast<long long>(b.bx),
+                  static_cast<long long>(b.by));
+    regions.push_back({name, b.split, r});
+  }
+  return regions;
+}
+
+}  // namespace nsg::tiling
