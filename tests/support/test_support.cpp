@@ -86,4 +86,35 @@ std::string read_text(const fs::path& path) {
   return ss.str();
 }
 
+fs::path cached_folder(const std::string& name, const std::string& key,
+                       const std::function<void(const fs::path&)>& produce) {
+  const fs::path root = fs::path(env_or("NSG_BINARY_DIR", "/tmp/nsg-tests")) / "test-cache";
+  const fs::path done = root / (name + "-" + key);
+  if (fs::is_directory(done)) return done;
+  const fs::path work = root / (name + "-" + key + ".tmp-" + std::to_string(::getpid()));
+  fs::remove_all(work);
+  fs::create_directories(work);
+  produce(work);
+  std::error_code ec;
+  fs::rename(work, done, ec);  // another process may have won the race: use its copy
+  if (ec) {
+    fs::remove_all(work);
+    return done;
+  }
+  // Older builds' copies of the same folder are stale now.
+  for (const auto& entry : fs::directory_iterator(root)) {
+    const std::string other = entry.path().filename().string();
+    if (entry.path() != done && other.rfind(name + "-", 0) == 0 && other.find(".tmp-") == std::string::npos)
+      fs::remove_all(entry.path(), ec);
+  }
+  return done;
+}
+
+std::string nsgraph_build_key() {
+  const fs::path exe = nsgraph_exe();
+  const auto stamp = fs::last_write_time(exe).time_since_epoch().count();
+  return std::to_string(fs::file_size(exe)) + "-" + std::to_string(stamp);
+}
+
 }  // namespace nsg::test
+

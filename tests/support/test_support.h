@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the test binaries: source paths, scratch folders, running the CLI.
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,15 @@ struct CommandResult {
 CommandResult run_nsgraph(const std::vector<std::string>& args);
 // Runs any program (argv[0] searched on PATH); captures stdout and stderr.
 CommandResult run_program(const std::vector<std::string>& argv);
+
+// A folder produced once and shared by every test process of the build (ctest runs each
+// test in its own process): `produce(dir)` fills a fresh folder, which is renamed to
+// <build>/test-cache/<name>-<key> when complete; later calls return it as is. `key` must
+// change whenever the content would (e.g. a hash of the inputs and of the nsgraph binary).
+std::filesystem::path cached_folder(const std::string& name, const std::string& key,
+                                    const std::function<void(const std::filesystem::path&)>& produce);
+// A key naming the nsgraph binary's build (size and modification time).
+std::string nsgraph_build_key();
 
 void write_text(const std::filesystem::path& path, const std::string& text);
 std::string read_text(const std::filesystem::path& path);

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <queue>
 #include <vector>
 
 #include "internal.h"
@@ -53,21 +52,24 @@ class PathGraph {
   size_t size() const { return offset_.size() - 1; }
 
   // Shortest path lengths from `src` to every node (kInf if unreachable).
-  void shortest_paths(int32_t src, std::vector<double>& dist) const {
+  // `heap` is scratch space, reused between calls.
+  void shortest_paths(int32_t src, std::vector<double>& dist,
+                      std::vector<std::pair<double, int32_t>>& heap) const {
     dist.assign(size(), kInf);
-    using Item = std::pair<double, int32_t>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    heap.clear();
     dist[src] = 0.0;
-    heap.push({0.0, src});
+    heap.push_back({0.0, src});
     while (!heap.empty()) {
-      const auto [d, n] = heap.top();
-      heap.pop();
+      std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+      const auto [d, n] = heap.back();
+      heap.pop_back();
       if (d > dist[n]) continue;
       for (int32_t k = offset_[n]; k < offset_[n + 1]; ++k) {
         const double nd = d + w_[k];
         if (nd < dist[to_[k]]) {
           dist[to_[k]] = nd;
-          heap.push({nd, to_[k]});
+          heap.push_back({nd, to_[k]});
+          std::push_heap(heap.begin(), heap.end(), std::greater<>());
         }
       }
     }
@@ -176,37 +178,47 @@ struct OneSided {
   }
 };
 
-// C(A -> B) before the final 1 - mean.
-OneSided one_sided(const std::vector<Pm>& a_nodes, const std::vector<Segment>& a_segs,
-                   const std::vector<Pm>& b_nodes, const std::vector<Segment>& b_segs,
-                   const std::vector<Snap>& snaps, double snap_m, bool directed,
-                   double min_path_m) {
+// C(A -> B) before the final 1 - mean, for each snap radius of `snap_ms` (the variants
+// share A's shortest paths, computed once per control point).
+std::vector<OneSided> one_sided(const std::vector<Pm>& a_nodes, const std::vector<Segment>& a_segs,
+                                const std::vector<Pm>& b_nodes, const std::vector<Segment>& b_segs,
+                                const std::vector<Snap>& snaps, const std::vector<double>& snap_ms,
+                                bool directed, double min_path_m) {
   const PathGraph a_graph = graph_paths(a_nodes, a_segs, directed);
-  const SplitGraph split = split_at_snaps(b_nodes, b_segs, snaps, snap_m, directed);
-  const PathGraph b_graph(split.n_nodes, split.arcs);
-  OneSided r;
+  std::vector<SplitGraph> splits;
+  std::vector<PathGraph> b_graphs;
+  for (double snap_m : snap_ms) {
+    splits.push_back(split_at_snaps(b_nodes, b_segs, snaps, snap_m, directed));
+    b_graphs.emplace_back(splits.back().n_nodes, splits.back().arcs);
+  }
+  std::vector<OneSided> out(snap_ms.size());
   std::vector<double> dist_a, dist_b;
+  std::vector<std::pair<double, int32_t>> heap;
   const auto n = static_cast<int32_t>(a_nodes.size());
   for (int32_t a = 0; a < n; ++a) {
-    a_graph.shortest_paths(a, dist_a);
-    bool have_b = false;
-    for (int32_t b = 0; b < n; ++b) {
-      const double la = dist_a[b];
-      if (b == a || la == kInf || la < min_path_m) continue;
-      ++r.pairs;
-      if (split.node_of[a] < 0 || split.node_of[b] < 0) {
-        r.cost_sum += 1.0;
-        continue;
+    a_graph.shortest_paths(a, dist_a, heap);
+    for (size_t v = 0; v < snap_ms.size(); ++v) {
+      const SplitGraph& split = splits[v];
+      OneSided& r = out[v];
+      bool have_b = false;
+      for (int32_t b = 0; b < n; ++b) {
+        const double la = dist_a[b];
+        if (b == a || la == kInf || la < min_path_m) continue;
+        ++r.pairs;
+        if (split.node_of[a] < 0 || split.node_of[b] < 0) {
+          r.cost_sum += 1.0;
+          continue;
+        }
+        if (!have_b) {
+          b_graphs[v].shortest_paths(split.node_of[a], dist_b, heap);
+          have_b = true;
+        }
+        const double lb = dist_b[split.node_of[b]];
+        r.cost_sum += lb == kInf ? 1.0 : std::min(1.0, std::abs(la - lb) / la);
       }
-      if (!have_b) {
-        b_graph.shortest_paths(split.node_of[a], dist_b);
-        have_b = true;
-      }
-      const double lb = dist_b[split.node_of[b]];
-      r.cost_sum += lb == kInf ? 1.0 : std::min(1.0, std::abs(la - lb) / la);
     }
   }
-  return r;
+  return out;
 }
 
 AplsResult combine(const OneSided& gt_to_pred, const OneSided& pred_to_gt) {
@@ -233,14 +245,18 @@ AplsFamily compute_apls(const CleanGraph& gt, const CleanGraph& pred, const Metr
   const std::vector<Segment> g_segs = segments_of(gt), p_segs = segments_of(pred);
   // The nearest segment does not depend on the variant: snap once per direction.
   const std::vector<Snap> g_on_p = snap_all(g, p, p_segs), p_on_g = snap_all(p, g, g_segs);
-  auto variant = [&](double snap_m, bool directed) {
-    return combine(one_sided(g, g_segs, p, p_segs, g_on_p, snap_m, directed, params.min_path_m),
-                   one_sided(p, p_segs, g, g_segs, p_on_g, snap_m, directed, params.min_path_m));
+  // Undirected: the normal and the strict snap radius; directed: the normal one.
+  auto sides = [&](const std::vector<double>& snap_ms, bool directed) {
+    return std::pair{
+        one_sided(g, g_segs, p, p_segs, g_on_p, snap_ms, directed, params.min_path_m),
+        one_sided(p, p_segs, g, g_segs, p_on_g, snap_ms, directed, params.min_path_m)};
   };
+  const auto [und_gp, und_pg] = sides({params.snap_m, params.strict_snap_m}, false);
+  const auto [dir_gp, dir_pg] = sides({params.snap_m}, true);
   AplsFamily f;
-  f.undirected = variant(params.snap_m, false);
-  f.directed = variant(params.snap_m, true);
-  f.strict = variant(params.strict_snap_m, false);
+  f.undirected = combine(und_gp[0], und_pg[0]);
+  f.directed = combine(dir_gp[0], dir_pg[0]);
+  f.strict = combine(und_gp[1], und_pg[1]);
   return f;
 }
 

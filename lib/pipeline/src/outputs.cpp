@@ -23,6 +23,10 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using nlohmann::ordered_json;
 
+namespace {
+void remove_stale_temps(const fs::path& target);
+}  // namespace
+
 fs::path done_record_path(const fs::path& out, const ShareSpec& share) {
   return out / "parts" / strprintf("share-%06d-of-%06d.json", share.index, share.count);
 }
@@ -82,6 +86,7 @@ bool OutputWriter::verified(const std::string& id) {
   if (it == previous_.end()) return false;
   std::string why;
   if (!verify_item(out_, it->second, &why)) return false;
+  for (const auto& f : it->second["files"]) remove_stale_temps(out_ / f["file"].get<std::string>());
   items_.push_back(it->second);
   save(false);
   return true;
@@ -90,6 +95,17 @@ bool OutputWriter::verified(const std::string& id) {
 void OutputWriter::add_plan(ordered_json location_plan) { plans_.push_back(std::move(location_plan)); }
 
 namespace {
+
+// Temp files a killed run left for `target` ("<target>.tmp-<pid>-<n>"). Only the share
+// that owns the target removes them, so a live share's temp files are never touched.
+void remove_stale_temps(const fs::path& target) {
+  std::error_code ec;
+  const fs::path dir = target.parent_path();
+  if (!fs::is_directory(dir, ec)) return;
+  const std::string prefix = target.filename().string() + ".tmp-";
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().filename().string().rfind(prefix, 0) == 0) fs::remove(e.path(), ec);
+}
 
 ordered_json file_entry(const fs::path& out, const std::string& relative) {
   const fs::path path = out / relative;
@@ -147,6 +163,8 @@ void OutputWriter::write_maps(const std::string& id, const std::string& location
                               const LocationPlan& plan) {
   const std::string lanes = "maps/" + location + "/lanes.geojson";
   const std::string regions = "maps/" + location + "/regions.geojson";
+  remove_stale_temps(out_ / lanes);
+  remove_stale_temps(out_ / regions);
   graph::write_geojson_file(graph, location, (out_ / lanes).string());
   write_file_atomic(out_ / regions, regions_geojson(plan, config_.resolution_m, config_.crops.size_px));
   ordered_json files = ordered_json::array({file_entry(out_, lanes), file_entry(out_, regions)});
@@ -158,7 +176,10 @@ size_t OutputWriter::write_shard(const std::string& id, const nuscenes::Database
                                  const GenerateRun& run) {
   const bool tar = config_.output.layout == Layout::kTar;
   std::unique_ptr<io::TarWriter> writer;
-  if (tar) writer = std::make_unique<io::TarWriter>(out_ / id);
+  if (tar) {
+    remove_stale_temps(out_ / id);
+    writer = std::make_unique<io::TarWriter>(out_ / id);
+  }
   ordered_json files = ordered_json::array();
   Progress progress("tiles " + shard.name, shard.count, run.progress);
   // Tiles are cut and encoded in parallel batches and written in key order, so memory
@@ -182,6 +203,7 @@ size_t OutputWriter::write_shard(const std::string& id, const nuscenes::Database
           writer->add(f.name, f.bytes);
         } else {
           const std::string relative = "tiles/" + shard.split + "/" + plan.keys[b + k] + "/" + f.name;
+          remove_stale_temps(out_ / relative);
           write_file_atomic(out_ / relative, std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size()));
           files.push_back({{"file", relative}, {"sha256", sha256_hex(std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size()))}, {"bytes", f.bytes.size()}});
         }

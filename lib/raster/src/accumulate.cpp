@@ -69,24 +69,60 @@ std::vector<SceneWork> plan_location(const Database& db, const std::string& loca
 // Reusable per-thread buffers for the sweep loop.
 struct SweepBuffers {
   std::vector<nuscenes::LidarPoint> raw;
-  std::vector<nuscenes::LidarPoint> kept;
+  std::vector<float> kept;  // x, y, z (global), intensity per kept point
+  std::vector<int32_t> ids;
+};
+
+// One rigid step of the devkit chain on float32 (nuscenes-format.md §4.4), written out
+// so the filter and both steps run in one pass over the sweep: the rotation as a float64
+// product rounded to float32, then the float32 translation added in float32 — the same
+// operations in the same order as geometry::transform_points_devkit, so the same bits.
+struct DevkitStep {
+  explicit DevkitStep(const geometry::Rigid3& tf)
+      : r(tf.rotation), tx(static_cast<float>(tf.translation.x())), ty(static_cast<float>(tf.translation.y())),
+        tz(static_cast<float>(tf.translation.z())) {}
+  void apply(float& x, float& y, float& z) const {
+    const double dx = x, dy = y, dz = z;
+    const float rx = static_cast<float>(r(0, 0) * dx + r(0, 1) * dy + r(0, 2) * dz);
+    const float ry = static_cast<float>(r(1, 0) * dx + r(1, 1) * dy + r(1, 2) * dz);
+    const float rz = static_cast<float>(r(2, 0) * dx + r(2, 1) * dy + r(2, 2) * dz);
+    x = rx + tx;
+    y = ry + ty;
+    z = rz + tz;
+  }
+  Eigen::Matrix3d r;
+  float tx, ty, tz;
 };
 
 void add_sweep(const Database& db, Index sd_index, const LidarOptions& options, SweepBuffers& buf,
                SceneResult& out) {
-  nuscenes::read_lidar_points(db.file_path(db.sample_data[sd_index]), buf.raw);
-  // The filter runs in the sensor frame (devkit remove_close); the transform is per point,
-  // so transforming only the kept points gives the same values and saves the work.
-  const std::vector<int32_t> ids = select_sweep_points(reinterpret_cast<const float*>(buf.raw.data()),
-                                                       buf.raw.size(), nuscenes::kLidarPointStrideFloats, options);
-  buf.kept.resize(ids.size());
-  for (size_t i = 0; i < ids.size(); ++i) buf.kept[i] = buf.raw[static_cast<size_t>(ids[i])];
-  nuscenes::sensor_to_global(db, sd_index, buf.kept);
-  out.lidar.add_points(reinterpret_cast<const float*>(buf.kept.data()), buf.kept.size(),
-                       nuscenes::kLidarPointStrideFloats, static_cast<int32_t>(sd_index), ids.data());
+  const nuscenes::SampleData& sd = db.sample_data[sd_index];
+  nuscenes::read_lidar_points(db.file_path(sd), buf.raw);
+  const nuscenes::CalibratedSensor& cs = db.calibrated_sensor[sd.calibrated_sensor];
+  const nuscenes::EgoPose& ep = db.ego_pose[sd.ego_pose];
+  const DevkitStep ego_from_sensor(geometry::Rigid3::from_pose(cs.translation, cs.rotation));
+  const DevkitStep global_from_ego(geometry::Rigid3::from_pose(ep.translation, ep.rotation));
+  // The filter runs in the sensor frame (devkit remove_close, as select_sweep_points);
+  // only the kept points are transformed.
+  const double roof = options.roof_half_size_m, range2 = options.max_range_m * options.max_range_m;
+  buf.kept.resize(buf.raw.size() * 4);
+  buf.ids.resize(buf.raw.size());
+  size_t n = 0;
+  for (size_t i = 0; i < buf.raw.size(); ++i) {
+    const nuscenes::LidarPoint& p = buf.raw[i];
+    const double x = p.x, y = p.y;
+    if ((std::abs(x) < roof && std::abs(y) < roof) || x * x + y * y > range2) continue;
+    float gx = p.x, gy = p.y, gz = p.z;
+    ego_from_sensor.apply(gx, gy, gz);
+    global_from_ego.apply(gx, gy, gz);
+    float* k = buf.kept.data() + 4 * n;
+    k[0] = gx, k[1] = gy, k[2] = gz, k[3] = p.intensity;
+    buf.ids[n++] = static_cast<int32_t>(i);
+  }
+  out.lidar.add_points(buf.kept.data(), n, 4, static_cast<int32_t>(sd_index), buf.ids.data());
   ++out.sweeps;
   out.points_read += buf.raw.size();
-  out.points_kept += ids.size();
+  out.points_kept += n;
 }
 
 VehicleBox make_box(const nuscenes::Vec3& translation, const nuscenes::Vec3& size_wlh,

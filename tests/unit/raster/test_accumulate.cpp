@@ -19,45 +19,13 @@
 #include "nsg/raster/accumulate.h"
 #include "nsg/synth/config.h"
 #include "nsg/synth/world.h"
+#include "release_fixture.h"
 #include "test_support.h"
 
 namespace nsg::raster {
 namespace {
 
 using nuscenes::Database;
-
-class RasterRelease : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = new test::TempDir("raster_release");
-    const auto config_path = test::source_dir() / "samples/synth/tiny.json";
-    const test::CommandResult r =
-        test::run_nsgraph({"synth", "--config", config_path.string(), "--out", dir_->path().string()});
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    config_ = new synth::SynthConfig(synth::SynthConfig::from_file(config_path));
-    world_ = new synth::World(synth::build_world(*config_, config_->seed));
-    db_ = new Database(Database::load(dir_->path(), config_->version));
-    const auto t0 = std::chrono::steady_clock::now();
-    layers_ = new LocationLayers(accumulate_location(*db_, config_->location, RasterOptions{}, 1));
-    seconds_1_thread_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
-  // A failed release generation fails every test instead of crashing on a null layer.
-  void SetUp() override { ASSERT_NE(layers_, nullptr) << "the synthetic release could not be rasterized"; }
-  static void TearDownTestSuite() {
-    delete layers_;
-    delete db_;
-    delete world_;
-    delete config_;
-    delete dir_;
-  }
-
-  static inline test::TempDir* dir_ = nullptr;
-  static inline synth::SynthConfig* config_ = nullptr;
-  static inline synth::World* world_ = nullptr;
-  static inline Database* db_ = nullptr;
-  static inline LocationLayers* layers_ = nullptr;
-  static inline double seconds_1_thread_ = 0.0;
-};
 
 bool is_paint(synth::GroundMaterial m) {
   return m == synth::GroundMaterial::kPaintWhite || m == synth::GroundMaterial::kPaintYellow ||

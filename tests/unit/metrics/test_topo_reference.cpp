@@ -1,0 +1,217 @@
+// GEO/TOPO of measure() (chains, incremental restricted matching) against a straightforward
+// reference written from METRICS.md "Precise choices for GEO/TOPO": explicit sample graph,
+// plain Dijkstra from every seed, restricted candidate list re-sorted and scanned greedily.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <queue>
+#include <tuple>
+#include <vector>
+
+#include "nsg/core/rng.h"
+#include "nsg/metrics/graph.h"
+#include "nsg/metrics/measure.h"
+
+namespace nsg::metrics {
+namespace {
+
+struct Arc {
+  int32_t to;
+  double w;
+};
+
+struct RefSamples {
+  std::vector<Point> pos;
+  std::vector<std::vector<Arc>> und, dir;  // sample graph (rule 3)
+};
+
+RefSamples ref_samples(const Graph& graph, double step_px) {
+  const CleanGraph g = clean_graph(graph);
+  const std::vector<Segment> segs = segments_of(g);
+  RefSamples r;
+  std::vector<int32_t> id(g.nodes.size(), -1);
+  for (const Segment& s : segs) id[s.i] = id[s.j] = 0;
+  for (size_t n = 0; n < g.nodes.size(); ++n) {
+    if (id[n] < 0) continue;
+    id[n] = static_cast<int32_t>(r.pos.size());
+    r.pos.push_back(g.nodes[n]);
+  }
+  std::vector<std::tuple<int32_t, int32_t, double, bool, bool>> pieces;
+  for (const Segment& s : segs) {
+    const Point a = g.nodes[s.i], b = g.nodes[s.j];
+    const double dx = b.u - a.u, dy = b.v - a.v, len = std::sqrt(dx * dx + dy * dy);
+    const int k = std::max(1, static_cast<int>(std::ceil(len / step_px - 1e-9)));
+    int32_t prev = id[s.i];
+    for (int q = 1; q < k; ++q) {
+      const double t = static_cast<double>(q) / k;
+      const auto cur = static_cast<int32_t>(r.pos.size());
+      r.pos.push_back({a.u + dx * t, a.v + dy * t});
+      pieces.emplace_back(prev, cur, len / k, s.fwd, s.bwd);
+      prev = cur;
+    }
+    pieces.emplace_back(prev, id[s.j], len / k, s.fwd, s.bwd);
+  }
+  r.und.resize(r.pos.size());
+  r.dir.resize(r.pos.size());
+  for (const auto& [a, b, w, fwd, bwd] : pieces) {
+    r.und[a].push_back({b, w});
+    r.und[b].push_back({a, w});
+    if (fwd) r.dir[a].push_back({b, w});
+    if (bwd) r.dir[b].push_back({a, w});
+  }
+  return r;
+}
+
+std::vector<bool> within(const std::vector<std::vector<Arc>>& adj, int32_t src, double radius) {
+  std::vector<double> dist(adj.size(), std::numeric_limits<double>::infinity());
+  using Item = std::pair<double, int32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+  dist[src] = 0.0;
+  heap.push({0.0, src});
+  while (!heap.empty()) {
+    const auto [d, n] = heap.top();
+    heap.pop();
+    if (d > dist[n]) continue;
+    for (const Arc& a : adj[n]) {
+      if (d + a.w < dist[a.to]) {
+        dist[a.to] = d + a.w;
+        heap.push({dist[a.to], a.to});
+      }
+    }
+  }
+  std::vector<bool> in(adj.size());
+  for (size_t k = 0; k < adj.size(); ++k) in[k] = dist[k] <= radius;
+  return in;
+}
+
+struct RefTopo {
+  int64_t ng = 0, np = 0, matched = 0;
+  double und_p = 0, und_r = 0, dir_p = 0, dir_r = 0;  // sums over seeds
+};
+
+RefTopo reference(const Graph& gt, const Graph& pred, const MetricParams& params) {
+  const RefSamples g = ref_samples(gt, params.geo_step_px);
+  const RefSamples p = ref_samples(pred, params.geo_step_px);
+  std::vector<std::tuple<int64_t, int32_t, int32_t>> cands;
+  const auto q_max = static_cast<int64_t>(
+      std::floor(params.geo_match_px * params.geo_match_px * 1e6 + 0.5));
+  for (size_t a = 0; a < g.pos.size(); ++a) {
+    for (size_t b = 0; b < p.pos.size(); ++b) {
+      const double dx = g.pos[a].u - p.pos[b].u, dy = g.pos[a].v - p.pos[b].v;
+      const auto q = static_cast<int64_t>(std::floor((dx * dx + dy * dy) * 1e6 + 0.5));
+      if (q <= q_max) cands.emplace_back(q, static_cast<int32_t>(a), static_cast<int32_t>(b));
+    }
+  }
+  std::sort(cands.begin(), cands.end());
+  auto greedy = [&](const std::vector<bool>* in_g, const std::vector<bool>* in_p,
+                    std::vector<int32_t>* match_of_g) {
+    std::vector<bool> used_g(g.pos.size()), used_p(p.pos.size());
+    int64_t m = 0;
+    for (const auto& [q, a, b] : cands) {
+      if ((in_g && !(*in_g)[a]) || (in_p && !(*in_p)[b]) || used_g[a] || used_p[b]) continue;
+      used_g[a] = used_p[b] = true;
+      if (match_of_g) (*match_of_g)[a] = b;
+      ++m;
+    }
+    return m;
+  };
+  RefTopo r;
+  r.ng = static_cast<int64_t>(g.pos.size());
+  r.np = static_cast<int64_t>(p.pos.size());
+  std::vector<int32_t> match_of_g(g.pos.size(), -1);
+  r.matched = greedy(nullptr, nullptr, &match_of_g);
+  const double radius = params.topo_radius_m / params.resolution_m + 1e-6;
+  for (size_t a = 0; a < g.pos.size(); ++a) {
+    if (match_of_g[a] < 0) continue;
+    for (bool directed : {false, true}) {
+      const auto in_g = within(directed ? g.dir : g.und, static_cast<int32_t>(a), radius);
+      const auto in_p = within(directed ? p.dir : p.und, match_of_g[a], radius);
+      const auto m = static_cast<double>(greedy(&in_g, &in_p, nullptr));
+      const auto n_g = static_cast<double>(std::count(in_g.begin(), in_g.end(), true));
+      const auto n_p = static_cast<double>(std::count(in_p.begin(), in_p.end(), true));
+      (directed ? r.dir_p : r.und_p) += m / n_p;
+      (directed ? r.dir_r : r.und_r) += m / n_g;
+    }
+  }
+  return r;
+}
+
+// Lane-like random graphs: a few polylines (some edges reversed or two-way, some joined),
+// on an integer grid half of the time so that distance ties are frequent.
+Graph random_graph(Rng& rng, bool grid) {
+  Graph g;
+  const int lanes = static_cast<int>(rng.uniform_int(int64_t{1}, int64_t{4}));
+  for (int l = 0; l < lanes; ++l) {
+    const auto first = static_cast<int64_t>(g.nodes.size());
+    double u = rng.uniform(0, 120), v = rng.uniform(0, 120), angle = rng.uniform(0, 6.3);
+    const int n = static_cast<int>(rng.uniform_int(int64_t{2}, int64_t{9}));
+    for (int k = 0; k < n; ++k) {
+      g.nodes.push_back(grid ? Point{std::round(u), std::round(v)} : Point{u, v});
+      const double step = rng.uniform(1.0, 14.0);
+      u += step * std::cos(angle);
+      v += step * std::sin(angle);
+      angle += rng.uniform(-0.5, 0.5);
+      if (k == 0) continue;
+      const int64_t i = first + k - 1, j = first + k;
+      if (rng.bernoulli(0.8)) g.edges.push_back({i, j});
+      if (rng.bernoulli(0.3)) g.edges.push_back({j, i});
+    }
+    if (first > 0 && rng.bernoulli(0.5))
+      g.edges.push_back({first, static_cast<int64_t>(rng.uniform_int(static_cast<uint64_t>(first)))});
+  }
+  return g;
+}
+
+Graph perturbed(Rng& rng, const Graph& g, double sigma_px) {
+  Graph out = g;
+  for (Point& p : out.nodes) {
+    p.u += sigma_px * rng.normal();
+    p.v += sigma_px * rng.normal();
+  }
+  if (!out.edges.empty() && rng.bernoulli(0.3)) out.edges.pop_back();
+  return out;
+}
+
+void expect_ratio(const std::optional<double>& got, double num, double den, const char* name,
+                  int trial) {
+  if (den == 0.0) {
+    EXPECT_FALSE(got.has_value()) << name << " trial " << trial;
+    return;
+  }
+  ASSERT_TRUE(got.has_value()) << name << " trial " << trial;
+  EXPECT_NEAR(*got, num / den, 1e-12) << name << " trial " << trial;
+}
+
+TEST(TopoReference, FastPathMatchesStraightforwardDefinition) {
+  Rng rng(2024);
+  int nontrivial = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    MetricParams params;
+    // Small radii make reach sets cut through the graphs; the default 40 m covers them.
+    params.topo_radius_m = trial % 3 == 0 ? 40.0 : rng.uniform(0.5, 8.0);
+    const bool grid = trial % 2 == 0;
+    const Graph gt = random_graph(rng, grid);
+    const Graph pred = trial % 5 == 0 ? random_graph(rng, grid)
+                                      : perturbed(rng, gt, grid ? 0.0 : rng.uniform(0.0, 3.0));
+    const TileMeasurement t = measure("k", gt, &pred, params);
+    const RefTopo r = reference(gt, pred, params);
+    ASSERT_EQ(t.counts[kGeoGtSamples], r.ng) << "trial " << trial;
+    ASSERT_EQ(t.counts[kGeoPredSamples], r.np) << "trial " << trial;
+    ASSERT_EQ(t.counts[kGeoMatched], r.matched) << "trial " << trial;
+    const auto ng = static_cast<double>(r.ng), np = static_cast<double>(r.np);
+    expect_ratio(t.values[kGeoPrecision], static_cast<double>(r.matched), np, "geo_p", trial);
+    expect_ratio(t.values[kTopoPrecision], r.und_p, np, "topo_p", trial);
+    expect_ratio(t.values[kTopoRecall], r.und_r, ng, "topo_r", trial);
+    expect_ratio(t.values[kTopoDirectedPrecision], r.dir_p, np, "topo_dir_p", trial);
+    expect_ratio(t.values[kTopoDirectedRecall], r.dir_r, ng, "topo_dir_r", trial);
+    if (r.matched > 0 && r.und_p < static_cast<double>(r.matched) && r.dir_p < r.und_p) ++nontrivial;
+  }
+  // The cases must exercise partial reach sets, not only perfect matches.
+  EXPECT_GT(nontrivial, 30);
+}
+
+}  // namespace
+}  // namespace nsg::metrics

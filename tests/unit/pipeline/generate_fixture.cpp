@@ -1,0 +1,56 @@
+#include "generate_fixture.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "nsg/core/files.h"
+#include "nsg/core/sha256.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+
+namespace nsg::test {
+
+namespace {
+std::string content_key(const fs::path& file) { return sha256_hex(read_file(file)).substr(0, 16); }
+}  // namespace
+
+fs::path e2e_release() {
+  const fs::path config = source_dir() / "tests/data/synth/e2e.json";
+  return cached_folder("release_e2e", nsgraph_build_key() + "-" + content_key(config), [&](const fs::path& dir) {
+    const CommandResult r = run_nsgraph({"synth", "--quiet", "--config", config.string(), "--out", dir.string()});
+    if (r.exit_code != 0) throw std::runtime_error("synth e2e failed: " + r.err);
+  });
+}
+
+std::vector<std::string> e2e_generate_args(const fs::path& out) {
+  return {"generate", "--quiet", "--config", (source_dir() / "tests/data/generate/e2e.json").string(), "--dataroot",
+          e2e_release().string(), "--version", "v1.0-mini", "--out", out.string()};
+}
+
+fs::path e2e_dataset() {
+  const fs::path config = source_dir() / "tests/data/generate/e2e.json";
+  const fs::path release = e2e_release();
+  return cached_folder("dataset_e2e", nsgraph_build_key() + "-" + content_key(config), [&](const fs::path& dir) {
+    std::vector<std::string> args = e2e_generate_args(dir);
+    args.insert(args.end(), {"--threads", "2"});
+    const CommandResult r = run_nsgraph(args);
+    if (r.exit_code != 0) throw std::runtime_error("generate e2e failed: " + r.err);
+  });
+}
+
+nlohmann::json read_json(const fs::path& path) { return nlohmann::json::parse(read_file(path)); }
+
+std::vector<std::pair<std::string, std::string>> tree_hashes(const fs::path& dir) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    const std::string rel = fs::relative(e.path(), dir).generic_string();
+    if (rel.rfind("parts/", 0) == 0) continue;
+    out.emplace_back(rel, sha256_file(e.path()));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace nsg::test

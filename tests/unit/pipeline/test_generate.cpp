@@ -1,0 +1,298 @@
+// End-to-end tests of `nsgraph generate` / `merge` on a small synthetic release (issue 6).
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <map>
+#include <set>
+#include <thread>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "generate_fixture.h"
+#include "nsg/core/files.h"
+#include "nsg/core/sha256.h"
+#include "nsg/io/raster.h"
+#include "nsg/io/tar.h"
+#include "nsg/pipeline/tile_files.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace nsg::test {
+namespace {
+
+// Tiles of a dataset as {key → {suffix → bytes}}, read through the shards of the manifest.
+std::map<std::string, std::map<std::string, std::vector<uint8_t>>> read_tiles(const fs::path& dataset,
+                                                                               const json& manifest) {
+  std::map<std::string, std::map<std::string, std::vector<uint8_t>>> tiles;
+  for (const json& shard : manifest["shards"]) {
+    io::TarReader reader(dataset / shard["file"].get<std::string>());
+    io::TarMember m;
+    while (reader.next(m)) {
+      const size_t dot = m.name.find('.');
+      tiles[m.name.substr(0, dot)][m.name.substr(dot + 1)] = m.bytes;
+    }
+  }
+  return tiles;
+}
+
+TEST(Generate, EveryTileHasEveryFileReadableAndCounted) {
+  const fs::path dataset = e2e_dataset();
+  const json manifest = read_json(dataset / "manifest.json");
+  EXPECT_EQ(manifest["schema_version"], "1");
+  const int size = manifest["tile_format"]["size_px"].get<int>();
+  ASSERT_GT(manifest["counts"]["train"]["tiles"].get<int>(), 0);
+  ASSERT_GT(manifest["counts"]["test"]["tiles"].get<int>(), 0);
+  for (const json& shard : manifest["shards"]) {
+    const fs::path file = dataset / shard["file"].get<std::string>();
+    EXPECT_EQ(sha256_file(file), shard["sha256"]) << file;
+    EXPECT_EQ(fs::file_size(file), shard["bytes"].get<uint64_t>()) << file;
+  }
+  const auto tiles = read_tiles(dataset, manifest);
+  EXPECT_EQ(static_cast<int64_t>(tiles.size()), manifest["counts"]["total_tiles"].get<int64_t>());
+  std::map<std::string, int> per_split;
+  for (const auto& [key, files] : tiles) {
+    ASSERT_EQ(files.size(), pipeline::tile_file_suffixes().size()) << key;
+    for (const std::string& suffix : pipeline::tile_file_suffixes()) {
+      ASSERT_TRUE(files.count(suffix)) << key << "." << suffix;
+      if (suffix.ends_with(".tif")) {
+        const io::Raster r = io::decode_geotiff(files.at(suffix), key + "." + suffix);
+        EXPECT_EQ(r.width, size);
+        EXPECT_EQ(r.height, size);
+        EXPECT_EQ(r.bands, suffix == "rgb.tif" ? 3 : 1);
+        EXPECT_EQ(r.type == io::SampleType::kFloat32, suffix == "vehicle.tif");
+      }
+    }
+    const json meta = json::parse(files.at("meta.json"));
+    EXPECT_EQ(meta["key"], key);
+    EXPECT_GE(meta["coverage"]["lidar"].get<double>(), manifest["config"]["crops"]["min_lidar_coverage"].get<double>());
+    ++per_split[meta["split"].get<std::string>()];
+  }
+  for (const char* split : {"train", "val", "test"})
+    EXPECT_EQ(per_split[split], manifest["counts"][split]["tiles"].get<int>()) << split;
+}
+
+TEST(Generate, NoTestPixelInsideOrNearATrainRegion) {
+  const fs::path dataset = e2e_dataset();
+  const json manifest = read_json(dataset / "manifest.json");
+  const double buffer_m = manifest["config"]["splits"]["buffer_m"].get<double>();
+  const json& regions = manifest["locations"][0]["regions"];
+  const auto tiles = read_tiles(dataset, manifest);
+  for (const auto& [key, files] : tiles) {
+    const json meta = json::parse(files.at("meta.json"));
+    const std::vector<double> b = meta["bounds_m"].get<std::vector<double>>();
+    bool inside_own = false;
+    for (const json& r : regions) {
+      const std::vector<double> rb = r["bounds_m"].get<std::vector<double>>();
+      if (r["split"] == meta["split"]) {
+        inside_own |= b[0] >= rb[0] - 1e-9 && b[1] >= rb[1] - 1e-9 && b[2] <= rb[2] + 1e-9 && b[3] <= rb[3] + 1e-9;
+      } else {
+        // Gap between the tile and a region of another split.
+        const double dx = std::max({0.0, rb[0] - b[2], b[0] - rb[2]});
+        const double dy = std::max({0.0, rb[1] - b[3], b[1] - rb[3]});
+        EXPECT_GE(std::hypot(dx, dy), buffer_m - 1e-6) << key << " vs region " << r["name"];
+      }
+    }
+    EXPECT_TRUE(inside_own) << key << " lies wholly inside a region of its split";
+  }
+}
+
+TEST(Generate, GraphNodesLieInsideTheirTiles) {
+  const fs::path dataset = e2e_dataset();
+  const json manifest = read_json(dataset / "manifest.json");
+  const double size = manifest["tile_format"]["size_px"].get<double>();
+  size_t nodes = 0;
+  for (const auto& [key, files] : read_tiles(dataset, manifest)) {
+    const json g = json::parse(files.at("graph.json"));
+    const json meta = json::parse(files.at("meta.json"));
+    EXPECT_EQ(g["nodes"].size(), meta["counts"]["nodes"].get<size_t>());
+    for (const json& n : g["nodes"]) {
+      EXPECT_GE(n["u"].get<double>(), -0.5 - 1e-9) << key;
+      EXPECT_LE(n["u"].get<double>(), size - 0.5 + 1e-9) << key;
+      EXPECT_GE(n["v"].get<double>(), -0.5 - 1e-9) << key;
+      EXPECT_LE(n["v"].get<double>(), size - 0.5 + 1e-9) << key;
+      ++nodes;
+    }
+    for (const json& e : g["edges"]) {
+      EXPECT_LT(e["source"].get<size_t>(), g["nodes"].size());
+      EXPECT_LT(e["target"].get<size_t>(), g["nodes"].size());
+    }
+  }
+  EXPECT_GT(nodes, 50u);
+}
+
+TEST(Generate, PythonReadsAShardAndDecodesEveryLayer) {
+  if (!fs::exists("/usr/bin/python3")) GTEST_SKIP() << "Debian python3 absent";
+  const fs::path dataset = e2e_dataset();
+  const json manifest = read_json(dataset / "manifest.json");
+  const fs::path shard = dataset / manifest["shards"][0]["file"].get<std::string>();
+  const int size = manifest["tile_format"]["size_px"].get<int>();
+  const std::string script = R"(
+import io, json, sys, tarfile
+import numpy as np
+from PIL import Image
+size = int(sys.argv[2])
+keys = {}
+with tarfile.open(sys.argv[1]) as tar:
+    for m in tar.getmembers():
+        key, suffix = m.name.split('.', 1)
+        keys.setdefault(key, {})[suffix] = tar.extractfile(m).read()
+for key, files in keys.items():
+    lidar = np.array(Image.open(io.BytesIO(files['lidar.tif'])))
+    rgb = np.array(Image.open(io.BytesIO(files['rgb.tif'])))
+    sem = np.array(Image.open(io.BytesIO(files['semantic.tif'])))
+    veh = np.array(Image.open(io.BytesIO(files['vehicle.tif'])))
+    cov = np.array(Image.open(io.BytesIO(files['coverage.tif'])))
+    meta = json.loads(files['meta.json']); graph = json.loads(files['graph.json'])
+    assert lidar.shape == (size, size) and lidar.dtype == np.uint8
+    assert rgb.shape == (size, size, 3) and rgb.dtype == np.uint8
+    assert sem.shape == (size, size) and veh.dtype == np.float32
+    assert ((veh == -1) | ((veh >= 0) & (veh < 1))).all()
+    assert ((cov & 1) > 0).sum() == (lidar > 0).sum()
+    assert abs((lidar > 0).mean() - meta['coverage']['lidar']) < 1e-9
+    assert len(graph['nodes']) == meta['counts']['nodes']
+print(len(keys))
+)";
+  const CommandResult r = run_program({"/usr/bin/python3", "-c", script, shard.string(), std::to_string(size)});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(std::stoi(r.out), manifest["shards"][0]["tiles"].get<int>());
+}
+
+TEST(Generate, OneThreadAndThreeSharesGiveTheSameBytes) {
+  const fs::path reference = e2e_dataset();
+  TempDir one("gen-1thread"), three("gen-3shares");
+  std::vector<std::string> args = e2e_generate_args(one.path());
+  args.insert(args.end(), {"--threads", "1"});
+  ASSERT_EQ(run_nsgraph(args).exit_code, 0);
+  EXPECT_EQ(tree_hashes(one.path()), tree_hashes(reference));
+  for (int i = 0; i < 3; ++i) {
+    args = e2e_generate_args(three.path());
+    args.insert(args.end(), {"--shard-index", std::to_string(i), "--num-shards", "3"});
+    const CommandResult r = run_nsgraph(args);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_FALSE(fs::exists(three / "manifest.json")) << "a share of several must not write the manifest";
+  }
+  const CommandResult merged = run_nsgraph({"merge", "--out", three.path().string()});
+  ASSERT_EQ(merged.exit_code, 0) << merged.err;
+  EXPECT_EQ(tree_hashes(three.path()), tree_hashes(reference));
+}
+
+TEST(Generate, MergeNamesAMissingShareAndACorruptShard) {
+  TempDir dir("gen-merge");
+  for (int i : {0, 2}) {
+    std::vector<std::string> args = e2e_generate_args(dir.path());
+    args.insert(args.end(), {"--shard-index", std::to_string(i), "--num-shards", "3"});
+    ASSERT_EQ(run_nsgraph(args).exit_code, 0);
+  }
+  CommandResult r = run_nsgraph({"merge", "--out", dir.path().string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("share 1 of 3: missing"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "manifest.json"));
+
+  std::vector<std::string> args = e2e_generate_args(dir.path());
+  args.insert(args.end(), {"--shard-index", "1", "--num-shards", "3"});
+  ASSERT_EQ(run_nsgraph(args).exit_code, 0);
+  // Flip one byte of a shard: merge must name it, a rerun of its share must redo it.
+  const json record = read_json(dir / "parts/share-000000-of-000003.json");
+  std::string victim;
+  for (const json& item : record["items"])
+    if (item["kind"] == "shard") victim = item["files"][0]["file"].get<std::string>();
+  ASSERT_FALSE(victim.empty());
+  std::string bytes = read_file(dir / victim);
+  bytes[bytes.size() / 2] ^= 0x01;
+  write_text(dir / victim, bytes);
+  r = run_nsgraph({"merge", "--out", dir.path().string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(victim), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("corrupt"), std::string::npos) << r.err;
+
+  args = e2e_generate_args(dir.path());
+  args.insert(args.end(), {"--shard-index", "0", "--num-shards", "3"});
+  ASSERT_EQ(run_nsgraph(args).exit_code, 0);
+  r = run_nsgraph({"merge", "--out", dir.path().string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(tree_hashes(dir.path()), tree_hashes(e2e_dataset()));
+}
+
+// kill -9 in the middle of a run leaves no half-written shard under its final name, and a
+// rerun completes to the same bytes as an uninterrupted run.
+TEST(Generate, KilledRunLeavesNoCorruptShardAndRerunCompletes) {
+  const fs::path release = e2e_release();  // made before timing the kill
+  TempDir dir("gen-kill");
+  std::vector<std::string> args = e2e_generate_args(dir.path());
+  args.insert(args.end(), {"--threads", "1"});
+  std::vector<char*> argv;
+  const std::string exe = nsgraph_exe().string();
+  argv.push_back(const_cast<char*>(exe.c_str()));
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::execv(exe.c_str(), argv.data());
+    ::_exit(127);
+  }
+  // Kill as soon as the first shard is in place (mid-run), or after 20 s at the latest.
+  for (int i = 0; i < 2000 && !fs::exists(dir / "shards/train-000000.tar"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  EXPECT_FALSE(fs::exists(dir / "manifest.json"));
+  // Every shard visible under its final name is whole (a tar a reader can stream to the end).
+  if (fs::exists(dir / "shards"))
+    for (const auto& e : fs::directory_iterator(dir / "shards")) {
+      if (e.path().extension() != ".tar") continue;
+      io::TarReader reader(e.path());
+      io::TarMember m;
+      EXPECT_NO_THROW(while (reader.next(m)) {}) << e.path();
+    }
+  const CommandResult r = run_nsgraph(e2e_generate_args(dir.path()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(tree_hashes(dir.path()), tree_hashes(e2e_dataset()));
+}
+
+TEST(GenerateConfig, UnknownKeysAndBadValuesAreNamed) {
+  TempDir dir("gen-config");
+  write_text(dir / "bad.json", R"({"crops": {"min_lidar_coverge": 0.3}})");
+  CommandResult r = run_nsgraph({"generate", "--config", (dir / "bad.json").string(), "--print-config"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("crops.min_lidar_coverge"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("bad.json"), std::string::npos) << r.err;
+  write_text(dir / "bad2.json", R"({"crops": {"min_lidar_coverage": "half"}})");
+  r = run_nsgraph({"generate", "--config", (dir / "bad2.json").string(), "--print-config"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("a number"), std::string::npos) << r.err;
+  write_text(dir / "bad3.json", "{\"seed\": 1,");
+  r = run_nsgraph({"generate", "--config", (dir / "bad3.json").string(), "--print-config"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("bad3.json"), std::string::npos) << r.err;
+  r = run_nsgraph({"generate", "--print-config", "--set", "splits.buffer_m=10"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("splits.buffer_m"), std::string::npos) << r.err;
+  r = run_nsgraph({"generate", "--dataroot", "/nonexistent-nsg", "--version", "v1.0-mini", "--out",
+                   (dir / "out").string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("/nonexistent-nsg"), std::string::npos) << r.err;
+}
+
+TEST(GenerateConfig, DefaultsFileMatchesTheBuiltInDefaultsAndFlagsOverride) {
+  const CommandResult builtin = run_nsgraph({"generate", "--print-config"});
+  ASSERT_EQ(builtin.exit_code, 0) << builtin.err;
+  const CommandResult file =
+      run_nsgraph({"generate", "--print-config", "--config", (source_dir() / "samples/generate.json").string()});
+  ASSERT_EQ(file.exit_code, 0) << file.err;
+  EXPECT_EQ(json::parse(builtin.out), json::parse(file.out));
+  const CommandResult flags = run_nsgraph(
+      {"generate", "--print-config", "--min-coverage", "0.25", "--set", "crops.placement.test=random", "--seed", "9"});
+  ASSERT_EQ(flags.exit_code, 0) << flags.err;
+  const json c = json::parse(flags.out);
+  EXPECT_EQ(c["crops"]["min_lidar_coverage"], 0.25);
+  EXPECT_EQ(c["crops"]["placement"]["test"], "random");
+  EXPECT_EQ(c["seed"], 9);
+}
+
+}  // namespace
+}  // namespace nsg::test
