@@ -158,7 +158,8 @@ std::vector<Candidate> candidates(const SampleGraph& gt, const SampleGraph& pred
 class RadiusSearch {
  public:
   explicit RadiusSearch(const SampleGraph& sg)
-      : sg_(sg), dist_(static_cast<size_t>(sg.n_node_samples), kUnset), mark_(sg.size(), -1) {}
+      : sg_(sg), dist_(static_cast<size_t>(sg.n_node_samples), kUnset), mark_(sg.size(), -1),
+        interior_dist_(sg.size(), kUnset) {}
 
   const std::vector<int32_t>& run(int32_t src, bool directed, double radius) {
     for (int32_t n : touched_) dist_[n] = kUnset;
@@ -189,6 +190,8 @@ class RadiusSearch {
       }
     }
     reached_.assign(touched_.begin(), touched_.end());
+    max_dist_ = 0.0;
+    for (int32_t n : touched_) max_dist_ = std::max(max_dist_, dist_[n]);
     for (int32_t n : touched_) {
       for (int32_t k = sg_.chain_offset[n]; k < sg_.chain_offset[n + 1]; ++k) {
         const Chain& c = sg_.chains[sg_.chain_ids[k]];
@@ -196,12 +199,18 @@ class RadiusSearch {
       }
     }
     if (seed_chain != nullptr) {
-      mark(src);
+      mark(src, 0.0);
       // From the seed towards b (positions s0+1 ..) and towards a (positions s0-1 ..).
       if (to_b(*seed_chain)) mark_interior(*seed_chain, true, 0.0, s0);
       if (to_a(*seed_chain)) mark_interior(*seed_chain, false, 0.0, seed_chain->k - s0);
     }
     return reached_;
+  }
+  // Of the last run(): an upper bound of the (computed) path lengths to reached samples,
+  // and the computed path length to a reached sample.
+  double max_dist() const { return max_dist_; }
+  double dist_to(int32_t sample) const {
+    return sample < sg_.n_node_samples ? dist_[sample] : interior_dist_[sample];
   }
   // Whether the last run() reached `sample`.
   bool reached(int32_t sample) const {
@@ -231,8 +240,13 @@ class RadiusSearch {
     heap_.push_back({d, n});
     std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
   }
-  void mark(int32_t sample) {
-    if (mark_[sample] == stamp_) return;
+  void mark(int32_t sample, double d) {
+    max_dist_ = std::max(max_dist_, d);
+    if (mark_[sample] == stamp_) {
+      interior_dist_[sample] = std::min(interior_dist_[sample], d);
+      return;
+    }
+    interior_dist_[sample] = d;
     mark_[sample] = stamp_;
     reached_.push_back(sample);
   }
@@ -243,7 +257,7 @@ class RadiusSearch {
     for (int32_t step = skip + 1; step < c.k; ++step) {
       d += c.w;
       if (d > radius_) return;
-      mark(from_a ? c.first + step - 1 : c.first + (c.k - step) - 1);
+      mark(from_a ? c.first + step - 1 : c.first + (c.k - step) - 1, d);
     }
   }
 
@@ -255,6 +269,8 @@ class RadiusSearch {
   double radius_ = 0.0;
   std::vector<Item> heap_;
   std::vector<int32_t> reached_, touched_;
+  std::vector<double> interior_dist_;  // valid where mark_ == stamp_
+  double max_dist_ = 0.0;
 };
 
 struct TopoSums {

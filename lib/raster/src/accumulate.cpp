@@ -1,5 +1,8 @@
 #include "nsg/raster/accumulate.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <string_view>
 #include <utility>
@@ -94,6 +97,15 @@ struct DevkitStep {
   float tx, ty, tz;
 };
 
+// Asks the kernel to start reading the next sweep while this one is binned (at scale the
+// sweeps come from disk); a hint only, so failures are ignored (the read reports them).
+void read_ahead(const std::filesystem::path& file) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return;
+  ::posix_fadvise(fd, 0, 0, POSIX_FADV_WILLNEED);
+  ::close(fd);
+}
+
 void add_sweep(const Database& db, Index sd_index, const LidarOptions& options, SweepBuffers& buf,
                SceneResult& out) {
   const nuscenes::SampleData& sd = db.sample_data[sd_index];
@@ -183,7 +195,11 @@ LocationLayers accumulate_location(const Database& db, const std::string& locati
   parallel_for(work.size(), threads, [&](size_t k) {
     SweepBuffers buf;
     SceneResult& out = results[k];
-    for (Index sd : work[k].sweeps) add_sweep(db, sd, options.lidar, buf, out);
+    const std::vector<Index>& sweeps = work[k].sweeps;
+    for (size_t i = 0; i < sweeps.size(); ++i) {
+      if (i + 1 < sweeps.size()) read_ahead(db.file_path(db.sample_data[sweeps[i + 1]]));
+      add_sweep(db, sweeps[i], options.lidar, buf, out);
+    }
     if (use_detections)
       add_detection_boxes(db, detections, options.detection_score_threshold, work[k], out);
     else

@@ -35,22 +35,19 @@ void LidarLayer::offer(CellIndex c, const LidarCell& cell) {
 
 namespace {
 
-// floor(x / res) exactly as cell_of computes it, but with a multiplication by 1/res (a
-// division per coordinate costs more than the rest of the binning): the product differs
-// from the quotient by a few ulps, so only a value within 1e-6 of a cell border is redone
-// with the division. Coordinates beyond ±1e15 cells (corrupt input) clamp there.
-inline int64_t floor_cell(double x_m, double resolution_m, double inv_resolution) {
-  const double q = x_m * inv_resolution;
-  if (std::abs(q) < 1e15) [[likely]] {
-    auto i = static_cast<int64_t>(q);
-    i -= static_cast<double>(i) > q;
-    const double frac = q - static_cast<double>(i);
-    if (frac >= 1e-6 && frac <= 1.0 - 1e-6) [[likely]]
-      return i;
-  }
-  const double exact = std::clamp(x_m / resolution_m, -1e15, 1e15);
-  const auto i = static_cast<int64_t>(exact);
-  return i - (static_cast<double>(i) > exact);
+// floor(x / res) exactly as cell_of computes it, but with a multiplication by 1/res (the
+// two divisions per point cost more than the rest of the binning): the product differs
+// from the quotient by a few ulps (< 1e-6 of a cell below 1e9 cells), so only a value
+// that close to a cell border, or beyond, is redone by cell_of's division.
+inline bool fast_cell(double x_m, double y_m, double inv_res, int64_t& col, int64_t& row) {
+  const double qx = x_m * inv_res, qy = y_m * inv_res;
+  if (!(std::abs(qx) < 1e9 && std::abs(qy) < 1e9)) return false;
+  col = static_cast<int64_t>(qx);
+  row = static_cast<int64_t>(qy);
+  col -= static_cast<double>(col) > qx;
+  row -= static_cast<double>(row) > qy;
+  const double rx = qx - static_cast<double>(col), ry = qy - static_cast<double>(row);
+  return rx >= 1e-6 && rx <= 1.0 - 1e-6 && ry >= 1e-6 && ry <= 1.0 - 1e-6;
 }
 
 static_assert(kBlockCells == 64, "add_points bins with shifts and masks of 64");
@@ -67,13 +64,19 @@ void LidarLayer::add_points(const float* xyzi, size_t count, size_t stride, int3
                             const int32_t* point_ids) {
   if (count == 0) return;
   const double inv_res = 1.0 / resolution_m_;
-  const int64_t bx0 = (floor_cell(xyzi[0], resolution_m_, inv_res) >> 6) - kTableBlocks / 2;
-  const int64_t by0 = (floor_cell(xyzi[1], resolution_m_, inv_res) >> 6) - kTableBlocks / 2;
+  const CellIndex first = cell_of(xyzi[0], xyzi[1], resolution_m_);
+  const int64_t bx0 = SparseGrid<LidarCell>::floor_div(first.col) - kTableBlocks / 2;
+  const int64_t by0 = SparseGrid<LidarCell>::floor_div(first.row) - kTableBlocks / 2;
   block_table.assign(kTableBlocks * kTableBlocks, nullptr);
   SparseGrid<LidarCell>::Cursor cursor;  // for points outside the table
   for (size_t i = 0; i < count; ++i) {
     const float* p = xyzi + i * stride;
-    const int64_t col = floor_cell(p[0], resolution_m_, inv_res), row = floor_cell(p[1], resolution_m_, inv_res);
+    int64_t col, row;
+    if (!fast_cell(p[0], p[1], inv_res, col, row)) [[unlikely]] {
+      const CellIndex c = cell_of(p[0], p[1], resolution_m_);
+      col = c.col;
+      row = c.row;
+    }
     const uint64_t tx = static_cast<uint64_t>((col >> 6) - bx0), ty = static_cast<uint64_t>((row >> 6) - by0);
     LidarCell* current;
     if ((tx | ty) < static_cast<uint64_t>(kTableBlocks)) [[likely]] {

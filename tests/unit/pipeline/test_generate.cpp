@@ -12,6 +12,7 @@
 #include "generate_fixture.h"
 #include "nsg/core/files.h"
 #include "nsg/core/sha256.h"
+#include "nsg/io/dataset.h"
 #include "nsg/io/raster.h"
 #include "nsg/io/tar.h"
 #include "nsg/pipeline/tile_files.h"
@@ -292,6 +293,39 @@ TEST(GenerateConfig, DefaultsFileMatchesTheBuiltInDefaultsAndFlagsOverride) {
   EXPECT_EQ(c["crops"]["min_lidar_coverage"], 0.25);
   EXPECT_EQ(c["crops"]["placement"]["test"], "random");
   EXPECT_EQ(c["seed"], 9);
+}
+
+}  // namespace
+}  // namespace nsg::test
+
+namespace nsg::test {
+namespace {
+
+// The folder layout holds the same tile files as the tar shards, and io::Dataset reads
+// both the same way.
+TEST(Generate, FolderLayoutHoldsTheSameTilesAsTheShards) {
+  TempDir dir("gen-folder");
+  std::vector<std::string> args = e2e_generate_args(dir.path());
+  args.insert(args.end(), {"--layout", "folder"});
+  const CommandResult r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const io::Dataset tar = io::Dataset::open(e2e_dataset());
+  const io::Dataset folder = io::Dataset::open(dir.path());
+  EXPECT_TRUE(tar.tar_layout());
+  EXPECT_FALSE(folder.tar_layout());
+  std::map<std::string, std::map<std::string, std::vector<uint8_t>>> a, b;
+  tar.for_each_tile("", [&](const io::DatasetTile& t) { a[t.key] = t.files; return true; });
+  folder.for_each_tile("", [&](const io::DatasetTile& t) { b[t.key] = t.files; return true; });
+  EXPECT_EQ(a.size(), tar.manifest()["counts"]["total_tiles"].get<size_t>());
+  EXPECT_EQ(a, b);
+  size_t test_tiles = 0;
+  folder.for_each_tile("test", [&](const io::DatasetTile& t) {
+    EXPECT_EQ(t.json("meta.json")["split"], "test");
+    EXPECT_EQ(t.raster("lidar.tif").width, folder.manifest()["tile_format"]["size_px"].get<int>());
+    ++test_tiles;
+    return true;
+  });
+  EXPECT_EQ(test_tiles, folder.manifest()["counts"]["test"]["tiles"].get<size_t>());
 }
 
 }  // namespace

@@ -1,0 +1,108 @@
+#include "nsg/io/dataset.h"
+
+#include <algorithm>
+
+#include "nsg/core/error.h"
+#include "nsg/core/files.h"
+#include "nsg/io/tar.h"
+
+namespace nsg::io {
+
+namespace fs = std::filesystem;
+
+Raster DatasetTile::raster(const std::string& suffix) const {
+  auto it = files.find(suffix);
+  if (it == files.end()) throw ParseError(key + "." + suffix, shard, "the tile's " + suffix + " (missing)");
+  return decode_geotiff(it->second, key + "." + suffix);
+}
+
+nlohmann::json DatasetTile::json(const std::string& suffix) const {
+  auto it = files.find(suffix);
+  if (it == files.end()) throw ParseError(key + "." + suffix, shard, "the tile's " + suffix + " (missing)");
+  try {
+    return nlohmann::json::parse(it->second.begin(), it->second.end());
+  } catch (const nlohmann::json::parse_error& e) {
+    throw ParseError(key + "." + suffix, "byte " + std::to_string(e.byte), "valid JSON");
+  }
+}
+
+Dataset Dataset::open(const fs::path& root) {
+  Dataset d;
+  d.root_ = root;
+  const fs::path path = root / "manifest.json";
+  const std::string text = read_file(path);
+  try {
+    d.manifest_ = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw ParseError(path.string(), "byte " + std::to_string(e.byte), "valid JSON (the dataset manifest)");
+  }
+  if (!d.manifest_.is_object() || !d.manifest_.contains("shards") || !d.manifest_["shards"].is_array())
+    throw ParseError(path.string(), "shards", "a manifest with a \"shards\" array");
+  d.tar_ = d.manifest_.value("layout", "tar") == "tar";
+  return d;
+}
+
+std::vector<nlohmann::json> Dataset::shards(const std::string& split) const {
+  std::vector<nlohmann::json> out;
+  for (const nlohmann::json& s : manifest_["shards"])
+    if (split.empty() || s.value("split", "") == split) out.push_back(s);
+  return out;
+}
+
+namespace {
+
+// "<key>.<suffix>" with a dot-free key.
+std::pair<std::string, std::string> split_member(const std::string& name, const std::string& where) {
+  const std::string base = name.substr(name.find_last_of('/') + 1);
+  const size_t dot = base.find('.');
+  if (dot == std::string::npos || dot == 0) throw ParseError(where, name, "a member named <key>.<suffix>");
+  return {base.substr(0, dot), base.substr(dot + 1)};
+}
+
+}  // namespace
+
+std::vector<DatasetTile> Dataset::read_shard(const nlohmann::json& shard) const {
+  std::vector<DatasetTile> tiles;
+  const std::string name = shard.value("name", "");
+  const auto add = [&](const std::string& member, std::vector<uint8_t> bytes, const std::string& where) {
+    auto [key, suffix] = split_member(member, where);
+    if (tiles.empty() || tiles.back().key != key) tiles.push_back({key, name, {}});
+    tiles.back().files[suffix] = std::move(bytes);
+  };
+  if (tar_) {
+    const fs::path file = root_ / shard.value("file", "");
+    TarReader reader(file);
+    TarMember m;
+    while (reader.next(m)) add(m.name, std::move(m.bytes), file.string());
+    return tiles;
+  }
+  // Folder layout: tiles/<split>/<key>/<key>.<suffix>, keys from first_key to last_key.
+  const fs::path folder = root_ / shard.value("folder", "");
+  const std::string first = shard.value("first_key", ""), last = shard.value("last_key", "");
+  std::vector<fs::path> dirs;
+  if (fs::is_directory(folder))
+    for (const auto& e : fs::directory_iterator(folder)) {
+      const std::string key = e.path().filename().string();
+      if (e.is_directory() && key >= first && key <= last) dirs.push_back(e.path());
+    }
+  std::sort(dirs.begin(), dirs.end());
+  for (const fs::path& dir : dirs) {
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.is_regular_file() && e.path().string().find(".tmp-") == std::string::npos) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const fs::path& f : files) {
+      const std::string text = read_file(f);
+      add(f.filename().string(), std::vector<uint8_t>(text.begin(), text.end()), f.string());
+    }
+  }
+  return tiles;
+}
+
+void Dataset::for_each_tile(const std::string& split, const std::function<bool(const DatasetTile&)>& fn) const {
+  for (const nlohmann::json& shard : shards(split))
+    for (const DatasetTile& t : read_shard(shard))
+      if (!fn(t)) return;
+}
+
+}  // namespace nsg::io
