@@ -60,8 +60,39 @@ print("%d nodes, %d edges, longest edge %.3f m, %d map defects; GeoJSON: %s"
       % (d["nodes"], d["edges"], d["max_edge_length_m"], len(d["defects"]), d["geojson"]))'
 fi
 
-for stage in generate validate preview train predict; do
-  next+=("$stage")  # wired here as each stage lands (issues 6, 7, 9, 10)
+step "generate: samples/generate-demo.json → $out/dataset (paper-like train/test regions)"
+if have generate; then
+  rm -rf "$out/dataset"
+  "$exe" generate --config "$root/samples/generate-demo.json" --dataroot "$out/release" --out "$out/dataset"
+  "$py" - "$out/dataset/manifest.json" <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1]))
+c = m["counts"]
+print(f'tiles: {c["train"]["tiles"]} train, {c["val"]["tiles"]} val, {c["test"]["tiles"]} test; '
+      f'{len(m["shards"])} shards, {sum(s["bytes"] for s in m["shards"]) / 1e6:.1f} MB')
+PY
+else
+  next+=("generate (issue 6)")
+fi
+
+step "validate"
+if have validate && [ -f "$out/dataset/manifest.json" ]; then
+  "$exe" validate "$out/dataset"
+else
+  next+=("validate (issue 7)")
+fi
+
+step "preview"
+if have preview && [ -f "$out/dataset/manifest.json" ]; then
+  "$exe" preview "$out/dataset" --out "$out/preview" --split test --max-tiles 16
+  "$exe" preview "$out/dataset" --out "$out/preview" --overview
+  ls "$out/preview"
+else
+  next+=("preview (issue 9)")
+fi
+
+for stage in train predict; do
+  next+=("$stage (issue 10)")
 done
 
 step "score"
