@@ -1,0 +1,105 @@
+// Split regions and crop sampling on LiDAR layers whose coverage is known exactly.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "nsg/core/error.h"
+#include "nsg/raster/lidar_layer.h"
+#include "nsg/tiling/crops.h"
+#include "nsg/tiling/regions.h"
+
+namespace nsg::tiling {
+namespace {
+
+constexpr double kRes = 0.2;
+
+// A layer with one point in every cell of [x0, x1) × [y0, y1) (metres).
+raster::LidarLayer filled(double x0, double y0, double x1, double y1) {
+  raster::LidarLayer layer(kRes);
+  std::vector<float> pts;
+  for (double y = y0 + kRes / 2; y < y1; y += kRes)
+    for (double x = x0 + kRes / 2; x < x1; x += kRes) pts.insert(pts.end(), {float(x), float(y), 0.0f, 10.0f});
+  layer.add_points(pts.data(), pts.size() / 4, 4, 0);
+  return layer;
+}
+
+TEST(Crops, WindowCoverageCountsCellsExactly) {
+  const raster::LidarLayer layer = filled(0, 0, 25.6, 51.2);  // the west half of a 256-px window
+  EXPECT_DOUBLE_EQ(window_coverage(layer, 0, 0, 256), 0.5);
+  EXPECT_DOUBLE_EQ(window_coverage(layer, -64, 0, 256), 0.5);  // window straddles negative blocks
+  EXPECT_DOUBLE_EQ(window_coverage(layer, 128, 0, 256), 0.0);
+  EXPECT_DOUBLE_EQ(window_coverage(layer, 0, 0, 128), 1.0);
+  EXPECT_EQ(covered_cells_in(layer, {0, 0, 10, 10}), 50 * 50);
+}
+
+TEST(Crops, GridCropsTileTheRegionAndRespectTheThreshold) {
+  const raster::LidarLayer layer = filled(0, 0, 160, 100);
+  CropOptions o;
+  o.size_px = 100;  // 20 m
+  o.min_lidar_coverage = 0.5;
+  const std::vector<Region> regions = {{"t", "test", {0, 0, 200, 100}}};
+  const std::vector<Crop> crops = plan_crops(layer, regions, o, 1);
+  // 10 columns × 5 rows fit; columns at x ≥ 160 have no LiDAR.
+  EXPECT_EQ(crops.size(), 8u * 5u);
+  std::set<std::pair<int64_t, int64_t>> corners;
+  for (const Crop& c : crops) {
+    EXPECT_TRUE(regions[0].bounds.contains(c.bounds(kRes, o.size_px)));
+    EXPECT_EQ(c.col0 % 100, 0);
+    EXPECT_DOUBLE_EQ(c.lidar_coverage, 1.0);
+    EXPECT_TRUE(corners.insert({c.col0, c.row0}).second) << "grid crops never repeat";
+  }
+}
+
+TEST(Crops, RandomCropsAreSeededInsideTheRegionAndAboveThreshold) {
+  const raster::LidarLayer layer = filled(0, 0, 100, 100);
+  CropOptions o;
+  o.size_px = 50;
+  o.random_total = 30;
+  const std::vector<Region> regions = {{"r", "train", {10, 10, 130, 90}}};
+  const std::vector<Crop> a = plan_crops(layer, regions, o, 7), b = plan_crops(layer, regions, o, 7),
+                          c = plan_crops(layer, regions, o, 8);
+  ASSERT_EQ(a.size(), 30u);
+  bool differs = false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].col0, b[i].col0);
+    EXPECT_EQ(a[i].row0, b[i].row0);
+    differs |= a[i].col0 != c[i].col0 || a[i].row0 != c[i].row0;
+    EXPECT_TRUE(regions[0].bounds.contains(a[i].bounds(kRes, o.size_px)));
+    EXPECT_GE(a[i].lidar_coverage, o.min_lidar_coverage);
+  }
+  EXPECT_TRUE(differs) << "another seed gives other crops";
+}
+
+TEST(Regions, AutomaticBlocksKeepSplitsOneBufferApartAndFollowRatios) {
+  const raster::LidarLayer layer = filled(0, 0, 800, 800);
+  SplitOptions o;
+  o.block_size_m = 160;
+  o.ratios = {0.6, 0.1, 0.3};
+  const std::vector<Region> regions = plan_regions(layer, o, 51.2, 3);
+  std::map<std::string, int> n;
+  for (const Region& r : regions) ++n[r.split];
+  // 25 blocks: round(25·0.3) = 8 test, round(25·0.1) = 3 val (half away from zero); train blocks that lost too
+  // much to buffers on both sides may be dropped.
+  EXPECT_EQ(n["test"], 8);
+  EXPECT_EQ(n["val"], 3);
+  EXPECT_GT(n["train"], 5);
+  EXPECT_GE(min_split_gap_m(regions), o.buffer_m - 1e-9);
+  const std::vector<Region> again = plan_regions(layer, o, 51.2, 3);
+  ASSERT_EQ(again.size(), regions.size());
+  for (size_t i = 0; i < regions.size(); ++i) EXPECT_EQ(again[i].name, regions[i].name);
+}
+
+TEST(Regions, ExplicitRegionsAreCheckedForTheBuffer) {
+  const raster::LidarLayer layer = filled(0, 0, 10, 10);
+  SplitOptions o;
+  o.regions = {{"a", "train", {0, 0, 100, 100}}, {"b", "test", {120, 0, 220, 100}}};
+  EXPECT_THROW(plan_regions(layer, o, 51.2, 1), ConfigError);  // 20 m apart < 51.2 m
+  o.regions[1].bounds = {151.2, 0, 251.2, 100};
+  EXPECT_EQ(plan_regions(layer, o, 51.2, 1).size(), 2u);
+  o.regions[1].split = "holdout";
+  EXPECT_THROW(plan_regions(layer, o, 51.2, 1), ConfigError);
+}
+
+}  // namespace
+}  // namespace nsg::tiling
