@@ -9,6 +9,7 @@
 #include "nsg/core/strings.h"
 #include "nsg/pipeline/config.h"
 #include "nsg/pipeline/generate.h"
+#include "nsg/pipeline/stats.h"
 
 namespace nsg::cli {
 namespace {
@@ -122,6 +123,27 @@ void add_merge_command(CLI::App& root, Context& ctx) {
     ctx.run = [out] {
       pipeline::merge(*out);
       log::info("merge: " + *out + "/manifest.json written");
+      return kExitOk;
+    };
+  });
+}
+
+void add_stats_command(CLI::App& root, Context& ctx) {
+  struct StatsOptions {
+    std::string dataset;
+    bool json = false;
+  };
+  auto o = std::make_shared<StatsOptions>();
+  CLI::App* cmd = root.add_subcommand("stats", "A dataset's key figures per split (the paper's Table I fields)");
+  cmd->add_option("dataset", o->dataset, "Dataset folder (holds manifest.json)")->required();
+  cmd->add_flag("--json", o->json, "JSON instead of a text table");
+  cmd->callback([o, &ctx] {
+    ctx.run = [o] {
+      const pipeline::DatasetStats stats = pipeline::compute_stats(o->dataset);
+      if (o->json)
+        std::cout << pipeline::stats_json(stats).dump(2) << "\n";
+      else
+        std::cout << pipeline::stats_text(stats);
       return kExitOk;
     };
   });

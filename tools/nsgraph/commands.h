@@ -22,6 +22,8 @@ void add_synth_command(CLI::App& root, Context& ctx);
 void add_score_command(CLI::App& root, Context& ctx);
 void add_generate_command(CLI::App& root, Context& ctx);
 void add_merge_command(CLI::App& root, Context& ctx);
+void add_preview_command(CLI::App& root, Context& ctx);
+void add_stats_command(CLI::App& root, Context& ctx);
 
 // `inspect` subcommands (cmd_inspect_<what>.cpp), added by add_inspect_command.
 void add_inspect_centerlines(CLI::App& inspect, Context& ctx);

@@ -16,7 +16,9 @@ constexpr nsg::cli::AddCommand kCommands[] = {
     &nsg::cli::add_inspect_command,
     &nsg::cli::add_generate_command,
     &nsg::cli::add_merge_command,
+    &nsg::cli::add_stats_command,
     &nsg::cli::add_score_command,
+    &nsg::cli::add_preview_command,
 };
 
 int run(int argc, char** argv) {

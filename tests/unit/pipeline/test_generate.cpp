@@ -330,3 +330,30 @@ TEST(Generate, FolderLayoutHoldsTheSameTilesAsTheShards) {
 
 }  // namespace
 }  // namespace nsg::test
+
+namespace nsg::test {
+namespace {
+
+TEST(Stats, CountsAndAreasFollowTheTiles) {
+  const fs::path dataset = e2e_dataset();
+  const json manifest = read_json(dataset / "manifest.json");
+  const CommandResult r = run_nsgraph({"stats", dataset.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json s = json::parse(r.out);
+  const double tile_km2 = std::pow(manifest["tile_format"]["size_px"].get<double>() * 0.2, 2) / 1e6;
+  for (const char* split : {"train", "test"}) {
+    EXPECT_EQ(s[split]["tiles"], manifest["counts"][split]["tiles"]) << split;
+    EXPECT_LE(s[split]["labeled_area_km2"].get<double>(), s[split]["tiles"].get<double>() * tile_km2 + 1e-12);
+    EXPECT_GT(s[split]["lane_segments"].get<int>(), 0);
+  }
+  // Test crops lie on a non-overlapping grid: their union is exactly their sum.
+  EXPECT_NEAR(s["test"]["labeled_area_km2"].get<double>(), s["test"]["tiles"].get<double>() * tile_km2, 1e-12);
+  EXPECT_EQ(s["all"]["tiles"], manifest["counts"]["total_tiles"]);
+  EXPECT_FALSE(s["all"]["semantic_classes"].empty());
+  const CommandResult text = run_nsgraph({"stats", dataset.string()});
+  EXPECT_NE(text.out.find("area (km²)"), std::string::npos);
+  EXPECT_EQ(run_nsgraph({"stats", "/nonexistent-dataset"}).exit_code, 2);
+}
+
+}  // namespace
+}  // namespace nsg::test

@@ -1,0 +1,34 @@
+#pragma once
+// `nsgraph stats`: the dataset's key figures (the paper's Table I: labeled area, vehicles,
+// semantic classes, lane segments) plus tiles and coverage per split.
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace nsg::pipeline {
+
+struct SplitStats {
+  int64_t tiles = 0;
+  double labeled_area_km2 = 0.0;  // union of the tiles' footprints (overlapping crops count once)
+  int64_t lane_segments = 0;      // directed graph edges over all tiles
+  double lane_length_km = 0.0;
+  int64_t vehicle_px = 0;
+  double vehicle_area_km2 = 0.0;  // vehicle pixels × pixel area (overlaps counted per tile)
+  std::set<int> semantic_classes; // class ids present in the semantic layers
+  double mean_coverage_lidar = 0.0, mean_coverage_rgb = 0.0, mean_coverage_semantic = 0.0;
+};
+
+struct DatasetStats {
+  std::map<std::string, SplitStats> splits;  // train, val, test, and "all"
+};
+
+// Reads every tile of the dataset (one shard in memory at a time).
+DatasetStats compute_stats(const std::filesystem::path& dataset);
+nlohmann::ordered_json stats_json(const DatasetStats& stats);
+std::string stats_text(const DatasetStats& stats);
+
+}  // namespace nsg::pipeline
