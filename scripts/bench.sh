@@ -10,7 +10,7 @@ export NSG_BENCH_DIR="$out/data"
 mkdir -p "$NSG_BENCH_DIR"
 
 ran=0
-for module in nuscenes metrics synth; do
+for module in nuscenes metrics synth raster; do
   bin="$root/$build/bench/$module/bench_$module"
   [ -x "$bin" ] || continue
   printf '\n== bench_%s\n' "$module"

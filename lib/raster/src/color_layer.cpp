@@ -21,7 +21,6 @@ using nuscenes::Database;
 using nuscenes::Index;
 
 void CameraOptions::validate() const {
-  if (!rgb && !semantic) throw ConfigError("", "camera.rgb / camera.semantic", "at least one of them enabled");
   if (!(view_radius_m > 0.0)) throw ConfigError("", "camera.view_radius_m", "expected > 0 m");
   if (!(min_depth_m >= 0.0)) throw ConfigError("", "camera.min_depth_m", "expected ≥ 0 m");
   if (occlusion_window_px < 0 || occlusion_window_px > 512)
@@ -278,6 +277,9 @@ ImageResult process_image(const Database& db, const ImageJob& job, const TargetI
 ColorLayer colorize_location(const Database& db, const std::string& location, const LidarLayer& lidar,
                              const std::vector<CellRect>& regions, const CameraOptions& options, int threads) {
   options.validate();
+  // Both off is a valid generate config (no camera layers) but nothing to colour here.
+  if (!options.rgb && !options.semantic)
+    throw ConfigError("", "camera.rgb / camera.semantic", "at least one of them enabled to colour points");
   const std::vector<ImageJob> jobs = plan_images(db, location, options);
   const TargetIndex index = collect_targets(lidar, regions);
   ColorLayer layer(lidar.resolution_m());

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "nsg/core/rng.h"
@@ -19,6 +22,37 @@ TEST(LidarLayer, KeepsTheLowestPointPerCell) {
   EXPECT_EQ(cell->sweep, 7);
   EXPECT_EQ(cell->point, 1);
   EXPECT_EQ(layer.covered_cells(), 1u);
+}
+
+// add_points bins with a multiplication and a local block table; every point must land in
+// cell_of's cell (floor of the quotient) also on cell borders, at negative coordinates and
+// far outside the sweep's table, and the kept point must be the lowest of its cell.
+TEST(LidarLayer, BinsLikeCellOfEverywhere) {
+  Rng rng(5);
+  std::vector<float> pts;
+  for (int i = 0; i < 20000; ++i) {
+    double x = rng.uniform(-70.0, 70.0) + 1000.0, y = rng.uniform(-70.0, 70.0) - 300.0;
+    if (i % 4 == 0) x = std::round(x / 0.2) * 0.2;  // on (or an ulp off) a border
+    if (i % 5 == 0) y = std::round(y / 0.2) * 0.2;
+    if (i % 997 == 0) x += 9000.0;                   // outside the local block table
+    pts.insert(pts.end(), {static_cast<float>(x), static_cast<float>(y), static_cast<float>(rng.uniform(-2.0, 2.0)),
+                           static_cast<float>(rng.uniform(0.0, 255.0))});
+  }
+  LidarLayer layer;
+  layer.add_points(pts.data(), pts.size() / 4, 4, 3);
+  std::map<std::pair<int64_t, int64_t>, size_t> lowest;  // reference: cell → point index
+  for (size_t i = 0; i < pts.size() / 4; ++i) {
+    const CellIndex c = cell_of(pts[4 * i], pts[4 * i + 1], 0.2);
+    auto [it, fresh] = lowest.try_emplace({c.col, c.row}, i);
+    if (!fresh && pts[4 * i + 2] < pts[4 * it->second + 2]) it->second = i;
+  }
+  EXPECT_EQ(layer.covered_cells(), lowest.size());
+  for (const auto& [key, i] : lowest) {
+    const LidarCell* cell = layer.cells().find({key.first, key.second});
+    ASSERT_TRUE(cell != nullptr && cell->has_data());
+    ASSERT_EQ(cell->point, static_cast<int32_t>(i));
+    ASSERT_EQ(cell->intensity, std::lround(pts[4 * i + 3]));
+  }
 }
 
 TEST(LidarLayer, CellsFollowFloorOfMapMetres) {

@@ -51,7 +51,7 @@ struct CameraOptions {
   double occlusion_margin_m = 0.15;
   int jpeg_scale_denom = 2;  // 1, 2 or 4 (turbojpeg scaled decode)
   std::string lidar_channel = "LIDAR_TOP";  // the key-frame sweep used for occlusion
-  void validate() const;  // ConfigError naming the bad field
+  void validate() const;  // ConfigError naming the bad field (both rgb and semantic off is valid)
 };
 
 struct ColorStats {
