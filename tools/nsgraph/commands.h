@@ -24,10 +24,12 @@ void add_generate_command(CLI::App& root, Context& ctx);
 void add_merge_command(CLI::App& root, Context& ctx);
 void add_preview_command(CLI::App& root, Context& ctx);
 void add_stats_command(CLI::App& root, Context& ctx);
+void add_validate_command(CLI::App& root, Context& ctx);
 
 // `inspect` subcommands (cmd_inspect_<what>.cpp), added by add_inspect_command.
 void add_inspect_centerlines(CLI::App& inspect, Context& ctx);
 void add_inspect_sweep(CLI::App& inspect, Context& ctx);
 void add_inspect_graph(CLI::App& inspect, Context& ctx);
+void add_inspect_layers(CLI::App& inspect, Context& ctx);
 
 }  // namespace nsg::cli

@@ -357,3 +357,45 @@ TEST(Stats, CountsAndAreasFollowTheTiles) {
 
 }  // namespace
 }  // namespace nsg::test
+
+namespace nsg::test {
+namespace {
+
+TEST(InspectLayers, WritesGeoreferencedLayersOfTheWindowWithCoverage) {
+  TempDir dir("inspect-layers");
+  const CommandResult r = run_nsgraph({"inspect", "layers", "--dataroot", e2e_release().string(), "--location",
+                                       "boston-seaport", "--out", dir.path().string(), "--bbox", "100,60,140,110"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json out = json::parse(r.out);
+  EXPECT_EQ(out["size_px"], json::array({200, 250}));
+  io::GeoRef geo;
+  const std::string lidar_bytes = read_file(dir / "boston-seaport.lidar.tif");
+  const io::Raster lidar = io::decode_geotiff(
+      std::span(reinterpret_cast<const uint8_t*>(lidar_bytes.data()), lidar_bytes.size()), "lidar", &geo);
+  EXPECT_EQ(lidar.width, 200);
+  EXPECT_EQ(lidar.height, 250);
+  EXPECT_NEAR(geo.x_west_m, 100.0, 1e-9);
+  EXPECT_NEAR(geo.y_north_m, 110.0, 1e-9);
+  EXPECT_EQ(geo.location, "boston-seaport");
+  const std::string cov_bytes = read_file(dir / "boston-seaport.coverage.tif");
+  const io::Raster cov =
+      io::decode_geotiff(std::span(reinterpret_cast<const uint8_t*>(cov_bytes.data()), cov_bytes.size()), "coverage");
+  size_t lidar_px = 0, flagged = 0;
+  for (size_t i = 0; i < lidar.data.size(); ++i) {
+    lidar_px += lidar.data[i] > 0;
+    flagged += (cov.data[i] & 1) != 0;
+  }
+  EXPECT_EQ(lidar_px, flagged);
+  EXPECT_EQ(out["cells"]["lidar"].get<size_t>(), lidar_px);
+  EXPECT_GT(lidar_px, 1000u);
+  EXPECT_GT(out["cells"]["rgb"].get<size_t>(), 0u);
+  for (const char* layer : {"rgb", "semantic", "vehicle"})
+    EXPECT_TRUE(fs::exists(dir / (std::string("boston-seaport.") + layer + ".tif"))) << layer;
+  EXPECT_EQ(run_nsgraph({"inspect", "layers", "--dataroot", e2e_release().string(), "--location", "boston-seaport",
+                         "--out", dir.path().string(), "--bbox", "1,2,3"})
+                .exit_code,
+            2);
+}
+
+}  // namespace
+}  // namespace nsg::test

@@ -24,7 +24,8 @@ namespace nsg::tiling {
 inline constexpr uint8_t kSemanticNoData = 255;
 
 struct TileRasters {
-  int size_px = 0;
+  int size_px = 0;                // width = height of a tile; for other windows see width/height
+  int width_px = 0, height_px = 0;
   std::vector<uint8_t> lidar;     // size²: intensity of the kept point; 0 = no data
   std::vector<uint8_t> rgb;       // size² × 3; 0,0,0 = no data
   std::vector<uint8_t> semantic;  // size²: class id; 255 = no data
@@ -57,6 +58,17 @@ struct LocationRasters {
   const graph::LaneGraph* graph = nullptr;
   const graph::SegmentIndex* graph_index = nullptr;
 };
+
+// Counts of the pixels holding data, from extract_rasters.
+struct RasterCounts {
+  size_t lidar = 0, rgb = 0, semantic = 0, vehicle = 0;
+  std::vector<int32_t> sweeps;  // distinct source sweeps, ascending
+};
+
+// The layers over the cell window [col0, col0 + width) × [row0, row0 + height), row 0 =
+// north. Reads only the blocks under the window.
+TileRasters extract_rasters(const LocationRasters& layers, int64_t col0, int64_t row0, int width_px, int height_px,
+                            RasterCounts* counts);
 
 // Cuts a crop out of the location layers. A cell with RGB but a zero colour is stored as
 // (0, 0, 1) so that 0,0,0 keeps meaning "no data".

@@ -1,0 +1,160 @@
+// `nsgraph inspect layers`: a location's BEV layers as GeoTIFFs (one per modality) for a
+// look in QGIS, and coverage figures (issue 5).
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <iostream>
+
+#include "commands.h"
+#include "nsg/core/atomic_file.h"
+#include "nsg/core/error.h"
+#include "nsg/core/strings.h"
+#include "nsg/io/raster.h"
+#include "nsg/nuscenes/database.h"
+#include "nsg/raster/accumulate.h"
+#include "nsg/raster/color_layer.h"
+#include "nsg/tiling/tile.h"
+
+namespace nsg::cli {
+namespace {
+
+// A window larger than this is refused: a whole city at 0.2 m/px would be gigabytes.
+constexpr int64_t kMaxPixels = 400'000'000;
+
+struct InspectLayersOptions {
+  std::string dataroot, version = "v1.0-mini", location, out_dir, bbox_text, detections;
+  bool no_rgb = false, no_semantic = false;
+  int threads = 0;
+  raster::RasterOptions raster;
+
+  void validate() const {
+    raster.validate();
+    if (!bbox_text.empty()) {
+      const std::vector<std::string> p = split(bbox_text, ',');
+      if (p.size() != 4) throw ConfigError("", "--bbox", "xmin,ymin,xmax,ymax in map metres");
+    }
+  }
+};
+
+// The window in cells: the bbox, or the extent of the LiDAR cells holding data.
+void window(const InspectLayersOptions& o, const raster::LidarLayer& lidar, int64_t* c0, int64_t* r0, int64_t* c1,
+            int64_t* r1) {
+  const double res = lidar.resolution_m();
+  if (!o.bbox_text.empty()) {
+    double v[4];
+    const std::vector<std::string> p = split(o.bbox_text, ',');
+    for (int i = 0; i < 4; ++i) {
+      char* end = nullptr;
+      v[i] = std::strtod(p[i].c_str(), &end);
+      if (end == p[i].c_str() || *end != '\0' || !std::isfinite(v[i]))
+        throw ConfigError("", "--bbox", "'" + p[i] + "' is not a number");
+    }
+    if (!(v[0] < v[2] && v[1] < v[3])) throw ConfigError("", "--bbox", "xmin < xmax and ymin < ymax");
+    *c0 = static_cast<int64_t>(std::floor(v[0] / res));
+    *r0 = static_cast<int64_t>(std::floor(v[1] / res));
+    *c1 = static_cast<int64_t>(std::ceil(v[2] / res));
+    *r1 = static_cast<int64_t>(std::ceil(v[3] / res));
+    return;
+  }
+  *c0 = *r0 = INT64_MAX;
+  *c1 = *r1 = INT64_MIN;
+  lidar.cells().for_each([&](raster::CellIndex c, const raster::LidarCell& cell) {
+    if (!cell.has_data()) return;
+    *c0 = std::min(*c0, c.col);
+    *r0 = std::min(*r0, c.row);
+    *c1 = std::max(*c1, c.col + 1);
+    *r1 = std::max(*r1, c.row + 1);
+  });
+  if (*c0 > *c1) throw DataError(o.dataroot, "location " + o.location, "LiDAR points at the location");
+}
+
+void write_tif(const std::string& path, const io::Raster& r, const io::GeoRef& geo, std::optional<double> nodata) {
+  io::GeoTiffOptions opt;
+  opt.nodata = nodata;
+  const std::vector<uint8_t> bytes = io::encode_geotiff(r, geo, opt);
+  write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
+int run(const InspectLayersOptions& in) {
+  InspectLayersOptions o = in;
+  o.raster.detections_file = o.detections;
+  if (o.no_rgb) o.raster.camera.rgb = false;
+  if (o.no_semantic) o.raster.camera.semantic = false;
+  o.validate();
+  const nuscenes::Database db = nuscenes::Database::load(o.dataroot, o.version);
+  raster::LocationLayers layers = raster::accumulate_location(db, o.location, o.raster, o.threads);
+  int64_t c0, r0, c1, r1;
+  window(o, layers.lidar, &c0, &r0, &c1, &r1);
+  if ((c1 - c0) * (r1 - r0) > kMaxPixels)
+    throw ConfigError("", "--bbox", strprintf("a window of at most %lld pixels (this one has %lld; pass a smaller --bbox)",
+                                              static_cast<long long>(kMaxPixels),
+                                              static_cast<long long>((c1 - c0) * (r1 - r0))));
+  raster::ColorLayer color(layers.lidar.resolution_m());
+  const bool cameras = o.raster.camera.rgb || o.raster.camera.semantic;
+  if (cameras) color = raster::colorize_location(db, o.location, layers.lidar, {{c0, r0, c1, r1}}, o.raster.camera, o.threads);
+  const tiling::LocationRasters source{&layers.lidar, cameras ? &color : nullptr, &layers.vehicles, nullptr, nullptr};
+  const int w = static_cast<int>(c1 - c0), h = static_cast<int>(r1 - r0);
+  tiling::RasterCounts counts;
+  const tiling::TileRasters r = tiling::extract_rasters(source, c0, r0, w, h, &counts);
+
+  const double res = layers.lidar.resolution_m();
+  const io::GeoRef geo{o.location, static_cast<double>(c0) * res, static_cast<double>(r1) * res, res};
+  const auto u8 = [&](const std::vector<uint8_t>& data, int bands) {
+    io::Raster x;
+    x.width = w;
+    x.height = h;
+    x.bands = bands;
+    x.data = data;
+    return x;
+  };
+  io::Raster vehicle;
+  vehicle.width = w;
+  vehicle.height = h;
+  vehicle.type = io::SampleType::kFloat32;
+  vehicle.data.resize(r.vehicle.size() * sizeof(float));
+  std::memcpy(vehicle.data.data(), r.vehicle.data(), vehicle.data.size());
+  const std::string base = o.out_dir + "/" + o.location;
+  write_tif(base + ".lidar.tif", u8(r.lidar, 1), geo, 0.0);
+  write_tif(base + ".rgb.tif", u8(r.rgb, 3), geo, 0.0);
+  write_tif(base + ".semantic.tif", u8(r.semantic, 1), geo, 255.0);
+  write_tif(base + ".vehicle.tif", vehicle, geo, -1.0);
+  write_tif(base + ".coverage.tif", u8(r.coverage, 1), geo, std::nullopt);
+
+  const double px = static_cast<double>(w) * h;
+  nlohmann::ordered_json out = {
+      {"location", o.location},
+      {"bounds_m", {geo.x_west_m, static_cast<double>(r0) * res, static_cast<double>(c1) * res, geo.y_north_m}},
+      {"size_px", {w, h}},
+      {"sweeps", layers.stats.sweeps},
+      {"points_kept", layers.stats.points_kept},
+      {"vehicle_boxes", layers.stats.vehicle_boxes},
+      {"cells", {{"lidar", counts.lidar}, {"rgb", counts.rgb}, {"semantic", counts.semantic}, {"vehicle", counts.vehicle}}},
+      {"coverage",
+       {{"lidar", counts.lidar / px}, {"rgb", counts.rgb / px}, {"semantic", counts.semantic / px}}},
+      {"lidar_blocks", layers.stats.lidar_blocks},
+      {"lidar_layer_bytes", layers.lidar.cells().memory_bytes()},
+      {"files", {base + ".lidar.tif", base + ".rgb.tif", base + ".semantic.tif", base + ".vehicle.tif",
+                 base + ".coverage.tif"}}};
+  std::cout << out.dump(2) << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_inspect_layers(CLI::App& inspect, Context& ctx) {
+  auto o = std::make_shared<InspectLayersOptions>();
+  CLI::App* cmd = inspect.add_subcommand("layers", "A location's BEV layers as GeoTIFFs for QGIS, with coverage figures");
+  cmd->add_option("--dataroot", o->dataroot, "nuScenes dataroot")->required();
+  cmd->add_option("--version", o->version, "Release version")->capture_default_str();
+  cmd->add_option("--location", o->location, "boston-seaport, singapore-onenorth, ...")->required();
+  cmd->add_option("--out", o->out_dir, "Folder for <location>.<layer>.tif")->required();
+  cmd->add_option("--bbox", o->bbox_text, "Only xmin,ymin,xmax,ymax (map metres); default: the covered extent");
+  cmd->add_option("--detections", o->detections, "Detection results JSON for the vehicle layer");
+  cmd->add_flag("--no-rgb", o->no_rgb, "Skip camera colours");
+  cmd->add_flag("--no-semantic", o->no_semantic, "Skip semantic masks");
+  cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+  cmd->callback([o, &ctx] { ctx.run = [o] { return run(*o); }; });
+}
+
+}  // namespace nsg::cli
