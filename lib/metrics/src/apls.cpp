@@ -52,12 +52,17 @@ class PathGraph {
   size_t size() const { return offset_.size() - 1; }
 
   // Shortest path lengths from `src` to every node (kInf if unreachable).
-  // `heap` is scratch space, reused between calls.
-  void shortest_paths(int32_t src, std::vector<double>& dist,
+  // Shortest path lengths from `src`: `dist` (size() entries, kInf where unreachable)
+  // is reset through `reached`, the nodes it reached last time, which this call
+  // overwrites (unsorted). `heap` is scratch space.
+  void shortest_paths(int32_t src, std::vector<double>& dist, std::vector<int32_t>& reached,
                       std::vector<std::pair<double, int32_t>>& heap) const {
-    dist.assign(size(), kInf);
+    if (dist.size() != size()) dist.assign(size(), kInf);
+    for (int32_t n : reached) dist[n] = kInf;
+    reached.clear();
     heap.clear();
     dist[src] = 0.0;
+    reached.push_back(src);
     heap.push_back({0.0, src});
     while (!heap.empty()) {
       std::pop_heap(heap.begin(), heap.end(), std::greater<>());
@@ -67,6 +72,7 @@ class PathGraph {
       for (int32_t k = offset_[n]; k < offset_[n + 1]; ++k) {
         const double nd = d + w_[k];
         if (nd < dist[to_[k]]) {
+          if (dist[to_[k]] == kInf) reached.push_back(to_[k]);
           dist[to_[k]] = nd;
           heap.push_back({nd, to_[k]});
           std::push_heap(heap.begin(), heap.end(), std::greater<>());
@@ -192,28 +198,34 @@ std::vector<OneSided> one_sided(const std::vector<Pm>& a_nodes, const std::vecto
     b_graphs.emplace_back(splits.back().n_nodes, splits.back().arcs);
   }
   std::vector<OneSided> out(snap_ms.size());
-  std::vector<double> dist_a, dist_b;
+  std::vector<double> dist_a;
+  std::vector<int32_t> reached_a;
+  std::vector<std::vector<double>> dist_b(snap_ms.size());  // one per split graph
+  std::vector<std::vector<int32_t>> reached_b(snap_ms.size());
   std::vector<std::pair<double, int32_t>> heap;
   const auto n = static_cast<int32_t>(a_nodes.size());
   for (int32_t a = 0; a < n; ++a) {
-    a_graph.shortest_paths(a, dist_a, heap);
+    // Only nodes with a finite path count; visit them in increasing index as the mean's
+    // sum is defined.
+    a_graph.shortest_paths(a, dist_a, reached_a, heap);
+    std::sort(reached_a.begin(), reached_a.end());
     for (size_t v = 0; v < snap_ms.size(); ++v) {
       const SplitGraph& split = splits[v];
       OneSided& r = out[v];
       bool have_b = false;
-      for (int32_t b = 0; b < n; ++b) {
+      for (int32_t b : reached_a) {
         const double la = dist_a[b];
-        if (b == a || la == kInf || la < min_path_m) continue;
+        if (b == a || la < min_path_m) continue;
         ++r.pairs;
         if (split.node_of[a] < 0 || split.node_of[b] < 0) {
           r.cost_sum += 1.0;
           continue;
         }
         if (!have_b) {
-          b_graphs[v].shortest_paths(split.node_of[a], dist_b, heap);
+          b_graphs[v].shortest_paths(split.node_of[a], dist_b[v], reached_b[v], heap);
           have_b = true;
         }
-        const double lb = dist_b[split.node_of[b]];
+        const double lb = dist_b[v][split.node_of[b]];
         r.cost_sum += lb == kInf ? 1.0 : std::min(1.0, std::abs(la - lb) / la);
       }
     }

@@ -351,14 +351,14 @@ class IncrementalMatching {
       if (accepted_[by.ranks[k]]) return true;
     return false;
   }
-  void push_above(const RanksBy& by, int32_t x, int32_t rank, bool accepted_now) {
+  // `self_in` / `other_in`: the in-sets of x's side and of the other side.
+  void push_above(const RanksBy& by, int32_t x, int32_t rank, bool accepted_now,
+                  const std::vector<uint8_t>& self_in, const std::vector<uint8_t>& other_in) {
     for (int32_t k = by.offset[x + 1] - 1; k >= by.offset[x] && by.ranks[k] > rank; --k) {
       const int32_t r = by.ranks[k];
-      if (accepted_now ? accepted_[r] != 0 : (accepted_[r] == 0 && present(r))) push(r);
+      const bool present = self_in[x] != 0 && other_in[by.other[k]] != 0;
+      if (accepted_now ? accepted_[r] != 0 : (accepted_[r] == 0 && present)) push(r);
     }
-  }
-  bool present(int32_t rank) const {
-    return in_g_[cands_[rank].g] != 0 && in_p_[cands_[rank].p] != 0;
   }
   void push(int32_t rank) {
     const size_t wi = static_cast<size_t>(rank) >> 6;
@@ -375,8 +375,8 @@ class IncrementalMatching {
     m_ += now ? 1 : -1;
     // Newly accepted: only accepted candidates above can lose; newly rejected: only
     // present, rejected ones above can win.
-    push_above(by_g_, c.g, rank, now != 0);
-    push_above(by_p_, c.p, rank, now != 0);
+    push_above(by_g_, c.g, rank, now != 0, in_g_, in_p_);
+    push_above(by_p_, c.p, rank, now != 0, in_p_, in_g_);
   }
 
   const std::vector<Candidate>& cands_;
@@ -421,6 +421,47 @@ std::vector<int32_t> walk_order(const SampleGraph& gt,
   return order;
 }
 
+// Undirected shortcut: when the last search (from `anchor`) reached the anchor's whole
+// connected component, a new source x in it reaches the whole component too if
+// d(anchor, x) + max_y d(anchor, y) stays below the radius (triangle inequality), with a
+// margin far above the rounding of the path sums; its reach set is then unchanged and
+// the search is skipped.
+class WholeComponent {
+ public:
+  WholeComponent(const SampleGraph& sg, double radius_px)
+      : limit_(radius_px - kMarginPx), comp_(sg.size(), -1) {
+    // Union-find over the node samples joined by chains; interior samples follow theirs.
+    std::vector<int32_t> parent(static_cast<size_t>(sg.n_node_samples));
+    for (size_t n = 0; n < parent.size(); ++n) parent[n] = static_cast<int32_t>(n);
+    auto root = [&](int32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (const Chain& c : sg.chains) parent[root(c.a)] = root(c.b);
+    for (int32_t n = 0; n < sg.n_node_samples; ++n) comp_[n] = root(n);
+    for (size_t x = static_cast<size_t>(sg.n_node_samples); x < sg.size(); ++x)
+      comp_[x] = comp_[sg.chains[sg.chain_of_interior[x - sg.n_node_samples]].a];
+    size_.assign(sg.size(), 0);
+    for (int32_t c : comp_) ++size_[c];
+  }
+  bool still_whole(const RadiusSearch& last, int32_t x) const {
+    return whole_ && comp_[x] == comp_[anchor_] &&
+           last.dist_to(x) + last.max_dist() <= limit_;
+  }
+  // Records a search from `src` that reached `n_reached` samples.
+  void ran(int32_t src, size_t n_reached) {
+    anchor_ = src;
+    whole_ = n_reached == static_cast<size_t>(size_[comp_[src]]);
+  }
+
+ private:
+  static constexpr double kMarginPx = 1e-6;
+  double limit_;
+  std::vector<int32_t> comp_, size_;
+  int32_t anchor_ = -1;
+  bool whole_ = false;
+};
+
 // Rules 6-8 on the undirected or the directed sample graphs, seeds in increasing g.
 TopoSums topo_sums(const SampleGraph& gt, const SampleGraph& pred, bool directed,
                    const std::vector<Candidate>& cands, const RanksBy& by_g, const RanksBy& by_p,
@@ -433,16 +474,23 @@ TopoSums topo_sums(const SampleGraph& gt, const SampleGraph& pred, bool directed
   // summed afterwards in increasing g, as rule 7 adds them.
   const std::vector<int32_t> order = walk_order(gt, seeds);
   std::vector<int64_t> m_of(seeds.size(), 0), n_rp(seeds.size(), 0), n_rg(seeds.size(), 0);
+  WholeComponent whole_g(gt, radius_px), whole_p(pred, radius_px);
   for (size_t o = 0; o < order.size(); ++o) {
     const int32_t s = order[o];
-    const std::vector<int32_t>& rp = search_p.run(seeds[s].second, directed, radius_px);
-    update_in_set(
-        prev_p, search_p, rp, [&](int32_t x, bool in) { matching.set_p(x, in); },
-        [&](int32_t x) { return matching.has_p(x); });
-    const std::vector<int32_t>& rg = search_g.run(seeds[s].first, directed, radius_px);
-    update_in_set(
-        prev_g, search_g, rg, [&](int32_t x, bool in) { matching.set_g(x, in); },
-        [&](int32_t x) { return matching.has_g(x); });
+    if (directed || !whole_p.still_whole(search_p, seeds[s].second)) {
+      const std::vector<int32_t>& rp = search_p.run(seeds[s].second, directed, radius_px);
+      update_in_set(
+          prev_p, search_p, rp, [&](int32_t x, bool in) { matching.set_p(x, in); },
+          [&](int32_t x) { return matching.has_p(x); });
+      whole_p.ran(seeds[s].second, rp.size());
+    }
+    if (directed || !whole_g.still_whole(search_g, seeds[s].first)) {
+      const std::vector<int32_t>& rg = search_g.run(seeds[s].first, directed, radius_px);
+      update_in_set(
+          prev_g, search_g, rg, [&](int32_t x, bool in) { matching.set_g(x, in); },
+          [&](int32_t x) { return matching.has_g(x); });
+      whole_g.ran(seeds[s].first, rg.size());
+    }
     m_of[s] = matching.matched();
     n_rp[s] = static_cast<int64_t>(prev_p.size());
     n_rg[s] = static_cast<int64_t>(prev_g.size());

@@ -1,6 +1,7 @@
-// GEO/TOPO of measure() (chains, incremental restricted matching) against a straightforward
-// reference written from METRICS.md "Precise choices for GEO/TOPO": explicit sample graph,
-// plain Dijkstra from every seed, restricted candidate list re-sorted and scanned greedily.
+// The fast paths of measure() against straightforward references written from METRICS.md
+// on small random graphs. GEO/TOPO ("Precise choices"): explicit sample graph, plain
+// Dijkstra from every seed, restricted candidate list re-scanned greedily. APLS: all
+// pairs by Floyd-Warshall on A and on the split B', every ordered pair visited.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -211,6 +212,164 @@ TEST(TopoReference, FastPathMatchesStraightforwardDefinition) {
   }
   // The cases must exercise partial reach sets, not only perfect matches.
   EXPECT_GT(nontrivial, 30);
+}
+
+
+// ---- APLS reference -------------------------------------------------------------------
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct Pm {
+  double x, y;
+};
+
+double seg_dist(Pm p, Pm a, Pm b, double* t_out) {
+  const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+  double t = 0.0;
+  if (len2 > 0.0) t = std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / len2, 0.0, 1.0);
+  const double qx = a.x + t * dx - p.x, qy = a.y + t * dy - p.y;
+  *t_out = t;
+  return std::sqrt(qx * qx + qy * qy);
+}
+
+using Matrix = std::vector<std::vector<double>>;
+
+void floyd(Matrix& d) {
+  const size_t n = d.size();
+  for (size_t k = 0; k < n; ++k) {
+    for (size_t i = 0; i < n; ++i) {
+      for (size_t j = 0; j < n; ++j) {
+        if (d[i][k] + d[k][j] < d[i][j]) d[i][j] = d[i][k] + d[k][j];
+      }
+    }
+  }
+}
+
+void add_arc(Matrix& d, size_t a, size_t b, double w, bool fwd, bool bwd) {
+  if (fwd) d[a][b] = std::min(d[a][b], w);
+  if (bwd) d[b][a] = std::min(d[b][a], w);
+}
+
+// C(A -> B) as (pairs, 1 - mean), mean over ordered evaluable pairs.
+std::pair<int64_t, std::optional<double>> ref_one_sided(const CleanGraph& ga, const CleanGraph& gb,
+                                                        double snap_m, bool directed,
+                                                        const MetricParams& params) {
+  const double res = params.resolution_m;
+  std::vector<Pm> a, b;
+  for (const Point& p : ga.nodes) a.push_back({p.u * res, p.v * res});
+  for (const Point& p : gb.nodes) b.push_back({p.u * res, p.v * res});
+  const std::vector<Segment> sa = segments_of(ga), sb = segments_of(gb);
+  Matrix da(a.size(), std::vector<double>(a.size(), kInf));
+  for (size_t k = 0; k < a.size(); ++k) da[k][k] = 0.0;
+  for (const Segment& s : sa) {
+    const double w = std::hypot(a[s.j].x - a[s.i].x, a[s.j].y - a[s.i].y);
+    add_arc(da, s.i, s.j, w, !directed || s.fwd, !directed || s.bwd);
+  }
+  floyd(da);
+  // Snap, then split B's segments at the projections.
+  std::vector<std::vector<std::pair<double, int32_t>>> on(sb.size());
+  for (size_t n = 0; n < a.size(); ++n) {
+    double best = kInf, best_t = 0.0;
+    int32_t seg = -1;
+    for (size_t k = 0; k < sb.size(); ++k) {
+      double t = 0.0;
+      const double d = seg_dist(a[n], b[sb[k].i], b[sb[k].j], &t);
+      if (d < best) {
+        best = d;
+        best_t = t;
+        seg = static_cast<int32_t>(k);
+      }
+    }
+    if (seg >= 0 && best <= snap_m) on[seg].push_back({best_t, static_cast<int32_t>(n)});
+  }
+  std::vector<int32_t> node_of(a.size(), -1);
+  std::vector<Pm> bpos = b;
+  std::vector<std::tuple<size_t, size_t, bool, bool>> arcs;
+  for (size_t k = 0; k < sb.size(); ++k) {
+    std::sort(on[k].begin(), on[k].end());
+    const Pm pa = b[sb[k].i], pb = b[sb[k].j];
+    std::vector<size_t> chain{static_cast<size_t>(sb[k].i)};
+    double last_t = 0.0;
+    for (const auto& [t, n] : on[k]) {
+      if (t <= 1e-12) {
+        node_of[n] = sb[k].i;
+      } else if (t >= 1.0 - 1e-12) {
+        node_of[n] = sb[k].j;
+      } else {
+        if (chain.size() == 1 || t - last_t > 1e-12) {
+          chain.push_back(bpos.size());
+          bpos.push_back({pa.x + t * (pb.x - pa.x), pa.y + t * (pb.y - pa.y)});
+        }
+        last_t = t;
+        node_of[n] = static_cast<int32_t>(chain.back());
+      }
+    }
+    chain.push_back(sb[k].j);
+    for (size_t c = 0; c + 1 < chain.size(); ++c)
+      arcs.emplace_back(chain[c], chain[c + 1], !directed || sb[k].fwd, !directed || sb[k].bwd);
+  }
+  Matrix db(bpos.size(), std::vector<double>(bpos.size(), kInf));
+  for (size_t k = 0; k < bpos.size(); ++k) db[k][k] = 0.0;
+  for (const auto& [x, y, fwd, bwd] : arcs)
+    add_arc(db, x, y, std::hypot(bpos[y].x - bpos[x].x, bpos[y].y - bpos[x].y), fwd, bwd);
+  floyd(db);
+  int64_t pairs = 0;
+  double cost = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    for (size_t j = 0; j < a.size(); ++j) {
+      const double la = da[i][j];
+      if (i == j || la == kInf || la < params.min_path_m) continue;
+      ++pairs;
+      if (node_of[i] < 0 || node_of[j] < 0 || db[node_of[i]][node_of[j]] == kInf) {
+        cost += 1.0;
+        continue;
+      }
+      cost += std::min(1.0, std::abs(la - db[node_of[i]][node_of[j]]) / la);
+    }
+  }
+  if (pairs == 0) return {0, std::nullopt};
+  return {pairs, 1.0 - cost / static_cast<double>(pairs)};
+}
+
+void expect_same(const std::optional<double>& got, const std::optional<double>& want,
+                 const char* name, int trial) {
+  ASSERT_EQ(got.has_value(), want.has_value()) << name << " trial " << trial;
+  if (want) {
+    EXPECT_NEAR(*got, *want, 1e-12) << name << " trial " << trial;
+  }
+}
+
+TEST(AplsReference, FastPathMatchesAllPairsDefinition) {
+  Rng rng(77);
+  int partial = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const MetricParams params;
+    const bool grid = trial % 2 == 0;
+    const Graph gt = random_graph(rng, grid);
+    const Graph pred = trial % 4 == 0 ? random_graph(rng, grid)
+                                      : perturbed(rng, gt, rng.uniform(0.0, grid ? 2.0 : 12.0));
+    const TileMeasurement t = measure("k", gt, &pred, params);
+    const CleanGraph g = clean_graph(gt), p = clean_graph(pred);
+    struct Variant {
+      Metric first;
+      double snap_m;
+      bool directed;
+    };
+    for (const Variant& v : {Variant{kApls, params.snap_m, false},
+                             Variant{kAplsDirected, params.snap_m, true},
+                             Variant{kAplsStrict, params.strict_snap_m, false}}) {
+      const auto [gt_pairs, c1] = ref_one_sided(g, p, v.snap_m, v.directed, params);
+      const auto [pred_pairs, c2] = ref_one_sided(p, g, v.snap_m, v.directed, params);
+      expect_same(t.values[v.first + 1], c1, metric_name(v.first + 1), trial);
+      expect_same(t.values[v.first + 2], c2, metric_name(v.first + 2), trial);
+      if (v.first == kApls) {
+        EXPECT_EQ(t.counts[kAplsGtPairs], gt_pairs) << "trial " << trial;
+        EXPECT_EQ(t.counts[kAplsPredPairs], pred_pairs) << "trial " << trial;
+        if (c1 && *c1 > 0.0 && *c1 < 1.0) ++partial;
+      }
+    }
+  }
+  EXPECT_GT(partial, 30);  // most cases are neither perfect nor empty
 }
 
 }  // namespace
