@@ -19,6 +19,7 @@ constexpr nsg::cli::AddCommand kCommands[] = {
     &nsg::cli::add_stats_command,
     &nsg::cli::add_score_command,
     &nsg::cli::add_preview_command,
+    &nsg::cli::add_validate_command,
 };
 
 int run(int argc, char** argv) {

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 
+// GCC 12 reports a false -Wrestrict inside valijson's json_pointer.hpp.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wrestrict"
 #include <valijson/adapters/nlohmann_json_adapter.hpp>
 #include <valijson/schema.hpp>
 #include <valijson/schema_parser.hpp>
 #include <valijson/validation_results.hpp>
 #include <valijson/validator.hpp>
+#pragma GCC diagnostic pop
 
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
@@ -33,29 +37,35 @@ std::string to_pointer(const std::vector<std::string>& context) {
 
 }  // namespace
 
-Issues validate_against_schema(const fs::path& schema_path, const nlohmann::json& doc,
-                               const std::string& file_label, const std::string& check) {
+struct SchemaValidator::Impl {
+  valijson::Schema schema;
+};
+
+SchemaValidator::SchemaValidator(const fs::path& schema_path) : impl_(std::make_shared<Impl>()) {
   nlohmann::json schema_doc;
   try {
     schema_doc = nlohmann::json::parse(read_file(schema_path));
   } catch (const nlohmann::json::parse_error& e) {
     throw ParseError(schema_path.string(), "", std::string("a JSON schema: ") + e.what());
   }
-  valijson::Schema schema;
   valijson::SchemaParser parser;
   valijson::adapters::NlohmannJsonAdapter schema_adapter(schema_doc);
   try {
-    parser.populateSchema(schema_adapter, schema);
+    parser.populateSchema(schema_adapter, impl_->schema);
   } catch (const std::exception& e) {
     throw ParseError(schema_path.string(), "", std::string("a valid draft-07 schema: ") + e.what());
   }
+}
+
+Issues SchemaValidator::validate(const nlohmann::json& doc, const std::string& file_label,
+                                 const std::string& check) const {
   valijson::Validator validator;
   valijson::ValidationResults results;
   valijson::adapters::NlohmannJsonAdapter target(doc);
   Issues issues;
-  if (validator.validate(schema, target, &results)) return issues;
+  if (validator.validate(impl_->schema, target, &results)) return issues;
   // valijson also reports every enclosing value ("Failed to validate item #0"); keep
-  // only the innermost errors, which name the offending value.
+  // the innermost errors, which name the offending value.
   std::vector<std::pair<std::string, std::string>> errors;
   valijson::ValidationResults::Error error;
   while (results.popError(error)) errors.push_back({to_pointer(error.context), error.description});
@@ -64,9 +74,16 @@ Issues validate_against_schema(const fs::path& schema_path, const nlohmann::json
     const bool enclosing = std::any_of(errors.begin(), errors.end(), [&](const auto& other) {
       return other.first.size() > path.size() && other.first.compare(0, inner.size(), inner) == 0;
     });
-    if (!enclosing) issues.error(check, file_label + ":" + path, message);
+    // Wrappers ("Failed to validate item #0 …") repeat an inner error; real errors at an
+    // enclosing path (e.g. an unknown property of the root) are kept.
+    if (!enclosing || message.rfind("Failed to validate", 0) != 0) issues.error(check, file_label + ":" + path, message);
   }
   return issues;
+}
+
+Issues validate_against_schema(const fs::path& schema_path, const nlohmann::json& doc,
+                               const std::string& file_label, const std::string& check) {
+  return SchemaValidator(schema_path).validate(doc, file_label, check);
 }
 
 fs::path find_schemas_dir(const fs::path& override_dir) {

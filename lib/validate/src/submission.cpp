@@ -1,6 +1,14 @@
 #include "nsg/validate/submission.h"
 
+#include <algorithm>
 #include <cmath>
+#include <set>
+
+#include "nsg/core/error.h"
+#include "nsg/core/files.h"
+#include "nsg/core/strings.h"
+#include "nsg/io/dataset.h"
+#include "nsg/validate/schema.h"
 
 namespace nsg::validate {
 namespace {
@@ -78,6 +86,154 @@ std::string json_pointer_token(const std::string& key) {
     else out += c;
   }
   return out;
+}
+
+}  // namespace nsg::validate
+
+// ---------------------------------------------------------------------------------------
+// Reading and validating a submission file.
+
+namespace nsg::validate {
+
+void SubmissionLimits::validate() const {
+  NSG_CHECK(max_nodes_per_tile > 0 && max_edges_per_tile > 0, ConfigError, "", "limits", "positive per-tile limits");
+  NSG_CHECK(max_file_bytes > 0 && max_json_values > 0 && max_depth > 0, ConfigError, "", "limits",
+            "positive file limits");
+}
+
+void SubmissionValidateOptions::validate() const {
+  NSG_CHECK(!submission.empty(), ConfigError, "", "--submission", "a submission file");
+  NSG_CHECK(!split.empty(), ConfigError, "", "--split", "a split name");
+  limits.validate();
+}
+
+namespace {
+
+// Counts values and depth without building anything; stops at the first limit.
+class CountingSax : public nlohmann::json_sax<nlohmann::json> {
+ public:
+  explicit CountingSax(const SubmissionLimits& limits) : limits_(limits) {}
+  bool null() override { return value(); }
+  bool boolean(bool) override { return value(); }
+  bool number_integer(number_integer_t) override { return value(); }
+  bool number_unsigned(number_unsigned_t) override { return value(); }
+  bool number_float(number_float_t, const string_t&) override { return value(); }
+  bool string(string_t&) override { return value(); }
+  bool binary(binary_t&) override { return value(); }
+  bool start_object(std::size_t) override { return open(); }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return close(); }
+  bool start_array(std::size_t) override { return open(); }
+  bool end_array() override { return close(); }
+  bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception& ex) override {
+    problem_check = "submission.json";
+    problem = "valid JSON (NaN and Infinity are not JSON; numbers must fit a double) at byte " +
+              std::to_string(position) + ": " + ex.what();
+    return false;
+  }
+
+  std::string problem_check, problem;
+
+ private:
+  bool value() {
+    if (++values_ <= limits_.max_json_values) return true;
+    problem_check = "submission.size";
+    problem = "at most " + std::to_string(limits_.max_json_values) + " JSON values in the file";
+    return false;
+  }
+  bool open() {
+    if (!value()) return false;
+    if (++depth_ <= limits_.max_depth) return true;
+    problem_check = "submission.size";
+    problem = "nesting at most " + std::to_string(limits_.max_depth) + " deep";
+    return false;
+  }
+  bool close() {
+    --depth_;
+    return true;
+  }
+  const SubmissionLimits& limits_;
+  int64_t values_ = 0;
+  int depth_ = 0;
+};
+
+}  // namespace
+
+std::optional<nlohmann::json> read_submission(const std::filesystem::path& file, const SubmissionLimits& limits,
+                                              Issues& issues) {
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(file, ec);
+  if (ec || !std::filesystem::is_regular_file(file)) throw IoError(file.string(), "", "a readable submission file");
+  if (static_cast<int64_t>(bytes) > limits.max_file_bytes) {
+    issues.error("submission.size", file.string(),
+                 strprintf("a file of at most %.0f MiB (--max-file-mb), got %.1f MiB",
+                           static_cast<double>(limits.max_file_bytes) / (1 << 20), static_cast<double>(bytes) / (1 << 20)));
+    return std::nullopt;
+  }
+  const std::string text = read_file(file);
+  CountingSax sax(limits);
+  nlohmann::json::sax_parse(text, &sax);
+  if (!sax.problem.empty()) {
+    issues.error(sax.problem_check, file.string(), sax.problem);
+    return std::nullopt;
+  }
+  return nlohmann::json::parse(text);
+}
+
+std::vector<std::string> dataset_split_keys(const std::filesystem::path& dataset, const std::string& split) {
+  const io::Dataset ds = io::Dataset::open(dataset);
+  std::vector<std::string> keys;
+  for (const nlohmann::json& shard : ds.shards(split)) {
+    const std::string first = shard.value("first_key", ""), last = shard.value("last_key", "");
+    const int64_t tiles = shard.value("tiles", int64_t{-1});
+    // Keys end in 6 digits; a shard whose range holds exactly `tiles` keys needs no reading.
+    const auto number = [](const std::string& key) -> int64_t {
+      if (key.size() < 7 || key[key.size() - 7] != '-') return -1;
+      int64_t n = 0;
+      for (size_t i = key.size() - 6; i < key.size(); ++i) {
+        if (key[i] < '0' || key[i] > '9') return -1;
+        n = n * 10 + (key[i] - '0');
+      }
+      return n;
+    };
+    const int64_t a = number(first), b = number(last);
+    if (a >= 0 && b >= a && b - a + 1 == tiles && first.substr(0, first.size() - 6) == last.substr(0, last.size() - 6)) {
+      for (int64_t n = a; n <= b; ++n) keys.push_back(first.substr(0, first.size() - 6) + strprintf("%06lld", static_cast<long long>(n)));
+      continue;
+    }
+    for (const io::DatasetTile& t : ds.read_shard(shard)) keys.push_back(t.key);
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return keys;
+}
+
+SubmissionReport validate_submission(const SubmissionValidateOptions& o) {
+  o.validate();
+  SubmissionReport report;
+  const std::filesystem::path schemas = find_schemas_dir(o.schemas_dir);
+  const std::optional<nlohmann::json> doc = read_submission(o.submission, o.limits, report.issues);
+  if (!doc) return report;
+  report.parsed = true;
+  const std::string label = o.submission.string();
+  report.issues.append(validate_against_schema(schemas / "v1" / "submission.schema.json", *doc, label, "submission.schema"));
+  report.issues.append(check_submission_structure(*doc, label, o.limits));
+  const bool has_tiles = doc->is_object() && doc->contains("tiles") && (*doc)["tiles"].is_object();
+  if (has_tiles) report.tiles = static_cast<int64_t>((*doc)["tiles"].size());
+  if (o.dataset.empty() || !has_tiles) return report;
+  const std::vector<std::string> keys = dataset_split_keys(o.dataset, o.split);
+  const std::set<std::string> known(keys.begin(), keys.end());
+  for (const auto& [key, tile] : (*doc)["tiles"].items())
+    if (!known.count(key))
+      report.issues.error("submission.keys", label + ":/tiles/" + json_pointer_token(key),
+                          "a tile key of split '" + o.split + "' of the dataset (unknown key)");
+  for (const std::string& key : keys)
+    if (!(*doc)["tiles"].contains(key)) {
+      report.missing_keys.push_back(key);
+      report.issues.warning("submission.missing", label + ":/tiles/" + json_pointer_token(key),
+                            "no prediction: scored as an empty graph");
+    }
+  return report;
 }
 
 }  // namespace nsg::validate

@@ -3,7 +3,10 @@
 // finite coordinates, score arrays as long as what they score, size limits that protect
 // the scorer. Each problem names the tile key and the JSON path.
 #include <cstdint>
+#include <filesystem>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +17,11 @@ namespace nsg::validate {
 struct SubmissionLimits {
   int64_t max_nodes_per_tile = 100000;
   int64_t max_edges_per_tile = 400000;
+  // Checked before parsing, so a huge or hostile file costs neither memory nor time.
+  int64_t max_file_bytes = int64_t{128} << 20;
+  int64_t max_json_values = 10'000'000;  // numbers, strings, arrays, … in the whole file
+  int max_depth = 16;                    // the format nests 5 deep
+  void validate() const;                 // throws ConfigError
 };
 
 // Check names: submission.indices, submission.finite, submission.scores, submission.size.
@@ -22,5 +30,36 @@ std::string json_pointer_token(const std::string& key);
 
 Issues check_submission_structure(const nlohmann::json& doc, const std::string& file_label,
                                   const SubmissionLimits& limits = {});
+
+// Reads a submission within the limits: file size first, then a streaming pass counting
+// values and depth, then the parse. Returns nullopt with the problem in `issues`
+// (submission.size, or submission.json for invalid JSON such as NaN); throws IoError
+// if the file cannot be read.
+std::optional<nlohmann::json> read_submission(const std::filesystem::path& file, const SubmissionLimits& limits,
+                                              Issues& issues);
+
+// Tile keys of one split of a dataset, sorted. Taken from the manifest's shard key ranges
+// when they are contiguous, else by reading the shards.
+std::vector<std::string> dataset_split_keys(const std::filesystem::path& dataset, const std::string& split);
+
+struct SubmissionValidateOptions {
+  std::filesystem::path submission;
+  std::filesystem::path dataset;      // "" = no key checks
+  std::string split = "test";
+  std::filesystem::path schemas_dir;  // "" = find_schemas_dir()
+  SubmissionLimits limits;
+  void validate() const;  // throws ConfigError
+};
+
+struct SubmissionReport {
+  Issues issues;                          // errors make the submission invalid
+  std::vector<std::string> missing_keys;  // dataset keys absent (scored as empty); also warnings
+  int64_t tiles = 0;                      // tiles in the submission
+  bool parsed = false;                    // false: refused before parsing (size, JSON)
+};
+
+// Check names: submission.json, submission.size, submission.schema, submission.keys
+// (unknown key: error), submission.missing (warning), plus check_submission_structure's.
+SubmissionReport validate_submission(const SubmissionValidateOptions& options);
 
 }  // namespace nsg::validate

@@ -1,0 +1,548 @@
+#include "nsg/validate/dataset.h"
+
+#include <algorithm>
+#include <cstring>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <regex>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "nsg/core/error.h"
+#include "nsg/core/sha256.h"
+#include "nsg/core/strings.h"
+#include "nsg/io/dataset.h"
+#include "nsg/io/raster.h"
+#include "nsg/validate/schema.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace nsg::validate {
+
+const std::vector<CheckInfo>& dataset_checks() {
+  static const std::vector<CheckInfo> kChecks = {
+      {"manifest.schema", "manifest.json validates against schemas/v1/manifest.schema.json"},
+      {"determinism.config", "the manifest's config validates against generate-config.schema.json; its seed, "
+                             "size_px, resolution_m and layout equal the manifest's"},
+      {"maps.sha256", "every manifest maps/ file exists with the recorded sha256 and size"},
+      {"shard.present", "every manifest shard file exists"},
+      {"shard.sha256", "every shard file hashes to the manifest's sha256 and has its byte size (tar layout)"},
+      {"shard.readable", "every shard is a complete tar of <key>.<suffix> members"},
+      {"shard.members", "every key has exactly the files of tile_format.files"},
+      {"tile.key", "keys are <location>-<split>-<NNNNNN>, unique, of the shard's split and range, and equal "
+                   "the key inside graph.json and meta.json"},
+      {"meta.schema", "meta.json validates against tile-meta.schema.json and agrees with the shard and "
+                      "tile_format (split, location, size_px, resolution_m, bounds extent)"},
+      {"meta.counts", "meta counts (nodes, edges, vehicle_px) and coverage fractions match the files"},
+      {"raster.readable", "every .tif decodes as a georeferenced GeoTIFF"},
+      {"raster.size", "every raster is tile_format.size_px square"},
+      {"raster.dtype", "lidar/semantic/coverage uint8 x1, rgb uint8 x3, vehicle float32 x1"},
+      {"raster.nodata", "vehicle in {-1} or [0, 1); coverage flags in 0..7 and set wherever a layer has data"},
+      {"raster.georef", "GeoTIFF location, north-west corner and pixel size match meta (location, bounds_m)"},
+      {"graph.schema", "graph.json validates against tile-graph.schema.json"},
+      {"graph.indices", "node ids equal their position; edge source/target are node ids"},
+      {"graph.pixel_coords", "u = (x - x_west)/res - 0.5 and v = (y_north - y)/res - 0.5 for every node"},
+      {"graph.in_tile", "every node lies inside the tile's bounds"},
+      {"graph.edge_length", "every edge is at most config graph.max_spacing_m long (border-cut edges are shorter)"},
+      {"graph.self_loops", "no edge joins a node to itself"},
+      {"graph.duplicates", "no directed edge appears twice"},
+      {"split.disjoint", "no tile of one split overlaps a region or a tile of another split"},
+      {"split.counts", "manifest counts (per shard, split, location, total) equal the tiles found"},
+  };
+  return kChecks;
+}
+
+bool check_selected(const std::string& patterns, const std::string& check) {
+  if (patterns.empty()) return true;
+  for (const std::string& p : split(patterns, ','))
+    if (wildcard_match(std::string(trim(p)), check)) return true;
+  return false;
+}
+
+void DatasetValidateOptions::validate() const {
+  NSG_CHECK(!root.empty(), ConfigError, "", "DATASET", "a dataset folder");
+  const auto& all = dataset_checks();
+  NSG_CHECK(std::any_of(all.begin(), all.end(), [&](const CheckInfo& c) { return check_selected(checks, c.name); }),
+            ConfigError, "", "--checks", "a pattern matching at least one check (see --list-checks), got '" + checks + "'");
+  NSG_CHECK(length_tolerance_m >= 0 && std::isfinite(length_tolerance_m), ConfigError, "", "length_tolerance_m",
+            "a finite tolerance >= 0");
+}
+
+namespace {
+
+struct Rect {
+  double x_west = 0, y_south = 0, x_east = 0, y_north = 0;
+};
+
+// Area-positive overlap (touching edges do not count).
+bool overlaps(const Rect& a, const Rect& b, double tol) {
+  return std::min(a.x_east, b.x_east) - std::max(a.x_west, b.x_west) > tol &&
+         std::min(a.y_north, b.y_north) - std::max(a.y_south, b.y_south) > tol;
+}
+
+std::optional<Rect> rect_of(const json& bounds) {
+  if (!bounds.is_array() || bounds.size() != 4) return std::nullopt;
+  for (const json& v : bounds)
+    if (!v.is_number() || !std::isfinite(v.get<double>())) return std::nullopt;
+  return Rect{bounds[0].get<double>(), bounds[1].get<double>(), bounds[2].get<double>(), bounds[3].get<double>()};
+}
+
+double num_or(const json& j, const json::json_pointer& ptr, double fallback) {
+  return j.contains(ptr) && j.at(ptr).is_number() ? j.at(ptr).get<double>() : fallback;
+}
+
+std::string str_of(const json& j, const char* key) {
+  return j.is_object() && j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : std::string();
+}
+
+struct TileRecord {
+  std::string key, split, location, shard;
+  Rect bounds;
+};
+
+struct RasterSpec {
+  const char* suffix;
+  io::SampleType type;
+  int bands;
+};
+constexpr RasterSpec kRasters[] = {{"lidar.tif", io::SampleType::kUInt8, 1},
+                                   {"rgb.tif", io::SampleType::kUInt8, 3},
+                                   {"semantic.tif", io::SampleType::kUInt8, 1},
+                                   {"vehicle.tif", io::SampleType::kFloat32, 1},
+                                   {"coverage.tif", io::SampleType::kUInt8, 1}};
+
+class DatasetChecker {
+ public:
+  DatasetChecker(const DatasetValidateOptions& o, const io::Dataset& ds, const fs::path& schemas)
+      : o_(o), ds_(ds), m_(ds.manifest()), schemas_(schemas) {
+    size_px_ = static_cast<int>(num_or(m_, json::json_pointer("/tile_format/size_px"), 256));
+    res_m_ = num_or(m_, json::json_pointer("/tile_format/resolution_m"), 0.2);
+    max_spacing_m_ = num_or(m_, json::json_pointer("/config/graph/max_spacing_m"), 2.0);
+    if (m_.contains("tile_format") && m_["tile_format"].is_object() && m_["tile_format"].contains("files") &&
+        m_["tile_format"]["files"].is_array())
+      for (const json& f : m_["tile_format"]["files"])
+        if (f.is_string()) files_.insert(f.get<std::string>());
+    if (files_.empty())
+      files_ = {"lidar.tif", "rgb.tif", "semantic.tif", "vehicle.tif", "coverage.tif", "graph.json", "meta.json"};
+    if (on("meta.schema")) meta_schema_.emplace(schemas / "v1" / "tile-meta.schema.json");
+    if (on("graph.schema")) graph_schema_.emplace(schemas / "v1" / "tile-graph.schema.json");
+  }
+
+  Issues run() {
+    check_manifest();
+    check_maps();
+    for (const json& shard : m_.value("shards", json::array()))
+      if (shard.is_object()) check_shard(shard);
+    check_split_disjoint();
+    check_split_counts();
+    return std::move(issues_);
+  }
+
+ private:
+  bool on(const std::string& check) const { return check_selected(o_.checks, check); }
+  void error(const std::string& check, const std::string& subject, const std::string& message) {
+    if (on(check)) issues_.error(check, subject, message);
+  }
+  bool near(double a, double b) const { return std::abs(a - b) <= o_.length_tolerance_m; }
+
+  void check_manifest() {
+    if (on("manifest.schema"))
+      issues_.append(SchemaValidator(schemas_ / "v1" / "manifest.schema.json")
+                         .validate(m_, "manifest.json", "manifest.schema"));
+    if (!on("determinism.config")) return;
+    const json& config = m_.value("config", json());
+    if (!config.is_object()) {
+      error("determinism.config", "manifest.json:/config", "the resolved generate config (an object)");
+      return;
+    }
+    issues_.append(SchemaValidator(schemas_ / "v1" / "generate-config.schema.json")
+                       .validate(config, "manifest.json:/config", "determinism.config"));
+    const auto differs = [&](const char* config_ptr, const char* manifest_ptr) {
+      const json::json_pointer a(config_ptr), b(manifest_ptr);
+      if (config.contains(a) && m_.contains(b) && config.at(a) == m_.at(b)) return;
+      error("determinism.config", std::string("manifest.json:") + manifest_ptr,
+            std::string("equal to config ") + config_ptr + " (" + (config.contains(a) ? config.at(a).dump() : "absent") +
+                " vs " + (m_.contains(b) ? m_.at(b).dump() : "absent") + ")");
+    };
+    differs("/seed", "/seed");
+    differs("/crops/size_px", "/tile_format/size_px");
+    differs("/resolution_m", "/tile_format/resolution_m");
+    differs("/output/layout", "/layout");
+  }
+
+  void check_file_hash(const std::string& check, const fs::path& path, const json& entry, const std::string& subject) {
+    const std::string want = str_of(entry, "sha256");
+    const std::string got = sha256_file(path);
+    if (got != want) error(check, subject, "sha256 " + got + ", manifest says " + want);
+    const auto bytes = static_cast<int64_t>(fs::file_size(path));
+    if (entry.contains("bytes") && entry["bytes"] != bytes)
+      error(check, subject, std::to_string(bytes) + " bytes, manifest says " + entry["bytes"].dump());
+  }
+
+  void check_maps() {
+    if (!on("maps.sha256")) return;
+    for (const json& f : m_.value("maps", json::array())) {
+      const std::string rel = str_of(f, "file");
+      const fs::path path = ds_.root() / rel;
+      if (rel.empty() || !fs::is_regular_file(path)) {
+        error("maps.sha256", rel, "missing file listed in manifest maps");
+        continue;
+      }
+      check_file_hash("maps.sha256", path, f, rel);
+    }
+  }
+
+  void check_shard(const json& shard) {
+    const std::string name = str_of(shard, "name");
+    const std::string split = str_of(shard, "split");
+    found_per_shard_[name] += 0;
+    if (ds_.tar_layout()) {
+      const fs::path path = ds_.root() / str_of(shard, "file");
+      if (str_of(shard, "file").empty() || !fs::is_regular_file(path)) {
+        error("shard.present", name, "shard file '" + str_of(shard, "file") + "' is missing");
+        if (!on("shard.present")) error("shard.readable", name, "shard file is missing");
+        return;
+      }
+      if (on("shard.sha256")) check_file_hash("shard.sha256", path, shard, name);
+    } else if (!fs::is_directory(ds_.root() / str_of(shard, "folder"))) {
+      error("shard.present", name, "folder '" + str_of(shard, "folder") + "' is missing");
+      return;
+    }
+    std::vector<io::DatasetTile> tiles;
+    try {
+      tiles = ds_.read_shard(shard);
+    } catch (const Error& e) {
+      error("shard.readable", name, e.what());
+      return;
+    }
+    found_per_shard_[name] = static_cast<int64_t>(tiles.size());
+    for (const io::DatasetTile& t : tiles) check_tile(t, shard);
+  }
+
+  void check_key(const io::DatasetTile& t, const json& shard) {
+    static const std::regex kKey(R"(([^.]+)-(train|val|test)-(\d{6}))");
+    std::smatch m;
+    const std::string subject = t.shard + "/" + t.key;
+    if (!std::regex_match(t.key, m, kKey)) {
+      error("tile.key", subject, "a key <location>-<split>-<NNNNNN>");
+    } else {
+      if (m[2] != str_of(shard, "split")) error("tile.key", subject, "a key of split '" + str_of(shard, "split") + "'");
+      if (m[1] != str_of(shard, "location"))
+        error("tile.key", subject, "a key of location '" + str_of(shard, "location") + "'");
+    }
+    if (t.key < str_of(shard, "first_key") || t.key > str_of(shard, "last_key"))
+      error("tile.key", subject, "a key in the shard's range [" + str_of(shard, "first_key") + ", " +
+                                     str_of(shard, "last_key") + "]");
+    if (!keys_.insert(t.key).second) error("tile.key", subject, "a unique key (seen in an earlier tile)");
+  }
+
+  void check_members(const io::DatasetTile& t) {
+    const std::string subject = t.shard + "/" + t.key;
+    for (const std::string& f : files_)
+      if (!t.has(f)) error("shard.members", subject + "." + f, "missing member");
+    for (const auto& [suffix, bytes] : t.files)
+      if (!files_.count(suffix)) error("shard.members", subject + "." + suffix, "unexpected member (not in tile_format.files)");
+  }
+
+  // Parses a JSON member; a parse failure is reported under `check`.
+  std::optional<json> parse_member(const io::DatasetTile& t, const std::string& suffix, const std::string& check) {
+    if (!t.has(suffix)) return std::nullopt;
+    try {
+      return t.json(suffix);
+    } catch (const Error& e) {
+      error(check, t.shard + "/" + t.key + "." + suffix, e.what());
+      return std::nullopt;
+    }
+  }
+
+  void check_tile(const io::DatasetTile& t, const json& shard) {
+    check_key(t, shard);
+    check_members(t);
+    const std::string base = t.shard + "/" + t.key;
+    std::optional<json> meta = parse_member(t, "meta.json", "meta.schema");
+    std::optional<Rect> bounds;
+    if (meta) bounds = check_meta(t, *meta, shard);
+    std::optional<json> graph = parse_member(t, "graph.json", "graph.schema");
+    if (graph) check_graph(t, *graph, bounds, meta);
+    check_rasters(t, meta, bounds);
+  }
+
+  std::optional<Rect> check_meta(const io::DatasetTile& t, const json& meta, const json& shard) {
+    const std::string subject = t.shard + "/" + t.key + ".meta.json";
+    if (meta_schema_) issues_.append(meta_schema_->validate(meta, subject, "meta.schema"));
+    if (str_of(meta, "key") != t.key) error("tile.key", subject + ":/key", "the member's key '" + t.key + "'");
+    const auto expect = [&](const char* field, const json& want) {
+      if (!meta.contains(field) || meta[field] != want)
+        error("meta.schema", subject + ":/" + field, "equal to " + want.dump() + " (shard / tile_format)");
+    };
+    expect("split", str_of(shard, "split"));
+    expect("location", str_of(shard, "location"));
+    expect("size_px", size_px_);
+    expect("resolution_m", res_m_);
+    const std::optional<Rect> r = rect_of(meta.value("bounds_m", json()));
+    if (!r) return std::nullopt;
+    const double extent = size_px_ * res_m_;
+    if (!near(r->x_east - r->x_west, extent) || !near(r->y_north - r->y_south, extent))
+      error("meta.schema", subject + ":/bounds_m", "a square of size_px * resolution_m = " + format_double(extent) + " m");
+    tiles_.push_back({t.key, str_of(meta, "split"), str_of(meta, "location"), t.shard, *r});
+    return r;
+  }
+
+  void check_graph(const io::DatasetTile& t, const json& g, const std::optional<Rect>& bounds,
+                   const std::optional<json>& meta) {
+    const std::string subject = t.shard + "/" + t.key + ".graph.json";
+    if (graph_schema_) {
+      Issues schema = graph_schema_->validate(g, subject, "graph.schema");
+      const bool bad = !schema.empty();
+      issues_.append(schema);
+      if (bad) return;  // the structural checks below assume the schema's shape
+    } else if (!g.is_object() || !g.value("nodes", json()).is_array() || !g.value("edges", json()).is_array()) {
+      return;
+    }
+    if (str_of(g, "key") != t.key) error("tile.key", subject + ":/key", "the member's key '" + t.key + "'");
+    const json& nodes = g["nodes"];
+    const json& edges = g["edges"];
+    const auto n = static_cast<int64_t>(nodes.size());
+    for (int64_t i = 0; i < n; ++i) {
+      const json& node = nodes[i];
+      const std::string at = subject + ":/nodes/" + std::to_string(i);
+      if (node["id"] != i) error("graph.indices", at + "/id", "id " + std::to_string(i) + " (its position), got " + node["id"].dump());
+      const double x = node["x"].get<double>(), y = node["y"].get<double>();
+      const double u = node["u"].get<double>(), v = node["v"].get<double>();
+      if (!bounds) continue;
+      if (x < bounds->x_west - o_.length_tolerance_m || x > bounds->x_east + o_.length_tolerance_m ||
+          y < bounds->y_south - o_.length_tolerance_m || y > bounds->y_north + o_.length_tolerance_m)
+        error("graph.in_tile", at, "a node inside bounds_m, got x " + format_double(x) + ", y " + format_double(y));
+      const double want_u = (x - bounds->x_west) / res_m_ - 0.5, want_v = (bounds->y_north - y) / res_m_ - 0.5;
+      // Pixel tolerance: the metre tolerance in pixels plus rounding of the division.
+      const double tol_px = o_.length_tolerance_m / res_m_ + 1e-6;
+      if (std::abs(u - want_u) > tol_px || std::abs(v - want_v) > tol_px)
+        error("graph.pixel_coords", at, strprintf("u, v = %s, %s from x, y; got %s, %s", format_double(want_u).c_str(),
+                                                  format_double(want_v).c_str(), format_double(u).c_str(),
+                                                  format_double(v).c_str()));
+    }
+    std::set<std::pair<int64_t, int64_t>> seen;
+    for (size_t k = 0; k < edges.size(); ++k) {
+      const json& e = edges[k];
+      const std::string at = subject + ":/edges/" + std::to_string(k);
+      const int64_t s = e["source"].get<int64_t>(), d = e["target"].get<int64_t>();
+      if (s < 0 || s >= n || d < 0 || d >= n) {
+        error("graph.indices", at, strprintf("source and target in [0, %lld), got %lld -> %lld",
+                                             static_cast<long long>(n), static_cast<long long>(s),
+                                             static_cast<long long>(d)));
+        continue;
+      }
+      if (s == d) error("graph.self_loops", at, "an edge between two nodes, got a self-loop on node " + std::to_string(s));
+      if (!seen.insert({s, d}).second)
+        error("graph.duplicates", at, strprintf("a single edge %lld -> %lld", static_cast<long long>(s),
+                                                static_cast<long long>(d)));
+      const double len = std::hypot(nodes[d]["x"].get<double>() - nodes[s]["x"].get<double>(),
+                                    nodes[d]["y"].get<double>() - nodes[s]["y"].get<double>());
+      if (len > max_spacing_m_ + o_.length_tolerance_m)
+        error("graph.edge_length", at, "at most graph.max_spacing_m = " + format_double(max_spacing_m_) +
+                                           " m, got " + format_double(len) + " m");
+    }
+    if (meta && meta->contains(json::json_pointer("/counts/nodes"))) {
+      if ((*meta)["counts"]["nodes"] != n)
+        error("meta.counts", t.shard + "/" + t.key + ".meta.json:/counts/nodes", strprintf("%lld (graph.json)", static_cast<long long>(n)));
+      if ((*meta)["counts"].value("edges", json()) != edges.size())
+        error("meta.counts", t.shard + "/" + t.key + ".meta.json:/counts/edges", strprintf("%zu (graph.json)", edges.size()));
+    }
+  }
+
+  std::optional<io::Raster> decode(const io::DatasetTile& t, const RasterSpec& spec, const std::optional<json>& meta,
+                                   const std::optional<Rect>& bounds) {
+    const std::string subject = t.shard + "/" + t.key + "." + spec.suffix;
+    io::GeoRef georef;
+    io::Raster r;
+    try {
+      r = io::decode_geotiff(t.files.at(spec.suffix), subject, &georef);
+    } catch (const Error& e) {
+      error("raster.readable", subject, e.what());
+      return std::nullopt;
+    }
+    if (r.width != size_px_ || r.height != size_px_)
+      error("raster.size", subject, strprintf("%d x %d pixels (tile_format.size_px), got %d x %d", size_px_, size_px_,
+                                              r.width, r.height));
+    if (r.type != spec.type || r.bands != spec.bands)
+      error("raster.dtype", subject, strprintf("%s x %d, got %s x %d", spec.type == io::SampleType::kUInt8 ? "uint8" : "float32",
+                                               spec.bands, r.type == io::SampleType::kUInt8 ? "uint8" : "float32", r.bands));
+    if (meta && bounds) {
+      if (georef.location != str_of(*meta, "location"))
+        error("raster.georef", subject, "the CRS of location '" + str_of(*meta, "location") + "', got '" + georef.location + "'");
+      if (!near(georef.x_west_m, bounds->x_west) || !near(georef.y_north_m, bounds->y_north))
+        error("raster.georef", subject, "north-west corner (" + format_double(bounds->x_west) + ", " +
+                                            format_double(bounds->y_north) + ") from meta bounds_m, got (" +
+                                            format_double(georef.x_west_m) + ", " + format_double(georef.y_north_m) + ")");
+      if (std::abs(georef.resolution_m - res_m_) > 1e-9)
+        error("raster.georef", subject, "pixel size " + format_double(res_m_) + " m, got " + format_double(georef.resolution_m));
+    }
+    const bool usable = r.width == size_px_ && r.height == size_px_ && r.type == spec.type && r.bands == spec.bands;
+    return usable ? std::optional<io::Raster>(std::move(r)) : std::nullopt;
+  }
+
+  void check_rasters(const io::DatasetTile& t, const std::optional<json>& meta, const std::optional<Rect>& bounds) {
+    std::map<std::string, io::Raster> rasters;
+    for (const RasterSpec& spec : kRasters) {
+      if (!t.has(spec.suffix)) continue;
+      if (std::optional<io::Raster> r = decode(t, spec, meta, bounds)) rasters.emplace(spec.suffix, std::move(*r));
+    }
+    const std::string base = t.shard + "/" + t.key;
+    const size_t pixels = static_cast<size_t>(size_px_) * size_px_;
+    int64_t vehicle_px = -1;
+    if (auto it = rasters.find("vehicle.tif"); it != rasters.end()) {
+      vehicle_px = 0;
+      int64_t bad = 0;
+      float first_bad = 0;
+      for (size_t i = 0; i < pixels; ++i) {
+        float v;
+        std::memcpy(&v, it->second.data.data() + 4 * i, 4);
+        if (v == -1.0f) continue;
+        if (v >= 0.0f && v < 1.0f) {
+          ++vehicle_px;
+        } else if (bad++ == 0) {
+          first_bad = v;
+        }
+      }
+      if (bad > 0)
+        error("raster.nodata", base + ".vehicle.tif", strprintf("values in {-1} or [0, 1); %lld pixels are not (first: %s)",
+                                                                static_cast<long long>(bad), format_double(first_bad).c_str()));
+    }
+    auto cov = rasters.find("coverage.tif");
+    if (cov == rasters.end()) return;
+    const uint8_t* flags = cov->second.data.data();
+    int64_t bad_flags = 0, lidar_px = 0, rgb_px = 0, sem_px = 0;
+    int64_t unflagged[3] = {0, 0, 0};
+    const auto* lidar = rasters.count("lidar.tif") ? rasters.at("lidar.tif").data.data() : nullptr;
+    const auto* rgb = rasters.count("rgb.tif") ? rasters.at("rgb.tif").data.data() : nullptr;
+    const auto* sem = rasters.count("semantic.tif") ? rasters.at("semantic.tif").data.data() : nullptr;
+    for (size_t i = 0; i < pixels; ++i) {
+      const uint8_t f = flags[i];
+      if (f > 7) ++bad_flags;
+      lidar_px += (f & 1) != 0;
+      rgb_px += (f & 2) != 0;
+      sem_px += (f & 4) != 0;
+      if (lidar && lidar[i] != 0 && !(f & 1)) ++unflagged[0];
+      if (rgb && (rgb[3 * i] | rgb[3 * i + 1] | rgb[3 * i + 2]) != 0 && !(f & 2)) ++unflagged[1];
+      if (sem && sem[i] != 255 && !(f & 4)) ++unflagged[2];
+    }
+    if (bad_flags > 0)
+      error("raster.nodata", base + ".coverage.tif", strprintf("flags in 0..7; %lld pixels are not", static_cast<long long>(bad_flags)));
+    const char* layers[3] = {"lidar", "rgb", "semantic"};
+    for (int k = 0; k < 3; ++k)
+      if (unflagged[k] > 0)
+        error("raster.nodata", base + "." + layers[k] + ".tif",
+              strprintf("coverage bit %d wherever %s has data; %lld pixels with data lack it", 1 << k, layers[k],
+                        static_cast<long long>(unflagged[k])));
+    if (!meta) return;
+    const std::string subject = base + ".meta.json";
+    const int64_t counts[3] = {lidar_px, rgb_px, sem_px};
+    for (int k = 0; k < 3; ++k) {
+      const json::json_pointer ptr("/coverage/" + std::string(layers[k]));
+      const double want = static_cast<double>(counts[k]) / static_cast<double>(pixels);
+      if (meta->contains(ptr) && (!meta->at(ptr).is_number() || std::abs(meta->at(ptr).get<double>() - want) > 1e-9))
+        error("meta.counts", subject + ":" + ptr.to_string(), "the coverage raster's fraction " + format_double(want) +
+                                                                  ", got " + meta->at(ptr).dump());
+    }
+    const json::json_pointer vptr("/counts/vehicle_px");
+    if (vehicle_px >= 0 && meta->contains(vptr) && meta->at(vptr) != vehicle_px)
+      error("meta.counts", subject + ":/counts/vehicle_px",
+            strprintf("%lld (vehicle.tif), got %s", static_cast<long long>(vehicle_px), meta->at(vptr).dump().c_str()));
+  }
+
+  void check_split_disjoint() {
+    if (!on("split.disjoint")) return;
+    const double tol = o_.length_tolerance_m;
+    for (const json& loc : m_.value("locations", json::array())) {
+      const std::string name = str_of(loc, "name");
+      for (const json& region : loc.value("regions", json::array())) {
+        const std::optional<Rect> r = rect_of(region.value("bounds_m", json()));
+        if (!r) continue;
+        for (const TileRecord& t : tiles_)
+          if (t.location == name && t.split != str_of(region, "split") && overlaps(t.bounds, *r, tol))
+            error("split.disjoint", t.shard + "/" + t.key,
+                  "a " + t.split + " tile outside " + str_of(region, "split") + " region '" + str_of(region, "name") + "'");
+      }
+    }
+    // Tiles of different splits: sweep in x_west order.
+    std::vector<const TileRecord*> sorted;
+    for (const TileRecord& t : tiles_) sorted.push_back(&t);
+    std::sort(sorted.begin(), sorted.end(), [](const TileRecord* a, const TileRecord* b) {
+      return a->bounds.x_west != b->bounds.x_west ? a->bounds.x_west < b->bounds.x_west : a->key < b->key;
+    });
+    for (size_t i = 0; i < sorted.size(); ++i)
+      for (size_t j = i + 1; j < sorted.size() && sorted[j]->bounds.x_west < sorted[i]->bounds.x_east - tol; ++j) {
+        const TileRecord& a = *sorted[i];
+        const TileRecord& b = *sorted[j];
+        if (a.location == b.location && a.split != b.split && overlaps(a.bounds, b.bounds, tol))
+          error("split.disjoint", a.shard + "/" + a.key, "no overlap with " + b.split + " tile " + b.key);
+      }
+  }
+
+  void check_split_counts() {
+    if (!on("split.counts")) return;
+    std::map<std::string, int64_t> split_tiles, split_shards;
+    std::map<std::pair<std::string, std::string>, int64_t> location_tiles;
+    for (const json& shard : m_.value("shards", json::array())) {
+      if (!shard.is_object()) continue;
+      const std::string name = str_of(shard, "name");
+      const int64_t found = found_per_shard_[name];
+      if (shard.value("tiles", json()) != found)
+        error("split.counts", name + ":tiles", strprintf("%lld tiles found, manifest says %s", static_cast<long long>(found),
+                                                         shard.value("tiles", json()).dump().c_str()));
+      split_tiles[str_of(shard, "split")] += found;
+      ++split_shards[str_of(shard, "split")];
+      location_tiles[{str_of(shard, "location"), str_of(shard, "split")}] += found;
+    }
+    const json& counts = m_.value("counts", json::object());
+    int64_t total = 0;
+    for (const char* split : {"train", "val", "test"}) {
+      total += split_tiles[split];
+      const json::json_pointer tp(std::string("/") + split + "/tiles"), sp(std::string("/") + split + "/shards");
+      if (!counts.contains(tp) || counts.at(tp) != split_tiles[split])
+        error("split.counts", std::string("manifest.json:/counts/") + split + "/tiles",
+              strprintf("%lld tiles found", static_cast<long long>(split_tiles[split])));
+      if (!counts.contains(sp) || counts.at(sp) != split_shards[split])
+        error("split.counts", std::string("manifest.json:/counts/") + split + "/shards",
+              strprintf("%lld shards listed", static_cast<long long>(split_shards[split])));
+    }
+    if (counts.value("total_tiles", json()) != total)
+      error("split.counts", "manifest.json:/counts/total_tiles", strprintf("%lld tiles found", static_cast<long long>(total)));
+    for (const json& loc : m_.value("locations", json::array()))
+      for (const char* split : {"train", "val", "test"}) {
+        const json::json_pointer p(std::string("/counts/") + split);
+        const int64_t found = location_tiles[{str_of(loc, "name"), split}];
+        if (loc.contains(p) && loc.at(p) != found)
+          error("split.counts", "manifest.json:/locations/" + str_of(loc, "name") + "/counts/" + split,
+                strprintf("%lld tiles found, manifest says %s", static_cast<long long>(found), loc.at(p).dump().c_str()));
+      }
+  }
+
+  const DatasetValidateOptions& o_;
+  const io::Dataset& ds_;
+  const json& m_;
+  fs::path schemas_;
+  int size_px_ = 256;
+  double res_m_ = 0.2;
+  double max_spacing_m_ = 2.0;
+  std::set<std::string> files_;
+  std::optional<SchemaValidator> meta_schema_, graph_schema_;
+  Issues issues_;
+  std::set<std::string> keys_;
+  std::vector<TileRecord> tiles_;
+  std::map<std::string, int64_t> found_per_shard_;
+};
+
+}  // namespace
+
+Issues validate_dataset(const DatasetValidateOptions& options) {
+  options.validate();
+  const fs::path schemas = find_schemas_dir(options.schemas_dir);
+  const io::Dataset ds = io::Dataset::open(options.root);
+  return DatasetChecker(options, ds, schemas).run();
+}
+
+}  // namespace nsg::validate
