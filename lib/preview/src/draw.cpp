@@ -1,0 +1,173 @@
+#include "draw.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "nsg/core/error.h"
+#include "nsg/core/strings.h"
+
+namespace nsg::preview {
+
+namespace {
+
+struct SemanticClass {
+  const char* name;
+  Rgb color;
+};
+// Copy of samples/semantic-classes.json (a test keeps them equal): the library must not
+// depend on finding the source tree at run time.
+constexpr SemanticClass kSemanticClasses[kSemanticClassCount] = {
+    {"road", {200, 100, 50}},      {"lane_marking", {230, 120, 10}}, {"crosswalk", {250, 250, 120}},
+    {"sidewalk", {255, 220, 200}}, {"curb", {200, 49, 254}},         {"terrain", {255, 0, 0}},
+    {"vegetation", {107, 142, 35}}, {"building", {70, 70, 70}},      {"car", {0, 0, 142}},
+    {"truck_bus", {0, 60, 100}},   {"person", {220, 20, 60}},        {"two_wheeler", {119, 11, 32}},
+    {"pole_sign", {220, 220, 0}},  {"sky_other", {70, 130, 180}},
+};
+
+}  // namespace
+
+Rgb Image::at(int x, int y) const {
+  NSG_CHECK(x >= 0 && y >= 0 && x < width && y < height, DataError, "", strprintf("pixel (%d, %d)", x, y),
+            strprintf("inside the %d x %d image", width, height));
+  const size_t i = (static_cast<size_t>(y) * width + x) * 3;
+  return {rgb[i], rgb[i + 1], rgb[i + 2]};
+}
+
+std::array<double, 2> Card::to_image(int layer, double u, double v) const {
+  const Rect& p = panels.at(layer);
+  return {p.x + (u + 0.5) * scale - 0.5, p.y + (v + 0.5) * scale - 0.5};
+}
+
+std::array<double, 2> Overview::to_image(double x_m, double y_m) const {
+  return {map_rect.x + (x_m - x_west_m) / m_per_px - 0.5, map_rect.y + (y_north_m - y_m) / m_per_px - 0.5};
+}
+
+Rgb semantic_color(int class_id) {
+  if (class_id < 0 || class_id >= kSemanticClassCount) return kNoData;
+  return kSemanticClasses[class_id].color;
+}
+
+const char* semantic_name(int class_id) {
+  if (class_id < 0 || class_id >= kSemanticClassCount) return "";
+  return kSemanticClasses[class_id].name;
+}
+
+Rgb split_color(const std::string& split) {
+  if (split == "train") return {0, 114, 178};
+  if (split == "val") return {0, 158, 115};
+  if (split == "test") return {213, 94, 0};
+  return {128, 128, 128};
+}
+
+Rgb region_fill(const std::string& split) { return detail::blend(kMapBackground, split_color(split), kRegionFillAlpha); }
+
+Rgb heading_color(double heading) {
+  const double h6 = std::clamp(heading - std::floor(heading), 0.0, 1.0) * 6.0;
+  const int sector = std::min(5, static_cast<int>(h6));
+  const auto up = static_cast<uint8_t>(std::lround(255.0 * (h6 - sector)));
+  const auto down = static_cast<uint8_t>(255 - up);
+  switch (sector) {
+    case 0: return {255, up, 0};
+    case 1: return {down, 255, 0};
+    case 2: return {0, 255, up};
+    case 3: return {0, down, 255};
+    case 4: return {up, 0, 255};
+    default: return {255, 0, down};
+  }
+}
+
+std::vector<uint8_t> encode_png(const Image& image) {
+  NSG_CHECK(image.width > 0 && image.height > 0 && image.rgb.size() == static_cast<size_t>(image.width) * image.height * 3,
+            DataError, "", "image", "a non-empty RGB buffer");
+  const cv::Mat rgb(image.height, image.width, CV_8UC3, const_cast<uint8_t*>(image.rgb.data()));
+  cv::Mat bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  std::vector<uint8_t> bytes;
+  NSG_CHECK(cv::imencode(".png", bgr, bytes, {cv::IMWRITE_PNG_COMPRESSION, 6}), InternalError, "", "png",
+            "OpenCV to encode the image");
+  return bytes;
+}
+
+namespace detail {
+
+Image blank_image(int width, int height, Rgb fill) {
+  Image image;
+  image.width = width;
+  image.height = height;
+  image.rgb.resize(static_cast<size_t>(width) * height * 3);
+  for (size_t i = 0; i < image.rgb.size(); i += 3) {
+    image.rgb[i] = fill.r;
+    image.rgb[i + 1] = fill.g;
+    image.rgb[i + 2] = fill.b;
+  }
+  return image;
+}
+
+cv::Mat wrap(Image& image) { return cv::Mat(image.height, image.width, CV_8UC3, image.rgb.data()); }
+
+cv::Scalar scalar(Rgb c) { return cv::Scalar(c.r, c.g, c.b); }
+
+Rgb blend(Rgb under, Rgb over, double alpha) {
+  auto mix = [alpha](uint8_t a, uint8_t b) { return static_cast<uint8_t>(std::lround(a + (b - a) * alpha)); };
+  return {mix(under.r, over.r), mix(under.g, over.g), mix(under.b, over.b)};
+}
+
+void put_text(cv::Mat& mat, const std::string& text, int x, int y_baseline, Rgb color) {
+  cv::putText(mat, text, {x, y_baseline}, cv::FONT_HERSHEY_SIMPLEX, kFontScale, scalar(color), 1, cv::LINE_AA);
+}
+
+int text_width(const std::string& text) {
+  int baseline = 0;
+  return cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, kFontScale, 1, &baseline).width;
+}
+
+std::vector<LegendEntry> legend(cv::Mat* mat, const std::vector<std::pair<std::string, Rgb>>& items, int x, int y,
+                                int width, int* bottom) {
+  constexpr int kSwatchPx = 12, kGapPx = 5, kItemGapPx = 16;
+  std::vector<LegendEntry> out;
+  int cx = x, cy = y;
+  for (const auto& [label, color] : items) {
+    const int item_w = kSwatchPx + kGapPx + text_width(label) + kItemGapPx;
+    if (cx > x && cx + item_w > x + width) {
+      cx = x;
+      cy += kLineHeightPx + 4;
+    }
+    LegendEntry e{label, color, {cx, cy + 2, kSwatchPx, kSwatchPx}};
+    if (mat) {
+      const cv::Rect r(e.swatch.x, e.swatch.y, e.swatch.width, e.swatch.height);
+      cv::rectangle(*mat, r, scalar(color), cv::FILLED);
+      cv::rectangle(*mat, cv::Rect(r.x - 1, r.y - 1, r.width + 2, r.height + 2), scalar(kInk), 1);
+      put_text(*mat, label, cx + kSwatchPx + kGapPx, cy + kLineHeightPx - 3);
+    }
+    out.push_back(e);
+    cx += item_w;
+  }
+  *bottom = cy + kLineHeightPx + 4;
+  return out;
+}
+
+void draw_graph(cv::Mat& panel, const metrics::Graph& graph, double scale, const GraphStyle& style) {
+  auto at = [&](size_t i) {
+    const metrics::Point& p = graph.nodes[i];
+    return cv::Point(static_cast<int>(std::lround((p.u + 0.5) * scale - 0.5)),
+                     static_cast<int>(std::lround((p.v + 0.5) * scale - 0.5)));
+  };
+  for (const auto& e : graph.edges) {
+    if (e[0] < 0 || e[1] < 0 || static_cast<size_t>(e[0]) >= graph.nodes.size() ||
+        static_cast<size_t>(e[1]) >= graph.nodes.size() || e[0] == e[1])
+      continue;  // invalid edges are the validator's business, not the preview's
+    const cv::Point a = at(e[0]), b = at(e[1]);
+    const double len = std::hypot(b.x - a.x, b.y - a.y);
+    if (len < 1.0) continue;
+    cv::arrowedLine(panel, a, b, scalar(style.edge), style.edge_thickness_px, cv::LINE_8, 0,
+                    std::min(0.45, style.arrow_tip_px / len));
+  }
+  for (size_t i = 0; i < graph.nodes.size(); ++i)
+    cv::circle(panel, at(i), style.node_radius_px, scalar(style.node), cv::FILLED, cv::LINE_8);
+}
+
+}  // namespace detail
+}  // namespace nsg::preview

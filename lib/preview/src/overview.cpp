@@ -1,0 +1,254 @@
+// Per-location overviews: split regions, LiDAR coverage of every tile placed by its
+// bounds_m (the dataset holds no full-location raster), crop outlines, the tiles' lane
+// graphs in map metres, a scale bar, a north arrow and a legend.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <opencv2/imgproc.hpp>
+
+#include "draw.h"
+#include "nsg/core/error.h"
+#include "nsg/core/strings.h"
+
+namespace nsg::preview {
+
+namespace {
+
+using detail::kLineHeightPx;
+constexpr int kMarginPx = 16;
+constexpr int kLegendWidthPx = 260;
+constexpr Rgb kOverviewLane{200, 0, 120};  // magenta: visible on grey LiDAR and on the fills
+
+struct Region {
+  std::string name, split;
+  std::array<double, 4> bounds_m{};
+};
+
+std::array<double, 4> bounds_of(const nlohmann::json& j, const std::string& file, const std::string& record) {
+  NSG_CHECK(j.is_array() && j.size() == 4, ParseError, file, record, "bounds_m: [x_west, y_south, x_east, y_north]");
+  std::array<double, 4> b{};
+  for (int i = 0; i < 4; ++i) {
+    NSG_CHECK(j[i].is_number(), ParseError, file, record, "numeric bounds_m");
+    b[i] = j[i].get<double>();
+  }
+  NSG_CHECK(b[0] < b[2] && b[1] < b[3], ParseError, file, record, "bounds_m with west < east and south < north");
+  return b;
+}
+
+struct Segment {
+  double x0, y0, x1, y1;
+};
+
+// What streaming the tiles of one location collects.
+struct TileLayers {
+  std::vector<uint8_t> lidar_max;  // per map pixel, 0 = none
+  std::vector<std::array<double, 4>> crops;
+  std::vector<Segment> lanes;
+};
+
+void add_tile(const io::DatasetTile& tile, const nlohmann::json& meta, const Overview& ov, TileLayers& acc) {
+  const std::string meta_name = tile.key + ".meta.json";
+  const std::array<double, 4> b = bounds_of(meta.value("bounds_m", nlohmann::json()), meta_name, "bounds_m");
+  acc.crops.push_back(b);
+  const int map_w = ov.map_rect.width, map_h = ov.map_rect.height;
+  if (tile.has("lidar.tif")) {
+    const io::Raster lidar = tile.raster("lidar.tif");
+    NSG_CHECK(lidar.type == io::SampleType::kUInt8 && lidar.bands == 1, ParseError, tile.key + ".lidar.tif", "raster",
+              "1 band of uint8");
+    const double res_x = (b[2] - b[0]) / lidar.width, res_y = (b[3] - b[1]) / lidar.height;
+    for (int r = 0; r < lidar.height; ++r)
+      for (int c = 0; c < lidar.width; ++c) {
+        const uint8_t v = lidar.data[static_cast<size_t>(r) * lidar.width + c];
+        if (v == 0) continue;
+        const double x = b[0] + (c + 0.5) * res_x, y = b[3] - (r + 0.5) * res_y;
+        const auto mx = static_cast<int>(std::floor((x - ov.x_west_m) / ov.m_per_px));
+        const auto my = static_cast<int>(std::floor((ov.y_north_m - y) / ov.m_per_px));
+        if (mx < 0 || my < 0 || mx >= map_w || my >= map_h) continue;
+        uint8_t& m = acc.lidar_max[static_cast<size_t>(my) * map_w + mx];
+        m = std::max(m, v);  // max keeps sparse returns visible after downsampling
+      }
+  }
+  if (tile.has("graph.json")) {
+    const nlohmann::json g = tile.json("graph.json");
+    const std::string name = tile.key + ".graph.json";
+    std::map<int64_t, std::array<double, 2>> xy;
+    for (const auto& n : g.value("nodes", nlohmann::json::array())) {
+      NSG_CHECK(n.is_object() && n.contains("id") && n.contains("x") && n.contains("y") && n["x"].is_number() &&
+                    n["y"].is_number() && n["id"].is_number_integer(),
+                ParseError, name, "nodes", "nodes with integer id and numeric x, y");
+      xy[n["id"].get<int64_t>()] = {n["x"].get<double>(), n["y"].get<double>()};
+    }
+    for (const auto& e : g.value("edges", nlohmann::json::array())) {
+      NSG_CHECK(e.is_object() && e.contains("source") && e.contains("target") && e["source"].is_number_integer() &&
+                    e["target"].is_number_integer(),
+                ParseError, name, "edges", "edges with integer source and target");
+      const auto s = xy.find(e["source"].get<int64_t>()), t = xy.find(e["target"].get<int64_t>());
+      NSG_CHECK(s != xy.end() && t != xy.end(), ParseError, name, "edges", "source and target among the node ids");
+      acc.lanes.push_back({s->second[0], s->second[1], t->second[0], t->second[1]});
+    }
+  }
+}
+
+double nice_length_m(double target_m) {
+  const double p = std::pow(10.0, std::floor(std::log10(target_m)));
+  for (double f : {5.0, 2.0, 1.0})
+    if (f * p <= target_m) return f * p;
+  return p;
+}
+
+cv::Point to_px(const Overview& ov, double x, double y) {
+  const auto p = ov.to_image(x, y);
+  return {static_cast<int>(std::lround(p[0])), static_cast<int>(std::lround(p[1]))};
+}
+
+void draw_scale_and_north(cv::Mat& canvas, const Overview& ov) {
+  const Rect& m = ov.map_rect;
+  const double len_m = nice_length_m(m.width * ov.m_per_px / 5.0);
+  const int len_px = static_cast<int>(std::lround(len_m / ov.m_per_px));
+  const int x = m.x + 12, y = m.y + m.height - 14;
+  cv::rectangle(canvas, cv::Rect(x - 4, y - 20, len_px + 8 + detail::text_width("000 m"), 28), detail::scalar(kPaper),
+                cv::FILLED);
+  cv::rectangle(canvas, cv::Rect(x, y - 3, len_px, 6), detail::scalar(kInk), cv::FILLED);
+  detail::put_text(canvas, format_double(len_m) + " m", x, y - 7);
+  const int nx = m.x + m.width - 24, ny = m.y + 12;
+  cv::rectangle(canvas, cv::Rect(nx - 12, ny - 4, 24, 52), detail::scalar(kPaper), cv::FILLED);
+  cv::arrowedLine(canvas, {nx, ny + 44}, {nx, ny + 16}, detail::scalar(kInk), 2, cv::LINE_8, 0, 0.4);
+  detail::put_text(canvas, "N", nx - 5, ny + 12);
+}
+
+}  // namespace
+
+void OverviewOptions::validate() const {
+  NSG_CHECK(max_map_px >= 64 && max_map_px <= 16384, ConfigError, "", "max_map_px", "64 … 16384");
+}
+
+Overview render_overview(const io::Dataset& dataset, const std::string& location, const std::string& split,
+                         const OverviewOptions& options) {
+  options.validate();
+  const std::string manifest = (dataset.root() / "manifest.json").string();
+  const nlohmann::json& m = dataset.manifest();
+  NSG_CHECK(m.contains("locations") && m["locations"].is_array(), ParseError, manifest, "locations", "an array");
+  const nlohmann::json* loc = nullptr;
+  for (const auto& l : m["locations"]) {
+    NSG_CHECK(l.is_object(), ParseError, manifest, "locations", "objects with a name");
+    if (detail::json_guard(manifest, [&] { return l.value("name", ""); }) == location) loc = &l;
+  }
+  NSG_CHECK(loc != nullptr, ConfigError, manifest, "locations", "a location named '" + location + "'");
+  NSG_CHECK(!loc->contains("regions") || (*loc)["regions"].is_array(), ParseError, manifest, location + ".regions",
+            "an array");
+
+  std::vector<Region> regions;
+  double x_w = std::numeric_limits<double>::infinity(), y_s = x_w, x_e = -x_w, y_n = -x_w;
+  auto grow = [&](const std::array<double, 4>& b) {
+    x_w = std::min(x_w, b[0]), y_s = std::min(y_s, b[1]), x_e = std::max(x_e, b[2]), y_n = std::max(y_n, b[3]);
+  };
+  detail::json_guard(manifest, [&] {
+    for (const auto& r : loc->value("regions", nlohmann::json::array())) {
+      NSG_CHECK(r.is_object(), ParseError, manifest, location + ".regions", "objects {name, split, bounds_m}");
+      regions.push_back({r.value("name", ""), r.value("split", ""),
+                         bounds_of(r.value("bounds_m", nlohmann::json()), manifest, location + ".regions")});
+      grow(regions.back().bounds_m);
+    }
+  });
+  // meta.location, not the key prefix: "boston-" would also match "boston-seaport-…".
+  auto of_location = [&](const io::DatasetTile& t) {
+    return detail::json_guard(t.key + ".meta.json", [&] { return t.json("meta.json").value("location", ""); }) == location;
+  };
+  if (regions.empty())  // no regions recorded: the extent comes from the tiles themselves
+    dataset.for_each_tile(split, [&](const io::DatasetTile& t) {
+      const std::string meta = t.key + ".meta.json";
+      if (of_location(t))
+        grow(detail::json_guard(meta, [&] { return bounds_of(t.json("meta.json").value("bounds_m", nlohmann::json()), meta, "bounds_m"); }));
+      return true;
+    });
+  NSG_CHECK(std::isfinite(x_w), DataError, manifest, location, "regions or tiles to draw");
+
+  Overview ov;
+  ov.location = location;
+  const double pad_m = 0.05 * std::max(x_e - x_w, y_n - y_s);
+  x_w -= pad_m, y_s -= pad_m, x_e += pad_m, y_n += pad_m;
+  const nlohmann::json tile_format = m.value("tile_format", nlohmann::json::object());
+  const double tile_res_m = detail::json_guard(manifest, [&] {
+    return tile_format.is_object() ? tile_format.value("resolution_m", 0.2) : 0.2;
+  });
+  ov.m_per_px = std::max(tile_res_m, std::max(x_e - x_w, y_n - y_s) / options.max_map_px);
+  ov.x_west_m = x_w;
+  ov.y_north_m = y_n;
+  const int map_w = static_cast<int>(std::ceil((x_e - x_w) / ov.m_per_px));
+  const int map_h = static_cast<int>(std::ceil((y_n - y_s) / ov.m_per_px));
+  const int map_top = kMarginPx + kLineHeightPx + 8;
+  ov.map_rect = {kMarginPx, map_top, map_w, map_h};
+
+  // Legend first: its height may exceed the map's.
+  std::vector<std::pair<std::string, Rgb>> items;
+  std::vector<std::string> splits_seen;
+  for (const Region& r : regions)
+    if (std::find(splits_seen.begin(), splits_seen.end(), r.split) == splits_seen.end()) {
+      splits_seen.push_back(r.split);
+      items.push_back({r.split + " region", region_fill(r.split)});
+    }
+  items.push_back({"LiDAR low", {64, 64, 64}});
+  items.push_back({"LiDAR high", {255, 255, 255}});
+  items.push_back({"crop footprint (outline)", kCropOutline});
+  items.push_back({"lane graph", kOverviewLane});
+  items.push_back({"outside regions", kMapBackground});
+  const int legend_x = kMarginPx + map_w + kMarginPx;
+  int legend_bottom = 0;
+  detail::legend(nullptr, items, legend_x, map_top, kLegendWidthPx, &legend_bottom);
+  const int width = legend_x + kLegendWidthPx + kMarginPx;
+  const int height = std::max(map_top + map_h, legend_bottom) + kMarginPx;
+
+  ov.image = detail::blank_image(width, height, kPaper);
+  cv::Mat canvas = detail::wrap(ov.image);
+  cv::Mat map = canvas(cv::Rect(ov.map_rect.x, ov.map_rect.y, map_w, map_h));
+  map.setTo(detail::scalar(kMapBackground));
+  auto rect_px = [&](const std::array<double, 4>& b) {
+    // Pixel-edge rectangle (not centres): region fills tile exactly.
+    const int x0 = static_cast<int>(std::lround((b[0] - ov.x_west_m) / ov.m_per_px));
+    const int x1 = static_cast<int>(std::lround((b[2] - ov.x_west_m) / ov.m_per_px));
+    const int y0 = static_cast<int>(std::lround((ov.y_north_m - b[3]) / ov.m_per_px));
+    const int y1 = static_cast<int>(std::lround((ov.y_north_m - b[1]) / ov.m_per_px));
+    return cv::Rect(x0, y0, std::max(1, x1 - x0), std::max(1, y1 - y0)) & cv::Rect(0, 0, map_w, map_h);
+  };
+  for (const Region& r : regions) map(rect_px(r.bounds_m)).setTo(detail::scalar(region_fill(r.split)));
+
+  TileLayers acc;
+  acc.lidar_max.assign(static_cast<size_t>(map_w) * map_h, 0);
+  size_t n_tiles = 0;
+  dataset.for_each_tile(split, [&](const io::DatasetTile& t) {
+    if (!of_location(t)) return true;
+    detail::json_guard(t.key + ".meta.json|graph.json", [&] { add_tile(t, t.json("meta.json"), ov, acc); });
+    ++n_tiles;
+    return true;
+  });
+  for (int y = 0; y < map_h; ++y)
+    for (int x = 0; x < map_w; ++x)
+      if (const uint8_t v = acc.lidar_max[static_cast<size_t>(y) * map_w + x]; v > 0) {
+        const auto g = static_cast<uint8_t>(64 + (v * 191 + 127) / 255);
+        map.at<cv::Vec3b>(y, x) = cv::Vec3b(g, g, g);
+      }
+  for (const auto& b : acc.crops) cv::rectangle(map, rect_px(b), detail::scalar(kCropOutline), 1);
+  for (const Region& r : regions) cv::rectangle(map, rect_px(r.bounds_m), detail::scalar(split_color(r.split)), 2);
+  const int lane_px = ov.m_per_px <= 0.25 ? 2 : 1;
+  for (const Segment& s : acc.lanes) {
+    const cv::Point a = to_px(ov, s.x0, s.y0) - cv::Point(ov.map_rect.x, ov.map_rect.y);
+    const cv::Point b = to_px(ov, s.x1, s.y1) - cv::Point(ov.map_rect.x, ov.map_rect.y);
+    cv::line(map, a, b, detail::scalar(kOverviewLane), lane_px, cv::LINE_8);
+  }
+  for (const Region& r : regions) {
+    const cv::Rect rp = rect_px(r.bounds_m);
+    detail::put_text(map, r.name, rp.x + 4, rp.y + kLineHeightPx, split_color(r.split));
+  }
+  draw_scale_and_north(canvas, ov);
+  cv::rectangle(canvas, cv::Rect(ov.map_rect.x - 1, ov.map_rect.y - 1, map_w + 2, map_h + 2), detail::scalar(kInk), 1);
+  detail::put_text(canvas,
+                   strprintf("NuScenesGraph overview: %s, %zu tile(s)%s, %s m/px", location.c_str(), n_tiles,
+                             split.empty() ? "" : (" of " + split).c_str(), format_double(ov.m_per_px).c_str()),
+                   kMarginPx, kMarginPx + kLineHeightPx - 3);
+  ov.legend = detail::legend(&canvas, items, legend_x, map_top, kLegendWidthPx, &legend_bottom);
+  ov.crops = std::move(acc.crops);
+  return ov;
+}
+
+}  // namespace nsg::preview
