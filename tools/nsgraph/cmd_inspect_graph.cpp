@@ -6,6 +6,7 @@
 #include <iostream>
 #include <map>
 
+#include "bbox_arg.h"
 #include "commands.h"
 #include "nsg/core/error.h"
 #include "nsg/core/strings.h"
@@ -23,22 +24,7 @@ struct InspectGraphOptions {
   std::string geojson_path;
   graph::LaneGraphOptions graph;
 
-  graph::TileBounds bbox() const {
-    const std::vector<std::string> parts = split(bbox_text, ',');
-    if (parts.size() != 4) throw ConfigError("", "--bbox", "expected xmin,ymin,xmax,ymax in metres");
-    double v[4];
-    for (int i = 0; i < 4; ++i) {
-      try {
-        size_t used = 0;
-        v[i] = std::stod(parts[i], &used);
-        if (used != parts[i].size() || !std::isfinite(v[i])) throw std::invalid_argument("");
-      } catch (const std::exception&) {
-        throw ConfigError("", "--bbox", "'" + parts[i] + "' is not a number");
-      }
-    }
-    if (!(v[0] < v[2] && v[1] < v[3])) throw ConfigError("", "--bbox", "expected xmin < xmax and ymin < ymax");
-    return {v[0], v[1], v[2], v[3]};
-  }
+  graph::TileBounds bbox() const { return parse_bbox(bbox_text); }
   void validate() const {
     graph.validate();
     if (!bbox_text.empty()) bbox();

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <iostream>
 
+#include "bbox_arg.h"
 #include "commands.h"
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
@@ -14,6 +15,7 @@
 #include "nsg/nuscenes/database.h"
 #include "nsg/raster/accumulate.h"
 #include "nsg/raster/color_layer.h"
+#include "nsg/tiling/regions.h"
 #include "nsg/tiling/tile.h"
 
 namespace nsg::cli {
@@ -30,43 +32,21 @@ struct InspectLayersOptions {
 
   void validate() const {
     raster.validate();
-    if (!bbox_text.empty()) {
-      const std::vector<std::string> p = split(bbox_text, ',');
-      if (p.size() != 4) throw ConfigError("", "--bbox", "xmin,ymin,xmax,ymax in map metres");
-    }
+    if (!bbox_text.empty()) parse_bbox(bbox_text);
   }
 };
 
 // The window in cells: the bbox, or the extent of the LiDAR cells holding data.
-void window(const InspectLayersOptions& o, const raster::LidarLayer& lidar, int64_t* c0, int64_t* r0, int64_t* c1,
-            int64_t* r1) {
-  const double res = lidar.resolution_m();
-  if (!o.bbox_text.empty()) {
-    double v[4];
-    const std::vector<std::string> p = split(o.bbox_text, ',');
-    for (int i = 0; i < 4; ++i) {
-      char* end = nullptr;
-      v[i] = std::strtod(p[i].c_str(), &end);
-      if (end == p[i].c_str() || *end != '\0' || !std::isfinite(v[i]))
-        throw ConfigError("", "--bbox", "'" + p[i] + "' is not a number");
-    }
-    if (!(v[0] < v[2] && v[1] < v[3])) throw ConfigError("", "--bbox", "xmin < xmax and ymin < ymax");
-    *c0 = static_cast<int64_t>(std::floor(v[0] / res));
-    *r0 = static_cast<int64_t>(std::floor(v[1] / res));
-    *c1 = static_cast<int64_t>(std::ceil(v[2] / res));
-    *r1 = static_cast<int64_t>(std::ceil(v[3] / res));
-    return;
+tiling::CellWindow window(const InspectLayersOptions& o, const raster::LidarLayer& lidar) {
+  if (o.bbox_text.empty()) {
+    const tiling::CellWindow w = tiling::covered_window(lidar);
+    if (w.empty()) throw DataError(o.dataroot, "location " + o.location, "LiDAR points at the location");
+    return w;
   }
-  *c0 = *r0 = INT64_MAX;
-  *c1 = *r1 = INT64_MIN;
-  lidar.cells().for_each([&](raster::CellIndex c, const raster::LidarCell& cell) {
-    if (!cell.has_data()) return;
-    *c0 = std::min(*c0, c.col);
-    *r0 = std::min(*r0, c.row);
-    *c1 = std::max(*c1, c.col + 1);
-    *r1 = std::max(*r1, c.row + 1);
-  });
-  if (*c0 > *c1) throw DataError(o.dataroot, "location " + o.location, "LiDAR points at the location");
+  const graph::TileBounds b = parse_bbox(o.bbox_text);
+  const double res = lidar.resolution_m();
+  return {static_cast<int64_t>(std::floor(b.x_west_m / res)), static_cast<int64_t>(std::floor(b.y_south_m / res)),
+          static_cast<int64_t>(std::ceil(b.x_east_m / res)), static_cast<int64_t>(std::ceil(b.y_north_m / res))};
 }
 
 void write_tif(const std::string& path, const io::Raster& r, const io::GeoRef& geo, std::optional<double> nodata) {
@@ -84,8 +64,8 @@ int run(const InspectLayersOptions& in) {
   o.validate();
   const nuscenes::Database db = nuscenes::Database::load(o.dataroot, o.version);
   raster::LocationLayers layers = raster::accumulate_location(db, o.location, o.raster, o.threads);
-  int64_t c0, r0, c1, r1;
-  window(o, layers.lidar, &c0, &r0, &c1, &r1);
+  const tiling::CellWindow win = window(o, layers.lidar);
+  const int64_t c0 = win.col0, r0 = win.row0, c1 = win.col1, r1 = win.row1;
   if ((c1 - c0) * (r1 - r0) > kMaxPixels)
     throw ConfigError("", "--bbox", strprintf("a window of at most %lld pixels (this one has %lld; pass a smaller --bbox)",
                                               static_cast<long long>(kMaxPixels),

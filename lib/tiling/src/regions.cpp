@@ -57,6 +57,19 @@ void SplitOptions::validate(double crop_size_m) const {
                            regions[j].name + "' are closer)");
 }
 
+CellWindow covered_window(const raster::LidarLayer& lidar) {
+  CellWindow e{std::numeric_limits<int64_t>::max(), std::numeric_limits<int64_t>::max(),
+               std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::min()};
+  lidar.cells().for_each([&](raster::CellIndex c, const raster::LidarCell& cell) {
+    if (!cell.has_data()) return;
+    e.col0 = std::min(e.col0, c.col);
+    e.row0 = std::min(e.row0, c.row);
+    e.col1 = std::max(e.col1, c.col + 1);
+    e.row1 = std::max(e.row1, c.row + 1);
+  });
+  return e.empty() ? CellWindow{} : e;
+}
+
 double min_split_gap_m(const std::vector<Region>& regions) {
   double gap = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < regions.size(); ++i)
@@ -66,25 +79,6 @@ double min_split_gap_m(const std::vector<Region>& regions) {
 }
 
 namespace {
-
-struct Extent {
-  int64_t col0 = 0, row0 = 0, col1 = 0, row1 = 0;  // half-open, cells
-  bool empty() const { return col1 <= col0 || row1 <= row0; }
-};
-
-// Bounding box of the allocated LiDAR blocks that hold at least one point.
-Extent covered_extent(const raster::LidarLayer& lidar) {
-  Extent e{std::numeric_limits<int64_t>::max(), std::numeric_limits<int64_t>::max(),
-           std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::min()};
-  lidar.cells().for_each([&](raster::CellIndex c, const raster::LidarCell& cell) {
-    if (!cell.has_data()) return;
-    e.col0 = std::min(e.col0, c.col);
-    e.row0 = std::min(e.row0, c.row);
-    e.col1 = std::max(e.col1, c.col + 1);
-    e.row1 = std::max(e.row1, c.row + 1);
-  });
-  return e;
-}
 
 // Automatic block edge: about four blocks across the longer side of the covered extent
 // (so even a small release gets a train and a test block), never less than one crop
@@ -110,7 +104,7 @@ std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOpt
                                  uint64_t seed) {
   options.validate(crop_size_m);
   if (!options.regions.empty()) return options.regions;
-  const Extent e = covered_extent(lidar);
+  const CellWindow e = covered_window(lidar);
   if (e.empty()) return {};
   const double res = lidar.resolution_m();
   const double x0 = static_cast<double>(e.col0) * res, y0 = static_cast<double>(e.row0) * res;

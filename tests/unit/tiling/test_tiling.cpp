@@ -33,6 +33,15 @@ TEST(Crops, WindowCoverageCountsCellsExactly) {
   EXPECT_EQ(covered_cells_in(layer, {0, 0, 10, 10}), 50 * 50);
 }
 
+TEST(Regions, CoveredWindowBoundsTheCellsHoldingPoints) {
+  const CellWindow w = covered_window(filled(-12.8, 0, 25.6, 51.2));
+  EXPECT_EQ(w.col0, -64);
+  EXPECT_EQ(w.row0, 0);
+  EXPECT_EQ(w.col1, 128);
+  EXPECT_EQ(w.row1, 256);
+  EXPECT_TRUE(covered_window(raster::LidarLayer(kRes)).empty());
+}
+
 TEST(Crops, GridCropsTileTheRegionAndRespectTheThreshold) {
   const raster::LidarLayer layer = filled(0, 0, 160, 100);
   CropOptions o;

@@ -59,6 +59,15 @@ struct SplitOptions {
   void validate(double crop_size_m) const;  // ConfigError naming the field
 };
 
+// A half-open window of cells [col0, col1) × [row0, row1).
+struct CellWindow {
+  int64_t col0 = 0, row0 = 0, col1 = 0, row1 = 0;
+  bool empty() const { return col1 <= col0 || row1 <= row0; }
+};
+
+// The bounding window of the LiDAR cells holding a point (empty when there are none).
+CellWindow covered_window(const raster::LidarLayer& lidar);
+
 // The regions of one location. Explicit regions are checked (valid rectangles, split
 // names, unique names, the buffer between different splits) and returned as given.
 // Automatic: blocks on a grid anchored at the covered extent's south-west corner; blocks
