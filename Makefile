@@ -27,6 +27,12 @@ demo: build
 bench: build
 	@bash scripts/bench.sh $(BUILD)
 
+# libFuzzer targets in a clang build (scripts/fuzz.sh); FUZZ_SECONDS=10 for a CI smoke run.
+FUZZ_BUILD   ?= build-fuzz
+FUZZ_SECONDS ?= 60
+fuzz:
+	@FUZZ_SECONDS=$(FUZZ_SECONDS) JOBS=$(JOBS) BUILD=$(BUILD) bash scripts/fuzz.sh $(FUZZ_BUILD)
+
 clean:
 	rm -rf $(BUILD)
 

@@ -57,11 +57,23 @@ target_include_directories(nsg_dep_geotiff INTERFACE ${NSG_GEOTIFF_INCLUDE})
 target_link_libraries(nsg_dep_geotiff INTERFACE ${NSG_GEOTIFF_LIB} nsg::dep::tiff)
 add_library(nsg::dep::geotiff ALIAS nsg_dep_geotiff)
 
-find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs ml)
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs ml ximgproc)
 add_library(nsg_dep_opencv INTERFACE)
 target_include_directories(nsg_dep_opencv INTERFACE ${OpenCV_INCLUDE_DIRS})
 target_link_libraries(nsg_dep_opencv INTERFACE ${OpenCV_LIBS})
 add_library(nsg::dep::opencv ALIAS nsg_dep_opencv)
+
+# PCL, for `export-cloud` only (one .cpp in lib/pipeline). Its CMake config drags in VTK,
+# OpenNI and Boost targets; we take only the two libraries and the include folders used.
+# QUIET: its config warns about optional pcap/png grabbers we do not use.
+find_package(PCL 1.10 QUIET COMPONENTS common io)
+if(NOT PCL_FOUND)
+  message(FATAL_ERROR "PCL (common, io) not found: install libpcl-dev (cmake/debian-packages.txt)")
+endif()
+add_library(nsg_dep_pcl INTERFACE)
+target_include_directories(nsg_dep_pcl SYSTEM INTERFACE ${PCL_ROOT}/include/pcl-${PCL_VERSION_MAJOR}.${PCL_VERSION_MINOR})
+target_link_libraries(nsg_dep_pcl INTERFACE ${PCL_COMMON_LIBRARY} ${PCL_IO_LIBRARY} nsg::dep::eigen)
+add_library(nsg::dep::pcl ALIAS nsg_dep_pcl)
 
 # valijson is header-only; its nlohmann adapter is what we use.
 find_path(NSG_VALIJSON_INCLUDE valijson/validator.hpp REQUIRED)

@@ -88,7 +88,7 @@ std::string read_text(const fs::path& path) {
 
 fs::path cached_folder(const std::string& name, const std::string& key,
                        const std::function<void(const fs::path&)>& produce) {
-  const fs::path root = fs::path(env_or("NSG_BINARY_DIR", "/tmp/nsg-tests")) / "test-cache";
+  const fs::path root = fs::path(env_or("NSG_BINARY_DIR", NSG_BINARY_DIR_DEFAULT)) / "test-cache";
   const fs::path done = root / (name + "-" + key);
   if (fs::is_directory(done)) return done;
   const fs::path work = root / (name + "-" + key + ".tmp-" + std::to_string(::getpid()));

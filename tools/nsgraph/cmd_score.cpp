@@ -1,7 +1,9 @@
 // `nsgraph score`: the benchmark metrics of a submission against a ground truth
-// (METRICS.md). Validation problems of the submission exit 1; unreadable input exits 2.
+// (METRICS.md). Validation problems of the submission (including a file beyond the size,
+// value-count or nesting limits) exit 1; unreadable or malformed input exits 2.
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "commands.h"
 #include "nsg/core/atomic_file.h"
@@ -47,15 +49,19 @@ int run_score(const ScoreCliOptions& o) {
   options.threads = o.threads;
   options.validate();
 
-  const nlohmann::json doc = metrics::read_json_file(o.submission);
-  const Issues issues = check_submission(doc, o);
+  // The submission is read within validate's limits (file size, JSON values, nesting)
+  // before a DOM is built: a huge or hostile file is refused, never parsed.
+  Issues issues;
+  const std::optional<nlohmann::json> doc =
+      metrics::read_submission_file(o.submission, validate::SubmissionLimits{}, issues);
+  if (doc) issues.append(check_submission(*doc, o));
   if (!issues.empty()) {
     std::fputs(issues.format().c_str(), stderr);
     log::error(strprintf("%zu problem(s) in submission %s; not scored", issues.size(),
                          o.submission.c_str()));
     return kExitProblems;
   }
-  const metrics::GraphSet pred = metrics::graphs_from_submission(doc, o.submission);
+  const metrics::GraphSet pred = metrics::graphs_from_submission(*doc, o.submission);
   const metrics::GraphSet gt = metrics::load_ground_truth(o.ground_truth, o.split);
 
   metrics::ScoreReport report = metrics::score(gt, pred, options);

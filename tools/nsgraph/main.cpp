@@ -20,6 +20,9 @@ constexpr nsg::cli::AddCommand kCommands[] = {
     &nsg::cli::add_score_command,
     &nsg::cli::add_preview_command,
     &nsg::cli::add_validate_command,
+    &nsg::cli::add_export_cloud_command,
+    &nsg::cli::add_train_command,
+    &nsg::cli::add_predict_command,
 };
 
 int run(int argc, char** argv) {

@@ -155,27 +155,32 @@ std::vector<Candidate> candidates(const SampleGraph& gt, const SampleGraph& pred
 // samples whose chain "weight" adds the k pieces one by one gives the same node distances;
 // an interior sample is within the radius iff it is from one of its chain's ends or the
 // seed, walking piece by piece.
+//
+// The reach set is kept per chain as intervals of interior positions (1 .. k-1): a prefix
+// reached from the a end, a suffix reached from the b end and, on the seed's chain, the
+// run around the seed. Consecutive seeds reach nearly the same set, so diff() compares
+// the intervals with those of the previous run and reports only the samples that changed,
+// instead of walking every reached sample twice per seed.
 class RadiusSearch {
  public:
   explicit RadiusSearch(const SampleGraph& sg)
-      : sg_(sg), dist_(static_cast<size_t>(sg.n_node_samples), kUnset), mark_(sg.size(), -1),
-        interior_dist_(sg.size(), kUnset) {}
+      : sg_(sg), dist_(static_cast<size_t>(sg.n_node_samples), kUnset),
+        prev_node_in_(static_cast<size_t>(sg.n_node_samples), 0), reach_(sg.chains.size()),
+        prev_reach_(sg.chains.size()), listed_(sg.chains.size(), 0) {}
 
-  const std::vector<int32_t>& run(int32_t src, bool directed, double radius) {
-    for (int32_t n : touched_) dist_[n] = kUnset;
-    touched_.clear();
-    reached_.clear();
-    heap_.clear();
-    ++stamp_;
+  void run(int32_t src, bool directed, double radius) {
+    start_generation();
     directed_ = directed;
     radius_ = radius;
+    max_dist_ = 0.0;
     const Chain* seed_chain = nullptr;
     int32_t s0 = 0;
     if (src < sg_.n_node_samples) {
       relax(src, 0.0);
     } else {
-      seed_chain = &sg_.chains[sg_.chain_of_interior[src - sg_.n_node_samples]];
-      s0 = src - seed_chain->first + 1;
+      seed_chain_ = sg_.chain_of_interior[src - sg_.n_node_samples];
+      seed_chain = &sg_.chains[seed_chain_];
+      s0 = seed_s0_ = src - seed_chain->first + 1;
       if (to_a(*seed_chain)) relax(seed_chain->a, walk(0.0, seed_chain->w, s0));
       if (to_b(*seed_chain)) relax(seed_chain->b, walk(0.0, seed_chain->w, seed_chain->k - s0));
     }
@@ -184,46 +189,97 @@ class RadiusSearch {
       const auto [d, n] = heap_.back();
       heap_.pop_back();
       if (d > dist_[n]) continue;
+      // n is final here: one walk along each chain gives both the interior samples it
+      // reaches and the relaxation of the far end (the same partial sums).
+      max_dist_ = std::max(max_dist_, d);
       for (int32_t k = sg_.chain_offset[n]; k < sg_.chain_offset[n + 1]; ++k) {
-        const Chain& c = sg_.chains[sg_.chain_ids[k]];
-        if (n == c.a ? to_b(c) : to_a(c)) relax(n == c.a ? c.b : c.a, walk(d, c.w, c.k));
-      }
-    }
-    reached_.assign(touched_.begin(), touched_.end());
-    max_dist_ = 0.0;
-    for (int32_t n : touched_) max_dist_ = std::max(max_dist_, dist_[n]);
-    for (int32_t n : touched_) {
-      for (int32_t k = sg_.chain_offset[n]; k < sg_.chain_offset[n + 1]; ++k) {
-        const Chain& c = sg_.chains[sg_.chain_ids[k]];
-        if (n == c.a ? to_b(c) : to_a(c)) mark_interior(c, n == c.a, dist_[n], 0);
+        const int32_t ci = sg_.chain_ids[k];
+        const Chain& c = sg_.chains[ci];
+        if (!(n == c.a ? to_b(c) : to_a(c))) continue;
+        double dw = d, last_interior = d;
+        int32_t steps = 0;
+        while (steps < c.k) {
+          const double next = dw + c.w;
+          if (next > radius_) break;
+          if (steps + 1 < c.k) last_interior = next;
+          dw = next;
+          ++steps;
+        }
+        if (steps == c.k) relax(n == c.a ? c.b : c.a, dw);
+        const int32_t interior = std::min(steps, c.k - 1);
+        if (interior == 0) continue;
+        max_dist_ = std::max(max_dist_, last_interior);
+        Reach& r = touch(ci);
+        (n == c.a ? r.pre : r.suf) = interior;
       }
     }
     if (seed_chain != nullptr) {
-      mark(src, 0.0);
       // From the seed towards b (positions s0+1 ..) and towards a (positions s0-1 ..).
-      if (to_b(*seed_chain)) mark_interior(*seed_chain, true, 0.0, s0);
-      if (to_a(*seed_chain)) mark_interior(*seed_chain, false, 0.0, seed_chain->k - s0);
+      Reach& r = touch(seed_chain_);
+      r.lo = r.hi = s0;
+      if (to_b(*seed_chain)) r.hi += steps_within(seed_chain->w, seed_chain->k, 0.0, s0);
+      if (to_a(*seed_chain)) r.lo -= steps_within(seed_chain->w, seed_chain->k, 0.0, seed_chain->k - s0);
     }
-    return reached_;
+    count_ = static_cast<int64_t>(nodes_.size());
+    for (int32_t c : chains_) count_ += reach_[c].count(sg_.chains[c].k);
   }
-  // Of the last run(): an upper bound of the (computed) path lengths to reached samples,
-  // and the computed path length to a reached sample.
+
+  // Reports every sample whose membership changed since the previous run as
+  // set_in(sample, now_reached).
+  template <class SetIn>
+  void diff(SetIn set_in) const {
+    for (int32_t n : prev_nodes_)
+      if (dist_[n] == kUnset) set_in(n, false);
+    for (int32_t n : nodes_)
+      if (!prev_node_in_[n]) set_in(n, true);
+    // prev_chains_ and chains_ may overlap: a chain in both is handled from prev_chains_.
+    for (int32_t c : prev_chains_) diff_chain(c, set_in);
+    for (int32_t c : chains_)
+      if (prev_reach_[c].empty()) diff_chain(c, set_in);
+  }
+
+  // Of the last run(): the number of reached samples, an upper bound of the (computed)
+  // path lengths to reached samples, and the computed path length to a reached sample.
+  int64_t count() const { return count_; }
   double max_dist() const { return max_dist_; }
   double dist_to(int32_t sample) const {
-    return sample < sg_.n_node_samples ? dist_[sample] : interior_dist_[sample];
-  }
-  // Whether the last run() reached `sample`.
-  bool reached(int32_t sample) const {
-    return sample < sg_.n_node_samples ? dist_[sample] != kUnset : mark_[sample] == stamp_;
+    if (sample < sg_.n_node_samples) return dist_[sample];
+    const int32_t ci = sg_.chain_of_interior[sample - sg_.n_node_samples];
+    const Chain& c = sg_.chains[ci];
+    const Reach& r = reach_[ci];
+    const int32_t s = sample - c.first + 1;
+    double d = kUnset;
+    if (s <= r.pre) d = std::min(d, add_steps(dist_[c.a], c.w, s));
+    if (s >= c.k - r.suf) d = std::min(d, add_steps(dist_[c.b], c.w, c.k - s));
+    if (r.lo <= s && s <= r.hi) d = std::min(d, add_steps(0.0, c.w, s > seed_s0_ ? s - seed_s0_ : seed_s0_ - s));
+    return d;
   }
 
  private:
   static constexpr double kUnset = std::numeric_limits<double>::infinity();
   using Item = std::pair<double, int32_t>;
 
+  // Interior positions of one chain reached: 1 .. pre, k - suf .. k - 1, lo .. hi.
+  struct Reach {
+    int32_t pre = 0, suf = 0, lo = 1, hi = 0;
+    bool empty() const { return pre == 0 && suf == 0 && lo > hi; }
+    bool has(int32_t s, int32_t k) const { return s <= pre || s >= k - suf || (lo <= s && s <= hi); }
+    bool operator==(const Reach&) const = default;
+    int64_t count(int32_t k) const {
+      if (lo > hi) return std::min(k - 1, pre + suf);
+      int64_t n = 0;
+      for (int32_t s = 1; s < k; ++s) n += has(s, k) ? 1 : 0;
+      return n;
+    }
+  };
+
   bool to_b(const Chain& c) const { return !directed_ || c.fwd; }
   bool to_a(const Chain& c) const { return !directed_ || c.bwd; }
 
+  static double add_steps(double d, double w, int32_t steps) {
+    for (int32_t s = 0; s < steps; ++s) d += w;
+    return d;
+  }
   // d plus `steps` pieces of length w, added one at a time as the sample-graph Dijkstra
   // does; kUnset once beyond the radius (its pruning, which is monotone).
   double walk(double d, double w, int32_t steps) const {
@@ -233,44 +289,75 @@ class RadiusSearch {
     }
     return d;
   }
+  // How many interior positions a walk from one end (or from the seed, `skip` positions
+  // in) reaches starting at distance d; raises max_dist_ to the last one's distance.
+  int32_t steps_within(double w, int32_t k, double d, int32_t skip) {
+    int32_t n = 0;
+    for (int32_t step = skip + 1; step < k; ++step) {
+      d += w;
+      if (d > radius_) break;
+      max_dist_ = std::max(max_dist_, d);
+      ++n;
+    }
+    return n;
+  }
   void relax(int32_t n, double d) {
     if (!(d < dist_[n])) return;
-    if (dist_[n] == kUnset) touched_.push_back(n);
+    if (dist_[n] == kUnset) nodes_.push_back(n);
     dist_[n] = d;
     heap_.push_back({d, n});
     std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
   }
-  void mark(int32_t sample, double d) {
-    max_dist_ = std::max(max_dist_, d);
-    if (mark_[sample] == stamp_) {
-      interior_dist_[sample] = std::min(interior_dist_[sample], d);
-      return;
+  Reach& touch(int32_t c) {
+    if (!listed_[c]) {
+      listed_[c] = 1;
+      chains_.push_back(c);
     }
-    interior_dist_[sample] = d;
-    mark_[sample] = stamp_;
-    reached_.push_back(sample);
+    return reach_[c];
   }
-  // Interior samples of c reached walking from one end (from_a: the a end, positions
-  // 1, 2, ..; else the b end, positions k-1, k-2, ..) starting at distance d, `skip`
-  // positions beyond that end already passed (used for a seed inside the chain).
-  void mark_interior(const Chain& c, bool from_a, double d, int32_t skip) {
-    for (int32_t step = skip + 1; step < c.k; ++step) {
-      d += c.w;
-      if (d > radius_) return;
-      mark(from_a ? c.first + step - 1 : c.first + (c.k - step) - 1, d);
+  // The current run becomes the previous one.
+  void start_generation() {
+    for (int32_t n : prev_nodes_) prev_node_in_[n] = 0;
+    for (int32_t n : nodes_) {
+      prev_node_in_[n] = 1;
+      dist_[n] = kUnset;
+    }
+    prev_nodes_.swap(nodes_);
+    nodes_.clear();
+    for (int32_t c : prev_chains_) prev_reach_[c] = Reach{};
+    for (int32_t c : chains_) {
+      prev_reach_[c] = reach_[c];
+      reach_[c] = Reach{};
+      listed_[c] = 0;
+    }
+    prev_chains_.swap(chains_);
+    chains_.clear();
+    heap_.clear();
+    seed_chain_ = -1;
+  }
+  template <class SetIn>
+  void diff_chain(int32_t ci, SetIn& set_in) const {
+    const Reach &now = reach_[ci], &before = prev_reach_[ci];
+    if (now == before) return;
+    const Chain& c = sg_.chains[ci];
+    for (int32_t s = 1; s < c.k; ++s) {
+      const bool in = now.has(s, c.k);
+      if (in != before.has(s, c.k)) set_in(c.first + s - 1, in);
     }
   }
 
   const SampleGraph& sg_;
   std::vector<double> dist_;  // node samples only
-  std::vector<int32_t> mark_;
-  int32_t stamp_ = 0;
+  std::vector<uint8_t> prev_node_in_;
+  std::vector<Reach> reach_, prev_reach_;  // per chain; empty unless listed
+  std::vector<uint8_t> listed_;            // chain is in chains_
+  std::vector<int32_t> nodes_, prev_nodes_, chains_, prev_chains_;
+  int32_t seed_chain_ = -1, seed_s0_ = 0;  // the seed's chain and position on it (interior seeds)
   bool directed_ = false;
   double radius_ = 0.0;
   std::vector<Item> heap_;
-  std::vector<int32_t> reached_, touched_;
-  std::vector<double> interior_dist_;  // valid where mark_ == stamp_
   double max_dist_ = 0.0;
+  int64_t count_ = 0;
 };
 
 struct TopoSums {
@@ -388,17 +475,6 @@ class IncrementalMatching {
   int64_t m_ = 0;
 };
 
-// Moves the in-set of one side from `prev` to the set `search` just reached.
-template <class SetIn, class Has>
-void update_in_set(std::vector<int32_t>& prev, const RadiusSearch& search,
-                   const std::vector<int32_t>& next, SetIn set_in, Has has) {
-  for (int32_t x : prev)
-    if (!search.reached(x)) set_in(x, false);
-  for (int32_t x : next)
-    if (!has(x)) set_in(x, true);
-  prev.assign(next.begin(), next.end());
-}
-
 // Seed indices ordered by a walk of the GT sample graph chain by chain (a, interior
 // samples, b), so that consecutive seeds are neighbours.
 std::vector<int32_t> walk_order(const SampleGraph& gt,
@@ -449,9 +525,9 @@ class WholeComponent {
            last.dist_to(x) + last.max_dist() <= limit_;
   }
   // Records a search from `src` that reached `n_reached` samples.
-  void ran(int32_t src, size_t n_reached) {
+  void ran(int32_t src, int64_t n_reached) {
     anchor_ = src;
-    whole_ = n_reached == static_cast<size_t>(size_[comp_[src]]);
+    whole_ = n_reached == static_cast<int64_t>(size_[comp_[src]]);
   }
 
  private:
@@ -469,7 +545,6 @@ TopoSums topo_sums(const SampleGraph& gt, const SampleGraph& pred, bool directed
   TopoSums sums;
   RadiusSearch search_g(gt), search_p(pred);
   IncrementalMatching matching(cands, by_g, by_p);
-  std::vector<int32_t> prev_g, prev_p;
   // Seeds are visited along the chains (consecutive reach sets then differ little) and
   // summed afterwards in increasing g, as rule 7 adds them.
   const std::vector<int32_t> order = walk_order(gt, seeds);
@@ -478,22 +553,18 @@ TopoSums topo_sums(const SampleGraph& gt, const SampleGraph& pred, bool directed
   for (size_t o = 0; o < order.size(); ++o) {
     const int32_t s = order[o];
     if (directed || !whole_p.still_whole(search_p, seeds[s].second)) {
-      const std::vector<int32_t>& rp = search_p.run(seeds[s].second, directed, radius_px);
-      update_in_set(
-          prev_p, search_p, rp, [&](int32_t x, bool in) { matching.set_p(x, in); },
-          [&](int32_t x) { return matching.has_p(x); });
-      whole_p.ran(seeds[s].second, rp.size());
+      search_p.run(seeds[s].second, directed, radius_px);
+      search_p.diff([&](int32_t x, bool in) { matching.set_p(x, in); });
+      whole_p.ran(seeds[s].second, search_p.count());
     }
     if (directed || !whole_g.still_whole(search_g, seeds[s].first)) {
-      const std::vector<int32_t>& rg = search_g.run(seeds[s].first, directed, radius_px);
-      update_in_set(
-          prev_g, search_g, rg, [&](int32_t x, bool in) { matching.set_g(x, in); },
-          [&](int32_t x) { return matching.has_g(x); });
-      whole_g.ran(seeds[s].first, rg.size());
+      search_g.run(seeds[s].first, directed, radius_px);
+      search_g.diff([&](int32_t x, bool in) { matching.set_g(x, in); });
+      whole_g.ran(seeds[s].first, search_g.count());
     }
     m_of[s] = matching.matched();
-    n_rp[s] = static_cast<int64_t>(prev_p.size());
-    n_rg[s] = static_cast<int64_t>(prev_g.size());
+    n_rp[s] = search_p.count();
+    n_rg[s] = search_g.count();
   }
   for (size_t s = 0; s < seeds.size(); ++s) {
     const auto m = static_cast<double>(m_of[s]);

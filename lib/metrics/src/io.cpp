@@ -130,6 +130,18 @@ nlohmann::json read_json_file(const fs::path& path) {
   }
 }
 
+std::optional<nlohmann::json> read_submission_file(const fs::path& path,
+                                                   const validate::SubmissionLimits& limits,
+                                                   Issues& issues) {
+  Issues found;
+  std::optional<nlohmann::json> doc = validate::read_submission(path, limits, found);
+  // Not JSON at all (truncated, NaN) is a parse error of the file, as for every input.
+  for (const Issue& i : found.items())
+    if (i.check == "submission.json") throw ParseError(path.string(), "", i.message);
+  issues.append(found);
+  return doc;
+}
+
 GraphSet graphs_from_submission(const nlohmann::json& doc, const std::string& file) {
   NSG_CHECK(doc.is_object(), DataError, file, "", "a JSON object {schema_version, tiles}");
   NSG_CHECK(doc.contains("tiles") && doc.at("tiles").is_object(), DataError, file, "/tiles",
@@ -199,9 +211,17 @@ GraphSet load_dataset_split(const fs::path& dataset, const std::string& split) {
   return out;
 }
 
-GraphSet load_ground_truth(const fs::path& path, const std::string& split) {
+GraphSet load_ground_truth(const fs::path& path, const std::string& split,
+                           const validate::SubmissionLimits& limits) {
   if (fs::is_directory(path)) return load_dataset_split(path, split);
-  return graphs_from_submission(read_json_file(path), path.string());
+  Issues issues;
+  const std::optional<nlohmann::json> doc = read_submission_file(path, limits, issues);
+  if (!doc) {
+    NSG_CHECK(!issues.empty(), InternalError, path.string(), "", "a reason for refusing the file");
+    throw DataError(path.string(), issues.items().front().check,
+                    "a ground truth within the submission limits: " + issues.items().front().message);
+  }
+  return graphs_from_submission(*doc, path.string());
 }
 
 }  // namespace nsg::metrics

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 
 #include <nlohmann/json.hpp>
@@ -138,6 +139,37 @@ std::vector<std::string> resolve_locations(const GenerateConfig& config, const n
   return out;
 }
 
+// What the run's LiDAR and camera stages will read, counted from the tables before any
+// work starts so their progress lines have totals (and ETAs) from the first update.
+struct StageTotals {
+  std::map<std::string, size_t> scenes, sweeps, images;  // per location
+  uint64_t all_sweeps = 0, all_images = 0;
+};
+
+StageTotals count_stage_work(const nuscenes::Database& db, const std::vector<std::string>& locations,
+                             const std::string& lidar_channel) {
+  StageTotals t;
+  for (const std::string& l : locations) t.scenes[l] = t.sweeps[l] = t.images[l] = 0;
+  const auto location_of_scene = [&](nuscenes::Index scene) -> const std::string& {
+    return db.log[db.scene[scene].log].location;
+  };
+  for (nuscenes::Index s = 0; s < static_cast<nuscenes::Index>(db.scene.size()); ++s) {
+    auto it = t.scenes.find(location_of_scene(s));
+    if (it != t.scenes.end()) ++it->second;
+  }
+  for (const nuscenes::SampleData& sd : db.sample_data) {
+    const bool lidar = sd.modality == nuscenes::Modality::kLidar && db.channel(sd) == lidar_channel;
+    const bool image = sd.modality == nuscenes::Modality::kCamera && sd.is_key_frame;
+    if (!lidar && !image) continue;
+    std::map<std::string, size_t>& per = lidar ? t.sweeps : t.images;
+    auto it = per.find(location_of_scene(db.sample[sd.sample].scene));
+    if (it == per.end()) continue;
+    ++it->second;
+    ++(lidar ? t.all_sweeps : t.all_images);
+  }
+  return t;
+}
+
 uint64_t location_seed(uint64_t seed, const std::string& location) {
   return mix64(seed ^ hash_string(location.data(), location.size()));
 }
@@ -178,7 +210,19 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
   const int64_t per_shard = config.output.resolved_tiles_per_shard();
   std::map<std::string, int64_t> next_shard;
   size_t item_index = 0;
-  for (const std::string& location : summary.locations) {
+  // One progress line per stage over the whole run (tiles: per location, as a location's
+  // tiles are known only once its LiDAR is accumulated and planned). Stages interleave
+  // per location; each line is finished when its stage's last location is done.
+  const StageTotals totals = count_stage_work(db, summary.locations, config.raster.lidar_channel);
+  const bool cameras = config.raster.camera.rgb || config.raster.camera.semantic;
+  Progress lidar_progress("lidar sweeps", totals.all_sweeps, run.progress);
+  std::optional<Progress> camera_progress;
+  if (cameras) camera_progress.emplace("camera images", totals.all_images, run.progress);
+  size_t scenes_done = 0, scenes_total = 0, images_decoded = 0;
+  for (const auto& [l, n] : totals.scenes) scenes_total += n;
+  for (size_t location_index = 0; location_index < summary.locations.size(); ++location_index) {
+    const std::string& location = summary.locations[location_index];
+    const bool last_location = location_index + 1 == summary.locations.size();
     LocationState st;
     st.plan.location = location;
     t0 = std::chrono::steady_clock::now();
@@ -198,6 +242,10 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
     st.layers = raster::accumulate_location(db, location, config.raster, run.threads);
     summary.sweeps += st.layers.stats.sweeps;
     summary.seconds.lidar_s += seconds_since(t0);
+    scenes_done += st.layers.stats.scenes;
+    lidar_progress.set_detail(strprintf("%zu/%zu scenes", scenes_done, scenes_total));
+    lidar_progress.advance(st.layers.stats.sweeps);
+    if (last_location) lidar_progress.finish();
 
     t0 = std::chrono::steady_clock::now();
     const uint64_t seed = location_seed(config.seed, location);
@@ -225,12 +273,21 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
       mine.push_back(item);
     }
     out.add_plan(plan_json(st.plan));
-    if (mine.empty()) continue;
+    // The location's images count as done for this share whether it decodes them or not.
+    const auto camera_stage_done = [&] {
+      if (!camera_progress) return;
+      camera_progress->set_detail(strprintf("%zu decoded", images_decoded));
+      camera_progress->advance(totals.images.at(location));
+      if (last_location) camera_progress->finish();
+    };
+    if (mine.empty()) {
+      camera_stage_done();
+      continue;
+    }
 
     // Camera colours only for the cells of this share's tiles.
     t0 = std::chrono::steady_clock::now();
     raster::ColorLayer color(config.resolution_m);
-    const bool cameras = config.raster.camera.rgb || config.raster.camera.semantic;
     std::vector<raster::CellRect> rects;
     for (const WorkItem& item : mine) {
       if (item.kind != ItemKind::kShard) continue;
@@ -244,20 +301,27 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
       log::info(strprintf("generate: %s: colouring %zu tiles from the cameras", location.c_str(), rects.size()));
       color = raster::colorize_location(db, location, st.layers.lidar, rects, config.raster.camera, run.threads);
       summary.images += color.stats().images_used;
+      images_decoded += color.stats().images_used;
     }
+    camera_stage_done();
     summary.seconds.camera_s += seconds_since(t0);
 
     t0 = std::chrono::steady_clock::now();
     const tiling::LocationRasters layers{&st.layers.lidar, cameras ? &color : nullptr, &st.layers.vehicles, &st.graph,
                                          st.index.get()};
+    // rects holds one rectangle per tile of this share at the location.
+    std::optional<Progress> tile_progress;
+    if (!rects.empty()) tile_progress.emplace("tiles " + location, rects.size(), run.progress);
     for (const WorkItem& item : mine) {
       if (item.kind == ItemKind::kMaps) {
         out.write_maps(item.id, location, st.graph, st.plan);
       } else {
-        summary.tiles_written += out.write_shard(item.id, db, st.plan, st.plan.shards[item.shard], layers, run);
+        Progress* progress = tile_progress ? &*tile_progress : nullptr;
+        summary.tiles_written += out.write_shard(item.id, db, st.plan, st.plan.shards[item.shard], layers, run, progress);
       }
       ++summary.items_done;
     }
+    if (tile_progress) tile_progress->finish();
     summary.seconds.tiles_s += seconds_since(t0);
   }
   out.finish();

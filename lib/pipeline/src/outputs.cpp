@@ -173,7 +173,7 @@ void OutputWriter::write_maps(const std::string& id, const std::string& location
 
 size_t OutputWriter::write_shard(const std::string& id, const nuscenes::Database& db, const LocationPlan& plan,
                                  const PlannedShard& shard, const tiling::LocationRasters& layers,
-                                 const GenerateRun& run) {
+                                 const GenerateRun& run, Progress* progress) {
   const bool tar = config_.output.layout == Layout::kTar;
   std::unique_ptr<io::TarWriter> writer;
   if (tar) {
@@ -181,7 +181,6 @@ size_t OutputWriter::write_shard(const std::string& id, const nuscenes::Database
     writer = std::make_unique<io::TarWriter>(out_ / id);
   }
   ordered_json files = ordered_json::array();
-  Progress progress("tiles " + shard.name, shard.count, run.progress);
   // Tiles are cut and encoded in parallel batches and written in key order, so memory
   // stays at one batch and the bytes do not depend on the thread count.
   const size_t batch = static_cast<size_t>(std::max(8, 4 * resolve_threads(run.threads)));
@@ -199,6 +198,7 @@ size_t OutputWriter::write_shard(const std::string& id, const nuscenes::Database
     });
     for (size_t k = 0; k < n; ++k) {
       for (const TileFile& f : encoded[k]) {
+        bytes_written_ += f.bytes.size();
         if (tar) {
           writer->add(f.name, f.bytes);
         } else {
@@ -208,14 +208,16 @@ size_t OutputWriter::write_shard(const std::string& id, const nuscenes::Database
           files.push_back({{"file", relative}, {"sha256", sha256_hex(std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size()))}, {"bytes", f.bytes.size()}});
         }
       }
-      progress.advance();
+      if (progress) {
+        progress->set_detail(strprintf("%.1f MB written", static_cast<double>(bytes_written_) / 1e6));
+        progress->advance();
+      }
     }
   }
   if (tar) {
     const io::TarWriter::Result r = writer->finish();
     files.push_back({{"file", id}, {"sha256", r.sha256_hex}, {"bytes", r.bytes}});
   }
-  progress.finish();
   record_item(id, {{"id", id},
                    {"kind", "shard"},
                    {"location", plan.location},

@@ -1,6 +1,7 @@
 #pragma once
 // The output side of a share (private to the pipeline): tile shards (tar or folders),
 // the maps of a location, and the share's done-record, rewritten after every item.
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -12,6 +13,9 @@
 #include "nsg/tiling/tile.h"
 #include "plan.h"
 
+namespace nsg {
+class Progress;
+}
 namespace nsg::nuscenes {
 class Database;
 }
@@ -41,9 +45,13 @@ class OutputWriter {
   void add_plan(nlohmann::ordered_json location_plan);
   void write_maps(const std::string& id, const std::string& location, const graph::LaneGraph& graph,
                   const LocationPlan& plan);
-  // Returns the number of tiles written.
+  // Returns the number of tiles written. `progress` (may be null) advances per tile, its
+  // detail showing the MB written by this writer so far.
   size_t write_shard(const std::string& id, const nuscenes::Database& db, const LocationPlan& plan,
-                     const PlannedShard& shard, const tiling::LocationRasters& layers, const GenerateRun& run);
+                     const PlannedShard& shard, const tiling::LocationRasters& layers, const GenerateRun& run,
+                     Progress* progress);
+  // Bytes of tile files written by this writer (this run; tar headers not counted).
+  uint64_t bytes_written() const { return bytes_written_; }
   // Marks the record complete (with the whole plan) and writes it.
   void finish();
 
@@ -58,6 +66,7 @@ class OutputWriter {
   std::map<std::string, nlohmann::ordered_json> previous_;  // items of an earlier record with this config
   nlohmann::ordered_json items_ = nlohmann::ordered_json::array();
   nlohmann::ordered_json plans_ = nlohmann::ordered_json::array();
+  uint64_t bytes_written_ = 0;
 };
 
 }  // namespace nsg::pipeline

@@ -79,4 +79,43 @@ TEST(CliScore, UnreadableOrMalformedInputExits2) {
   EXPECT_EQ(run_nsgraph(args).exit_code, 2);
 }
 
+// A submission beyond the validate limits is refused before any DOM is built: a sparse
+// 200 MB file (nothing read: the size check comes first) and a deeply nested one.
+TEST(CliScore, OversizedSubmissionIsRefusedWithExit1) {
+  nsg::test::TempDir dir("score-cli");
+  const fs::path huge = dir / "huge.json";
+  nsg::test::write_text(huge, "{");
+  fs::resize_file(huge, std::uintmax_t{200} << 20);
+  const auto r = run_nsgraph(score_args(huge));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("submission.size"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("200.0 MiB"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
+}
+
+TEST(CliScore, DeeplyNestedSubmissionIsRefusedWithExit1) {
+  nsg::test::TempDir dir("score-cli");
+  const fs::path deep = dir / "deep.json";
+  nsg::test::write_text(deep, R"({"schema_version":"1","tiles":{"a":{"nodes":)" + std::string(100000, '[') +
+                                  std::string(100000, ']') + "}}}");
+  const auto r = run_nsgraph(score_args(deep));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("submission.size"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nesting at most 16 deep"), std::string::npos) << r.err;
+}
+
+// The same limits guard a ground truth in the submission format; it is input data, not
+// the thing under validation, so a refused one is an input error (exit 2).
+TEST(CliScore, OversizedGroundTruthFileExits2) {
+  nsg::test::TempDir dir("score-cli");
+  const fs::path huge = dir / "gt.json";
+  nsg::test::write_text(huge, "{");
+  fs::resize_file(huge, std::uintmax_t{200} << 20);
+  const auto r = run_nsgraph({"score", "--ground-truth", huge.string(), "--submission",
+                              (kGolden / "pred.json").string(), "--schemas", kSchemas});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find(huge.string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("submission limits"), std::string::npos) << r.err;
+}
+
 }  // namespace

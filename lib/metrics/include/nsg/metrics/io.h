@@ -3,11 +3,14 @@
 // dataset's tiles of one split, as folders (tiles/<split>/<key>/<key>.graph.json) or
 // WebDataset shards (shards/<split>-NNNNNN.tar, members <key>.graph.json).
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "nsg/core/issues.h"
 #include "nsg/metrics/graph.h"
+#include "nsg/validate/submission.h"
 
 namespace nsg::metrics {
 
@@ -16,6 +19,14 @@ namespace nsg::metrics {
 GraphSet graphs_from_submission(const nlohmann::json& doc, const std::string& file);
 // Reads JSON text; throws IoError (unreadable) or ParseError (not JSON) naming the file.
 nlohmann::json read_json_file(const std::filesystem::path& path);
+// Reads a file in the submission format within `limits` (validate::read_submission: the
+// file size, then the value count and nesting depth, are checked before any DOM is
+// built). Returns nullopt with the submission.size problem in `issues` when the limits
+// refuse it; throws ParseError (not JSON, e.g. truncated) or IoError (unreadable) naming
+// the file.
+std::optional<nlohmann::json> read_submission_file(const std::filesystem::path& path,
+                                                   const validate::SubmissionLimits& limits,
+                                                   Issues& issues);
 
 // One dataset graph document {schema_version, key, nodes: [{id, u, v, x, y}],
 // edges: [{source, target, lane_token}]}: ids become indices. Throws ParseError /
@@ -26,7 +37,9 @@ Graph graph_from_dataset_json(const std::string& text, const std::string& file);
 // shards/<split>-*.tar files. Throws IoError if neither is present.
 GraphSet load_dataset_split(const std::filesystem::path& dataset, const std::string& split);
 
-// Ground truth: a dataset directory (its `split`) or a submission-format file.
-GraphSet load_ground_truth(const std::filesystem::path& path, const std::string& split);
+// Ground truth: a dataset directory (its `split`) or a submission-format file, read within
+// `limits` like a submission; a file the limits refuse throws DataError naming the limit.
+GraphSet load_ground_truth(const std::filesystem::path& path, const std::string& split,
+                           const validate::SubmissionLimits& limits = {});
 
 }  // namespace nsg::metrics

@@ -1,0 +1,99 @@
+#!/usr/bin/python3
+"""Seed corpora for the fuzz targets, cut small from a synthetic release (nothing committed).
+
+usage: make_corpus.py RELEASE OUT  ->  OUT/<target>/<seed files>
+"""
+import json
+import os
+import sys
+
+TABLES = ["category", "attribute", "visibility", "sensor", "calibrated_sensor", "ego_pose", "log", "map",
+          "scene", "sample", "sample_data", "sample_annotation", "instance"]  # fuzz_table.cpp's order
+
+
+def put(out, target, name, data):
+    os.makedirs(os.path.join(out, target), exist_ok=True)
+    with open(os.path.join(out, target, name), "wb") as f:
+        f.write(data if isinstance(data, bytes) else data.encode())
+
+
+def tables(release, out):
+    for i, t in enumerate(TABLES):
+        rows = json.load(open(os.path.join(release, "v1.0-mini", t + ".json")))
+        for n in (1, 3):  # the reader's own indentation style and a compact one
+            put(out, "table", f"{t}-{n}", bytes([i]) + json.dumps(rows[:n], indent=1).encode())
+        put(out, "table", f"{t}-compact", bytes([i]) + json.dumps(rows[:2], separators=(",", ":")).encode())
+
+
+def mini_map(m, lanes):
+    """A self-consistent map holding `lanes` lanes: their polygons, nodes, arclines, connectivity."""
+    keep = m["lane"][:lanes] + m["lane_connector"][:lanes]
+    tokens = {r["token"] for r in keep}
+    polys = {r.get("polygon_token") for r in keep}
+    polygon = [p for p in m["polygon"] if p["token"] in polys]
+    node_tokens = {n for p in polygon for n in p["exterior_node_tokens"]}
+    for p in polygon:
+        for h in p.get("holes", []):
+            node_tokens.update(h["node_tokens"])
+    lane = [dict(l, left_lane_divider_segments=[], right_lane_divider_segments=[]) for l in m["lane"][:lanes]]
+    doc = {k: [] for k in m if isinstance(m[k], list)}
+    doc.update(version=m["version"], canvas_edge=m["canvas_edge"], polygon=polygon,
+               node=[n for n in m["node"] if n["token"] in node_tokens], lane=lane,
+               lane_connector=m["lane_connector"][:lanes],
+               arcline_path_3={t: v for t, v in m["arcline_path_3"].items() if t in tokens},
+               connectivity={t: {"incoming": [x for x in v["incoming"] if x in tokens],
+                                 "outgoing": [x for x in v["outgoing"] if x in tokens]}
+                             for t, v in m["connectivity"].items() if t in tokens})
+    return doc
+
+
+def maps(release, out):
+    m = json.load(open(os.path.join(release, "maps/expansion/boston-seaport.json")))
+    for lanes in (1, 3):
+        put(out, "map", f"lanes-{lanes}", json.dumps(mini_map(m, lanes)))
+    empty = {k: ([] if isinstance(v, list) else v) for k, v in m.items()}
+    empty.update(arcline_path_3={}, connectivity={})
+    put(out, "map", "empty", json.dumps(empty))
+    # One of each record layer (references may dangle: the reader must say so).
+    one = {k: (v[:1] if isinstance(v, list) else v) for k, v in m.items()}
+    one.update(arcline_path_3=dict(list(m["arcline_path_3"].items())[:1]),
+               connectivity=dict(list(m["connectivity"].items())[:1]))
+    put(out, "map", "one-of-each", json.dumps(one))
+
+
+def pcds(release, out):
+    folder = os.path.join(release, "samples/LIDAR_TOP")
+    data = open(os.path.join(folder, sorted(os.listdir(folder))[0]), "rb").read()
+    for n in (0, 1, 16, 200):
+        put(out, "pcd", f"points-{n}", data[: 20 * n])
+
+
+def detections(release, out):
+    folder = os.path.join(release, "detections")
+    d = json.load(open(os.path.join(folder, sorted(os.listdir(folder))[0])))
+    items = list(d["results"].items())
+    for n, boxes in ((1, 1), (2, 3)):
+        put(out, "detections", f"samples-{n}-boxes-{boxes}",
+            json.dumps({"meta": d["meta"], "results": {k: v[:boxes] for k, v in items[:n]}}))
+    put(out, "detections", "empty", json.dumps({"meta": d["meta"], "results": {}}))
+
+
+def submissions(out):
+    tile = {"nodes": [[1.5, 2.0], [30.0, 40.25], [100.0, 7.0]], "edges": [[0, 1], [1, 2]]}
+    put(out, "submission", "one-tile", json.dumps({"schema_version": "1", "tiles": {"boston-seaport-test-0001": tile}}))
+    put(out, "submission", "two-tiles", json.dumps(
+        {"schema_version": "1", "tiles": {"a": tile, "b": {"nodes": [], "edges": []}}}, indent=1))
+    put(out, "submission", "empty", '{"schema_version": "1", "tiles": {}}')
+
+
+def main():
+    release, out = sys.argv[1], sys.argv[2]
+    tables(release, out)
+    maps(release, out)
+    pcds(release, out)
+    detections(release, out)
+    submissions(out)
+
+
+if __name__ == "__main__":
+    main()

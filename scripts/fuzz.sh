@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets in a clang build dir and runs each for FUZZ_SECONDS (default 60;
+# FUZZ_SECONDS=10 is the CI smoke run). Seeds come from a synthetic release (made once with a
+# Release nsgraph, see NSG_FUZZ_RELEASE). Crashes land in <build>/fuzz-artifacts/<target>/;
+# the script exits 1 if any target found one.
+#   usage: scripts/fuzz.sh [build-dir]   env: FUZZ_SECONDS, FUZZ_TARGETS, JOBS, NSG_FUZZ_RELEASE, BUILD
+set -euo pipefail
+cd "$(dirname "$0")/.."
+FUZZ_BUILD=${1:-build-fuzz}
+FUZZ_SECONDS=${FUZZ_SECONDS:-60}
+FUZZ_TARGETS=${FUZZ_TARGETS:-"table map pcd detections submission"}
+JOBS=${JOBS:-2}
+RELEASE_BUILD=${BUILD:-build}
+
+launcher=()
+if command -v ccache >/dev/null; then
+  launcher=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+fi
+if [[ ! -f $FUZZ_BUILD/CMakeCache.txt ]]; then
+  CC=clang CXX=clang++ cmake -S . -B "$FUZZ_BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNSG_BUILD_FUZZ=ON \
+    -DNSG_BUILD_TESTS=OFF -DNSG_BUILD_BENCH=OFF "${launcher[@]}"
+fi
+# One target at a time: a library that does not compile with this clang only loses its own
+# fuzzer (reported, and the script fails at the end), not the others.
+declare -A built
+for t in $FUZZ_TARGETS; do
+  if cmake --build "$FUZZ_BUILD" --target "fuzz_$t" -j "$JOBS" >"$FUZZ_BUILD/fuzz_$t.build.log" 2>&1; then
+    built[$t]=1
+  else
+    echo "fuzz_$t: build failed, see $FUZZ_BUILD/fuzz_$t.build.log:" >&2
+    grep -m3 'error' "$FUZZ_BUILD/fuzz_$t.build.log" >&2 || true
+  fi
+done
+
+# The seed release: given, or synthesized once with a Release nsgraph (never the fuzz build's).
+release=${NSG_FUZZ_RELEASE:-$FUZZ_BUILD/seed-release}
+if [[ ! -f $release/v1.0-mini/sample.json ]]; then
+  exe=$RELEASE_BUILD/tools/nsgraph/nsgraph
+  if [[ ! -x $exe ]]; then
+    [[ -f $RELEASE_BUILD/CMakeCache.txt ]] || cmake -S . -B "$RELEASE_BUILD" -DCMAKE_BUILD_TYPE=Release
+    cmake --build "$RELEASE_BUILD" --target nsgraph -j "$JOBS"
+  fi
+  rm -rf "$release.tmp"
+  "$exe" synth --quiet --config tests/data/synth/e2e.json --out "$release.tmp"
+  mv "$release.tmp" "$release"
+fi
+seeds=$FUZZ_BUILD/fuzz-seeds
+rm -rf "$seeds"
+/usr/bin/python3 fuzz/make_corpus.py "$release" "$seeds"
+
+status=0
+printf '%-12s %8s %10s %8s %8s  %s\n' target seconds execs execs/s corpus result
+for t in $FUZZ_TARGETS; do
+  if [[ -z ${built[$t]:-} ]]; then
+    printf '%-12s %8s %10s %8s %8s  %s\n' "$t" - - - - "NOT BUILT"
+    status=1
+    continue
+  fi
+  corpus=$FUZZ_BUILD/fuzz-corpus/$t     # grows across runs
+  artifacts=$FUZZ_BUILD/fuzz-artifacts/$t
+  log=$FUZZ_BUILD/fuzz-logs/$t.log
+  mkdir -p "$corpus" "$artifacts" "$(dirname "$log")"
+  result=ok
+  # -rss_limit_mb: the readers must stay bounded on hostile input too.
+  if ! ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+       "$FUZZ_BUILD/fuzz/fuzz_$t" "$corpus" "$seeds/$t" -max_total_time="$FUZZ_SECONDS" -max_len=65536 \
+       -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$artifacts/" >"$log" 2>&1; then
+    result="CRASH (see $log, $artifacts)"
+    status=1
+  fi
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+  rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
+  printf '%-12s %8s %10s %8s %8s  %s\n' "$t" "$FUZZ_SECONDS" "${execs:-?}" "${rate:-?}" \
+    "$(find "$corpus" -type f | wc -l)" "$result"
+done
+exit $status

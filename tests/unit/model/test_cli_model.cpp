@@ -1,0 +1,184 @@
+// `nsgraph train` / `nsgraph predict` end to end on the small generated dataset (128-px
+// tiles): determinism across thread counts, a submission that `validate` accepts and
+// `score` scores, and exit 2 naming the file for broken models and bad options.
+//
+// ctest runs every test in its own process, so the trained models are made once per
+// nsgraph build in a cached folder (test-cache/model_e2e-<key>).
+#include <gtest/gtest.h>
+
+#include "generate_fixture.h"
+#include "nsg/core/error.h"
+#include "nsg/core/files.h"
+#include "nsg/io/dataset.h"
+#include "nsg/model/model.h"
+#include "test_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using nsg::test::CommandResult;
+using nsg::test::run_nsgraph;
+
+// Few small trees: the dataset is tiny and the binary must stay well under a minute.
+const std::vector<std::string> kTreeArgs = {"--trees", "6"};
+
+std::vector<std::string> train_args(const fs::path& model, const std::string& threads,
+                                    const std::string& modalities = "all") {
+  std::vector<std::string> args = {"train",   "--dataset", nsg::test::e2e_dataset().string(),
+                                   "--model", model.string(), "--threads", threads, "--modalities", modalities};
+  args.insert(args.end(), kTreeArgs.begin(), kTreeArgs.end());
+  return args;
+}
+
+// model-t1 / model-t2: all modalities with 1 and 2 threads; model-lidar: LiDAR only;
+// train-t1.log: what the first training printed on stderr.
+fs::path trained_models() {
+  const fs::path dataset = nsg::test::e2e_dataset();
+  return nsg::test::cached_folder(
+      "model_e2e", nsg::test::nsgraph_build_key() + "-" + dataset.filename().string() + "-t6", [&](const fs::path& dir) {
+        auto train = [&](const std::string& name, const std::string& threads, const std::string& modalities) {
+          const CommandResult r = run_nsgraph(train_args(dir / (name + ".yml.gz"), threads, modalities));
+          if (r.exit_code != 0) throw std::runtime_error("train " + name + " failed: " + r.err);
+          return r;
+        };
+        nsg::test::write_text(dir / "train-t1.log", train("model-t1", "1", "all").err);
+        train("model-t2", "2", "all");
+        train("model-lidar", "2", "lidar");
+      });
+}
+
+std::vector<std::string> predict_args(const fs::path& model, const fs::path& out, const std::string& threads) {
+  return {"predict", "--quiet", "--model", model.string(), "--dataset", nsg::test::e2e_dataset().string(),
+          "--split", "test", "--out", out.string(), "--threads", threads};
+}
+
+size_t split_tiles(const std::string& split) {
+  size_t n = 0;
+  for (const auto& shard : nsg::io::Dataset::open(nsg::test::e2e_dataset()).shards(split)) n += shard.value("tiles", 0);
+  return n;
+}
+
+TEST(ModelCli, TrainIsByteIdenticalAcrossThreadCounts) {
+  const fs::path models = trained_models();
+  const std::string t1 = nsg::read_file(models / "model-t1.yml.gz"), t2 = nsg::read_file(models / "model-t2.yml.gz");
+  ASSERT_GT(t1.size(), 1000u);
+  EXPECT_TRUE(t1 == t2) << "model-t1 and model-t2 differ (" << t1.size() << " vs " << t2.size() << " bytes)";
+  EXPECT_EQ(static_cast<unsigned char>(t1[0]), 0x1f);  // .gz → gzip
+  EXPECT_EQ(static_cast<unsigned char>(t1[1]), 0x8b);
+  // The run reports what it learnt.
+  const std::string log = nsg::test::read_text(models / "train-t1.log");
+  EXPECT_NE(log.find("direction accuracy"), std::string::npos) << log;
+  EXPECT_NE(log.find("MSE"), std::string::npos) << log;
+}
+
+TEST(ModelCli, PredictIsValidScorableAndThreadIndependent) {
+  const fs::path models = trained_models();
+  nsg::test::TempDir dir("model-predict");
+  const CommandResult p1 = run_nsgraph(predict_args(models / "model-t1.yml.gz", dir / "s1.json", "1"));
+  ASSERT_EQ(p1.exit_code, 0) << p1.err;
+  const CommandResult p2 = run_nsgraph(predict_args(models / "model-t1.yml.gz", dir / "s2.json", "2"));
+  ASSERT_EQ(p2.exit_code, 0) << p2.err;
+  EXPECT_TRUE(nsg::read_file(dir / "s1.json") == nsg::read_file(dir / "s2.json"));
+  // The 2-thread model predicts the same as the 1-thread one (they are the same bytes).
+  const CommandResult p3 = run_nsgraph(predict_args(models / "model-t2.yml.gz", dir / "s3.json", "2"));
+  ASSERT_EQ(p3.exit_code, 0) << p3.err;
+  EXPECT_TRUE(nsg::read_file(dir / "s1.json") == nsg::read_file(dir / "s3.json"));
+
+  // One graph per test tile, with scores; the model found some lanes.
+  const nlohmann::json sub = nsg::test::read_json(dir / "s1.json");
+  EXPECT_EQ(sub["schema_version"], "1");
+  EXPECT_EQ(sub["tiles"].size(), split_tiles("test"));
+  size_t edges = 0;
+  for (const auto& [key, t] : sub["tiles"].items()) {
+    edges += t["edges"].size();
+    EXPECT_EQ(t["edges"].size(), t.value("edge_scores", nlohmann::json::array()).size()) << key;
+    EXPECT_EQ(t["nodes"].size(), t.value("node_scores", nlohmann::json::array()).size()) << key;
+  }
+  EXPECT_GT(edges, 0u);
+
+  const CommandResult v = run_nsgraph({"validate", "--submission", (dir / "s1.json").string(), "--dataset",
+                                       nsg::test::e2e_dataset().string(), "--split", "test"});
+  EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+  const CommandResult s = run_nsgraph({"score", "--quiet", "--ground-truth", nsg::test::e2e_dataset().string(),
+                                       "--submission", (dir / "s1.json").string(), "--split", "test"});
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  const nlohmann::json report = nlohmann::json::parse(s.out);
+  EXPECT_EQ(report["aggregate"]["n_tiles"], split_tiles("test"));
+  EXPECT_EQ(report["aggregate"]["n_missing_predictions"], 0);
+  EXPECT_EQ(report["aggregate"]["n_extra_predictions"], 0);
+}
+
+TEST(ModelCli, LidarOnlyModelPredicts) {
+  const fs::path models = trained_models();
+  nsg::test::TempDir dir("model-lidar");
+  const CommandResult p = run_nsgraph(predict_args(models / "model-lidar.yml.gz", dir / "s.json", "2"));
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  const CommandResult v = run_nsgraph({"validate", "--submission", (dir / "s.json").string(), "--dataset",
+                                       nsg::test::e2e_dataset().string(), "--split", "test"});
+  EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+  const nsg::model::LaneModel m = nsg::model::LaneModel::load(models / "model-lidar.yml.gz");
+  EXPECT_EQ(m.options().modalities.to_string(), "lidar");
+  // A different model: not the same file as the all-modalities one.
+  EXPECT_FALSE(nsg::read_file(models / "model-lidar.yml.gz") == nsg::read_file(models / "model-t1.yml.gz"));
+}
+
+TEST(ModelCli, LoadSaveRoundTripIsByteIdentical) {
+  const fs::path models = trained_models();
+  nsg::test::TempDir dir("model-roundtrip");
+  const nsg::model::LaneModel m = nsg::model::LaneModel::load(models / "model-t1.yml.gz");
+  EXPECT_EQ(m.options().modalities.to_string(), "lidar,rgb,semantic,vehicle");
+  EXPECT_EQ(m.options().centre.trees, 6);
+  EXPECT_EQ(m.options().direction.trees, 6);
+  m.save(dir / "again.yml.gz");
+  EXPECT_TRUE(nsg::read_file(dir / "again.yml.gz") == nsg::read_file(models / "model-t1.yml.gz"));
+  // Uncompressed when the name does not end in .gz, and readable back.
+  m.save(dir / "plain.yml");
+  EXPECT_EQ(nsg::read_file(dir / "plain.yml").rfind("%YAML", 0), 0u);
+  EXPECT_EQ(nsg::model::LaneModel::load(dir / "plain.yml").options().modalities.to_string(),
+            "lidar,rgb,semantic,vehicle");
+}
+
+TEST(ModelCli, BrokenModelFileExits2NamingIt) {
+  const fs::path models = trained_models();
+  nsg::test::TempDir dir("model-broken");
+  const std::string good = nsg::read_file(models / "model-t1.yml.gz");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"truncated.yml.gz", good.substr(0, good.size() / 2)},
+      {"garbage.yml.gz", std::string("\x1f\x8b") + "this is not deflate data at all"},
+      {"text.yml", "hello: [1, 2\n"},
+      {"other.yml", "%YAML:1.0\n---\nformat: something-else\n"},
+      {"empty.yml.gz", ""},
+  };
+  for (const auto& [name, bytes] : cases) {
+    SCOPED_TRACE(name);
+    nsg::test::write_text(dir / name, bytes);
+    const CommandResult r = run_nsgraph(predict_args(dir / name, dir / "out.json", "1"));
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find(name), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "out.json"));
+    EXPECT_THROW(nsg::model::LaneModel::load(dir / name), nsg::Error);
+  }
+  const CommandResult missing = run_nsgraph(predict_args(dir / "missing.yml.gz", dir / "out.json", "1"));
+  EXPECT_EQ(missing.exit_code, 2) << missing.err;
+  EXPECT_NE(missing.err.find("missing.yml.gz"), std::string::npos) << missing.err;
+}
+
+TEST(ModelCli, BadOptionsExit2) {
+  nsg::test::TempDir dir("model-options");
+  const CommandResult radar = run_nsgraph(train_args(dir / "m.yml.gz", "1", "lidar,radar"));
+  EXPECT_EQ(radar.exit_code, 2) << radar.err;
+  EXPECT_NE(radar.err.find("radar"), std::string::npos) << radar.err;
+  EXPECT_NE(radar.err.find("--modalities"), std::string::npos) << radar.err;
+  EXPECT_FALSE(fs::exists(dir / "m.yml.gz"));
+  std::vector<std::string> args = train_args(dir / "m.yml.gz", "1");
+  args.back() = "0";  // --trees 0
+  const CommandResult trees = run_nsgraph(args);
+  EXPECT_EQ(trees.exit_code, 2) << trees.err;
+  EXPECT_NE(trees.err.find("trees"), std::string::npos) << trees.err;
+  const CommandResult split = run_nsgraph({"train", "--dataset", nsg::test::e2e_dataset().string(), "--split", "nope",
+                                           "--model", (dir / "m.yml.gz").string(), "--trees", "2"});
+  EXPECT_EQ(split.exit_code, 2) << split.err;
+  EXPECT_FALSE(fs::exists(dir / "m.yml.gz"));
+}
+
+}  // namespace
