@@ -3,7 +3,7 @@ BUILD   ?= build
 JOBS    ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build test demo bench fuzz clean format
+.PHONY: all deps configure build test demo ablation bench fuzz clean format
 
 all: build
 
@@ -23,6 +23,9 @@ test: build
 
 demo: build
 	@bash scripts/demo.sh $(BUILD)
+
+ablation: build
+	@bash scripts/ablation.sh $(BUILD)
 
 bench: build
 	@bash scripts/bench.sh $(BUILD)

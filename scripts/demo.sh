@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `make demo`: the main job on the bundled synthetic sample, as far as the pipeline exists:
 # synth → generate → validate → preview → train → predict → score. Stages whose command is
-# not in this build yet are listed as "next" instead of failing the demo.
+# not in this build are listed as "next" instead of failing the demo.
 set -euo pipefail
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -91,15 +91,28 @@ else
   next+=("preview (issue 9)")
 fi
 
-for stage in train predict; do
-  next+=("$stage (issue 10)")
-done
+step "train: the reference model on the train split (lib/model)"
+if have train && [ -f "$out/dataset/manifest.json" ]; then
+  /usr/bin/time -f 'train: %e s wall, %M KiB peak RSS' \
+    "$exe" train --dataset "$out/dataset" --split train --model "$out/model.yml.gz"
+else
+  next+=("train (issue 10)")
+fi
 
-step "score"
-if have score && [ -f "$root/../shared/golden/metrics/gt.json" ]; then
-  # Until `predict` exists the scorer runs on the golden graph pairs.
-  "$exe" score --ground-truth "$root/../shared/golden/metrics/gt.json" \
-    --submission "$root/../shared/golden/metrics/pred.json" --format md --out "$out/score-golden.json"
+step "predict: lane graphs for the test split"
+if have predict && [ -f "$out/model.yml.gz" ]; then
+  "$exe" predict --model "$out/model.yml.gz" --dataset "$out/dataset" --split test --out "$out/submission.json"
+  "$exe" validate --submission "$out/submission.json" --dataset "$out/dataset" --split test
+  "$exe" preview "$out/dataset" --out "$out/preview-prediction" --split test --submission "$out/submission.json" \
+    --sort apls --max-tiles 16
+else
+  next+=("predict (issue 10)")
+fi
+
+step "score: the reference model on the demo test split (synthetic data, not comparable to real nuScenes)"
+if have score && [ -f "$out/submission.json" ]; then
+  "$exe" score --ground-truth "$out/dataset" --submission "$out/submission.json" --split test --format md \
+    --out "$out/score.json"
 else
   next+=("score")
 fi
