@@ -6,10 +6,7 @@ target_compile_options(nsg_build_flags INTERFACE -Wall -Wextra)
 if(NSG_WERROR)
   target_compile_options(nsg_build_flags INTERFACE -Werror)
 endif()
-if(NSG_SANITIZE)
-  target_compile_options(nsg_build_flags INTERFACE -fsanitize=${NSG_SANITIZE} -fno-omit-frame-pointer)
-  target_link_options(nsg_build_flags INTERFACE -fsanitize=${NSG_SANITIZE})
-endif()
+# Sanitizers: cmake/Sanitize.cmake (NSG_SANITIZE, NSG_BUILD_FUZZ).
 
 # nsg_add_library(<module> SOURCES ... DEPS ...): lib/<module> -> target nsg_<module>,
 # alias nsg::<module>, public headers under lib/<module>/include/nsg/<module>/.

@@ -67,6 +67,7 @@ OutputWriter::OutputWriter(fs::path out, const GenerateConfig& config, ShareSpec
   fs::create_directories(out_ / "parts", ec);
   if (ec) throw IoError(out_.string(), "", "a writable output folder (" + ec.message() + ")");
   const fs::path record = done_record_path(out_, share_);
+  remove_stale_temps(record);  // a record being rewritten when the last run was killed
   if (!fs::exists(record)) return;
   try {
     const ordered_json old = ordered_json::parse(read_file(record));

@@ -69,7 +69,11 @@ Issues SchemaValidator::validate(const nlohmann::json& doc, const std::string& f
   std::vector<std::pair<std::string, std::string>> errors;
   valijson::ValidationResults::Error error;
   while (results.popError(error)) errors.push_back({to_pointer(error.context), error.description});
-  for (const auto& [path, message] : errors) {
+  for (const auto& e : errors) {
+    // Named references, not structured bindings: lambdas may not capture those before C++20
+    // compilers that implement P1091 (clang 16), and the fuzz build uses clang 14.
+    const std::string& path = e.first;
+    const std::string& message = e.second;
     const std::string inner = path == "/" ? "/" : path + "/";
     const bool enclosing = std::any_of(errors.begin(), errors.end(), [&](const auto& other) {
       return other.first.size() > path.size() && other.first.compare(0, inner.size(), inner) == 0;
