@@ -1,6 +1,7 @@
 #include "nsg/model/model.h"
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <thread>
@@ -394,7 +395,8 @@ void LaneModel::save(const std::filesystem::path& path) const {
   for (const auto& n : m.feature_names) fs << n;
   fs << "]";
   fs << "predict_stride_px" << m.options.predict_stride_px;
-  fs << "sigma_px" << m.options.sigma_px << "seed" << static_cast<double>(m.options.seed);
+  // The seed as text: FileStorage numbers are int or double, too narrow for every uint64.
+  fs << "sigma_px" << m.options.sigma_px << "seed" << std::to_string(m.options.seed);
   write_forest_options(fs, "centre_forest", m.options.centre);
   write_forest_options(fs, "direction_forest", m.options.direction);
   const ExtractionOptions& e = m.options.extraction;
@@ -439,7 +441,10 @@ LaneModel LaneModel::load(const std::filesystem::path& path) {
                   " (retrain the model)");
     m.options.sigma_px = static_cast<double>(fs["sigma_px"]);
     m.options.predict_stride_px = static_cast<int>(fs["predict_stride_px"]);
-    m.options.seed = static_cast<uint64_t>(static_cast<double>(fs["seed"]));
+    const std::string seed = static_cast<std::string>(fs["seed"]);
+    const auto [end, ec] = std::from_chars(seed.data(), seed.data() + seed.size(), m.options.seed);
+    NSG_CHECK(ec == std::errc() && end == seed.data() + seed.size() && !seed.empty(), ParseError, file, "seed",
+              "an unsigned integer as text");
     m.options.centre = read_forest_options(fs["centre_forest"]);
     m.options.direction = read_forest_options(fs["direction_forest"]);
     const cv::FileNode e = fs["extraction"];
