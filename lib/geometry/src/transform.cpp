@@ -70,4 +70,33 @@ void transform_points_devkit(const Rigid3& tf, float* xyz, size_t count, size_t 
   }
 }
 
+namespace {
+
+// Plain loops over restrict-qualified columns so the compiler vectorizes them; the
+// expressions keep transform_points_devkit's order of operations.
+__attribute__((target_clones("avx2", "default"))) void rotate_translate_columns(
+    const double* r, float tx, float ty, float tz, float* __restrict x, float* __restrict y, float* __restrict z,
+    size_t count) {
+  const double r00 = r[0], r01 = r[1], r02 = r[2], r10 = r[3], r11 = r[4], r12 = r[5], r20 = r[6], r21 = r[7],
+               r22 = r[8];
+  for (size_t i = 0; i < count; ++i) {
+    const double px = x[i], py = y[i], pz = z[i];
+    const float rx = static_cast<float>(r00 * px + r01 * py + r02 * pz);
+    const float ry = static_cast<float>(r10 * px + r11 * py + r12 * pz);
+    const float rz = static_cast<float>(r20 * px + r21 * py + r22 * pz);
+    x[i] = rx + tx;
+    y[i] = ry + ty;
+    z[i] = rz + tz;
+  }
+}
+
+}  // namespace
+
+void transform_points_devkit_columns(const Rigid3& tf, float* x, float* y, float* z, size_t count) {
+  const Eigen::Matrix3d& m = tf.rotation;
+  const double r[9] = {m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2), m(2, 0), m(2, 1), m(2, 2)};
+  rotate_translate_columns(r, static_cast<float>(tf.translation.x()), static_cast<float>(tf.translation.y()),
+                           static_cast<float>(tf.translation.z()), x, y, z, count);
+}
+
 }  // namespace nsg::geometry

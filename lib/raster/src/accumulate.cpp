@@ -69,32 +69,12 @@ std::vector<SceneWork> plan_location(const Database& db, const std::string& loca
   return work;
 }
 
-// Reusable per-thread buffers for the sweep loop.
+// Reusable per-thread buffers for the sweep loop: the file's rows, then the kept points
+// as columns (the transform and the binning are vectorized loops over columns).
 struct SweepBuffers {
   std::vector<nuscenes::LidarPoint> raw;
-  std::vector<float> kept;  // x, y, z (global), intensity per kept point
+  std::vector<float> x, y, z, intensity;
   std::vector<int32_t> ids;
-};
-
-// One rigid step of the devkit chain on float32 (nuscenes-format.md §4.4), written out
-// so the filter and both steps run in one pass over the sweep: the rotation as a float64
-// product rounded to float32, then the float32 translation added in float32 — the same
-// operations in the same order as geometry::transform_points_devkit, so the same bits.
-struct DevkitStep {
-  explicit DevkitStep(const geometry::Rigid3& tf)
-      : r(tf.rotation), tx(static_cast<float>(tf.translation.x())), ty(static_cast<float>(tf.translation.y())),
-        tz(static_cast<float>(tf.translation.z())) {}
-  void apply(float& x, float& y, float& z) const {
-    const double dx = x, dy = y, dz = z;
-    const float rx = static_cast<float>(r(0, 0) * dx + r(0, 1) * dy + r(0, 2) * dz);
-    const float ry = static_cast<float>(r(1, 0) * dx + r(1, 1) * dy + r(1, 2) * dz);
-    const float rz = static_cast<float>(r(2, 0) * dx + r(2, 1) * dy + r(2, 2) * dz);
-    x = rx + tx;
-    y = ry + ty;
-    z = rz + tz;
-  }
-  Eigen::Matrix3d r;
-  float tx, ty, tz;
 };
 
 // Asks the kernel to start reading the next sweep while this one is binned (at scale the
@@ -112,26 +92,28 @@ void add_sweep(const Database& db, Index sd_index, const LidarOptions& options, 
   nuscenes::read_lidar_points(db.file_path(sd), buf.raw);
   const nuscenes::CalibratedSensor& cs = db.calibrated_sensor[sd.calibrated_sensor];
   const nuscenes::EgoPose& ep = db.ego_pose[sd.ego_pose];
-  const DevkitStep ego_from_sensor(geometry::Rigid3::from_pose(cs.translation, cs.rotation));
-  const DevkitStep global_from_ego(geometry::Rigid3::from_pose(ep.translation, ep.rotation));
   // The filter runs in the sensor frame (devkit remove_close, as select_sweep_points);
-  // only the kept points are transformed.
+  // only the kept points are transformed. Branch-free: every point is written, the count
+  // advances only for kept ones (a kept/dropped branch per point mispredicts often).
   const double roof = options.roof_half_size_m, range2 = options.max_range_m * options.max_range_m;
-  buf.kept.resize(buf.raw.size() * 4);
-  buf.ids.resize(buf.raw.size());
+  const size_t total = buf.raw.size();
+  for (std::vector<float>* column : {&buf.x, &buf.y, &buf.z, &buf.intensity}) column->resize(total);
+  buf.ids.resize(total);
   size_t n = 0;
-  for (size_t i = 0; i < buf.raw.size(); ++i) {
+  for (size_t i = 0; i < total; ++i) {
     const nuscenes::LidarPoint& p = buf.raw[i];
     const double x = p.x, y = p.y;
-    if ((std::abs(x) < roof && std::abs(y) < roof) || x * x + y * y > range2) continue;
-    float gx = p.x, gy = p.y, gz = p.z;
-    ego_from_sensor.apply(gx, gy, gz);
-    global_from_ego.apply(gx, gy, gz);
-    float* k = buf.kept.data() + 4 * n;
-    k[0] = gx, k[1] = gy, k[2] = gz, k[3] = p.intensity;
-    buf.ids[n++] = static_cast<int32_t>(i);
+    const bool dropped = (std::abs(x) < roof && std::abs(y) < roof) || x * x + y * y > range2;
+    buf.x[n] = p.x, buf.y[n] = p.y, buf.z[n] = p.z, buf.intensity[n] = p.intensity;
+    buf.ids[n] = static_cast<int32_t>(i);
+    n += !dropped;
   }
-  out.lidar.add_points(buf.kept.data(), n, 4, static_cast<int32_t>(sd_index), buf.ids.data());
+  geometry::transform_points_devkit_columns(geometry::Rigid3::from_pose(cs.translation, cs.rotation), buf.x.data(),
+                                            buf.y.data(), buf.z.data(), n);
+  geometry::transform_points_devkit_columns(geometry::Rigid3::from_pose(ep.translation, ep.rotation), buf.x.data(),
+                                            buf.y.data(), buf.z.data(), n);
+  out.lidar.add_points({buf.x.data(), buf.y.data(), buf.z.data(), buf.intensity.data(), buf.ids.data(), n},
+                       static_cast<int32_t>(sd_index));
   ++out.sweeps;
   out.points_read += buf.raw.size();
   out.points_kept += n;

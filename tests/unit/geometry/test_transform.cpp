@@ -2,6 +2,10 @@
 
 #include <cmath>
 
+#include <cstring>
+#include <vector>
+
+#include "nsg/core/rng.h"
 #include "nsg/geometry/transform.h"
 
 namespace nsg::geometry {
@@ -51,6 +55,33 @@ TEST(Transform, SensorToEgoToGlobalChainOnFloatPoints) {
   EXPECT_NEAR(pts[1], 210.94, 1e-4);
   EXPECT_EQ(pts[3], 7.0f);  // other columns untouched
   EXPECT_EQ(pts[4], 3.0f);
+}
+
+// The vectorized column form must give the same bits as the row form (the devkit's
+// float32 arithmetic), including the loop remainder; a sensor → ego → global chain on
+// sweep-like points with a real-size translation.
+TEST(Transform, ColumnsAreBitIdenticalToRows) {
+  Rng rng(5);
+  const Rigid3 ego_from_sensor =
+      Rigid3::from_pose({0.985, 0.0, 1.84}, Quaternion{0.7068, -0.0154, 0.0171, -0.7069});
+  const Rigid3 global_from_ego = Rigid3::from_pose({411.3, 1180.6, 0.0}, quaternion_from_yaw(2.1));
+  for (const size_t n : {size_t{1}, size_t{7}, size_t{1001}}) {
+    std::vector<float> rows(5 * n), x(n), y(n), z(n);
+    for (size_t i = 0; i < n; ++i) {
+      x[i] = rows[5 * i] = static_cast<float>(rng.uniform(-70.0, 70.0));
+      y[i] = rows[5 * i + 1] = static_cast<float>(rng.uniform(-70.0, 70.0));
+      z[i] = rows[5 * i + 2] = static_cast<float>(rng.uniform(-3.0, 5.0));
+    }
+    for (const Rigid3* tf : {&ego_from_sensor, &global_from_ego}) {
+      transform_points_devkit(*tf, rows.data(), n, 5);
+      transform_points_devkit_columns(*tf, x.data(), y.data(), z.data(), n);
+    }
+    for (size_t i = 0; i < n; ++i) {
+      ASSERT_EQ(std::memcmp(&x[i], &rows[5 * i], 4), 0) << "x of point " << i << " of " << n;
+      ASSERT_EQ(std::memcmp(&y[i], &rows[5 * i + 1], 4), 0) << "y of point " << i << " of " << n;
+      ASSERT_EQ(std::memcmp(&z[i], &rows[5 * i + 2], 4), 0) << "z of point " << i << " of " << n;
+    }
+  }
 }
 
 }  // namespace nsg::geometry

@@ -45,4 +45,9 @@ struct Rigid3 {
 void transform_points_devkit(const Rigid3& target_from_source, float* xyz, size_t count,
                              size_t stride_floats);
 
+// The same operations on points stored as columns (x[i], y[i], z[i]): bit-identical to
+// transform_points_devkit, and vectorized (an AVX2 clone is picked at run time where the
+// CPU has it; no FMA in either, so the bits do not depend on the machine).
+void transform_points_devkit_columns(const Rigid3& target_from_source, float* x, float* y, float* z, size_t count);
+
 }  // namespace nsg::geometry

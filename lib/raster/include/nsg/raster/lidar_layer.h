@@ -43,6 +43,16 @@ class LidarLayer {
   // `stride` floats per point, intensity at offset 3) with the original point indices.
   void add_points(const float* xyzi, size_t count, size_t stride, int32_t sweep_id,
                   const int32_t* point_ids = nullptr);
+  // The same for points stored as columns (the sweep loop's layout: vectorized binning).
+  struct Columns {
+    const float* x = nullptr;
+    const float* y = nullptr;
+    const float* z = nullptr;
+    const float* intensity = nullptr;
+    const int32_t* point_ids = nullptr;  // nullptr: the points' positions
+    size_t count = 0;
+  };
+  void add_points(const Columns& points, int32_t sweep_id);
   // Lowest-wins union with another layer of the same resolution.
   void merge(const LidarLayer& other);
 
