@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "internal.h"
+#include "spatial.h"
 
 namespace nsg::metrics::detail {
 namespace {
@@ -101,7 +102,9 @@ PathGraph graph_paths(const std::vector<Pm>& nodes, const std::vector<Segment>& 
   return PathGraph(nodes.size(), arcs);
 }
 
-// Nearest segment of B for one control point of A (ties: smallest (i, j), i.e. first).
+// Nearest segment of B for one control point of A (ties: smallest (i, j), i.e. first),
+// among the segments within `reach_m`; seg = -1 if there is none (the point is then
+// unmatched at every snap radius <= reach_m, as with an all-pairs scan).
 struct Snap {
   int32_t seg = -1;
   double d_m = kInf;
@@ -109,16 +112,26 @@ struct Snap {
 };
 
 std::vector<Snap> snap_all(const std::vector<Pm>& a_nodes, const std::vector<Pm>& b_nodes,
-                           const std::vector<Segment>& b_segs) {
+                           const std::vector<Segment>& b_segs, double reach_m) {
+  std::vector<SegmentGrid::Box> boxes;
+  boxes.reserve(b_segs.size());
+  for (const Segment& s : b_segs) {
+    const Pm a = b_nodes[s.i], b = b_nodes[s.j];
+    boxes.push_back({std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.x, b.x), std::max(a.y, b.y)});
+  }
+  // The margin covers the rounding of the distance: every segment that can be within
+  // reach_m is listed, and the candidates are visited in increasing index as before.
+  const SegmentGrid grid(boxes, reach_m + 1e-6);
   std::vector<Snap> snaps(a_nodes.size());
   for (size_t n = 0; n < a_nodes.size(); ++n) {
     const Pm p = a_nodes[n];
     Snap best;
-    for (size_t k = 0; k < b_segs.size(); ++k) {
-      const Pm a = b_nodes[b_segs[k].i], b = b_nodes[b_segs[k].j];
+    const auto [first, last] = grid.near(p.x, p.y);
+    for (const int32_t* k = first; k != last; ++k) {
+      const Pm a = b_nodes[b_segs[*k].i], b = b_nodes[b_segs[*k].j];
       const SegmentDistance sd = point_segment(p.x, p.y, a.x, a.y, b.x, b.y);
       const double d = std::sqrt(sd.d2);
-      if (d < best.d_m) best = {static_cast<int32_t>(k), d, sd.t};
+      if (d < best.d_m) best = {*k, d, sd.t};
     }
     snaps[n] = best;
   }
@@ -256,7 +269,9 @@ AplsFamily compute_apls(const CleanGraph& gt, const CleanGraph& pred, const Metr
   const std::vector<Pm> p = to_metres(pred, params.resolution_m);
   const std::vector<Segment> g_segs = segments_of(gt), p_segs = segments_of(pred);
   // The nearest segment does not depend on the variant: snap once per direction.
-  const std::vector<Snap> g_on_p = snap_all(g, p, p_segs), p_on_g = snap_all(p, g, g_segs);
+  const double reach_m = std::max(params.snap_m, params.strict_snap_m);
+  const std::vector<Snap> g_on_p = snap_all(g, p, p_segs, reach_m);
+  const std::vector<Snap> p_on_g = snap_all(p, g, g_segs, reach_m);
   // Undirected: the normal and the strict snap radius; directed: the normal one.
   auto sides = [&](const std::vector<double>& snap_ms, bool directed) {
     return std::pair{

@@ -81,6 +81,29 @@ struct Candidate {
   int32_t g, p;
 };
 
+// Ascending sort of keys below 2^bits: LSD radix passes of 11 bits, the same order as
+// std::sort (the keys are distinct integers) in linear time.
+void radix_sort(std::vector<uint64_t>& keys, int bits) {
+  constexpr int kDigitBits = 11;
+  constexpr size_t kBuckets = size_t{1} << kDigitBits;
+  std::vector<uint64_t> tmp(keys.size());
+  std::vector<uint32_t> count(kBuckets);
+  for (int shift = 0; shift < bits; shift += kDigitBits) {
+    std::fill(count.begin(), count.end(), 0);
+    for (uint64_t k : keys) ++count[(k >> shift) & (kBuckets - 1)];
+    // A digit shared by every key leaves the order as it is.
+    if (keys.empty() || count[(keys[0] >> shift) & (kBuckets - 1)] == keys.size()) continue;
+    uint32_t sum = 0;
+    for (uint32_t& c : count) {
+      const uint32_t n = c;
+      c = sum;
+      sum += n;
+    }
+    for (uint64_t k : keys) tmp[count[(k >> shift) & (kBuckets - 1)]++] = k;
+    keys.swap(tmp);
+  }
+}
+
 // Sorts by (q, g, p). When the three fit in 64 bits (always for tiles of sane size) the
 // packed keys sort much faster than the three-way comparison; the order is the same.
 void sort_candidates(std::vector<Candidate>& cands, int64_t q_max, size_t n_g, size_t n_p) {
@@ -99,7 +122,7 @@ void sort_candidates(std::vector<Candidate>& cands, int64_t q_max, size_t n_g, s
     keys[k] = (static_cast<uint64_t>(cands[k].q) << (bits_g + bits_p)) |
               (static_cast<uint64_t>(cands[k].g) << bits_p) | static_cast<uint64_t>(cands[k].p);
   }
-  std::sort(keys.begin(), keys.end());
+  radix_sort(keys, bits_q + bits_g + bits_p);
   const uint64_t mask_g = (uint64_t{1} << bits_g) - 1, mask_p = (uint64_t{1} << bits_p) - 1;
   for (size_t k = 0; k < keys.size(); ++k) {
     cands[k] = {static_cast<int64_t>(keys[k] >> (bits_g + bits_p)),

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "internal.h"
+#include "spatial.h"
 
 namespace nsg::metrics::detail {
 namespace {
@@ -33,67 +34,6 @@ std::optional<double> f1_of(std::optional<double> p, std::optional<double> r) {
   if (*p + *r == 0.0) return 0.0;
   return 2.0 * *p * *r / (*p + *r);
 }
-
-namespace {
-
-// Segments bucketed on a uniform grid by their bounding boxes grown by `reach`: every
-// segment within `reach` of a point is listed in that point's cell (and possibly others).
-class SegmentGrid {
- public:
-  struct Box {
-    double u0, v0, u1, v1;
-  };
-  SegmentGrid(const std::vector<Box>& boxes, double reach) {
-    if (boxes.empty()) return;
-    u0_ = v0_ = std::numeric_limits<double>::infinity();
-    double u1 = -u0_, v1 = -v0_;
-    for (const Box& b : boxes) {
-      u0_ = std::min(u0_, b.u0 - reach);
-      v0_ = std::min(v0_, b.v0 - reach);
-      u1 = std::max(u1, b.u1 + reach);
-      v1 = std::max(v1, b.v1 + reach);
-    }
-    // At most ~kMaxCells per side whatever the coordinates (they are not clipped).
-    cell_ = std::max({reach, (u1 - u0_) / kMaxCells, (v1 - v0_) / kMaxCells, 1e-9});
-    nu_ = cell_of(u1, u0_) + 1;
-    nv_ = cell_of(v1, v0_) + 1;
-    offset_.assign(static_cast<size_t>(nu_ * nv_) + 1, 0);
-    for (int pass = 0; pass < 2; ++pass) {
-      std::vector<int32_t> fill(offset_.begin(), offset_.end() - 1);
-      if (pass == 1) ids_.resize(offset_.back());
-      for (size_t k = 0; k < boxes.size(); ++k) {
-        const Box& b = boxes[k];
-        for (int64_t v = cell_of(b.v0 - reach, v0_); v <= cell_of(b.v1 + reach, v0_); ++v)
-          for (int64_t u = cell_of(b.u0 - reach, u0_); u <= cell_of(b.u1 + reach, u0_); ++u) {
-            const auto c = static_cast<size_t>(v * nu_ + u);
-            if (pass == 0) ++offset_[c + 1];
-            else ids_[fill[c]++] = static_cast<int32_t>(k);
-          }
-      }
-      if (pass == 0)
-        for (size_t c = 0; c + 1 < offset_.size(); ++c) offset_[c + 1] += offset_[c];
-    }
-  }
-  // Segment indices listed in the cell of (u, v), increasing; empty outside the grid.
-  std::pair<const int32_t*, const int32_t*> near(double u, double v) const {
-    if (offset_.empty() || !(u >= u0_ && v >= v0_)) return {nullptr, nullptr};
-    const int64_t cu = cell_of(u, u0_), cv = cell_of(v, v0_);
-    if (cu >= nu_ || cv >= nv_) return {nullptr, nullptr};
-    const auto c = static_cast<size_t>(cv * nu_ + cu);
-    return {ids_.data() + offset_[c], ids_.data() + offset_[c + 1]};
-  }
-
- private:
-  static constexpr double kMaxCells = 256;
-  int64_t cell_of(double x, double origin) const {
-    return std::clamp<int64_t>(static_cast<int64_t>(std::floor((x - origin) / cell_)), 0, 4 * 1024);
-  }
-  double u0_ = 0, v0_ = 0, cell_ = 1;
-  int64_t nu_ = 0, nv_ = 0;
-  std::vector<int32_t> offset_, ids_;
-};
-
-}  // namespace
 
 DirectionResult compute_direction(const CleanGraph& gt, const CleanGraph& pred,
                                   const MetricParams& params) {
@@ -199,14 +139,13 @@ ChamferResult compute_chamfer(const CleanGraph& gt, const CleanGraph& pred,
   }
   if (gt.nodes.empty() || pred.nodes.empty()) return r;
   // One direction: (sum of squared nearest distances, sum of nearest distances).
+  // The nearest squared distance is the same double as an all-pairs scan's (the minimum of
+  // the same values) and the sums run over xs in order, so the result is unchanged.
   auto one_way = [](const std::vector<Point>& xs, const std::vector<Point>& ys) {
+    const PointGrid grid(ys);
     double sum2 = 0.0, sum1 = 0.0;
     for (const Point& x : xs) {
-      double best = std::numeric_limits<double>::infinity();
-      for (const Point& y : ys) {
-        const double dx = x.u - y.u, dy = x.v - y.v;
-        best = std::min(best, dx * dx + dy * dy);
-      }
+      const double best = grid.nearest_d2(x);
       sum2 += best;
       sum1 += std::sqrt(best);
     }

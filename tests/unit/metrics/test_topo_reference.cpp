@@ -372,5 +372,55 @@ TEST(AplsReference, FastPathMatchesAllPairsDefinition) {
   EXPECT_GT(partial, 30);  // most cases are neither perfect nor empty
 }
 
+// ---- Chamfer reference ----------------------------------------------------------------
+
+// All-pairs nearest squared distance, summed over xs in order (the definition).
+std::pair<double, double> ref_chamfer_one_way(const std::vector<Point>& xs, const std::vector<Point>& ys) {
+  double sum2 = 0.0, sum1 = 0.0;
+  for (const Point& x : xs) {
+    double best = kInf;
+    for (const Point& y : ys) {
+      const double dx = x.u - y.u, dy = x.v - y.v;
+      best = std::min(best, dx * dx + dy * dy);
+    }
+    sum2 += best;
+    sum1 += std::sqrt(best);
+  }
+  return {sum2, sum1};
+}
+
+// Node sets (no edges needed: Chamfer uses every node): uniform, clustered, on an integer
+// grid with many exact ties, with far outliers, and of very different sizes.
+std::vector<Point> random_points(Rng& rng, int trial) {
+  std::vector<Point> pts;
+  const auto n = static_cast<int>(rng.uniform_int(int64_t{1}, int64_t{trial % 7 == 0 ? 3 : 300}));
+  const double cu = rng.uniform(0, 256), cv = rng.uniform(0, 256);
+  for (int k = 0; k < n; ++k) {
+    Point p = trial % 3 == 0 ? Point{cu + rng.uniform(-5, 5), cv + rng.uniform(-5, 5)}
+                             : Point{rng.uniform(-20, 276), rng.uniform(-20, 276)};
+    if (trial % 2 == 0) p = {std::round(p.u / 4) * 4, std::round(p.v / 4) * 4};
+    if (rng.bernoulli(0.02)) p = {rng.uniform(-5000, 5000), rng.uniform(-5000, 5000)};
+    pts.push_back(p);
+  }
+  return pts;
+}
+
+TEST(ChamferReference, GridSearchEqualsAllPairsBitForBit) {
+  Rng rng(4242);
+  for (int trial = 0; trial < 300; ++trial) {
+    Graph gt, pred;
+    gt.nodes = random_points(rng, trial);
+    pred.nodes = random_points(rng, trial / 2);
+    const TileMeasurement t = measure("k", gt, &pred, MetricParams{});
+    const auto [g2, g1] = ref_chamfer_one_way(gt.nodes, pred.nodes);
+    const auto [p2, p1] = ref_chamfer_one_way(pred.nodes, gt.nodes);
+    ASSERT_TRUE(t.values[kChamferPx2].has_value()) << "trial " << trial;
+    EXPECT_EQ(*t.values[kChamferPx2], g2 + p2) << "trial " << trial;
+    const double mean_m = 0.5 * (g1 / static_cast<double>(gt.nodes.size()) +
+                                 p1 / static_cast<double>(pred.nodes.size())) * 0.2;
+    EXPECT_EQ(*t.values[kChamferMeanM], mean_m) << "trial " << trial;
+  }
+}
+
 }  // namespace
 }  // namespace nsg::metrics
