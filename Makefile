@@ -33,7 +33,7 @@ bench: build
 # libFuzzer targets in a clang build (scripts/fuzz.sh); FUZZ_SECONDS=10 for a CI smoke run.
 FUZZ_BUILD   ?= build-fuzz
 FUZZ_SECONDS ?= 60
-fuzz:
+fuzz: deps
 	@FUZZ_SECONDS=$(FUZZ_SECONDS) JOBS=$(JOBS) BUILD=$(BUILD) bash scripts/fuzz.sh $(FUZZ_BUILD)
 
 clean:

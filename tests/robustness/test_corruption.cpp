@@ -327,9 +327,6 @@ std::vector<Case> catalogue() {
     d["results"][kBogus] = boxes;
     return kBogus;
   });
-  unknown_sample.known_finding =
-      "raster::accumulate_location (lib/raster/src/accumulate.cpp) ignores results for samples the release lacks: "
-      "a detections file of another release gives an empty vehicle layer without a word";
   cases.push_back(unknown_sample);
   cases.push_back(detections_edit("detections_score_out_of_range", [](json& d) {
     d["results"].begin().value()[0]["detection_score"] = 1.5;
@@ -354,10 +351,10 @@ std::vector<Case> catalogue() {
                      s.expect = {"submission.json"};
                    }});
   cases.push_back({"submission_nan_score", [](Scenario& s) {
-                     // Not JSON at all: score refuses it as an input error (2), validate reports it (1).
+                     // Not JSON at all: an invalid submission (1), as validate --submission says.
                      s.submission = R"({"schema_version": "1", "tiles": {"x": {"nodes": [[NaN, 2.0]], "edges": []}}})";
                      s.command = Command::kScore;
-                     s.exit_code = 2;
+                     s.exit_code = 1;
                      s.expect = {"submission.json"};
                    }});
   cases.push_back({"submission_wrong_type_score", [](Scenario& s) {

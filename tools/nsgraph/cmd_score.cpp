@@ -1,6 +1,6 @@
 // `nsgraph score`: the benchmark metrics of a submission against a ground truth
-// (METRICS.md). Validation problems of the submission (including a file beyond the size,
-// value-count or nesting limits) exit 1; unreadable or malformed input exits 2.
+// (METRICS.md). Problems of the submission (not JSON, beyond the size, value-count or
+// nesting limits, or invalid) exit 1; an unreadable submission or bad ground truth exits 2.
 #include <cstdio>
 #include <memory>
 #include <optional>

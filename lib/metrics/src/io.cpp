@@ -133,13 +133,9 @@ nlohmann::json read_json_file(const fs::path& path) {
 std::optional<nlohmann::json> read_submission_file(const fs::path& path,
                                                    const validate::SubmissionLimits& limits,
                                                    Issues& issues) {
-  Issues found;
-  std::optional<nlohmann::json> doc = validate::read_submission(path, limits, found);
-  // Not JSON at all (truncated, NaN) is a parse error of the file, as for every input.
-  for (const Issue& i : found.items())
-    if (i.check == "submission.json") throw ParseError(path.string(), "", i.message);
-  issues.append(found);
-  return doc;
+  // Not JSON at all (truncated, NaN) is a problem of the submission like any other
+  // (validate --submission reports it the same way): in `issues`, exit 1.
+  return validate::read_submission(path, limits, issues);
 }
 
 GraphSet graphs_from_submission(const nlohmann::json& doc, const std::string& file) {

@@ -242,4 +242,14 @@ void check_covers(const DetectionResults& results, const Database& db) {
   check_covers(results, db, all);
 }
 
+void check_known_samples(const DetectionResults& results, const Database& db) {
+  for (const DetectionSample& sample : results.samples) {
+    if (db.sample.find(sample.sample_token) == kNoIndex) {
+      throw DataError(results.file, "results[" + sample.sample_token.str() + "]",
+                      "a sample token of the release " + db.version() + " (" + db.sample.file() +
+                          " has no such sample; is this a results file of another release?)");
+    }
+  }
+}
+
 }  // namespace nsg::nuscenes

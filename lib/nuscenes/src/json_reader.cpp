@@ -50,11 +50,48 @@ std::string got(od::value& v) {
 
 }  // namespace
 
+namespace {
+
+// The value of the top-level "token" key of the JSON object starting at `begin` (error
+// path only: a record that fails before its token was read). Skips strings (with
+// escapes) and nested values; an empty token if there is none or the text is broken.
+Token token_in_object(const char* begin, const char* end) {
+  if (begin == nullptr || begin >= end || *begin != '{') return {};
+  int depth = 0;
+  bool expect_token_value = false;
+  for (const char* p = begin; p < end; ++p) {
+    const char c = *p;
+    if (c == '{' || c == '[') {
+      ++depth;
+    } else if (c == '}' || c == ']') {
+      if (--depth == 0) return {};
+    } else if (c == '"') {
+      const char* q = p + 1;
+      while (q < end && *q != '"') q += (*q == '\\') ? 2 : 1;
+      if (q >= end) return {};
+      const std::string_view str(p + 1, static_cast<size_t>(q - p - 1));
+      if (depth == 1 && expect_token_value) return Token::parse(str).value_or(Token());
+      if (depth == 1) {  // a key if a colon follows
+        const char* r = q + 1;
+        while (r < end && std::isspace(static_cast<unsigned char>(*r))) ++r;
+        expect_token_value = r < end && *r == ':' && str == "token";
+      }
+      p = q;
+    } else if (depth == 1 && c == ',') {
+      expect_token_value = false;
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
 std::string RecordContext::record() const {
   std::string r = record_prefix;
   if (!r.empty()) r += " ";
   r += "record " + std::to_string(index);
-  if (!token.empty()) r += " (token " + token.str() + ")";
+  const Token named = token.empty() ? token_in_object(record_begin, text_end) : token;
+  if (!named.empty()) r += " (token " + named.str() + ")";
   if (!key.empty()) r += " key \"" + std::string(key) + "\"";
   return r;
 }

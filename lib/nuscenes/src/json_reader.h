@@ -29,6 +29,10 @@ struct RecordContext {
   std::string record_prefix;  // e.g. "" or "results[<sample token>]"
   size_t index = 0;           // record number in its array
   Token token;                // the record's token once read (formatted only on error)
+  // The record's text (error path: a failure before its "token" key was read still
+  // names the token, found by scanning the object's top level).
+  const char* record_begin = nullptr;
+  const char* text_end = nullptr;
   std::string_view key;       // current key (points into a static field spec)
 
   std::string record() const;
@@ -130,6 +134,9 @@ size_t parse_array_text(od::parser& parser, const char* data, size_t length, siz
     ctx.index = index;
     ctx.token = Token();
     ctx.key = {};
+    const char* begin = nullptr;
+    ctx.record_begin = element.current_location().get(begin) ? nullptr : begin;
+    ctx.text_end = data + length;
     od::object object;
     if (auto ec = element.get_object().get(object)) ctx.fail("a JSON object", ec);
     on_record(object, ctx);

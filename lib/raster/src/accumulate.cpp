@@ -168,7 +168,10 @@ LocationLayers accumulate_location(const Database& db, const std::string& locati
   const std::vector<SceneWork> work = plan_location(db, location, options.lidar_channel);
   nuscenes::DetectionResults detections;
   const bool use_detections = !options.detections_file.empty();
-  if (use_detections) detections = nuscenes::read_detections(options.detections_file);
+  if (use_detections) {
+    detections = nuscenes::read_detections(options.detections_file);
+    nuscenes::check_known_samples(detections, db);
+  }
 
   const double res = options.lidar.resolution_m;
   std::vector<SceneResult> results;  // one slot per scene; layers are move-only

@@ -65,13 +65,17 @@ TEST(CliScore, InvalidSubmissionExits1NamingFileKeyAndPath) {
   EXPECT_TRUE(r.out.empty());
 }
 
-TEST(CliScore, UnreadableOrMalformedInputExits2) {
+// A submission that is not JSON is an invalid submission (exit 1, as validate --submission
+// says); an unreadable file or a bad option is an input error (exit 2).
+TEST(CliScore, MalformedSubmissionExits1UnreadableInputExits2) {
   nsg::test::TempDir dir("score-cli");
   const fs::path truncated = dir / "truncated.json";
   nsg::test::write_text(truncated, R"({"schema_version":"1","tiles":{"a":{"nodes":[[1,)");
   auto r = run_nsgraph(score_args(truncated));
-  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find(truncated.string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("submission.json"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
   r = run_nsgraph(score_args(dir / "absent.json"));
   EXPECT_EQ(r.exit_code, 2);
   auto args = score_args(kGolden / "pred.json");

@@ -106,6 +106,18 @@ TEST_F(Detections, CoverageOfTheDatabaseSamples) {
   test::expect_error<DataError>([&] { check_covers(both, db, std::vector<Index>{s1}); }, "det.json", {test::kSample2});
 }
 
+TEST_F(Detections, UnknownSamplesAreRefused) {
+  const Database db = Database::load(test::fixture_root(), test::kFixtureVersion);
+  // A subset of the release is fine (generate uses what it has) ...
+  EXPECT_NO_THROW(check_known_samples(read(results(sample_entry(test::kSample1, ""))), db));
+  // ... a sample of another release is not.
+  const std::string other(32, 'e');
+  const DetectionResults foreign =
+      read(results(sample_entry(test::kSample1, "") + ", " + sample_entry(other, box(other))));
+  test::expect_error<DataError>([&] { check_known_samples(foreign, db); }, "det.json",
+                                {other, "sample token of the release", "sample.json"});
+}
+
 TEST(DetectionClasses, NamesAndCategoryMapping) {
   EXPECT_EQ(parse_detection_class("construction_vehicle"), DetectionClass::kConstructionVehicle);
   EXPECT_FALSE(parse_detection_class("vehicle.car"));

@@ -28,6 +28,15 @@ TEST(Malformed, WrongType) {
   expect_error<ParseError>([&] { load(f); }, "ego_pose.json", {"record 0", test::kSd1, "\"timestamp\"", "integer"});
 }
 
+// Key order is free: a bad value before the record's "token" key still names the token
+// (found by scanning the record's text on the error path).
+TEST(Malformed, WrongTypeBeforeTheTokenKey) {
+  FixtureCopy f;
+  f.replace_in_table("sample", "\"token\": \"" + test::kSample2 + "\"",
+                     "\"timestamp\": [1, {\"token\": \"x\"}], \"token\": \"" + test::kSample2 + "\"");
+  expect_error<ParseError>([&] { load(f); }, "sample.json", {"record 1", test::kSample2, "\"timestamp\"", "integer"});
+}
+
 TEST(Malformed, FloatWhereIntegerExpected) {
   FixtureCopy f;
   f.replace_in_table("sample_data", "\"height\": 900", "\"height\": 900.5");

@@ -21,9 +21,8 @@ GraphSet graphs_from_submission(const nlohmann::json& doc, const std::string& fi
 nlohmann::json read_json_file(const std::filesystem::path& path);
 // Reads a file in the submission format within `limits` (validate::read_submission: the
 // file size, then the value count and nesting depth, are checked before any DOM is
-// built). Returns nullopt with the submission.size problem in `issues` when the limits
-// refuse it; throws ParseError (not JSON, e.g. truncated) or IoError (unreadable) naming
-// the file.
+// built). Returns nullopt with the problem in `issues` when the limits refuse it or the
+// text is not JSON (e.g. truncated); throws IoError (unreadable) naming the file.
 std::optional<nlohmann::json> read_submission_file(const std::filesystem::path& path,
                                                    const validate::SubmissionLimits& limits,
                                                    Issues& issues);

@@ -80,4 +80,9 @@ void check_covers(const DetectionResults& results, const Database& db, std::span
 // All samples of the database.
 void check_covers(const DetectionResults& results, const Database& db);
 
+// Every sample of the results is a sample of the database (a results file of another
+// release or split would otherwise give empty vehicle layers without a word). Throws
+// DataError naming the results file and the first unknown sample token.
+void check_known_samples(const DetectionResults& results, const Database& db);
+
 }  // namespace nsg::nuscenes
