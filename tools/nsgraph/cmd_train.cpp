@@ -1,4 +1,5 @@
 // `nsgraph train`: the reference model (lib/model, issue 10) on a dataset's split.
+#include <cmath>
 #include <cstdio>
 #include <memory>
 
@@ -38,11 +39,14 @@ int run_train(TrainCliOptions o, const Context& ctx) {
   model::TrainReport r;
   const model::LaneModel m = model::LaneModel::train(dataset, o.split, o.lib, o.threads, !ctx.quiet, &r);
   m.save(o.model);
+  // Figures of an empty set (no held-out tiles, no lane pixels) are NaN: say "n/a".
+  auto figure = [](double v, const char* format) { return std::isnan(v) ? std::string("n/a") : strprintf(format, v); };
   log::info(strprintf("trained on %zu tiles of '%s' (%s): features %.1f s, forests %.1f s; centreline MSE "
-                      "%.4f train / %.4f held out (%zu tiles); direction accuracy on lanes %.3f train / %.3f held out",
+                      "%s train / %s held out (%zu tiles); direction accuracy on lanes %s train / %s held out",
                       r.tiles, o.split.c_str(), o.lib.modalities.to_string().c_str(), r.features_s, r.train_s,
-                      r.centre_mse_train, r.centre_mse_holdout, r.holdout_tiles, r.direction_accuracy_train,
-                      r.direction_accuracy_holdout));
+                      figure(r.centre_mse_train, "%.4f").c_str(), figure(r.centre_mse_holdout, "%.4f").c_str(),
+                      r.holdout_tiles, figure(r.direction_accuracy_train, "%.3f").c_str(),
+                      figure(r.direction_accuracy_holdout, "%.3f").c_str()));
   log::info("model written to " + o.model);
   return kExitOk;
 }

@@ -406,12 +406,15 @@ void LaneModel::save(const std::filesystem::path& path) const {
      << "min_edge_score" << e.min_edge_score << "max_edge_fraction" << e.max_edge_fraction
      << "smooth_sigma_px" << e.smooth_sigma_px << "min_piece_length_px" << e.min_piece_length_px
      << "max_direction_angle_deg" << e.max_direction_angle_deg << "}";
-  // Numbers only: OpenCV's YAML writer mangles strings that look like JSON.
+  // Numbers in the map (OpenCV's YAML writer mangles strings that look like JSON); the
+  // split's name, a plain word, beside it.
   fs << "training_report" << "{";
   for (const auto& [k, v] : m.report.items()) {
     if (v.is_number()) fs << k << v.get<double>();
   }
   fs << "}";
+  if (m.report.contains("split") && m.report["split"].is_string())
+    fs << "training_split" << m.report["split"].get<std::string>();
   fs << "centre" << "{";
   m.centre->write(fs);
   fs << "}";
@@ -462,6 +465,7 @@ LaneModel LaneModel::load(const std::filesystem::path& path) {
     x.max_direction_angle_deg = value_or(e["max_direction_angle_deg"], x.max_direction_angle_deg);
     m.report = nlohmann::json::object();
     for (const auto& n : fs["training_report"]) m.report[n.name()] = static_cast<double>(n);
+    if (fs["training_split"].isString()) m.report["split"] = static_cast<std::string>(fs["training_split"]);
     m.centre = cv::ml::RTrees::create();
     m.centre->read(fs["centre"]);
     m.direction = cv::ml::RTrees::create();
