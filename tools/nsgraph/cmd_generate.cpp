@@ -75,8 +75,8 @@ int run_generate(const GenerateCommandOptions& o, const Context& ctx) {
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const pipeline::StageTimes& t = s.seconds;
   log::info(strprintf("generate: share %d of %d: %zu tiles written (%zu planned in all), %zu items done, %zu already "
-                      "done; %zu sweeps, %zu images; %.1f s (load %.1f, graph %.1f, lidar %.1f, plan %.1f, camera %.1f, "
-                      "tiles %.1f, merge %.1f)%s",
+                      "done; %zu sweeps, %zu images; %.1f s (load %.3f, graph %.3f, lidar %.3f, plan %.3f, camera %.3f, "
+                      "tiles %.3f, merge %.3f)%s",
                       run.share.index, run.share.count, s.tiles_written, s.tiles_planned, s.items_done, s.items_skipped,
                       s.sweeps, s.images, secs, t.load_s, t.graph_s, t.lidar_s, t.plan_s, t.camera_s, t.tiles_s,
                       t.merge_s, s.manifest_written ? "; manifest.json written" : "; run `nsgraph merge` when all shares are done"));
