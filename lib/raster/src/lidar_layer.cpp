@@ -2,6 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 #include "nsg/core/error.h"
 
@@ -37,11 +42,12 @@ namespace {
 
 static_assert(kBlockCells == 64, "add_points bins with shifts and masks of 64");
 
-// The sweep's local block table: kTableBlocks² block pointers centred on the block of
-// the sweep's first point (±16 blocks = ±204 m at 0.2 m, beyond any sweep's range), so a
-// point finds its block without a map lookup; points outside go through the map.
+// The block table: kTableBlocks² block pointers (±16 blocks = ±204 m at 0.2 m) centred
+// near the sweeps; recentred on a sweep's first point when that is more than
+// kRecentreBlocks from the centre, so a sweep (≤ 60 m ≈ 5 blocks around its sensor) stays
+// inside. Points outside the table go through the map.
 constexpr int64_t kTableBlocks = 32;
-thread_local std::vector<LidarCell*> block_table;
+constexpr int64_t kRecentreBlocks = 6;
 
 // Points are binned in chunks: cells for a chunk in one vectorized pass, then the
 // scalar lowest-z update.
@@ -49,7 +55,9 @@ constexpr size_t kChunk = 1024;
 struct ChunkCells {
   int32_t col[kChunk], row[kChunk];
   int32_t exact[kChunk];  // int32 like the cells: no packing in the vector loop
+  uint16_t candidates[kChunk];  // chunk offsets the scalar update must look at
 };
+static_assert(kChunk <= 65536, "candidates are uint16 offsets");
 thread_local ChunkCells chunk_cells;
 
 // floor(x / res) exactly as cell_of computes it, but with a multiplication by 1/res (the
@@ -78,6 +86,66 @@ __attribute__((target_clones("avx2", "default"))) void cells_of_chunk(const floa
   }
 }
 
+// Screening: most points of a sweep (≈ 90 % on the synthetic releases) are higher than
+// what their cell holds already. The AVX2 screen decides that for 8 points at once with
+// gathers (block pointer from the table, then the cell's z) and lists the rest — lower or
+// equal z, a cell outside the table or in a block not allocated yet, a cell_of redo — as
+// candidates for the scalar update, which decides everything again exactly. A stale z in
+// the screen (two points of one group in one cell) only makes an extra candidate: z only
+// ever decreases. Without AVX2 every point is a candidate.
+size_t screen_all(size_t n, uint16_t* candidates) {
+  for (size_t k = 0; k < n; ++k) candidates[k] = static_cast<uint16_t>(k);
+  return n;
+}
+
+#if defined(__x86_64__)
+__attribute__((target("avx2"))) size_t screen_avx2(const ChunkCells& cc, const float* z, size_t n,
+                                                   LidarCell* const* table, int32_t bx0, int32_t by0,
+                                                   uint16_t* candidates) {
+  static_assert(sizeof(LidarCell) == 24 && offsetof(LidarCell, z) == 0, "the screen gathers z at block + 24·offset");
+  const __m256i v_bx0 = _mm256_set1_epi32(bx0), v_by0 = _mm256_set1_epi32(by0);
+  const __m256i v_size = _mm256_set1_epi32(static_cast<int32_t>(kTableBlocks)), v_minus1 = _mm256_set1_epi32(-1);
+  const __m256i v_63 = _mm256_set1_epi32(63), v_zero = _mm256_setzero_si256();
+  const __m256i even_lanes = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
+  size_t m = 0, k = 0;
+  for (; k + 8 <= n; k += 8) {
+    const __m256i col = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cc.col + k));
+    const __m256i row = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cc.row + k));
+    const __m256i exact = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cc.exact + k));
+    const __m256i tx = _mm256_sub_epi32(_mm256_srai_epi32(col, 6), v_bx0);
+    const __m256i ty = _mm256_sub_epi32(_mm256_srai_epi32(row, 6), v_by0);
+    __m256i in = _mm256_and_si256(_mm256_cmpgt_epi32(tx, v_minus1), _mm256_cmpgt_epi32(v_size, tx));
+    in = _mm256_and_si256(in, _mm256_and_si256(_mm256_cmpgt_epi32(ty, v_minus1), _mm256_cmpgt_epi32(v_size, ty)));
+    in = _mm256_andnot_si256(_mm256_cmpeq_epi32(exact, v_zero), in);
+    const __m256i t = _mm256_add_epi32(_mm256_mullo_epi32(ty, v_size), tx);
+    const __m256i offset = _mm256_or_si256(_mm256_slli_epi32(_mm256_and_si256(row, v_63), 6), _mm256_and_si256(col, v_63));
+    const __m256i bytes = _mm256_mullo_epi32(offset, _mm256_set1_epi32(static_cast<int32_t>(sizeof(LidarCell))));
+    __m128 cz[2];
+    __m256i valid64[2];
+    for (int h = 0; h < 2; ++h) {  // lanes 0–3, then 4–7 (64-bit pointers: four per register)
+      const __m128i t_h = h ? _mm256_extracti128_si256(t, 1) : _mm256_castsi256_si128(t);
+      const __m256i in_h = _mm256_cvtepi32_epi64(h ? _mm256_extracti128_si256(in, 1) : _mm256_castsi256_si128(in));
+      const __m256i block = _mm256_mask_i32gather_epi64(v_zero, reinterpret_cast<const long long*>(table), t_h, in_h, 8);
+      valid64[h] = _mm256_andnot_si256(_mm256_cmpeq_epi64(block, v_zero), in_h);
+      const __m256i addr = _mm256_add_epi64(
+          block, _mm256_cvtepi32_epi64(h ? _mm256_extracti128_si256(bytes, 1) : _mm256_castsi256_si128(bytes)));
+      const __m128 valid32 = _mm256_castps256_ps128(
+          _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(valid64[h], even_lanes)));
+      cz[h] = _mm256_mask_i64gather_ps(_mm_setzero_ps(), static_cast<const float*>(nullptr), addr, valid32, 1);
+    }
+    const __m256i valid = _mm256_permute2x128_si256(_mm256_permutevar8x32_epi32(valid64[0], even_lanes),
+                                                    _mm256_permutevar8x32_epi32(valid64[1], even_lanes), 0x20);
+    const __m256 cell_z = _mm256_set_m128(cz[1], cz[0]);
+    const __m256 lower_or_equal = _mm256_cmp_ps(_mm256_loadu_ps(z + k), cell_z, _CMP_LE_OQ);
+    const __m256 candidate = _mm256_or_ps(lower_or_equal, _mm256_castsi256_ps(_mm256_xor_si256(valid, v_minus1)));
+    for (unsigned bits = static_cast<unsigned>(_mm256_movemask_ps(candidate)); bits != 0; bits &= bits - 1)
+      candidates[m++] = static_cast<uint16_t>(k + static_cast<size_t>(__builtin_ctz(bits)));
+  }
+  for (; k < n; ++k) candidates[m++] = static_cast<uint16_t>(k);
+  return m;
+}
+#endif
+
 // The strided form's points as columns (tests and tools call it; the sweep loop does not).
 struct ColumnBuffers {
   std::vector<float> x, y, z, intensity;
@@ -104,15 +172,37 @@ void LidarLayer::add_points(const Columns& pts, int32_t sweep_id) {
   if (pts.count == 0) return;
   const double inv_res = 1.0 / resolution_m_;
   const CellIndex first = cell_of(pts.x[0], pts.y[0], resolution_m_);
-  const int64_t bx0 = SparseGrid<LidarCell>::floor_div(first.col) - kTableBlocks / 2;
-  const int64_t by0 = SparseGrid<LidarCell>::floor_div(first.row) - kTableBlocks / 2;
-  block_table.assign(kTableBlocks * kTableBlocks, nullptr);
+  const int64_t first_bx = SparseGrid<LidarCell>::floor_div(first.col);
+  const int64_t first_by = SparseGrid<LidarCell>::floor_div(first.row);
+  BlockTable& table = table_;
+  if (table.cells.empty() || std::abs(first_bx - (table.bx0 + kTableBlocks / 2)) > kRecentreBlocks ||
+      std::abs(first_by - (table.by0 + kTableBlocks / 2)) > kRecentreBlocks) {
+    table.bx0 = first_bx - kTableBlocks / 2;
+    table.by0 = first_by - kTableBlocks / 2;
+    table.cells.assign(kTableBlocks * kTableBlocks, nullptr);
+  }
+  const int64_t bx0 = table.bx0, by0 = table.by0;
+  LidarCell** block_table = table.cells.data();
   SparseGrid<LidarCell>::Cursor cursor;  // for points outside the table
   ChunkCells& cc = chunk_cells;
+#if defined(__x86_64__)
+  // The screen works on int32 block coordinates: a table origin beyond that (coordinates
+  // of ±4e8 m) only loses the screen, not correctness.
+  static const bool has_avx2 = __builtin_cpu_supports("avx2");
+  const bool use_avx2 = has_avx2 && std::abs(bx0) < (int64_t{1} << 30) && std::abs(by0) < (int64_t{1} << 30);
+#endif
   for (size_t start = 0; start < pts.count; start += kChunk) {
     const size_t n = std::min(kChunk, pts.count - start);
     cells_of_chunk(pts.x + start, pts.y + start, n, inv_res, cc.col, cc.row, cc.exact);
-    for (size_t k = 0; k < n; ++k) {
+#if defined(__x86_64__)
+    const size_t m = use_avx2 ? screen_avx2(cc, pts.z + start, n, block_table, static_cast<int32_t>(bx0),
+                                            static_cast<int32_t>(by0), cc.candidates)
+                              : screen_all(n, cc.candidates);
+#else
+    const size_t m = screen_all(n, cc.candidates);
+#endif
+    for (size_t j = 0; j < m; ++j) {
+      const size_t k = cc.candidates[j];
       const size_t i = start + k;
       int64_t col = cc.col[k], row = cc.row[k];
       if (!cc.exact[k]) [[unlikely]] {

@@ -55,6 +55,55 @@ TEST(LidarLayer, BinsLikeCellOfEverywhere) {
   }
 }
 
+// The sweep loop screens points 8 at a time against a block table kept across sweeps
+// (recentred as the sweeps move) and updates the rest exactly: over sweeps that wander far
+// (recentring, points outside the table, blocks first seen mid-sweep), with dense repeats
+// of one cell inside a group of 8 and exact height ties (decided by sweep, then point),
+// every cell must equal a plain lowest-by-(z, sweep, point) reference.
+TEST(LidarLayer, ScreenedSweepsMatchAPlainReference) {
+  Rng rng(17);
+  LidarLayer layer;
+  std::map<std::pair<int64_t, int64_t>, LidarCell> reference;
+  for (int32_t sweep = 0; sweep < 60; ++sweep) {
+    const double cx = 500.0 + 45.0 * sweep * std::cos(0.3 * sweep), cy = -200.0 + 45.0 * sweep * std::sin(0.2 * sweep);
+    std::vector<float> x, y, z, intensity;
+    std::vector<int32_t> ids;
+    for (int i = 0; i < 3001; ++i) {
+      const bool dense = i % 3 == 0;  // a 1 m patch: several points of a group share a cell
+      const double r = dense ? rng.uniform(0.0, 1.0) : rng.uniform(0.0, 70.0);
+      const double a = rng.uniform(0.0, 6.283185307179586);
+      double px = cx + r * std::cos(a), py = cy + r * std::sin(a);
+      if (i % 499 == 1) px += 3000.0;  // outside the table (centred on the first point)
+      x.push_back(static_cast<float>(px));
+      y.push_back(static_cast<float>(py));
+      z.push_back(static_cast<float>(0.05 * static_cast<double>(rng.uniform_int(int64_t{-10}, int64_t{10}))));
+      intensity.push_back(static_cast<float>(rng.uniform(0.0, 255.0)));
+      ids.push_back(7 * (3001 - i));  // descending: a later point of the sweep wins a tie
+    }
+    layer.add_points({x.data(), y.data(), z.data(), intensity.data(), ids.data(), x.size()}, sweep);
+    for (size_t i = 0; i < x.size(); ++i) {
+      LidarCell cell;
+      cell.x = x[i], cell.y = y[i], cell.z = z[i];
+      cell.intensity = static_cast<uint8_t>(std::lround(intensity[i]));
+      cell.sweep = sweep;
+      cell.point = ids[i];
+      const CellIndex c = cell_of(x[i], y[i], 0.2);
+      auto [it, fresh] = reference.try_emplace({c.col, c.row}, cell);
+      if (!fresh && cell.lower_than(it->second)) it->second = cell;
+    }
+  }
+  ASSERT_EQ(layer.covered_cells(), reference.size());
+  for (const auto& [key, want] : reference) {
+    const LidarCell* got = layer.cells().find({key.first, key.second});
+    ASSERT_TRUE(got != nullptr && got->has_data()) << key.first << "," << key.second;
+    ASSERT_EQ(got->z, want.z);
+    ASSERT_EQ(got->sweep, want.sweep);
+    ASSERT_EQ(got->point, want.point);
+    ASSERT_EQ(got->x, want.x);
+    ASSERT_EQ(got->intensity, want.intensity);
+  }
+}
+
 TEST(LidarLayer, CellsFollowFloorOfMapMetres) {
   EXPECT_EQ(cell_of(0.0, 0.0, 0.2), (CellIndex{0, 0}));
   EXPECT_EQ(cell_of(0.19999, 0.2, 0.2), (CellIndex{0, 1}));

@@ -62,9 +62,16 @@ class LidarLayer {
 
  private:
   void offer(CellIndex c, const LidarCell& cell);
-
   double resolution_m_;
   SparseGrid<LidarCell> cells_;
+  // The sweep loop's block pointers around the current sweeps (kept from sweep to sweep:
+  // blocks never move while the layer lives), so a point finds its block without a map
+  // lookup; recentred when the sweeps move away.
+  struct BlockTable {
+    int64_t bx0 = 0, by0 = 0;  // block coordinates of entry 0
+    std::vector<LidarCell*> cells;
+  };
+  BlockTable table_;
 };
 
 // Keeps the points of a sweep (float32 × `stride`, sensor frame) outside the roof square
