@@ -52,7 +52,6 @@ class PathGraph {
   }
   size_t size() const { return offset_.size() - 1; }
 
-  // Shortest path lengths from `src` to every node (kInf if unreachable).
   // Shortest path lengths from `src`: `dist` (size() entries, kInf where unreachable)
   // is reset through `reached`, the nodes it reached last time, which this call
   // overwrites (unsorted). `heap` is scratch space.
@@ -188,6 +187,14 @@ SplitGraph split_at_snaps(const std::vector<Pm>& b_nodes, const std::vector<Segm
   return out;
 }
 
+bool same_split(const SplitGraph& x, const SplitGraph& y) {
+  auto same_arc = [](const Arc& p, const Arc& q) {
+    return p.from == q.from && p.to == q.to && p.w == q.w;
+  };
+  return x.n_nodes == y.n_nodes && x.node_of == y.node_of &&
+         std::equal(x.arcs.begin(), x.arcs.end(), y.arcs.begin(), y.arcs.end(), same_arc);
+}
+
 struct OneSided {
   int64_t pairs = 0;
   double cost_sum = 0.0;
@@ -210,11 +217,20 @@ std::vector<OneSided> one_sided(const std::vector<Pm>& a_nodes, const std::vecto
     splits.push_back(split_at_snaps(b_nodes, b_segs, snaps, snap_m, directed));
     b_graphs.emplace_back(splits.back().n_nodes, splits.back().arcs);
   }
+  // A snap radius that changes no snap (every snap within both) gives the same split
+  // graph: its shortest paths are then those of the first such variant.
+  std::vector<size_t> same_as(snap_ms.size());
+  for (size_t v = 0; v < snap_ms.size(); ++v) {
+    same_as[v] = v;
+    for (size_t u = 0; u < v && same_as[v] == v; ++u)
+      if (same_split(splits[u], splits[v])) same_as[v] = u;
+  }
   std::vector<OneSided> out(snap_ms.size());
   std::vector<double> dist_a;
   std::vector<int32_t> reached_a;
   std::vector<std::vector<double>> dist_b(snap_ms.size());  // one per split graph
   std::vector<std::vector<int32_t>> reached_b(snap_ms.size());
+  std::vector<uint8_t> have_b(snap_ms.size());  // dist_b[v] is from this round's a
   std::vector<std::pair<double, int32_t>> heap;
   const auto n = static_cast<int32_t>(a_nodes.size());
   for (int32_t a = 0; a < n; ++a) {
@@ -222,10 +238,11 @@ std::vector<OneSided> one_sided(const std::vector<Pm>& a_nodes, const std::vecto
     // sum is defined.
     a_graph.shortest_paths(a, dist_a, reached_a, heap);
     std::sort(reached_a.begin(), reached_a.end());
+    std::fill(have_b.begin(), have_b.end(), 0);
     for (size_t v = 0; v < snap_ms.size(); ++v) {
       const SplitGraph& split = splits[v];
+      const size_t u = same_as[v];
       OneSided& r = out[v];
-      bool have_b = false;
       for (int32_t b : reached_a) {
         const double la = dist_a[b];
         if (b == a || la < min_path_m) continue;
@@ -234,11 +251,11 @@ std::vector<OneSided> one_sided(const std::vector<Pm>& a_nodes, const std::vecto
           r.cost_sum += 1.0;
           continue;
         }
-        if (!have_b) {
-          b_graphs[v].shortest_paths(split.node_of[a], dist_b[v], reached_b[v], heap);
-          have_b = true;
+        if (!have_b[u]) {
+          b_graphs[u].shortest_paths(split.node_of[a], dist_b[u], reached_b[u], heap);
+          have_b[u] = 1;
         }
-        const double lb = dist_b[v][split.node_of[b]];
+        const double lb = dist_b[u][split.node_of[b]];
         r.cost_sum += lb == kInf ? 1.0 : std::min(1.0, std::abs(la - lb) / la);
       }
     }

@@ -1,6 +1,7 @@
 // GEO and TOPO precision/recall/F1 exactly as METRICS.md "Precise choices for GEO/TOPO"
 // (rule numbers below refer to that section).
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -33,9 +34,25 @@ struct SampleGraph {
   std::vector<int32_t> chain_offset;        // CSR: chains incident to each node sample
   std::vector<int32_t> chain_ids;
   std::vector<int32_t> chain_of_interior;   // interior sample - n_node_samples -> chain
+  std::vector<int32_t> comp;                // connected component (a root sample) of each sample
 
   size_t size() const { return pos.size(); }
 };
+
+// Union-find over the node samples joined by chains; interior samples follow theirs.
+void set_components(SampleGraph& sg) {
+  std::vector<int32_t> parent(static_cast<size_t>(sg.n_node_samples));
+  for (size_t n = 0; n < parent.size(); ++n) parent[n] = static_cast<int32_t>(n);
+  auto root = [&](int32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const Chain& c : sg.chains) parent[root(c.a)] = root(c.b);
+  sg.comp.assign(sg.size(), -1);
+  for (int32_t n = 0; n < sg.n_node_samples; ++n) sg.comp[n] = root(n);
+  for (size_t x = static_cast<size_t>(sg.n_node_samples); x < sg.size(); ++x)
+    sg.comp[x] = sg.comp[sg.chains[sg.chain_of_interior[x - sg.n_node_samples]].a];
+}
 
 SampleGraph sample_graph(const CleanGraph& g, double step_px) {
   const std::vector<Segment> segs = segments_of(g);
@@ -73,6 +90,7 @@ SampleGraph sample_graph(const CleanGraph& g, double step_px) {
     sg.chain_ids[fill[sg.chains[c].a]++] = static_cast<int32_t>(c);
     sg.chain_ids[fill[sg.chains[c].b]++] = static_cast<int32_t>(c);
   }
+  set_components(sg);
   return sg;
 }
 
@@ -189,7 +207,8 @@ class RadiusSearch {
   explicit RadiusSearch(const SampleGraph& sg)
       : sg_(sg), dist_(static_cast<size_t>(sg.n_node_samples), kUnset),
         prev_node_in_(static_cast<size_t>(sg.n_node_samples), 0), reach_(sg.chains.size()),
-        prev_reach_(sg.chains.size()), listed_(sg.chains.size(), 0) {}
+        prev_reach_(sg.chains.size()), listed_(sg.chains.size(), 0),
+        through_(sg.chains.size(), 0) {}
 
   void run(int32_t src, bool directed, double radius) {
     start_generation();
@@ -219,6 +238,11 @@ class RadiusSearch {
         const int32_t ci = sg_.chain_ids[k];
         const Chain& c = sg_.chains[ci];
         if (!(n == c.a ? to_b(c) : to_a(c))) continue;
+        // Walked end to end from its other end, settled earlier: every interior sample is
+        // reached already and that end is final, so walking back changes neither the
+        // reach set nor any node distance. (dist_to() may then give a longer path's
+        // length for some interior samples: still the upper bound WholeComponent needs.)
+        if (through_[ci]) continue;
         double dw = d, last_interior = d;
         int32_t steps = 0;
         while (steps < c.k) {
@@ -231,6 +255,7 @@ class RadiusSearch {
         if (steps == c.k) relax(n == c.a ? c.b : c.a, dw);
         const int32_t interior = std::min(steps, c.k - 1);
         if (interior == 0) continue;
+        through_[ci] = steps == c.k ? 1 : 0;
         max_dist_ = std::max(max_dist_, last_interior);
         Reach& r = touch(ci);
         (n == c.a ? r.pre : r.suf) = interior;
@@ -262,7 +287,8 @@ class RadiusSearch {
   }
 
   // Of the last run(): the number of reached samples, an upper bound of the (computed)
-  // path lengths to reached samples, and the computed path length to a reached sample.
+  // path lengths to reached samples, and the computed length of a path to a reached
+  // sample (the shortest one's, except on chains walked from one end only, see run()).
   int64_t count() const { return count_; }
   double max_dist() const { return max_dist_; }
   double dist_to(int32_t sample) const {
@@ -352,6 +378,7 @@ class RadiusSearch {
       prev_reach_[c] = reach_[c];
       reach_[c] = Reach{};
       listed_[c] = 0;
+      through_[c] = 0;
     }
     prev_chains_.swap(chains_);
     chains_.clear();
@@ -374,6 +401,7 @@ class RadiusSearch {
   std::vector<uint8_t> prev_node_in_;
   std::vector<Reach> reach_, prev_reach_;  // per chain; empty unless listed
   std::vector<uint8_t> listed_;            // chain is in chains_
+  std::vector<uint8_t> through_;           // listed chain walked end to end (k >= 2)
   std::vector<int32_t> nodes_, prev_nodes_, chains_, prev_chains_;
   int32_t seed_chain_ = -1, seed_s0_ = 0;  // the seed's chain and position on it (interior seeds)
   bool directed_ = false;
@@ -387,11 +415,14 @@ struct TopoSums {
   double precision_sum = 0.0, recall_sum = 0.0;
 };
 
-// Candidate ranks (indices into the sorted list) grouped by sample, each group ascending.
+// Candidate ranks (indices into the sorted list) grouped by sample, each group ascending,
+// with the candidate's sample on the other side (p or g) next to its rank.
 struct RanksBy {
+  struct Entry {
+    int32_t rank, other;
+  };
   std::vector<int32_t> offset;  // size N + 1
-  std::vector<int32_t> ranks;
-  std::vector<int32_t> other;   // the candidate's sample on the other side (p or g)
+  std::vector<Entry> entries;
 };
 
 RanksBy ranks_by(size_t n, const std::vector<Candidate>& cands, bool by_g) {
@@ -399,13 +430,11 @@ RanksBy ranks_by(size_t n, const std::vector<Candidate>& cands, bool by_g) {
   r.offset.assign(n + 1, 0);
   for (const Candidate& c : cands) ++r.offset[(by_g ? c.g : c.p) + 1];
   for (size_t k = 0; k < n; ++k) r.offset[k + 1] += r.offset[k];
-  r.ranks.resize(cands.size());
-  r.other.resize(cands.size());
+  r.entries.resize(cands.size());
   std::vector<int32_t> fill(r.offset.begin(), r.offset.end() - 1);
   for (size_t k = 0; k < cands.size(); ++k) {
     const int32_t at = fill[by_g ? cands[k].g : cands[k].p]++;
-    r.ranks[at] = static_cast<int32_t>(k);
-    r.other[at] = by_g ? cands[k].p : cands[k].g;
+    r.entries[at] = {static_cast<int32_t>(k), by_g ? cands[k].p : cands[k].g};
   }
   return r;
 }
@@ -420,88 +449,137 @@ RanksBy ranks_by(size_t n, const std::vector<Candidate>& cands, bool by_g) {
 class IncrementalMatching {
  public:
   IncrementalMatching(const std::vector<Candidate>& cands, const RanksBy& by_g, const RanksBy& by_p)
-      : cands_(cands), by_g_(by_g), by_p_(by_p), accepted_(cands.size(), 0),
-        in_g_(by_g.offset.size() - 1, 0), in_p_(by_p.offset.size() - 1, 0),
-        pending_((cands.size() + 63) / 64, 0), lo_(pending_.size()) {}
+      : by_g_(by_g), by_p_(by_p), pair_(cands.size()), accepted_(cands.size(), 0),
+        g_(by_g.offset.size() - 1), p_(by_p.offset.size() - 1),
+        pending_((cands.size() + 63) / 64, 0), summary_((pending_.size() + 63) / 64, 0),
+        lo_(summary_.size()) {
+    for (size_t k = 0; k < cands.size(); ++k) pair_[k] = {cands[k].g, cands[k].p};
+  }
 
-  void set_g(int32_t g, bool in) { set(in_g_, by_g_, g, in); }
-  void set_p(int32_t p, bool in) { set(in_p_, by_p_, p, in); }
-  bool has_g(int32_t g) const { return in_g_[g] != 0; }
-  bool has_p(int32_t p) const { return in_p_[p] != 0; }
+  void set_g(int32_t g, bool in) { set(g_, p_, by_g_, g, in); }
+  void set_p(int32_t p, bool in) { set(p_, g_, by_p_, p, in); }
 
   // Settles the pending re-decisions; returns the size of the restricted matching.
   int64_t matched() {
-    // Pending ranks are a bitmap scanned upwards: a flip only queues higher ranks.
-    for (size_t wi = lo_; wi < hi_; ++wi) {
-      while (pending_[wi] != 0) {
-        const int bit = __builtin_ctzll(pending_[wi]);
-        pending_[wi] &= pending_[wi] - 1;
-        decide(static_cast<int32_t>((wi << 6) + static_cast<size_t>(bit)));
+    // Pending ranks are a two-level bitmap scanned upwards: a decision only queues higher
+    // ranks, so a word is final once its bits are cleared.
+    for (size_t si = lo_; si < hi_; ++si) {
+      while (summary_[si] != 0) {
+        const size_t wi = (si << 6) + static_cast<size_t>(__builtin_ctzll(summary_[si]));
+        while (pending_[wi] != 0) {
+          const int bit = __builtin_ctzll(pending_[wi]);
+          pending_[wi] &= pending_[wi] - 1;
+          decide(static_cast<int32_t>((wi << 6) + static_cast<size_t>(bit)));
+        }
+        summary_[si] &= ~(uint64_t{1} << (wi & 63));
       }
     }
-    lo_ = pending_.size();
+    lo_ = summary_.size();
     hi_ = 0;
     return m_;
   }
 
  private:
+  static constexpr int32_t kNone = std::numeric_limits<int32_t>::max();
+  // Per sample: presence, and its accepted candidates (several only transiently, while
+  // higher ranks wait to be re-decided): how many and the lowest rank.
+  struct Side {
+    int32_t min_accepted = kNone, n_accepted = 0;
+    bool in = false;
+  };
+
   // Only a candidate whose other side is in changes presence; one leaving matters only
   // if it was accepted.
-  void set(std::vector<uint8_t>& in, const RanksBy& by, int32_t x, bool value) {
-    if ((in[x] != 0) == value) return;
-    in[x] = value ? 1 : 0;
-    const std::vector<uint8_t>& other_in = &in == &in_g_ ? in_p_ : in_g_;
+  void set(std::vector<Side>& self, const std::vector<Side>& other, const RanksBy& by, int32_t x,
+           bool value) {
+    if (self[x].in == value) return;
+    self[x].in = value;
+    if (!value && self[x].n_accepted == 0) return;
+    if (!value && self[x].n_accepted == 1) {  // the usual case: x's one accepted candidate
+      const int32_t rank = self[x].min_accepted;
+      const int32_t y = &self == &g_ ? pair_[rank].second : pair_[rank].first;
+      if (other[y].in) push(rank);
+      return;
+    }
     for (int32_t k = by.offset[x]; k < by.offset[x + 1]; ++k) {
-      if (!other_in[by.other[k]]) continue;
-      if (value || accepted_[by.ranks[k]]) push(by.ranks[k]);
+      const RanksBy::Entry e = by.entries[k];
+      if (!other[e.other].in) continue;
+      if (value || accepted_[e.rank]) push(e.rank);
     }
   }
-  bool accepted_below(const RanksBy& by, int32_t x, int32_t rank) const {
-    for (int32_t k = by.offset[x]; k < by.offset[x + 1] && by.ranks[k] < rank; ++k)
-      if (accepted_[by.ranks[k]]) return true;
-    return false;
-  }
-  // `self_in` / `other_in`: the in-sets of x's side and of the other side.
+  // After x's candidate `rank` flipped: newly accepted, the accepted candidates above it
+  // on x (if any) can lose; newly rejected, the present rejected ones above it can win,
+  // unless x keeps an accepted candidate below (they stay rejected then).
   void push_above(const RanksBy& by, int32_t x, int32_t rank, bool accepted_now,
-                  const std::vector<uint8_t>& self_in, const std::vector<uint8_t>& other_in) {
-    for (int32_t k = by.offset[x + 1] - 1; k >= by.offset[x] && by.ranks[k] > rank; --k) {
-      const int32_t r = by.ranks[k];
-      const bool present = self_in[x] != 0 && other_in[by.other[k]] != 0;
-      if (accepted_now ? accepted_[r] != 0 : (accepted_[r] == 0 && present)) push(r);
+                  const std::vector<Side>& self, const std::vector<Side>& other) {
+    if (accepted_now ? self[x].n_accepted < 2 : self[x].min_accepted < rank) return;
+    for (int32_t k = by.offset[x + 1] - 1; k >= by.offset[x] && by.entries[k].rank > rank; --k) {
+      const RanksBy::Entry e = by.entries[k];
+      const bool present = self[x].in && other[e.other].in;
+      if (accepted_now ? accepted_[e.rank] != 0 : (accepted_[e.rank] == 0 && present)) push(e.rank);
     }
   }
   void push(int32_t rank) {
     const size_t wi = static_cast<size_t>(rank) >> 6;
     pending_[wi] |= uint64_t{1} << (rank & 63);
-    lo_ = std::min(lo_, wi);
-    hi_ = std::max(hi_, wi + 1);
+    const size_t si = wi >> 6;
+    summary_[si] |= uint64_t{1} << (wi & 63);
+    lo_ = std::min(lo_, si);
+    hi_ = std::max(hi_, si + 1);
+  }
+  void accept(Side& s, int32_t rank) {
+    ++s.n_accepted;
+    s.min_accepted = std::min(s.min_accepted, rank);
+  }
+  void reject(Side& s, const RanksBy& by, int32_t x, int32_t rank) {
+    --s.n_accepted;
+    if (s.min_accepted != rank) return;
+    s.min_accepted = kNone;
+    if (s.n_accepted == 0) return;
+    for (int32_t k = by.offset[x]; k < by.offset[x + 1]; ++k) {
+      if (accepted_[by.entries[k].rank]) {
+        s.min_accepted = by.entries[k].rank;
+        break;
+      }
+    }
   }
   void decide(int32_t rank) {
-    const Candidate& c = cands_[rank];
-    const uint8_t now = in_g_[c.g] && in_p_[c.p] && !accepted_below(by_g_, c.g, rank) &&
-                        !accepted_below(by_p_, c.p, rank);
+    const auto [g, p] = pair_[rank];
+    // No accepted candidate below `rank` on g nor on p.
+    const uint8_t now = g_[g].in && p_[p].in && g_[g].min_accepted >= rank &&
+                        p_[p].min_accepted >= rank;
     if (now == accepted_[rank]) return;
     accepted_[rank] = now;
-    m_ += now ? 1 : -1;
-    // Newly accepted: only accepted candidates above can lose; newly rejected: only
-    // present, rejected ones above can win.
-    push_above(by_g_, c.g, rank, now != 0, in_g_, in_p_);
-    push_above(by_p_, c.p, rank, now != 0, in_p_, in_g_);
+    if (now) {
+      ++m_;
+      accept(g_[g], rank);
+      accept(p_[p], rank);
+    } else {
+      --m_;
+      reject(g_[g], by_g_, g, rank);
+      reject(p_[p], by_p_, p, rank);
+    }
+    push_above(by_g_, g, rank, now != 0, g_, p_);
+    push_above(by_p_, p, rank, now != 0, p_, g_);
   }
 
-  const std::vector<Candidate>& cands_;
   const RanksBy& by_g_;
   const RanksBy& by_p_;
-  std::vector<uint8_t> accepted_, in_g_, in_p_;
+  std::vector<std::pair<int32_t, int32_t>> pair_;  // (g, p) by rank
+  std::vector<uint8_t> accepted_;
+  std::vector<Side> g_, p_;
   std::vector<uint64_t> pending_;  // ranks to re-decide
-  size_t lo_ = 0, hi_ = 0;         // words of pending_ that may be non-zero
+  std::vector<uint64_t> summary_;  // words of pending_ that may be non-zero
+  size_t lo_ = 0, hi_ = 0;         // words of summary_ that may be non-zero
   int64_t m_ = 0;
 };
 
-// Seed indices ordered by a walk of the GT sample graph chain by chain (a, interior
-// samples, b), so that consecutive seeds are neighbours.
-std::vector<int32_t> walk_order(const SampleGraph& gt,
-                                const std::vector<std::pair<int32_t, int32_t>>& seeds) {
+// Seed indices in visiting order: grouped by the connected components of g and of p (a
+// seed whose p lies on another component than its neighbours' would swap the whole
+// predicted reach set out and back), and within a group by a walk of the GT sample graph
+// chain by chain (a, interior samples, b), so that consecutive seeds are neighbours.
+std::vector<int32_t> visit_order(const SampleGraph& gt, const SampleGraph& pred,
+                                 const std::vector<std::pair<int32_t, int32_t>>& seeds) {
   std::vector<int32_t> pos_of(gt.size(), -1);
   int32_t next = 0;
   auto visit = [&](int32_t x) {
@@ -512,11 +590,14 @@ std::vector<int32_t> walk_order(const SampleGraph& gt,
     for (int32_t k = 0; k + 1 < c.k; ++k) visit(c.first + k);
     visit(c.b);
   }
+  std::vector<std::array<int32_t, 4>> keys(seeds.size());
+  for (size_t s = 0; s < seeds.size(); ++s) {
+    const auto [g, p] = seeds[s];
+    keys[s] = {gt.comp[g], pred.comp[p], pos_of[g], static_cast<int32_t>(s)};
+  }
+  std::sort(keys.begin(), keys.end());
   std::vector<int32_t> order(seeds.size());
-  for (size_t s = 0; s < seeds.size(); ++s) order[s] = static_cast<int32_t>(s);
-  std::sort(order.begin(), order.end(), [&](int32_t x, int32_t y) {
-    return pos_of[seeds[x].first] < pos_of[seeds[y].first];
-  });
+  for (size_t s = 0; s < seeds.size(); ++s) order[s] = keys[s][3];
   return order;
 }
 
@@ -528,19 +609,7 @@ std::vector<int32_t> walk_order(const SampleGraph& gt,
 class WholeComponent {
  public:
   WholeComponent(const SampleGraph& sg, double radius_px)
-      : limit_(radius_px - kMarginPx), comp_(sg.size(), -1) {
-    // Union-find over the node samples joined by chains; interior samples follow theirs.
-    std::vector<int32_t> parent(static_cast<size_t>(sg.n_node_samples));
-    for (size_t n = 0; n < parent.size(); ++n) parent[n] = static_cast<int32_t>(n);
-    auto root = [&](int32_t x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
-    for (const Chain& c : sg.chains) parent[root(c.a)] = root(c.b);
-    for (int32_t n = 0; n < sg.n_node_samples; ++n) comp_[n] = root(n);
-    for (size_t x = static_cast<size_t>(sg.n_node_samples); x < sg.size(); ++x)
-      comp_[x] = comp_[sg.chains[sg.chain_of_interior[x - sg.n_node_samples]].a];
-    size_.assign(sg.size(), 0);
+      : limit_(radius_px - kMarginPx), comp_(sg.comp), size_(sg.size(), 0) {
     for (int32_t c : comp_) ++size_[c];
   }
   bool still_whole(const RadiusSearch& last, int32_t x) const {
@@ -556,7 +625,8 @@ class WholeComponent {
  private:
   static constexpr double kMarginPx = 1e-6;
   double limit_;
-  std::vector<int32_t> comp_, size_;
+  const std::vector<int32_t>& comp_;
+  std::vector<int32_t> size_;
   int32_t anchor_ = -1;
   bool whole_ = false;
 };
@@ -564,13 +634,13 @@ class WholeComponent {
 // Rules 6-8 on the undirected or the directed sample graphs, seeds in increasing g.
 TopoSums topo_sums(const SampleGraph& gt, const SampleGraph& pred, bool directed,
                    const std::vector<Candidate>& cands, const RanksBy& by_g, const RanksBy& by_p,
-                   const std::vector<std::pair<int32_t, int32_t>>& seeds, double radius_px) {
+                   const std::vector<std::pair<int32_t, int32_t>>& seeds,
+                   const std::vector<int32_t>& order, double radius_px) {
   TopoSums sums;
   RadiusSearch search_g(gt), search_p(pred);
   IncrementalMatching matching(cands, by_g, by_p);
-  // Seeds are visited along the chains (consecutive reach sets then differ little) and
-  // summed afterwards in increasing g, as rule 7 adds them.
-  const std::vector<int32_t> order = walk_order(gt, seeds);
+  // Seeds are visited in `order` (consecutive reach sets then differ little) and summed
+  // afterwards in increasing g, as rule 7 adds them.
   std::vector<int64_t> m_of(seeds.size(), 0), n_rp(seeds.size(), 0), n_rg(seeds.size(), 0);
   WholeComponent whole_g(gt, radius_px), whole_p(pred, radius_px);
   for (size_t o = 0; o < order.size(); ++o) {
@@ -631,8 +701,9 @@ GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred,
     if (match_of_g[k] >= 0) seeds.push_back({static_cast<int32_t>(k), match_of_g[k]});
   r.seeds = static_cast<int64_t>(seeds.size());
   const double radius_px = params.topo_radius_m / params.resolution_m + kRadiusTolPx;
-  const TopoSums und = topo_sums(g, p, false, cands, by_g, by_p, seeds, radius_px);
-  const TopoSums dir = topo_sums(g, p, true, cands, by_g, by_p, seeds, radius_px);
+  const std::vector<int32_t> order = visit_order(g, p, seeds);
+  const TopoSums und = topo_sums(g, p, false, cands, by_g, by_p, seeds, order, radius_px);
+  const TopoSums dir = topo_sums(g, p, true, cands, by_g, by_p, seeds, order, radius_px);
   r.topo_precision = ratio(und.precision_sum, np);
   r.topo_recall = ratio(und.recall_sum, ng);
   r.topo_f1 = f1_of(r.topo_precision, r.topo_recall);

@@ -214,6 +214,73 @@ TEST(TopoReference, FastPathMatchesStraightforwardDefinition) {
   EXPECT_GT(nontrivial, 30);
 }
 
+// Street lattices with one-way, two-way and missing links (many cycles, so chains are
+// reached from both ends and walked from both), or crossing lanes that do not connect
+// (seeds whose prediction lies on another component than their neighbours').
+Graph lattice_or_crossing(Rng& rng, bool grid) {
+  Graph g;
+  auto node = [&](double u, double v) {
+    g.nodes.push_back(grid ? Point{std::round(u), std::round(v)} : Point{u, v});
+    return static_cast<int64_t>(g.nodes.size() - 1);
+  };
+  if (rng.bernoulli(0.5)) {
+    const int rows = static_cast<int>(rng.uniform_int(int64_t{2}, int64_t{5}));
+    const int cols = static_cast<int>(rng.uniform_int(int64_t{2}, int64_t{5}));
+    const double step = rng.uniform(4.0, 30.0);
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) node(c * step + rng.uniform(-1, 1), r * step + rng.uniform(-1, 1));
+    auto link = [&](int64_t i, int64_t j) {
+      const double x = rng.uniform(0, 1);
+      if (x < 0.4) g.edges.push_back({i, j});
+      else if (x < 0.7) g.edges.push_back({j, i});
+      else if (x < 0.9) g.edges.insert(g.edges.end(), {{i, j}, {j, i}});
+    };
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) {
+        const int64_t k = r * cols + c;
+        if (c + 1 < cols) link(k, k + 1);
+        if (r + 1 < rows) link(k, k + cols);
+      }
+  } else {
+    const int lanes = static_cast<int>(rng.uniform_int(int64_t{2}, int64_t{6}));
+    for (int l = 0; l < lanes; ++l) {
+      const bool across = l % 2 == 0;
+      const double off = rng.uniform(20, 100), len = rng.uniform(60, 140);
+      const int n = static_cast<int>(rng.uniform_int(int64_t{2}, int64_t{8}));
+      const int64_t first = static_cast<int64_t>(g.nodes.size());
+      for (int k = 0; k < n; ++k) {
+        const double t = len * k / (n - 1);
+        across ? node(t, off) : node(off, t);
+        if (k > 0) g.edges.push_back({first + k - 1, first + k});
+      }
+    }
+  }
+  return g;
+}
+
+TEST(TopoReference, LatticesAndCrossingLanesMatchDefinition) {
+  Rng rng(909);
+  int nontrivial = 0;
+  for (int trial = 0; trial < 150; ++trial) {
+    MetricParams params;
+    params.topo_radius_m = trial % 3 == 0 ? 40.0 : rng.uniform(1.0, 12.0);
+    const bool grid = trial % 2 == 0;
+    const Graph gt = lattice_or_crossing(rng, grid);
+    const Graph pred = trial % 4 == 0 ? lattice_or_crossing(rng, grid)
+                                      : perturbed(rng, gt, grid ? 0.0 : rng.uniform(0.0, 4.0));
+    const TileMeasurement t = measure("k", gt, &pred, params);
+    const RefTopo r = reference(gt, pred, params);
+    ASSERT_EQ(t.counts[kGeoMatched], r.matched) << "trial " << trial;
+    const auto ng = static_cast<double>(r.ng), np = static_cast<double>(r.np);
+    expect_ratio(t.values[kTopoPrecision], r.und_p, np, "topo_p", trial);
+    expect_ratio(t.values[kTopoRecall], r.und_r, ng, "topo_r", trial);
+    expect_ratio(t.values[kTopoDirectedPrecision], r.dir_p, np, "topo_dir_p", trial);
+    expect_ratio(t.values[kTopoDirectedRecall], r.dir_r, ng, "topo_dir_r", trial);
+    if (r.matched > 0 && r.und_p < static_cast<double>(r.matched) && r.dir_p < r.und_p) ++nontrivial;
+  }
+  EXPECT_GT(nontrivial, 30);
+}
+
 
 // ---- APLS reference -------------------------------------------------------------------
 
