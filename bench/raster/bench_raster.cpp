@@ -7,9 +7,15 @@
 //  - BM_ColorizeLocation: colorize_location on the same release, per JPEG scale;
 //    items_per_second = key-frame camera images/s.
 //  - BM_AddPoints: the lowest-z binning alone on in-memory real-size sweeps.
+//  - BM_AddSweep/{0,1}: filter + both transforms + binning (LidarLayer::add_sweep) on
+//    in-memory real-size sensor-frame sweeps; 0 = portable column path, 1 = fused AVX2 kernel.
+//  - BM_AccumulateRelease: accumulate_location on the release at $NSG_BENCH_DATAROOT
+//    ($NSG_BENCH_VERSION, default v1.0-mini; every location), when set; sweeps/s.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -84,6 +90,52 @@ void BM_AddPoints(benchmark::State& state) {
   state.counters["points_per_sweep"] = kPointsPerSweep;
 }
 BENCHMARK(BM_AddPoints)->Unit(benchmark::kMicrosecond);
+
+void BM_AddSweep(benchmark::State& state) {
+  using Path = nsg::raster::LidarLayer::SweepPath;
+  const Path path = state.range(0) == 0 ? Path::kPortable : Path::kFused;
+  if (path == Path::kFused && !nsg::raster::LidarLayer::fused_kernel_available()) {
+    state.SkipWithError("no AVX2");
+    return;
+  }
+  nsg::Rng rng(11);
+  std::vector<std::vector<LidarPoint>> sweeps;
+  for (int k = 0; k < kSweeps; ++k) sweeps.push_back(synthetic_sweep(rng));
+  nsg::raster::LidarLayer layer;
+  const nsg::raster::LidarOptions options;
+  size_t k = 0, kept = 0;
+  for (auto _ : state) {
+    const std::vector<LidarPoint>& s = sweeps[k % sweeps.size()];
+    kept += layer.add_sweep(reinterpret_cast<const float*>(s.data()), s.size(), ego_from_sensor(),
+                            global_from_ego(static_cast<int>(k % sweeps.size())), options, static_cast<int32_t>(k), path);
+    ++k;
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["kept_per_sweep"] = static_cast<double>(kept) / static_cast<double>(std::max<size_t>(k, 1));
+}
+BENCHMARK(BM_AddSweep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// accumulate_location over every location of an existing release (the bench release of
+// `make bench`), page cache warm after the first iteration.
+void BM_AccumulateRelease(benchmark::State& state) {
+  const char* root = std::getenv("NSG_BENCH_DATAROOT");
+  if (root == nullptr) {
+    state.SkipWithError("NSG_BENCH_DATAROOT not set");
+    return;
+  }
+  const char* version = std::getenv("NSG_BENCH_VERSION");
+  const nsg::nuscenes::Database db = nsg::nuscenes::Database::load(root, version ? version : "v1.0-mini");
+  std::vector<std::string> locations;
+  for (size_t i = 0; i < db.log.size(); ++i)
+    if (std::find(locations.begin(), locations.end(), db.log[i].location) == locations.end())
+      locations.push_back(db.log[i].location);
+  size_t sweeps = 0;
+  for (auto _ : state)
+    for (const std::string& location : locations)
+      sweeps += nsg::raster::accumulate_location(db, location, nsg::raster::RasterOptions{}, 1).stats.sweeps;
+  state.SetItemsProcessed(static_cast<int64_t>(sweeps));
+}
+BENCHMARK(BM_AccumulateRelease)->Unit(benchmark::kMillisecond);
 
 // Peak resident memory of the process so far (Linux ru_maxrss is in KiB).
 double peak_rss_mb() {

@@ -69,12 +69,9 @@ std::vector<SceneWork> plan_location(const Database& db, const std::string& loca
   return work;
 }
 
-// Reusable per-thread buffers for the sweep loop: the file's rows, then the kept points
-// as columns (the transform and the binning are vectorized loops over columns).
+// The sweep loop's reusable buffer for the file's rows (capacity kept across sweeps).
 struct SweepBuffers {
   std::vector<nuscenes::LidarPoint> raw;
-  std::vector<float> x, y, z, intensity;
-  std::vector<int32_t> ids;
 };
 
 // Asks the kernel to start reading the next sweep while this one is binned (at scale the
@@ -92,28 +89,13 @@ void add_sweep(const Database& db, Index sd_index, const LidarOptions& options, 
   nuscenes::read_lidar_points(db.file_path(sd), buf.raw);
   const nuscenes::CalibratedSensor& cs = db.calibrated_sensor[sd.calibrated_sensor];
   const nuscenes::EgoPose& ep = db.ego_pose[sd.ego_pose];
-  // The filter runs in the sensor frame (devkit remove_close, as select_sweep_points);
-  // only the kept points are transformed. Branch-free: every point is written, the count
-  // advances only for kept ones (a kept/dropped branch per point mispredicts often).
-  const double roof = options.roof_half_size_m, range2 = options.max_range_m * options.max_range_m;
-  const size_t total = buf.raw.size();
-  for (std::vector<float>* column : {&buf.x, &buf.y, &buf.z, &buf.intensity}) column->resize(total);
-  buf.ids.resize(total);
-  size_t n = 0;
-  for (size_t i = 0; i < total; ++i) {
-    const nuscenes::LidarPoint& p = buf.raw[i];
-    const double x = p.x, y = p.y;
-    const bool dropped = (std::abs(x) < roof && std::abs(y) < roof) || x * x + y * y > range2;
-    buf.x[n] = p.x, buf.y[n] = p.y, buf.z[n] = p.z, buf.intensity[n] = p.intensity;
-    buf.ids[n] = static_cast<int32_t>(i);
-    n += !dropped;
-  }
-  geometry::transform_points_devkit_columns(geometry::Rigid3::from_pose(cs.translation, cs.rotation), buf.x.data(),
-                                            buf.y.data(), buf.z.data(), n);
-  geometry::transform_points_devkit_columns(geometry::Rigid3::from_pose(ep.translation, ep.rotation), buf.x.data(),
-                                            buf.y.data(), buf.z.data(), n);
-  out.lidar.add_points({buf.x.data(), buf.y.data(), buf.z.data(), buf.intensity.data(), buf.ids.data(), n},
-                       static_cast<int32_t>(sd_index));
+  // Filter (sensor frame, devkit remove_close), sensor → ego → global and lowest-z binning
+  // in one pass over the rows (LidarLayer::add_sweep: fused AVX2 kernel where available).
+  static_assert(sizeof(nuscenes::LidarPoint) == 5 * sizeof(float), "add_sweep takes rows of 5 float32");
+  const size_t n = out.lidar.add_sweep(reinterpret_cast<const float*>(buf.raw.data()), buf.raw.size(),
+                                       geometry::Rigid3::from_pose(cs.translation, cs.rotation),
+                                       geometry::Rigid3::from_pose(ep.translation, ep.rotation), options,
+                                       static_cast<int32_t>(sd_index));
   ++out.sweeps;
   out.points_read += buf.raw.size();
   out.points_kept += n;

@@ -9,6 +9,8 @@
 #endif
 
 #include "nsg/core/error.h"
+#include "nsg/geometry/transform.h"
+#include "sweep_kernel.h"
 
 namespace nsg::raster {
 
@@ -33,21 +35,10 @@ std::vector<int32_t> select_sweep_points(const float* points, size_t count, size
   return kept;
 }
 
-void LidarLayer::offer(CellIndex c, const LidarCell& cell) {
-  LidarCell& current = cells_.at(c);
-  if (!current.has_data() || cell.lower_than(current)) current = cell;
-}
-
 namespace {
 
-static_assert(kBlockCells == 64, "add_points bins with shifts and masks of 64");
-
-// The block table: kTableBlocks² block pointers (±16 blocks = ±204 m at 0.2 m) centred
-// near the sweeps; recentred on a sweep's first point when that is more than
-// kRecentreBlocks from the centre, so a sweep (≤ 60 m ≈ 5 blocks around its sensor) stays
-// inside. Points outside the table go through the map.
-constexpr int64_t kTableBlocks = 32;
-constexpr int64_t kRecentreBlocks = 6;
+using sweep_kernel::kRecentreBlocks;
+using sweep_kernel::kTableBlocks;
 
 // Points are binned in chunks: cells for a chunk in one vectorized pass, then the
 // scalar lowest-z update.
@@ -168,28 +159,41 @@ void LidarLayer::add_points(const float* xyzi, size_t count, size_t stride, int3
   add_points({b.x.data(), b.y.data(), b.z.data(), b.intensity.data(), point_ids, count}, sweep_id);
 }
 
+void LidarLayer::centre_table(int64_t bx, int64_t by) {
+  BlockTable& table = table_;
+  if (table.cells.empty() || std::abs(bx - (table.bx0 + kTableBlocks / 2)) > kRecentreBlocks ||
+      std::abs(by - (table.by0 + kTableBlocks / 2)) > kRecentreBlocks) {
+    table.bx0 = bx - kTableBlocks / 2;
+    table.by0 = by - kTableBlocks / 2;
+    table.cells.assign(kTableBlocks * kTableBlocks + 1, nullptr);  // + the null slot
+    table.z.assign(kTableBlocks * kTableBlocks + 1, nullptr);
+    table.z_used = 0;  // the z copies are refilled as blocks enter the new table
+  }
+}
+
+void LidarLayer::attach_block(size_t slot, int64_t bx, int64_t by) {
+  constexpr size_t kCells = size_t{kBlockCells} * kBlockCells;
+  LidarCell* block = cells_.block_data(bx, by);
+  BlockTable& table = table_;
+  if (table.z_used == table.z_storage.size()) table.z_storage.push_back(std::make_unique_for_overwrite<float[]>(kCells));
+  float* z = table.z_storage[table.z_used++].get();
+  for (size_t i = 0; i < kCells; ++i) z[i] = block[i].z;
+  table.cells[slot] = block;
+  table.z[slot] = z;
+}
+
 void LidarLayer::add_points(const Columns& pts, int32_t sweep_id) {
   if (pts.count == 0) return;
   const double inv_res = 1.0 / resolution_m_;
   const CellIndex first = cell_of(pts.x[0], pts.y[0], resolution_m_);
-  const int64_t first_bx = SparseGrid<LidarCell>::floor_div(first.col);
-  const int64_t first_by = SparseGrid<LidarCell>::floor_div(first.row);
-  BlockTable& table = table_;
-  if (table.cells.empty() || std::abs(first_bx - (table.bx0 + kTableBlocks / 2)) > kRecentreBlocks ||
-      std::abs(first_by - (table.by0 + kTableBlocks / 2)) > kRecentreBlocks) {
-    table.bx0 = first_bx - kTableBlocks / 2;
-    table.by0 = first_by - kTableBlocks / 2;
-    table.cells.assign(kTableBlocks * kTableBlocks, nullptr);
-  }
-  const int64_t bx0 = table.bx0, by0 = table.by0;
-  LidarCell** block_table = table.cells.data();
+  centre_table(SparseGrid<LidarCell>::floor_div(first.col), SparseGrid<LidarCell>::floor_div(first.row));
+  const int64_t bx0 = table_.bx0, by0 = table_.by0;
+  LidarCell** block_table = table_.cells.data();
   SparseGrid<LidarCell>::Cursor cursor;  // for points outside the table
   ChunkCells& cc = chunk_cells;
 #if defined(__x86_64__)
-  // The screen works on int32 block coordinates: a table origin beyond that (coordinates
-  // of ±4e8 m) only loses the screen, not correctness.
   static const bool has_avx2 = __builtin_cpu_supports("avx2");
-  const bool use_avx2 = has_avx2 && std::abs(bx0) < (int64_t{1} << 30) && std::abs(by0) < (int64_t{1} << 30);
+  const bool use_avx2 = has_avx2 && sweep_kernel::table_fits_int32(bx0, by0);
 #endif
   for (size_t start = 0; start < pts.count; start += kChunk) {
     const size_t n = std::min(kChunk, pts.count - start);
@@ -204,43 +208,72 @@ void LidarLayer::add_points(const Columns& pts, int32_t sweep_id) {
     for (size_t j = 0; j < m; ++j) {
       const size_t k = cc.candidates[j];
       const size_t i = start + k;
-      int64_t col = cc.col[k], row = cc.row[k];
-      if (!cc.exact[k]) [[unlikely]] {
-        const CellIndex c = cell_of(pts.x[i], pts.y[i], resolution_m_);
-        col = c.col;
-        row = c.row;
-      }
-      const uint64_t tx = static_cast<uint64_t>((col >> 6) - bx0), ty = static_cast<uint64_t>((row >> 6) - by0);
-      LidarCell* current;
-      if ((tx | ty) < static_cast<uint64_t>(kTableBlocks)) [[likely]] {
-        LidarCell*& block = block_table[ty * kTableBlocks + tx];
-        if (block == nullptr) [[unlikely]]
-          block = cells_.block_data(col >> 6, row >> 6);
-        current = block + (((row & 63) << 6) | (col & 63));
-      } else {
-        current = &cells_.at({col, row}, cursor);
-      }
-      // Most points are not lower than what the cell holds (an empty cell's z is +inf):
-      // decide on z before building; equal heights go on to the full tie-break.
-      if (pts.z[i] > current->z) continue;
-      LidarCell cell;
-      cell.x = pts.x[i];
-      cell.y = pts.y[i];
-      cell.z = pts.z[i];
-      // = clamp(lround(intensity), 0, 255) without the libm call (exact in double).
-      cell.intensity = static_cast<uint8_t>(std::clamp(static_cast<double>(pts.intensity[i]), 0.0, 255.0) + 0.5);
-      cell.sweep = sweep_id;
-      cell.point = pts.point_ids ? pts.point_ids[i] : static_cast<int32_t>(i);
-      if (!current->has_data() || cell.lower_than(*current)) *current = cell;
+      const PointRef p{pts.x[i], pts.y[i], pts.z[i], pts.intensity[i],
+                       pts.point_ids ? pts.point_ids[i] : static_cast<int32_t>(i)};
+      update_cell(p, cc.col[k], cc.row[k], cc.exact[k] != 0, sweep_id, cursor);
     }
   }
+}
+
+namespace {
+
+// The portable sweep path's buffers: kept points as columns (the transforms and the
+// binning are vectorized loops over columns); reused across sweeps.
+struct SweepColumns {
+  std::vector<float> x, y, z, intensity;
+  std::vector<int32_t> ids;
+};
+thread_local SweepColumns sweep_columns;
+
+}  // namespace
+
+size_t LidarLayer::add_sweep_portable(const float* rows5, size_t count, const geometry::Rigid3& ego_from_sensor,
+                                      const geometry::Rigid3& global_from_ego, const LidarOptions& options,
+                                      int32_t sweep_id) {
+  SweepColumns& buf = sweep_columns;
+  // The filter runs in the sensor frame (devkit remove_close, as select_sweep_points);
+  // only the kept points are transformed. Branch-free: every point is written, the count
+  // advances only for kept ones (a kept/dropped branch per point mispredicts often).
+  const double roof = options.roof_half_size_m, range2 = options.max_range_m * options.max_range_m;
+  for (std::vector<float>* column : {&buf.x, &buf.y, &buf.z, &buf.intensity}) column->resize(count);
+  buf.ids.resize(count);
+  size_t n = 0;
+  for (size_t i = 0; i < count; ++i) {
+    const float* p = rows5 + 5 * i;
+    const double x = p[0], y = p[1];
+    const bool dropped = (std::abs(x) < roof && std::abs(y) < roof) || x * x + y * y > range2;
+    buf.x[n] = p[0], buf.y[n] = p[1], buf.z[n] = p[2], buf.intensity[n] = p[3];
+    buf.ids[n] = static_cast<int32_t>(i);
+    n += !dropped;
+  }
+  geometry::transform_points_devkit_columns(ego_from_sensor, buf.x.data(), buf.y.data(), buf.z.data(), n);
+  geometry::transform_points_devkit_columns(global_from_ego, buf.x.data(), buf.y.data(), buf.z.data(), n);
+  add_points({buf.x.data(), buf.y.data(), buf.z.data(), buf.intensity.data(), buf.ids.data(), n}, sweep_id);
+  return n;
+}
+
+size_t LidarLayer::add_sweep(const float* rows5, size_t count, const geometry::Rigid3& ego_from_sensor,
+                             const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id,
+                             SweepPath path) {
+  const bool fused = path == SweepPath::kFused || path == SweepPath::kFusedAvx2;
+  if (fused && !fused_kernel_available())
+    throw InternalError("", "", "the fused LiDAR sweep kernel needs a CPU with AVX2");
+  if (path == SweepPath::kPortable || !fused_kernel_available())
+    return add_sweep_portable(rows5, count, ego_from_sensor, global_from_ego, options, sweep_id);
+  return add_sweep_fused(rows5, count, ego_from_sensor, global_from_ego, options, sweep_id,
+                         path != SweepPath::kFusedAvx2);
 }
 
 void LidarLayer::merge(const LidarLayer& other) {
   if (other.resolution_m_ != resolution_m_)
     throw InternalError("", "", "merging LiDAR layers of different resolutions");
+  // Cells come block by block: the cursor makes that one map lookup per block, not per cell.
+  // (The block table's z copies may go stale-high here: still safe, see BlockTable.)
+  SparseGrid<LidarCell>::Cursor cursor;
   other.cells_.for_each([&](CellIndex c, const LidarCell& cell) {
-    if (cell.has_data()) offer(c, cell);
+    if (!cell.has_data()) return;
+    LidarCell& current = cells_.at(c, cursor);
+    if (!current.has_data() || cell.lower_than(current)) current = cell;
   });
 }
 

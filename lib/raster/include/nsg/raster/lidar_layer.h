@@ -5,9 +5,14 @@
 // commutative reduction, so the result depends neither on scene order nor thread count.
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "nsg/raster/sparse_grid.h"
+
+namespace nsg::geometry {
+struct Rigid3;
+}
 
 namespace nsg::raster {
 
@@ -53,6 +58,22 @@ class LidarLayer {
     size_t count = 0;
   };
   void add_points(const Columns& points, int32_t sweep_id);
+
+  // How add_sweep runs: kAuto = kFused where the CPU has AVX2, else kPortable (the
+  // column path). kFused: the fused AVX2 kernel, with its transforms on AVX-512F where the
+  // CPU has it; kFusedAvx2: AVX2 only. All give identical layers (tests force each); the
+  // fused kernel hands poses beyond ±2e8 m to the portable path. kFused/kFusedAvx2 on a
+  // CPU without AVX2 throw InternalError.
+  enum class SweepPath { kAuto, kPortable, kFused, kFusedAvx2 };
+  static bool fused_kernel_available();
+  // Adds one sweep as read from its .pcd.bin: `count` rows of 5 float32 (x, y, z,
+  // intensity, ring) in the sensor frame. Drops the roof square and points beyond range
+  // (as select_sweep_points), maps the rest sensor → ego → global with the devkit's float32
+  // chain (bit-identical to transform_points_devkit twice) and keeps the lowest per cell;
+  // cells name the point by its row in the file. Returns the number of kept points.
+  size_t add_sweep(const float* rows5, size_t count, const geometry::Rigid3& ego_from_sensor,
+                   const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id,
+                   SweepPath path = SweepPath::kAuto);
   // Lowest-wins union with another layer of the same resolution.
   void merge(const LidarLayer& other);
 
@@ -61,7 +82,23 @@ class LidarLayer {
   size_t covered_cells() const;
 
  private:
-  void offer(CellIndex c, const LidarCell& cell);
+  size_t add_sweep_portable(const float* rows5, size_t count, const geometry::Rigid3& ego_from_sensor,
+                            const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id);
+  // Defined in sweep_kernel_avx2.cpp (compiled for any x86-64; the kernels carry
+  // target("avx2") attributes and run only after the CPU check).
+  size_t add_sweep_fused(const float* rows5, size_t count, const geometry::Rigid3& ego_from_sensor,
+                         const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id,
+                         bool allow_avx512);
+  // Recentres table_ when block (bx, by) is more than a few blocks off its centre.
+  void centre_table(int64_t bx, int64_t by);
+  // The exact lowest-z update of point i of a batch (col/row from the vector binning when
+  // `exact`, else redone by cell_of); shared by both paths so they decide identically.
+  struct PointRef {
+    float x, y, z, intensity;
+    int32_t point;
+  };
+  void update_cell(const PointRef& p, int64_t col, int64_t row, bool exact, int32_t sweep_id,
+                   SparseGrid<LidarCell>::Cursor& cursor);
   double resolution_m_;
   SparseGrid<LidarCell> cells_;
   // The sweep loop's block pointers around the current sweeps (kept from sweep to sweep:
@@ -70,7 +107,16 @@ class LidarLayer {
   struct BlockTable {
     int64_t bx0 = 0, by0 = 0;  // block coordinates of entry 0
     std::vector<LidarCell*> cells;
+    // Per slot with a block, a compact copy of its cells' z for the fused kernel's screen
+    // (16 cells per cache line instead of 2.7). Every table write updates it and z only
+    // decreases, so it is never below the cell's z: "higher than the copy" ⇒ "not lower
+    // than the cell" (merge() leaves it stale-high: still safe).
+    std::vector<float*> z;
+    std::vector<std::unique_ptr<float[]>> z_storage;  // arrays in use (the first z_used) and spare
+    size_t z_used = 0;
   };
+  // Puts block (bx, by) (allocated if new) and its z copy into table slot `slot`.
+  void attach_block(size_t slot, int64_t bx, int64_t by);
   BlockTable table_;
 };
 
