@@ -93,7 +93,7 @@ def load_average(d, when):
 
 
 def lidar_ratio_range(gen, lidar):
-    """generate prints stage seconds rounded (0.1 s): the ratio's bounds from that rounding."""
+    """generate prints stage seconds rounded (to 1 ms): the ratio's bounds from that rounding."""
     if not gen or not lidar or not gen.get("stage_s_rounding") or not (lidar.get("nsgraph_figure") or "").startswith(
             "generate"):
         return None

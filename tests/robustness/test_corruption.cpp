@@ -152,14 +152,15 @@ std::vector<Case> catalogue() {
   cases.push_back(set_field("wrong_type_scene_nbr_samples", "scene", 1, "nbr_samples", json::array({5})));
   cases.push_back(set_field("wrong_type_annotation_size", "sample_annotation", 2, "size", "large"));
   cases.push_back({"wrong_type_before_token_key", [](Scenario& s) {
-                     // Keys may come in any order: a bad value read before "token" is named by index.
+                     // Keys may come in any order: a bad value read before "token" still names
+                     // the record's token (found by scanning the record's text).
                      json rows = s.release.table("sample");
                      json moved = {{"timestamp", "soon"}};
                      for (auto& [k, v] : rows[4].items())
                        if (k != "timestamp") moved[k] = v;
                      rows[4] = moved;
                      s.release.put_table("sample", rows);
-                     s.expect = {"sample.json", "record 4", "timestamp"};
+                     s.expect = {"sample.json", "record 4", "timestamp", rows[4]["token"].get<std::string>()};
                    }});
   cases.push_back(set_field("wrong_arity_ego_pose_rotation", "ego_pose", 7, "rotation", json::array({1.0, 0.0, 0.0})));
   // NaN / Infinity in poses, calibrations, boxes.
