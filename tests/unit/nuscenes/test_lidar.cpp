@@ -19,7 +19,7 @@ using geometry::Rigid3;
 
 void write_floats(const std::filesystem::path& file, const std::vector<float>& values) {
   std::string bytes(values.size() * sizeof(float), '\0');
-  std::memcpy(bytes.data(), values.data(), bytes.size());
+  if (!values.empty()) std::memcpy(bytes.data(), values.data(), bytes.size());  // data() may be null
   test::write_text(file, bytes);
 }
 
