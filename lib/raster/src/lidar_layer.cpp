@@ -4,10 +4,6 @@
 #include <cmath>
 #include <cstddef>
 
-#if defined(__x86_64__)
-#include <immintrin.h>
-#endif
-
 #include "nsg/core/error.h"
 #include "nsg/geometry/transform.h"
 #include "sweep_kernel.h"
@@ -46,9 +42,7 @@ constexpr size_t kChunk = 1024;
 struct ChunkCells {
   int32_t col[kChunk], row[kChunk];
   int32_t exact[kChunk];  // int32 like the cells: no packing in the vector loop
-  uint16_t candidates[kChunk];  // chunk offsets the scalar update must look at
 };
-static_assert(kChunk <= 65536, "candidates are uint16 offsets");
 thread_local ChunkCells chunk_cells;
 
 // floor(x / res) exactly as cell_of computes it, but with a multiplication by 1/res (the
@@ -76,66 +70,6 @@ __attribute__((target_clones("avx2", "default"))) void cells_of_chunk(const floa
                                     (fy >= 1e-6) & (fy <= 1.0 - 1e-6));
   }
 }
-
-// Screening: most points of a sweep (≈ 90 % on the synthetic releases) are higher than
-// what their cell holds already. The AVX2 screen decides that for 8 points at once with
-// gathers (block pointer from the table, then the cell's z) and lists the rest — lower or
-// equal z, a cell outside the table or in a block not allocated yet, a cell_of redo — as
-// candidates for the scalar update, which decides everything again exactly. A stale z in
-// the screen (two points of one group in one cell) only makes an extra candidate: z only
-// ever decreases. Without AVX2 every point is a candidate.
-size_t screen_all(size_t n, uint16_t* candidates) {
-  for (size_t k = 0; k < n; ++k) candidates[k] = static_cast<uint16_t>(k);
-  return n;
-}
-
-#if defined(__x86_64__)
-__attribute__((target("avx2"))) size_t screen_avx2(const ChunkCells& cc, const float* z, size_t n,
-                                                   LidarCell* const* table, int32_t bx0, int32_t by0,
-                                                   uint16_t* candidates) {
-  static_assert(sizeof(LidarCell) == 24 && offsetof(LidarCell, z) == 0, "the screen gathers z at block + 24·offset");
-  const __m256i v_bx0 = _mm256_set1_epi32(bx0), v_by0 = _mm256_set1_epi32(by0);
-  const __m256i v_size = _mm256_set1_epi32(static_cast<int32_t>(kTableBlocks)), v_minus1 = _mm256_set1_epi32(-1);
-  const __m256i v_63 = _mm256_set1_epi32(63), v_zero = _mm256_setzero_si256();
-  const __m256i even_lanes = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
-  size_t m = 0, k = 0;
-  for (; k + 8 <= n; k += 8) {
-    const __m256i col = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cc.col + k));
-    const __m256i row = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cc.row + k));
-    const __m256i exact = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cc.exact + k));
-    const __m256i tx = _mm256_sub_epi32(_mm256_srai_epi32(col, 6), v_bx0);
-    const __m256i ty = _mm256_sub_epi32(_mm256_srai_epi32(row, 6), v_by0);
-    __m256i in = _mm256_and_si256(_mm256_cmpgt_epi32(tx, v_minus1), _mm256_cmpgt_epi32(v_size, tx));
-    in = _mm256_and_si256(in, _mm256_and_si256(_mm256_cmpgt_epi32(ty, v_minus1), _mm256_cmpgt_epi32(v_size, ty)));
-    in = _mm256_andnot_si256(_mm256_cmpeq_epi32(exact, v_zero), in);
-    const __m256i t = _mm256_add_epi32(_mm256_mullo_epi32(ty, v_size), tx);
-    const __m256i offset = _mm256_or_si256(_mm256_slli_epi32(_mm256_and_si256(row, v_63), 6), _mm256_and_si256(col, v_63));
-    const __m256i bytes = _mm256_mullo_epi32(offset, _mm256_set1_epi32(static_cast<int32_t>(sizeof(LidarCell))));
-    __m128 cz[2];
-    __m256i valid64[2];
-    for (int h = 0; h < 2; ++h) {  // lanes 0–3, then 4–7 (64-bit pointers: four per register)
-      const __m128i t_h = h ? _mm256_extracti128_si256(t, 1) : _mm256_castsi256_si128(t);
-      const __m256i in_h = _mm256_cvtepi32_epi64(h ? _mm256_extracti128_si256(in, 1) : _mm256_castsi256_si128(in));
-      const __m256i block = _mm256_mask_i32gather_epi64(v_zero, reinterpret_cast<const long long*>(table), t_h, in_h, 8);
-      valid64[h] = _mm256_andnot_si256(_mm256_cmpeq_epi64(block, v_zero), in_h);
-      const __m256i addr = _mm256_add_epi64(
-          block, _mm256_cvtepi32_epi64(h ? _mm256_extracti128_si256(bytes, 1) : _mm256_castsi256_si128(bytes)));
-      const __m128 valid32 = _mm256_castps256_ps128(
-          _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(valid64[h], even_lanes)));
-      cz[h] = _mm256_mask_i64gather_ps(_mm_setzero_ps(), static_cast<const float*>(nullptr), addr, valid32, 1);
-    }
-    const __m256i valid = _mm256_permute2x128_si256(_mm256_permutevar8x32_epi32(valid64[0], even_lanes),
-                                                    _mm256_permutevar8x32_epi32(valid64[1], even_lanes), 0x20);
-    const __m256 cell_z = _mm256_set_m128(cz[1], cz[0]);
-    const __m256 lower_or_equal = _mm256_cmp_ps(_mm256_loadu_ps(z + k), cell_z, _CMP_LE_OQ);
-    const __m256 candidate = _mm256_or_ps(lower_or_equal, _mm256_castsi256_ps(_mm256_xor_si256(valid, v_minus1)));
-    for (unsigned bits = static_cast<unsigned>(_mm256_movemask_ps(candidate)); bits != 0; bits &= bits - 1)
-      candidates[m++] = static_cast<uint16_t>(k + static_cast<size_t>(__builtin_ctz(bits)));
-  }
-  for (; k < n; ++k) candidates[m++] = static_cast<uint16_t>(k);
-  return m;
-}
-#endif
 
 // The strided form's points as columns (tests and tools call it; the sweep loop does not).
 struct ColumnBuffers {
@@ -187,26 +121,12 @@ void LidarLayer::add_points(const Columns& pts, int32_t sweep_id) {
   const double inv_res = 1.0 / resolution_m_;
   const CellIndex first = cell_of(pts.x[0], pts.y[0], resolution_m_);
   centre_table(SparseGrid<LidarCell>::floor_div(first.col), SparseGrid<LidarCell>::floor_div(first.row));
-  const int64_t bx0 = table_.bx0, by0 = table_.by0;
-  LidarCell** block_table = table_.cells.data();
   SparseGrid<LidarCell>::Cursor cursor;  // for points outside the table
   ChunkCells& cc = chunk_cells;
-#if defined(__x86_64__)
-  static const bool has_avx2 = __builtin_cpu_supports("avx2");
-  const bool use_avx2 = has_avx2 && sweep_kernel::table_fits_int32(bx0, by0);
-#endif
   for (size_t start = 0; start < pts.count; start += kChunk) {
     const size_t n = std::min(kChunk, pts.count - start);
     cells_of_chunk(pts.x + start, pts.y + start, n, inv_res, cc.col, cc.row, cc.exact);
-#if defined(__x86_64__)
-    const size_t m = use_avx2 ? screen_avx2(cc, pts.z + start, n, block_table, static_cast<int32_t>(bx0),
-                                            static_cast<int32_t>(by0), cc.candidates)
-                              : screen_all(n, cc.candidates);
-#else
-    const size_t m = screen_all(n, cc.candidates);
-#endif
-    for (size_t j = 0; j < m; ++j) {
-      const size_t k = cc.candidates[j];
+    for (size_t k = 0; k < n; ++k) {
       const size_t i = start + k;
       const PointRef p{pts.x[i], pts.y[i], pts.z[i], pts.intensity[i],
                        pts.point_ids ? pts.point_ids[i] : static_cast<int32_t>(i)};

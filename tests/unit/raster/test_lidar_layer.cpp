@@ -55,12 +55,12 @@ TEST(LidarLayer, BinsLikeCellOfEverywhere) {
   }
 }
 
-// The sweep loop screens points 8 at a time against a block table kept across sweeps
-// (recentred as the sweeps move) and updates the rest exactly: over sweeps that wander far
+// The column path bins against a block table kept across sweeps (recentred as the sweeps
+// move) and updates cells exactly: over sweeps that wander far
 // (recentring, points outside the table, blocks first seen mid-sweep), with dense repeats
-// of one cell inside a group of 8 and exact height ties (decided by sweep, then point),
+// of one cell and exact height ties (decided by sweep, then point),
 // every cell must equal a plain lowest-by-(z, sweep, point) reference.
-TEST(LidarLayer, ScreenedSweepsMatchAPlainReference) {
+TEST(LidarLayer, WanderingSweepsMatchAPlainReference) {
   Rng rng(17);
   LidarLayer layer;
   std::map<std::pair<int64_t, int64_t>, LidarCell> reference;
