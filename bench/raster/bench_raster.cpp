@@ -106,7 +106,7 @@ void BM_AddSweep(benchmark::State& state) {
   size_t k = 0, kept = 0;
   for (auto _ : state) {
     const std::vector<LidarPoint>& s = sweeps[k % sweeps.size()];
-    kept += layer.add_sweep(reinterpret_cast<const float*>(s.data()), s.size(), ego_from_sensor(),
+    kept += layer.add_sweep(reinterpret_cast<const float*>(s.data()), s.size(), 0, ego_from_sensor(),
                             global_from_ego(static_cast<int>(k % sweeps.size())), options, static_cast<int32_t>(k), path);
     ++k;
   }

@@ -18,14 +18,6 @@ static_assert(std::endian::native == std::endian::little, "the .pcd.bin reader a
 
 namespace {
 
-// Closes the descriptor on every path out of the reader.
-struct FileDescriptor {
-  int fd = -1;
-  ~FileDescriptor() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
 // Finite check on the raw bits of float32 values (exponent all ones = Inf or NaN),
 // branch-free so it vectorizes (an AVX2 clone where the CPU has it).
 __attribute__((target_clones("avx2", "default"))) bool all_finite(const uint32_t* words, size_t count) {
@@ -36,35 +28,56 @@ __attribute__((target_clones("avx2", "default"))) bool all_finite(const uint32_t
 
 }  // namespace
 
-void read_lidar_points(const std::filesystem::path& file, std::vector<LidarPoint>& points) {
-  FileDescriptor f;
-  f.fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-  if (f.fd < 0) throw IoError(file.string(), "", std::string("cannot open LiDAR sweep: ") + std::strerror(errno));
+LidarFile::LidarFile(const std::filesystem::path& file) : file_(file) {
+  fd_ = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd_ < 0) throw IoError(file.string(), "", std::string("cannot open LiDAR sweep: ") + std::strerror(errno));
   struct stat st {};
-  if (::fstat(f.fd, &st) != 0 || !S_ISREG(st.st_mode)) throw IoError(file.string(), "", "a regular LiDAR sweep file");
-  const size_t bytes = static_cast<size_t>(st.st_size);
-  if (bytes % sizeof(LidarPoint) != 0) {
-    throw ParseError(file.string(), "size " + std::to_string(bytes) + " bytes",
-                     "a multiple of 20 bytes (5 float32 per point); the last point is truncated");
+  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd_);
+    throw IoError(file.string(), "", "a regular LiDAR sweep file");
   }
-  points.resize(bytes / sizeof(LidarPoint));
+  const size_t bytes = static_cast<size_t>(st.st_size);
+  if (bytes % sizeof(LidarPoint) != 0 || bytes / sizeof(LidarPoint) > kMaxRows) {
+    ::close(fd_);
+    throw ParseError(file.string(), "size " + std::to_string(bytes) + " bytes",
+                     bytes % sizeof(LidarPoint) != 0
+                         ? "a multiple of 20 bytes (5 float32 per point); the last point is truncated"
+                         : "at most 2^31 - 1 points (point indices are int32)");
+  }
+  rows_ = bytes / sizeof(LidarPoint);
+}
+
+LidarFile::~LidarFile() { ::close(fd_); }
+
+size_t LidarFile::read(std::vector<LidarPoint>& points, size_t max_rows) {
+  const size_t first = next_row_;
+  const size_t count = std::min(max_rows, rows_ - next_row_);
+  points.resize(count);
   char* out = reinterpret_cast<char*>(points.data());
+  const size_t bytes = count * sizeof(LidarPoint);
   size_t done = 0;
   while (done < bytes) {  // one read in practice; loop for short reads
-    const ssize_t n = ::read(f.fd, out + done, bytes - done);
+    const ssize_t n = ::read(fd_, out + done, bytes - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) throw IoError(file.string(), "", std::string("read error: ") + (n < 0 ? std::strerror(errno) : "file shrank"));
+    if (n <= 0) throw IoError(file_.string(), "", std::string("read error: ") + (n < 0 ? std::strerror(errno) : "file shrank"));
     done += static_cast<size_t>(n);
   }
+  next_row_ += count;
   // The slow scan for the index runs only when a value is bad.
-  if (all_finite(reinterpret_cast<const uint32_t*>(points.data()), points.size() * kLidarPointStrideFloats)) return;
-  for (size_t i = 0; i < points.size(); ++i) {
+  if (all_finite(reinterpret_cast<const uint32_t*>(points.data()), count * kLidarPointStrideFloats)) return first;
+  for (size_t i = 0; i < count; ++i) {
     const LidarPoint& p = points[i];
     if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.intensity) &&
           std::isfinite(p.ring))) {
-      throw ParseError(file.string(), "point " + std::to_string(i), "finite x, y, z, intensity, ring");
+      throw ParseError(file_.string(), "point " + std::to_string(first + i), "finite x, y, z, intensity, ring");
     }
   }
+  return first;
+}
+
+void read_lidar_points(const std::filesystem::path& file, std::vector<LidarPoint>& points) {
+  LidarFile f(file);
+  f.read(points, f.rows());
 }
 
 std::vector<LidarPoint> read_lidar_points(const std::filesystem::path& file) {

@@ -69,7 +69,12 @@ std::vector<SceneWork> plan_location(const Database& db, const std::string& loca
   return work;
 }
 
-// The sweep loop's reusable buffer for the file's rows (capacity kept across sweeps).
+// The sweep loop reads a sweep in runs of this many rows (40 KB): a run is binned while
+// it is still in L1/L2, where a whole sweep (~0.7 MB) would be read back from further out
+// and would push the layer's cells out of L2. A multiple of the fused kernel's chunk.
+constexpr size_t kSweepRunRows = 2048;
+
+// The sweep loop's reusable buffer for a run of the file's rows (capacity kept).
 struct SweepBuffers {
   std::vector<nuscenes::LidarPoint> raw;
 };
@@ -86,19 +91,24 @@ void read_ahead(const std::filesystem::path& file) {
 void add_sweep(const Database& db, Index sd_index, const LidarOptions& options, SweepBuffers& buf,
                SceneResult& out) {
   const nuscenes::SampleData& sd = db.sample_data[sd_index];
-  nuscenes::read_lidar_points(db.file_path(sd), buf.raw);
   const nuscenes::CalibratedSensor& cs = db.calibrated_sensor[sd.calibrated_sensor];
   const nuscenes::EgoPose& ep = db.ego_pose[sd.ego_pose];
+  const geometry::Rigid3 ego_from_sensor = geometry::Rigid3::from_pose(cs.translation, cs.rotation);
+  const geometry::Rigid3 global_from_ego = geometry::Rigid3::from_pose(ep.translation, ep.rotation);
   // Filter (sensor frame, devkit remove_close), sensor → ego → global and lowest-z binning
-  // in one pass over the rows (LidarLayer::add_sweep: fused AVX2 kernel where available).
+  // in one pass over each run of rows (LidarLayer::add_sweep: fused AVX2 kernel where
+  // available). A bad value in a later run throws after earlier runs were binned: the
+  // scene's layer is then dropped with the exception.
   static_assert(sizeof(nuscenes::LidarPoint) == 5 * sizeof(float), "add_sweep takes rows of 5 float32");
-  const size_t n = out.lidar.add_sweep(reinterpret_cast<const float*>(buf.raw.data()), buf.raw.size(),
-                                       geometry::Rigid3::from_pose(cs.translation, cs.rotation),
-                                       geometry::Rigid3::from_pose(ep.translation, ep.rotation), options,
-                                       static_cast<int32_t>(sd_index));
+  nuscenes::LidarFile file(db.file_path(sd));
+  while (!file.done()) {
+    const size_t first_row = file.read(buf.raw, kSweepRunRows);
+    out.points_kept += out.lidar.add_sweep(reinterpret_cast<const float*>(buf.raw.data()), buf.raw.size(),
+                                           static_cast<int32_t>(first_row), ego_from_sensor, global_from_ego,
+                                           options, static_cast<int32_t>(sd_index));
+  }
   ++out.sweeps;
-  out.points_read += buf.raw.size();
-  out.points_kept += n;
+  out.points_read += file.rows();
 }
 
 VehicleBox make_box(const nuscenes::Vec3& translation, const nuscenes::Vec3& size_wlh,

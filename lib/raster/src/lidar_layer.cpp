@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 #include "nsg/core/error.h"
 #include "nsg/geometry/transform.h"
@@ -147,7 +148,8 @@ thread_local SweepColumns sweep_columns;
 
 }  // namespace
 
-size_t LidarLayer::add_sweep_portable(const float* rows5, size_t count, const geometry::Rigid3& ego_from_sensor,
+size_t LidarLayer::add_sweep_portable(const float* rows5, size_t count, int32_t first_row,
+                                      const geometry::Rigid3& ego_from_sensor,
                                       const geometry::Rigid3& global_from_ego, const LidarOptions& options,
                                       int32_t sweep_id) {
   SweepColumns& buf = sweep_columns;
@@ -163,7 +165,7 @@ size_t LidarLayer::add_sweep_portable(const float* rows5, size_t count, const ge
     const double x = p[0], y = p[1];
     const bool dropped = (std::abs(x) < roof && std::abs(y) < roof) || x * x + y * y > range2;
     buf.x[n] = p[0], buf.y[n] = p[1], buf.z[n] = p[2], buf.intensity[n] = p[3];
-    buf.ids[n] = static_cast<int32_t>(i);
+    buf.ids[n] = first_row + static_cast<int32_t>(i);
     n += !dropped;
   }
   geometry::transform_points_devkit_columns(ego_from_sensor, buf.x.data(), buf.y.data(), buf.z.data(), n);
@@ -172,15 +174,17 @@ size_t LidarLayer::add_sweep_portable(const float* rows5, size_t count, const ge
   return n;
 }
 
-size_t LidarLayer::add_sweep(const float* rows5, size_t count, const geometry::Rigid3& ego_from_sensor,
+size_t LidarLayer::add_sweep(const float* rows5, size_t count, int32_t first_row, const geometry::Rigid3& ego_from_sensor,
                              const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id,
                              SweepPath path) {
   const bool fused = path == SweepPath::kFused || path == SweepPath::kFusedAvx2;
+  if (first_row < 0 || count > static_cast<size_t>(std::numeric_limits<int32_t>::max() - first_row))
+    throw InternalError("", "", "sweep rows beyond int32 point indices");
   if (fused && !fused_kernel_available())
     throw InternalError("", "", "the fused LiDAR sweep kernel needs a CPU with AVX2");
   if (path == SweepPath::kPortable || !fused_kernel_available())
-    return add_sweep_portable(rows5, count, ego_from_sensor, global_from_ego, options, sweep_id);
-  return add_sweep_fused(rows5, count, ego_from_sensor, global_from_ego, options, sweep_id,
+    return add_sweep_portable(rows5, count, first_row, ego_from_sensor, global_from_ego, options, sweep_id);
+  return add_sweep_fused(rows5, count, first_row, ego_from_sensor, global_from_ego, options, sweep_id,
                          path != SweepPath::kFusedAvx2);
 }
 

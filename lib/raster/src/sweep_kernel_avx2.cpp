@@ -339,18 +339,19 @@ bool LidarLayer::fused_kernel_available() {
   return has_avx2;
 }
 
-size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, const geometry::Rigid3& ego_from_sensor,
+size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, int32_t first_row,
+                                   const geometry::Rigid3& ego_from_sensor,
                                    const geometry::Rigid3& global_from_ego, const LidarOptions& options,
                                    int32_t sweep_id, bool allow_avx512) {
   // The table is centred on the ego position (the sweep lies within max range of it);
   // poses that far out (or not finite) take the portable path, which needs no int32.
   const double ex = global_from_ego.translation.x() / resolution_m_, ey = global_from_ego.translation.y() / resolution_m_;
   if (!(std::abs(ex) < 1e9 && std::abs(ey) < 1e9))
-    return add_sweep_portable(rows5, count, ego_from_sensor, global_from_ego, options, sweep_id);
+    return add_sweep_portable(rows5, count, first_row, ego_from_sensor, global_from_ego, options, sweep_id);
   centre_table(SparseGrid<LidarCell>::floor_div(static_cast<int64_t>(std::floor(ex))),
                SparseGrid<LidarCell>::floor_div(static_cast<int64_t>(std::floor(ey))));
   if (!sweep_kernel::table_fits_int32(table_.bx0, table_.by0))
-    return add_sweep_portable(rows5, count, ego_from_sensor, global_from_ego, options, sweep_id);
+    return add_sweep_portable(rows5, count, first_row, ego_from_sensor, global_from_ego, options, sweep_id);
 
   const DevkitTransform a = devkit_of(ego_from_sensor), b = devkit_of(global_from_ego);
   const double roof = options.roof_half_size_m, range2 = options.max_range_m * options.max_range_m;
@@ -367,7 +368,7 @@ size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, const geome
   size_t kept = 0;
   for (size_t start = 0; start < count; start += kRawChunk) {
     const size_t n = std::min(kRawChunk, count - start);
-    const size_t m = filter_compact(rows5 + 5 * start, n, static_cast<int32_t>(start), roof, range2, c);
+    const size_t m = filter_compact(rows5 + 5 * start, n, first_row + static_cast<int32_t>(start), roof, range2, c);
     kept += m;
     if (wide)
       transform_bin_avx512(c, m, a, b, bin);
@@ -393,10 +394,11 @@ size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, const geome
 
 bool LidarLayer::fused_kernel_available() { return false; }
 
-size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, const geometry::Rigid3& ego_from_sensor,
+size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, int32_t first_row,
+                                   const geometry::Rigid3& ego_from_sensor,
                                    const geometry::Rigid3& global_from_ego, const LidarOptions& options,
                                    int32_t sweep_id, bool allow_avx512) {
-  return add_sweep_portable(rows5, count, ego_from_sensor, global_from_ego, options, sweep_id);
+  return add_sweep_portable(rows5, count, first_row, ego_from_sensor, global_from_ego, options, sweep_id);
 }
 
 #endif

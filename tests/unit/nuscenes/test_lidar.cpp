@@ -62,6 +62,35 @@ TEST(Lidar, NonFinitePointIsParseError) {
   test::expect_error<ParseError>([&] { read_lidar_points(dir / "inf.pcd.bin"); }, "inf.pcd.bin", {"point 0"});
 }
 
+// The sweep loop's reads: runs of rows with their first row's index, the last run short,
+// a bad value reported by its index in the whole file (not in its run).
+TEST(Lidar, ReadsInRuns) {
+  test::TempDir dir("lidar");
+  std::vector<float> values;
+  for (int i = 0; i < 7; ++i) values.insert(values.end(), {float(i), 2, 3, 4, 5});
+  write_floats(dir / "a.pcd.bin", values);
+  LidarFile file(dir / "a.pcd.bin");
+  EXPECT_EQ(file.rows(), 7u);
+  std::vector<LidarPoint> run;
+  std::vector<size_t> firsts;
+  std::vector<float> xs;
+  while (!file.done()) {
+    firsts.push_back(file.read(run, 3));
+    for (const LidarPoint& p : run) xs.push_back(p.x);
+  }
+  EXPECT_EQ(firsts, (std::vector<size_t>{0, 3, 6}));
+  EXPECT_EQ(run.size(), 1u);
+  EXPECT_EQ(xs, (std::vector<float>{0, 1, 2, 3, 4, 5, 6}));
+
+  values[5 * 4 + 2] = std::nanf("");  // point 4: in the second run
+  write_floats(dir / "nan.pcd.bin", values);
+  LidarFile bad(dir / "nan.pcd.bin");
+  EXPECT_EQ(bad.read(run, 3), 0u);
+  test::expect_error<ParseError>([&] { bad.read(run, 3); }, "nan.pcd.bin", {"point 4", "finite"});
+  test::write_text(dir / "odd.pcd.bin", std::string(41, '\0'));
+  test::expect_error<ParseError>([&] { LidarFile odd(dir / "odd.pcd.bin"); }, "odd.pcd.bin", {"41 bytes"});
+}
+
 TEST(Lidar, MissingFileIsIoError) {
   test::expect_error<IoError>([&] { read_lidar_points("/nonexistent/x.pcd.bin"); }, "/nonexistent/x.pcd.bin", {});
 }

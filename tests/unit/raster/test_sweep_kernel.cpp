@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "nsg/core/error.h"
 #include "nsg/core/rng.h"
 #include "nsg/geometry/transform.h"
 #include "nsg/raster/lidar_layer.h"
@@ -91,11 +92,19 @@ std::vector<Sweep> random_sweeps(uint64_t seed) {
   return sweeps;
 }
 
-LidarLayer accumulate(const std::vector<Sweep>& sweeps, Path path, std::vector<size_t>& kept) {
+// Each sweep in one call, or in runs of `run_rows` rows (as the sweep loop reads them).
+LidarLayer accumulate(const std::vector<Sweep>& sweeps, Path path, std::vector<size_t>& kept,
+                      size_t run_rows = SIZE_MAX) {
   LidarLayer layer;
-  for (const Sweep& s : sweeps)
-    kept.push_back(layer.add_sweep(s.rows.data(), s.count(), s.ego_from_sensor, s.global_from_ego, LidarOptions{},
-                                   s.id, path));
+  for (const Sweep& s : sweeps) {
+    size_t n = 0;
+    for (size_t first = 0; first < s.count(); first += run_rows) {
+      const size_t count = std::min(run_rows, s.count() - first);
+      n += layer.add_sweep(s.rows.data() + 5 * first, count, static_cast<int32_t>(first), s.ego_from_sensor,
+                           s.global_from_ego, LidarOptions{}, s.id, path);
+    }
+    kept.push_back(n);
+  }
   return layer;
 }
 
@@ -162,10 +171,15 @@ TEST(SweepKernel, BothPathsEqualAPlainReference) {
     }
   }
   EXPECT_GT(ties, 500u);   // the tie rule is exercised
-  for (Path path : {Path::kPortable, Path::kFused, Path::kFusedAvx2}) {
+  // Whole sweeps, and runs of 333 rows (not a multiple of 8: runs end mid-group; the cells
+  // must still name each point by its row in the whole sweep).
+  for (const auto& [path, run_rows] : {std::pair{Path::kPortable, SIZE_MAX}, std::pair{Path::kPortable, size_t{333}},
+                                       std::pair{Path::kFused, SIZE_MAX}, std::pair{Path::kFused, size_t{333}},
+                                       std::pair{Path::kFusedAvx2, SIZE_MAX}}) {
     if (path != Path::kPortable && !LidarLayer::fused_kernel_available()) continue;
+    SCOPED_TRACE("path " + std::to_string(static_cast<int>(path)) + ", runs of " + std::to_string(run_rows));
     std::vector<size_t> kept;
-    const LidarLayer layer = accumulate(sweeps, path, kept);
+    const LidarLayer layer = accumulate(sweeps, path, kept, run_rows);
     ASSERT_EQ(layer.covered_cells(), reference.size());
     for (const auto& [key, want] : reference) {
       const LidarCell* got = layer.cells().find({key.first, key.second});
@@ -198,7 +212,7 @@ TEST(SweepKernel, KeepsTheDevkitOrderOfOperations) {
   for (Path path : {Path::kPortable, Path::kFused, Path::kFusedAvx2}) {
     if (path != Path::kPortable && !LidarLayer::fused_kernel_available()) continue;
     LidarLayer layer;
-    ASSERT_EQ(layer.add_sweep(rows.data(), rows.size() / 5, crafted, shift, LidarOptions{}, 4, path), 19u);
+    ASSERT_EQ(layer.add_sweep(rows.data(), rows.size() / 5, 0, crafted, shift, LidarOptions{}, 4, path), 19u);
     for (size_t i = 0; i < 4; ++i) {  // the first point of each scale keeps its cell (lowest id on a tie)
       const LidarCell* cell = layer.cells().find(cell_of(xyz[3 * i], xyz[3 * i + 1], 0.2));
       ASSERT_NE(cell, nullptr);
@@ -215,11 +229,11 @@ TEST(SweepKernel, EmptyAndTinySweeps) {
   for (Path path : {Path::kPortable, Path::kFused, Path::kFusedAvx2}) {
     if (path != Path::kPortable && !LidarLayer::fused_kernel_available()) continue;
     LidarLayer layer;
-    EXPECT_EQ(layer.add_sweep(nullptr, 0, identity, identity, LidarOptions{}, 1, path), 0u);
+    EXPECT_EQ(layer.add_sweep(nullptr, 0, 0, identity, identity, LidarOptions{}, 1, path), 0u);
     // Three rows (no full group of 8): roof, kept, beyond range.
     const std::vector<float> rows{0.5f, 0.5f, 0.0f, 9.0f, 0.0f, 10.1f, 4.1f, -1.5f, 77.6f, 3.0f,
                                   70.0f, 0.0f, 0.0f, 1.0f, 0.0f};
-    EXPECT_EQ(layer.add_sweep(rows.data(), 3, identity, identity, LidarOptions{}, 2, path), 1u);
+    EXPECT_EQ(layer.add_sweep(rows.data(), 3, 0, identity, identity, LidarOptions{}, 2, path), 1u);
     const LidarCell* cell = layer.cells().find(cell_of(10.1, 4.1, 0.2));
     ASSERT_NE(cell, nullptr);
     EXPECT_EQ(cell->z, -1.5f);
@@ -227,6 +241,15 @@ TEST(SweepKernel, EmptyAndTinySweeps) {
     EXPECT_EQ(cell->point, 1);
     EXPECT_EQ(layer.covered_cells(), 1u);
   }
+}
+
+TEST(SweepKernel, RowsBeyondInt32IndicesAreRefused) {
+  LidarLayer layer;
+  const std::vector<float> rows(10, 1.0f);
+  EXPECT_THROW(layer.add_sweep(rows.data(), 2, INT32_MAX - 1, Rigid3{}, Rigid3{}, LidarOptions{}, 1), InternalError);
+  EXPECT_THROW(layer.add_sweep(rows.data(), 2, -1, Rigid3{}, Rigid3{}, LidarOptions{}, 1), InternalError);
+  EXPECT_EQ(layer.add_sweep(rows.data(), 1, INT32_MAX - 1, Rigid3{}, Rigid3{}, LidarOptions{}, 1), 1u);
+  EXPECT_EQ(layer.cells().find(cell_of(1.0, 1.0, 0.2))->point, INT32_MAX - 1);
 }
 
 }  // namespace

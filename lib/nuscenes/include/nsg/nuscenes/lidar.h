@@ -1,5 +1,6 @@
 #pragma once
 // LiDAR sweeps (`.pcd.bin`, nuscenes-format.md §4.1) and the sweep → global chain (§4.4).
+#include <cstddef>
 #include <filesystem>
 #include <vector>
 
@@ -18,6 +19,33 @@ struct LidarPoint {
 };
 static_assert(sizeof(LidarPoint) == 20, "LidarPoint must match the file record");
 inline constexpr size_t kLidarPointStrideFloats = 5;
+
+// A .pcd.bin opened for reading in runs of rows (the sweep loop reads a few thousand rows at
+// a time into a small buffer, so it bins each row while the row is still in cache). The
+// constructor throws IoError (missing/unreadable) or ParseError (size not a multiple of 20
+// bytes, or beyond int32 point indices); read() throws ParseError naming the point when a
+// value is not finite — after earlier runs were handed out, so a caller that consumes runs
+// as they come must drop what it built from this file on that exception.
+class LidarFile {
+ public:
+  explicit LidarFile(const std::filesystem::path& file);
+  ~LidarFile();
+  LidarFile(const LidarFile&) = delete;
+  LidarFile& operator=(const LidarFile&) = delete;
+
+  size_t rows() const { return rows_; }
+  bool done() const { return next_row_ == rows_; }
+  // Reads the next min(max_rows, rows left) rows into `points` (resized; capacity kept)
+  // and returns the index of the first of them in the file.
+  size_t read(std::vector<LidarPoint>& points, size_t max_rows);
+
+  static constexpr size_t kMaxRows = 0x7fffffff;
+
+ private:
+  std::filesystem::path file_;
+  int fd_ = -1;
+  size_t rows_ = 0, next_row_ = 0;
+};
 
 // Reads the whole file with a single read into `points` (reused: capacity is kept).
 // Throws IoError (missing/unreadable), ParseError if the size is not a multiple of 20

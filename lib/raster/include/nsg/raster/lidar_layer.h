@@ -70,8 +70,9 @@ class LidarLayer {
   // intensity, ring) in the sensor frame. Drops the roof square and points beyond range
   // (as select_sweep_points), maps the rest sensor → ego → global with the devkit's float32
   // chain (bit-identical to transform_points_devkit twice) and keeps the lowest per cell;
-  // cells name the point by its row in the file. Returns the number of kept points.
-  size_t add_sweep(const float* rows5, size_t count, const geometry::Rigid3& ego_from_sensor,
+  // cells name the point by its row in the file. A sweep may come in runs: `rows5` are
+  // the file's rows [first_row, first_row + count). Returns the number of kept points.
+  size_t add_sweep(const float* rows5, size_t count, int32_t first_row, const geometry::Rigid3& ego_from_sensor,
                    const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id,
                    SweepPath path = SweepPath::kAuto);
   // Lowest-wins union with another layer of the same resolution.
@@ -82,11 +83,11 @@ class LidarLayer {
   size_t covered_cells() const;
 
  private:
-  size_t add_sweep_portable(const float* rows5, size_t count, const geometry::Rigid3& ego_from_sensor,
+  size_t add_sweep_portable(const float* rows5, size_t count, int32_t first_row, const geometry::Rigid3& ego_from_sensor,
                             const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id);
   // Defined in sweep_kernel_avx2.cpp (compiled for any x86-64; the kernels carry
   // target("avx2") attributes and run only after the CPU check).
-  size_t add_sweep_fused(const float* rows5, size_t count, const geometry::Rigid3& ego_from_sensor,
+  size_t add_sweep_fused(const float* rows5, size_t count, int32_t first_row, const geometry::Rigid3& ego_from_sensor,
                          const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id,
                          bool allow_avx512);
   // Recentres table_ when block (bx, by) is more than a few blocks off its centre.
