@@ -1,5 +1,6 @@
 #include "nsg/core/parallel.h"
 
+#include <algorithm>
 #include <atomic>
 #include <exception>
 #include <limits>
@@ -97,6 +98,31 @@ void ThreadPool::parallel_for(size_t n, const std::function<void(size_t)>& fn) {
 void parallel_for(size_t n, int threads, const std::function<void(size_t)>& fn) {
   ThreadPool pool(threads);
   pool.parallel_for(n, fn);
+}
+
+size_t lane_count(size_t n, int threads) { return std::min(n, static_cast<size_t>(resolve_threads(threads))); }
+
+void parallel_for_lanes(size_t n, int threads, const std::function<void(size_t lane, size_t i)>& fn) {
+  std::atomic<size_t> next{0};
+  std::mutex error_mutex;
+  size_t error_index = std::numeric_limits<size_t>::max();
+  std::exception_ptr error;
+  parallel_for(lane_count(n, threads), threads, [&](size_t lane) {
+    for (size_t i; (i = next.fetch_add(1)) < n;) {
+      try {
+        fn(lane, i);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (i < error_index) {
+          error_index = i;
+          error = std::current_exception();
+        }
+        next = n;  // stop handing out work; this lane's accumulator is abandoned
+        return;
+      }
+    }
+  });
+  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace nsg

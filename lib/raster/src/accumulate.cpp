@@ -37,8 +37,9 @@ struct SceneWork {
   std::vector<Index> samples;  // sample rows, in table order
 };
 
-struct SceneResult {
-  explicit SceneResult(double resolution_m) : lidar(resolution_m), vehicles(resolution_m) {}
+// What one lane (a thread's run of scenes) accumulates.
+struct LaneResult {
+  explicit LaneResult(double resolution_m) : lidar(resolution_m), vehicles(resolution_m) {}
   LidarLayer lidar;
   VehicleLayer vehicles;
   size_t sweeps = 0, points_read = 0, points_kept = 0, boxes = 0;
@@ -89,7 +90,7 @@ void read_ahead(const std::filesystem::path& file) {
 }
 
 void add_sweep(const Database& db, Index sd_index, const LidarOptions& options, SweepBuffers& buf,
-               SceneResult& out) {
+               LaneResult& out) {
   const nuscenes::SampleData& sd = db.sample_data[sd_index];
   const nuscenes::CalibratedSensor& cs = db.calibrated_sensor[sd.calibrated_sensor];
   const nuscenes::EgoPose& ep = db.ego_pose[sd.ego_pose];
@@ -98,7 +99,7 @@ void add_sweep(const Database& db, Index sd_index, const LidarOptions& options, 
   // Filter (sensor frame, devkit remove_close), sensor → ego → global and lowest-z binning
   // in one pass over each run of rows (LidarLayer::add_sweep: fused AVX2 kernel where
   // available). A bad value in a later run throws after earlier runs were binned: the
-  // scene's layer is then dropped with the exception.
+  // lane's layers are then dropped with the exception.
   static_assert(sizeof(nuscenes::LidarPoint) == 5 * sizeof(float), "add_sweep takes rows of 5 float32");
   nuscenes::LidarFile file(db.file_path(sd));
   while (!file.done()) {
@@ -126,7 +127,7 @@ VehicleBox make_box(const nuscenes::Vec3& translation, const nuscenes::Vec3& siz
 
 bool is_vehicle_category(std::string_view name) { return name.starts_with("vehicle."); }
 
-void add_annotation_boxes(const Database& db, const SceneWork& work, SceneResult& out) {
+void add_annotation_boxes(const Database& db, const SceneWork& work, LaneResult& out) {
   for (Index s : work.samples) {
     const nuscenes::Sample& sample = db.sample[s];
     for (Index a : sample.anns) {
@@ -139,7 +140,7 @@ void add_annotation_boxes(const Database& db, const SceneWork& work, SceneResult
 }
 
 void add_detection_boxes(const Database& db, const nuscenes::DetectionResults& results, double threshold,
-                         const SceneWork& work, SceneResult& out) {
+                         const SceneWork& work, LaneResult& out) {
   for (Index s : work.samples) {
     const nuscenes::Sample& sample = db.sample[s];
     const Index row = results.find(sample.token);
@@ -165,13 +166,19 @@ LocationLayers accumulate_location(const Database& db, const std::string& locati
     nuscenes::check_known_samples(detections, db);
   }
 
+  // Scenes go to lanes (one per thread), each accumulating into its own layers: the
+  // layers' reductions are associative and commutative, so which lane took which scene
+  // does not change the result, and the scenes of one lane share blocks (they drive the
+  // same roads) instead of allocating and merging their own.
   const double res = options.lidar.resolution_m;
-  std::vector<SceneResult> results;  // one slot per scene; layers are move-only
-  results.reserve(work.size());
-  for (size_t k = 0; k < work.size(); ++k) results.emplace_back(res);
-  parallel_for(work.size(), threads, [&](size_t k) {
-    SweepBuffers buf;
-    SceneResult& out = results[k];
+  const size_t lanes = lane_count(work.size(), threads);
+  std::vector<LaneResult> results;  // layers are move-only
+  results.reserve(lanes);
+  for (size_t k = 0; k < lanes; ++k) results.emplace_back(res);
+  std::vector<SweepBuffers> buffers(lanes);
+  parallel_for_lanes(work.size(), threads, [&](size_t lane, size_t k) {
+    SweepBuffers& buf = buffers[lane];
+    LaneResult& out = results[lane];
     const std::vector<Index>& sweeps = work[k].sweeps;
     for (size_t i = 0; i < sweeps.size(); ++i) {
       if (i + 1 < sweeps.size()) read_ahead(db.file_path(db.sample_data[sweeps[i + 1]]));
@@ -183,12 +190,12 @@ LocationLayers accumulate_location(const Database& db, const std::string& locati
       add_annotation_boxes(db, work[k], out);
   });
 
-  // Reduce in scene order (the merges are order-free anyway; a fixed order keeps the
-  // allocation pattern, and so any iteration, identical too).
+  // Reduce the lanes (the layers iterate their blocks in key order, so the allocation
+  // order does not show downstream either).
   LocationLayers layers{LidarLayer(res), VehicleLayer(res), {}};
   layers.stats.scenes = work.size();
   for (size_t k = 0; k < results.size(); ++k) {
-    SceneResult& r = results[k];
+    LaneResult& r = results[k];
     if (k == 0) {  // merging into empty layers would copy the same cells and blocks
       layers.lidar = std::move(r.lidar);
       layers.vehicles = std::move(r.vehicles);
@@ -200,7 +207,7 @@ LocationLayers accumulate_location(const Database& db, const std::string& locati
     layers.stats.points_read += r.points_read;
     layers.stats.points_kept += r.points_kept;
     layers.stats.vehicle_boxes += r.boxes;
-    r = SceneResult(res);  // free the scene's blocks as soon as they are merged
+    r = LaneResult(res);  // free the lane's blocks as soon as they are merged
   }
   layers.stats.covered_cells = layers.lidar.covered_cells();
   layers.stats.lidar_blocks = layers.lidar.cells().block_count();

@@ -197,14 +197,11 @@ void LidarLayer::merge(const LidarLayer& other) {
   other.cells_.for_each([&](CellIndex c, const LidarCell& cell) {
     if (!cell.has_data()) return;
     LidarCell& current = cells_.at(c, cursor);
-    if (!current.has_data() || cell.lower_than(current)) current = cell;
+    if (!current.has_data() || cell.lower_than(current)) {
+      covered_cells_ += !current.has_data();
+      current = cell;
+    }
   });
-}
-
-size_t LidarLayer::covered_cells() const {
-  size_t n = 0;
-  cells_.for_each([&](CellIndex, const LidarCell& cell) { n += cell.has_data(); });
-  return n;
 }
 
 }  // namespace nsg::raster

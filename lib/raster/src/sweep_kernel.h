@@ -68,6 +68,7 @@ inline void LidarLayer::update_cell(const PointRef& p, int64_t col, int64_t row,
   cell.sweep = sweep_id;
   cell.point = p.point;
   if (!current->has_data() || cell.lower_than(*current)) {
+    covered_cells_ += !current->has_data();
     *current = cell;
     *z_copy = cell.z;
   }

@@ -15,8 +15,8 @@ double heading_fraction(double yaw_rad) {
   return f >= 1.0 ? 0.0 : f;
 }
 
-void VehicleLayer::offer(CellIndex c, const VehicleCell& v) {
-  VehicleCell& current = cells_.at(c);
+void VehicleLayer::offer(CellIndex c, const VehicleCell& v, SparseGrid<VehicleCell>::Cursor& cursor) {
+  VehicleCell& current = cells_.at(c, cursor);
   if (current.heading < 0.0f || v.score > current.score ||
       (v.score == current.score && v.order > current.order) ||
       (v.score == current.score && v.order == current.order && v.heading > current.heading))
@@ -31,12 +31,13 @@ void VehicleLayer::add_box(const VehicleBox& box) {
   const CellIndex lo = cell_of(box.center_x_m - ex, box.center_y_m - ey, resolution_m_);
   const CellIndex hi = cell_of(box.center_x_m + ex, box.center_y_m + ey, resolution_m_);
   const VehicleCell value{static_cast<float>(heading_fraction(box.yaw_rad)), static_cast<float>(box.score), box.order};
+  SparseGrid<VehicleCell>::Cursor cursor;
   for (int64_t row = lo.row; row <= hi.row; ++row) {
     for (int64_t col = lo.col; col <= hi.col; ++col) {
       const double dx = (static_cast<double>(col) + 0.5) * resolution_m_ - box.center_x_m;
       const double dy = (static_cast<double>(row) + 0.5) * resolution_m_ - box.center_y_m;
       const double along = c * dx + s * dy, across = -s * dx + c * dy;
-      if (std::abs(along) <= hl && std::abs(across) <= hw) offer({col, row}, value);
+      if (std::abs(along) <= hl && std::abs(across) <= hw) offer({col, row}, value, cursor);
     }
   }
 }
@@ -44,8 +45,9 @@ void VehicleLayer::add_box(const VehicleBox& box) {
 void VehicleLayer::merge(const VehicleLayer& other) {
   if (other.resolution_m_ != resolution_m_)
     throw InternalError("", "", "merging vehicle layers of different resolutions");
+  SparseGrid<VehicleCell>::Cursor cursor;
   other.cells_.for_each([&](CellIndex c, const VehicleCell& v) {
-    if (v.heading >= 0.0f) offer(c, v);
+    if (v.heading >= 0.0f) offer(c, v, cursor);
   });
 }
 

@@ -41,4 +41,13 @@ class ThreadPool {
 // One-shot helper: a temporary pool of `threads` (0 = all cores).
 void parallel_for(size_t n, int threads, const std::function<void(size_t)>& fn);
 
+// For reductions into per-lane accumulators: runs fn(lane, i) for i in [0, n) on
+// lane_count(n, threads) lanes; a lane runs one i at a time, so its accumulator needs no
+// lock, and a lane takes the next i as it finishes one (balanced load). Which lane gets
+// which i depends on timing: use it only where the result does not depend on grouping
+// (an associative, commutative reduction of the lanes). Errors as parallel_for: no i is
+// started after a failure, and the lowest failing i is rethrown.
+size_t lane_count(size_t n, int threads);
+void parallel_for_lanes(size_t n, int threads, const std::function<void(size_t lane, size_t i)>& fn);
+
 }  // namespace nsg

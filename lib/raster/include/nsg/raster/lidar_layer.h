@@ -80,7 +80,7 @@ class LidarLayer {
 
   const SparseGrid<LidarCell>& cells() const { return cells_; }
   double resolution_m() const { return resolution_m_; }
-  size_t covered_cells() const;
+  size_t covered_cells() const { return covered_cells_; }
 
  private:
   size_t add_sweep_portable(const float* rows5, size_t count, int32_t first_row, const geometry::Rigid3& ego_from_sensor,
@@ -102,6 +102,7 @@ class LidarLayer {
                    SparseGrid<LidarCell>::Cursor& cursor);
   double resolution_m_;
   SparseGrid<LidarCell> cells_;
+  size_t covered_cells_ = 0;  // cells with data, counted as they fill
   // The sweep loop's block pointers around the current sweeps (kept from sweep to sweep:
   // blocks never move while the layer lives), so a point finds its block without a map
   // lookup; recentred when the sweeps move away.

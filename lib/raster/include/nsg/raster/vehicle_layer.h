@@ -38,7 +38,7 @@ class VehicleLayer {
   const SparseGrid<VehicleCell>& cells() const { return cells_; }
 
  private:
-  void offer(CellIndex c, const VehicleCell& v);
+  void offer(CellIndex c, const VehicleCell& v, SparseGrid<VehicleCell>::Cursor& cursor);
   double resolution_m_;
   SparseGrid<VehicleCell> cells_;
 };
