@@ -61,7 +61,7 @@ struct FusedChunk {
 thread_local FusedChunk fused_chunk;
 
 // How many candidates ahead stage C prefetches their cells.
-constexpr size_t kPrefetchAhead = 12;
+constexpr size_t kPrefetchAhead = 24;
 
 // The z a point "sees" when it cannot be screened: nothing is higher, so it is a candidate.
 constexpr float kNoScreen = std::numeric_limits<float>::infinity();
@@ -291,6 +291,101 @@ NSG_AVX512_TARGET __attribute__((always_inline)) inline __m512 join(__m256 low, 
       _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_castps_pd(low)), _mm256_castps_pd(high), 1));
 }
 
+// Stage A on 16 rows at a time (AVX-512F): five loads, a permute per column and register
+// pair, the filter in float32 where that decides exactly (below), a compress per column.
+//
+// The filter in float32: for a float x, (double)|x| < roof ⟺ |x| < roof_f, the smallest
+// float ≥ roof. x² + y² > range² (float64) is decided by s = x²+y² in float32, whose
+// relative error is ≤ 2.0001·2^-24: s > far_f (range²·(1 + 2^-20) rounded up) ⇒ far,
+// s < near_f (range²·(1 − 2^-20) rounded down) ⇒ not far; a group with a lane in between
+// (within ~1e-6 of the circle) or a NaN takes the float64 test of the AVX2 stage.
+struct FloatFilter {
+  float roof_f, near_f, far_f;
+  bool usable;  // range² within [2^-60, 2^100]: no underflow or overflow worth a thought
+};
+
+float float_at_or_above(double v) {
+  float f = static_cast<float>(v);
+  if (static_cast<double>(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+float float_at_or_below(double v) {
+  float f = static_cast<float>(v);
+  if (static_cast<double>(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+
+FloatFilter float_filter(double roof, double range2) {
+  FloatFilter f{};
+  f.usable = range2 >= 0x1p-60 && range2 <= 0x1p100 && roof >= 0.0 && roof <= 0x1p100;
+  if (!f.usable) return f;
+  f.roof_f = float_at_or_above(roof);
+  f.near_f = float_at_or_below(range2 * (1.0 - 0x1p-20));
+  f.far_f = float_at_or_above(range2 * (1.0 + 0x1p-20));
+  return f;
+}
+
+// Column `col` of 16 rows of 5 floats held in v[0..4] (row j's column at float 5j + col).
+NSG_AVX512_TARGET __attribute__((always_inline)) inline __m512 column16(const __m512* v, int col) {
+  alignas(64) int32_t low[16], high[16], last[16];
+  __mmask16 from_high = 0, from_last = 0;
+  for (int j = 0; j < 16; ++j) {  // folded to constants: col is a literal at every call
+    const int flat = 5 * j + col;
+    low[j] = flat & 31, high[j] = (flat - 32) & 31, last[j] = (flat - 64) & 15;
+    from_high |= static_cast<__mmask16>((flat >= 32 && flat < 64) << j);
+    from_last |= static_cast<__mmask16>((flat >= 64) << j);
+  }
+  const __m512 a = _mm512_permutex2var_ps(v[0], _mm512_load_si512(low), v[1]);
+  const __m512 b = _mm512_permutex2var_ps(v[2], _mm512_load_si512(high), v[3]);
+  return _mm512_mask_permutexvar_ps(_mm512_mask_blend_ps(from_high, a, b), from_last, _mm512_load_si512(last), v[4]);
+}
+
+NSG_AVX512_TARGET size_t filter_compact_avx512(const float* rows5, size_t n, int32_t first_id, double roof,
+                                               double range2, const FloatFilter& ff, FusedChunk& c) {
+  const __m512 roof_f = _mm512_set1_ps(ff.roof_f), near_f = _mm512_set1_ps(ff.near_f), far_f = _mm512_set1_ps(ff.far_f);
+  const __m256d roof_d = _mm256_set1_pd(roof), range2_d = _mm256_set1_pd(range2);
+  const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  size_t m = 0, i = 0;
+  for (; i + 16 <= n; i += 16) {
+    const float* p = rows5 + 5 * i;
+    const __m512 v[5] = {_mm512_loadu_ps(p), _mm512_loadu_ps(p + 16), _mm512_loadu_ps(p + 32),
+                         _mm512_loadu_ps(p + 48), _mm512_loadu_ps(p + 64)};
+    const __m512 x = column16(v, 0), y = column16(v, 1), z = column16(v, 2), in = column16(v, 3);
+    const __mmask16 in_roof = _mm512_cmp_ps_mask(_mm512_abs_ps(x), roof_f, _CMP_LT_OQ) &
+                              _mm512_cmp_ps_mask(_mm512_abs_ps(y), roof_f, _CMP_LT_OQ);
+    const __m512 s = _mm512_add_ps(_mm512_mul_ps(x, x), _mm512_mul_ps(y, y));
+    __mmask16 far = _mm512_cmp_ps_mask(s, far_f, _CMP_GT_OQ);
+    const __mmask16 near = _mm512_cmp_ps_mask(s, near_f, _CMP_LT_OQ);
+    __mmask16 dropped = in_roof | far;
+    if (static_cast<__mmask16>(far | near) != 0xffff) [[unlikely]] {  // near the circle, or NaN: float64
+      const __m256 x_lo = _mm512_castps512_ps256(x), y_lo = _mm512_castps512_ps256(y);
+      const __m256 x_hi = _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(x), 1));
+      const __m256 y_hi = _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(y), 1));
+      dropped = static_cast<__mmask16>(dropped_bits(low_half(x_lo), low_half(y_lo), roof_d, range2_d) |
+                                       (dropped_bits(high_half(x_lo), high_half(y_lo), roof_d, range2_d) << 4) |
+                                       (dropped_bits(low_half(x_hi), low_half(y_hi), roof_d, range2_d) << 8) |
+                                       (dropped_bits(high_half(x_hi), high_half(y_hi), roof_d, range2_d) << 12));
+    }
+    const __mmask16 keep = static_cast<__mmask16>(~dropped);
+    const __m512i ids = _mm512_add_epi32(_mm512_set1_epi32(first_id + static_cast<int32_t>(i)), lanes);
+    _mm512_storeu_ps(c.x + m, _mm512_maskz_compress_ps(keep, x));
+    _mm512_storeu_ps(c.y + m, _mm512_maskz_compress_ps(keep, y));
+    _mm512_storeu_ps(c.z + m, _mm512_maskz_compress_ps(keep, z));
+    _mm512_storeu_ps(c.intensity + m, _mm512_maskz_compress_ps(keep, in));
+    _mm512_storeu_si512(c.ids + m, _mm512_maskz_compress_epi32(keep, ids));
+    m += static_cast<size_t>(std::popcount(static_cast<unsigned>(keep)));
+  }
+  for (; i < n; ++i) {  // the last < 16 rows, the same test in scalar double
+    const float* p = rows5 + 5 * i;
+    const double x = p[0], y = p[1];
+    const bool dropped = (std::abs(x) < roof && std::abs(y) < roof) || x * x + y * y > range2;
+    c.x[m] = p[0], c.y[m] = p[1], c.z[m] = p[2], c.intensity[m] = p[3];
+    c.ids[m] = first_id + static_cast<int32_t>(i);
+    m += !dropped;
+  }
+  return m;
+}
+
 NSG_AVX512_TARGET void transform_bin_avx512(FusedChunk& c, size_t m, const DevkitTransform& a,
                                             const DevkitTransform& b, const BinParams& p) {
   __m512d ra[9], rb[9];
@@ -362,13 +457,17 @@ size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, int32_t fir
   const float two_delta = static_cast<float>(2.0 * (r_error + 0x1p-24));
   static const bool has_avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
   const bool wide = allow_avx512 && has_avx512;
+  const FloatFilter filter = float_filter(roof, range2);
   const BinParams bin{inv_res, two_delta, static_cast<int32_t>(table_.bx0), static_cast<int32_t>(table_.by0)};
   FusedChunk& c = fused_chunk;
   SparseGrid<LidarCell>::Cursor cursor;  // for points outside the table
   size_t kept = 0;
   for (size_t start = 0; start < count; start += kRawChunk) {
     const size_t n = std::min(kRawChunk, count - start);
-    const size_t m = filter_compact(rows5 + 5 * start, n, first_row + static_cast<int32_t>(start), roof, range2, c);
+    const int32_t first_id = first_row + static_cast<int32_t>(start);
+    const size_t m = wide && filter.usable
+                         ? filter_compact_avx512(rows5 + 5 * start, n, first_id, roof, range2, filter, c)
+                         : filter_compact(rows5 + 5 * start, n, first_id, roof, range2, c);
     kept += m;
     if (wide)
       transform_bin_avx512(c, m, a, b, bin);
@@ -380,7 +479,7 @@ size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, int32_t fir
       // few candidates ahead so the misses overlap.
       if (j + kPrefetchAhead < nc) {
         const size_t ahead = c.candidates[j + kPrefetchAhead];
-        if (const LidarCell* block = table_.cells[static_cast<size_t>(c.slot[ahead])]) __builtin_prefetch(block + c.offset[ahead]);
+        if (const LidarCell* block = table_.cells[static_cast<size_t>(c.slot[ahead])]) __builtin_prefetch(block + c.offset[ahead], 1);
       }
       const size_t k = c.candidates[j];
       update_cell({c.x[k], c.y[k], c.z[k], c.intensity[k], c.ids[k]}, c.col[k], c.row[k], c.exact[k] != 0, sweep_id,

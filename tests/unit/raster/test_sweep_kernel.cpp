@@ -243,6 +243,66 @@ TEST(SweepKernel, EmptyAndTinySweeps) {
   }
 }
 
+// The AVX-512 stage A decides the filter in float32 where that is exact: with a roof and
+// a range that are not float32 values, points one ulp either side of the roof edge and of
+// the range circle (and NaN) must be kept or dropped as the float64 test does.
+TEST(SweepKernel, FilterEdgesWithOddOptions) {
+  LidarOptions odd;
+  odd.roof_half_size_m = 1.05;
+  odd.max_range_m = 47.3;
+  std::vector<float> rows;
+  auto add = [&](float x, float y) {
+    rows.insert(rows.end(), {x, y, -0.01f * static_cast<float>(rows.size() / 5), 7.0f, 0.0f});
+  };
+  // First, points where a plain float32 test of x² + y² > range² gets it wrong (found by a
+  // scan; only the margins make the kernel take float64 for them).
+  const double range2 = odd.max_range_m * odd.max_range_m;
+  size_t misjudged = 0;
+  for (int a = 0; a < 20000 && misjudged < 12; ++a) {
+    const double angle = 0.00157 * a;
+    const float cy = static_cast<float>(odd.max_range_m * std::sin(angle));
+    float x = static_cast<float>(odd.max_range_m * std::cos(angle));
+    for (int k = 0; k < 4; ++k) x = std::nextafter(x, 0.0f);
+    for (int k = 0; k < 9; ++k, x = std::nextafter(x, 1e9f)) {
+      const float s32 = x * x + cy * cy;
+      const double s64 = static_cast<double>(x) * x + static_cast<double>(cy) * cy;
+      const float range2_32 = static_cast<float>(range2);
+      if (s32 != range2_32 && (s32 > range2_32) != (s64 > range2)) add(x, cy), ++misjudged;
+    }
+  }
+  ASSERT_GE(misjudged, 4u);
+  while (rows.size() / 5 % 16 != 0) add(20.0f, -20.0f);  // their own groups of 16: no other lane forces float64
+  const float roof = static_cast<float>(odd.roof_half_size_m);
+  for (float edge : {roof, -roof}) {
+    float x = edge;
+    for (int k = 0; k < 4; ++k) x = std::nextafter(x, 0.0f);
+    for (int k = 0; k < 9; ++k, x = std::nextafter(x, edge * 2)) add(x, 0.5f), add(0.25f, x);
+  }
+  for (int a = 0; a < 24; ++a) {  // around the range circle, a few ulps either side
+    const double angle = 0.2618 * a;
+    const float cx = static_cast<float>(odd.max_range_m * std::cos(angle));
+    const float cy = static_cast<float>(odd.max_range_m * std::sin(angle));
+    for (int k = -2; k <= 2; ++k) {
+      float x = cx;
+      for (int step = 0; step < std::abs(k); ++step) x = std::nextafter(x, k > 0 ? 1e9f : -1e9f);
+      add(x, cy);
+    }
+  }
+  add(std::nanf(""), 3.0f);
+  add(3.0f, std::nanf(""));
+  while (rows.size() / 5 % 16 != 5) add(20.0f, -20.0f);  // whole groups of 16 and a tail
+  const size_t n = rows.size() / 5;
+  std::vector<int32_t> expected = select_sweep_points(rows.data(), n, 5, odd);
+  ASSERT_GT(expected.size(), 20u);
+  ASSERT_LT(expected.size(), n - 20);
+  for (Path path : {Path::kPortable, Path::kFused, Path::kFusedAvx2}) {
+    if (path != Path::kPortable && !LidarLayer::fused_kernel_available()) continue;
+    LidarLayer layer;
+    EXPECT_EQ(layer.add_sweep(rows.data(), n, 0, Rigid3{}, Rigid3{}, odd, 3, path), expected.size())
+        << "path " << static_cast<int>(path);
+  }
+}
+
 TEST(SweepKernel, RowsBeyondInt32IndicesAreRefused) {
   LidarLayer layer;
   const std::vector<float> rows(10, 1.0f);
