@@ -264,6 +264,15 @@ std::vector<Case> catalogue() {
                      s.release.write(file, bytes);
                      s.expect = {file, "77"};
                    }});
+  cases.push_back({"nan_in_ring_of_last_point", [](Scenario& s) {
+                     // The ring column, in the last run of rows the sweep loop reads.
+                     const std::string file = first_lidar_file(s.release);
+                     std::string bytes = s.release.read(file);
+                     const size_t last = bytes.size() / 20 - 1;
+                     put_float(bytes, 5 * last + 4, std::numeric_limits<float>::quiet_NaN());
+                     s.release.write(file, bytes);
+                     s.expect = {file, "point " + std::to_string(last)};
+                   }});
   // Damaged camera images and semantic masks (every key frame of a channel, see above).
   cases.push_back({"jpeg_cut_in_half", [](Scenario& s) {
                      for (const std::string& f : s.release.key_frame_files("samples/CAM_FRONT/")) {

@@ -51,7 +51,11 @@ LidarFile::LidarFile(const std::filesystem::path& file) : file_(file) {
 
 LidarFile::~LidarFile() { ::close(fd_); }
 
-size_t LidarFile::read(std::vector<LidarPoint>& points, size_t max_rows) {
+void LidarFile::fail_not_finite(size_t row) const {
+  throw ParseError(file_.string(), "point " + std::to_string(row), "finite x, y, z, intensity, ring");
+}
+
+size_t LidarFile::read(std::vector<LidarPoint>& points, size_t max_rows, Check check) {
   const size_t first = next_row_;
   const size_t count = std::min(max_rows, rows_ - next_row_);
   points.resize(count);
@@ -66,13 +70,14 @@ size_t LidarFile::read(std::vector<LidarPoint>& points, size_t max_rows) {
   }
   next_row_ += count;
   // The slow scan for the index runs only when a value is bad.
-  if (all_finite(reinterpret_cast<const uint32_t*>(points.data()), count * kLidarPointStrideFloats)) return first;
+  if (check == Check::kCallerChecks ||
+      all_finite(reinterpret_cast<const uint32_t*>(points.data()), count * kLidarPointStrideFloats))
+    return first;
   for (size_t i = 0; i < count; ++i) {
     const LidarPoint& p = points[i];
     if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.intensity) &&
-          std::isfinite(p.ring))) {
-      throw ParseError(file_.string(), "point " + std::to_string(first + i), "finite x, y, z, intensity, ring");
-    }
+          std::isfinite(p.ring)))
+      fail_not_finite(first + i);
   }
   return first;
 }

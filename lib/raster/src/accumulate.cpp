@@ -96,17 +96,20 @@ void add_sweep(const Database& db, Index sd_index, const LidarOptions& options, 
   const nuscenes::EgoPose& ep = db.ego_pose[sd.ego_pose];
   const geometry::Rigid3 ego_from_sensor = geometry::Rigid3::from_pose(cs.translation, cs.rotation);
   const geometry::Rigid3 global_from_ego = geometry::Rigid3::from_pose(ep.translation, ep.rotation);
-  // Filter (sensor frame, devkit remove_close), sensor → ego → global and lowest-z binning
-  // in one pass over each run of rows (LidarLayer::add_sweep: fused AVX2 kernel where
-  // available). A bad value in a later run throws after earlier runs were binned: the
-  // lane's layers are then dropped with the exception.
+  // Finite check, filter (sensor frame, devkit remove_close), sensor → ego → global and
+  // lowest-z binning in one pass over each run of rows (LidarLayer::add_sweep: fused
+  // AVX2 / AVX-512 kernel where available). A bad value throws after earlier runs were
+  // binned: the lane's layers are then dropped with the exception.
   static_assert(sizeof(nuscenes::LidarPoint) == 5 * sizeof(float), "add_sweep takes rows of 5 float32");
   nuscenes::LidarFile file(db.file_path(sd));
   while (!file.done()) {
-    const size_t first_row = file.read(buf.raw, kSweepRunRows);
+    const size_t first_row = file.read(buf.raw, kSweepRunRows, nuscenes::LidarFile::Check::kCallerChecks);
+    int64_t bad_row = -1;
     out.points_kept += out.lidar.add_sweep(reinterpret_cast<const float*>(buf.raw.data()), buf.raw.size(),
                                            static_cast<int32_t>(first_row), ego_from_sensor, global_from_ego,
-                                           options, static_cast<int32_t>(sd_index));
+                                           options, static_cast<int32_t>(sd_index),
+                                           LidarLayer::SweepPath::kAuto, &bad_row);
+    if (bad_row >= 0) file.fail_not_finite(static_cast<size_t>(bad_row));
   }
   ++out.sweeps;
   out.points_read += file.rows();

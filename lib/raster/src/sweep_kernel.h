@@ -3,6 +3,8 @@
 // lidar_layer.cpp, the fused AVX2 kernel in sweep_kernel_avx2.cpp) share, so both decide
 // every cell the same way.
 #include <algorithm>
+#include <bit>
+#include <cstddef>
 #include <cstdint>
 
 #include "nsg/raster/lidar_layer.h"
@@ -21,6 +23,16 @@ inline constexpr int64_t kTableBlocks = 32;
 inline constexpr int64_t kRecentreBlocks = 6;
 // The table has one more entry, always null: the slot of points that cannot be screened.
 inline constexpr int32_t kNullSlot = static_cast<int32_t>(kTableBlocks * kTableBlocks);
+
+// Inf and NaN have every exponent bit set.
+inline constexpr uint32_t kFloatExponent = 0x7f800000u;
+
+// The first of `rows` rows of 5 float32 holding an Inf or NaN, or −1.
+inline int64_t first_non_finite_row(const float* rows5, size_t rows) {
+  for (size_t i = 0; i < 5 * rows; ++i)
+    if ((std::bit_cast<uint32_t>(rows5[i]) & kFloatExponent) == kFloatExponent) return static_cast<int64_t>(i / 5);
+  return -1;
+}
 
 // The vector screens work on int32 block coordinates: a table origin beyond ±2^30 blocks
 // (±1.4e10 m at 0.2 m) only loses the screen, never correctness.

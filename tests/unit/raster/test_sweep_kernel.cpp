@@ -9,6 +9,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <utility>
@@ -300,6 +301,45 @@ TEST(SweepKernel, FilterEdgesWithOddOptions) {
     LidarLayer layer;
     EXPECT_EQ(layer.add_sweep(rows.data(), n, 0, Rigid3{}, Rigid3{}, odd, 3, path), expected.size())
         << "path " << static_cast<int>(path);
+  }
+}
+
+// The finite check done in the kernel's pass (the reader skips its own): the first row with
+// an Inf or NaN in any of its five values, wherever it falls (a group of 8 or 16, a group's
+// first or last row, the tail, a later kernel chunk), as a file row.
+TEST(SweepKernel, FindsTheFirstNonFiniteRow) {
+  constexpr size_t kRows = 5003;  // three kernel chunks, the last ending in a tail
+  constexpr int32_t kFirstRow = 100;
+  Rng rng(5);
+  std::vector<float> clean;
+  for (size_t i = 0; i < kRows; ++i)
+    clean.insert(clean.end(), {static_cast<float>(rng.uniform(-50.0, 50.0)), static_cast<float>(rng.uniform(-50.0, 50.0)),
+                               static_cast<float>(rng.uniform(-2.0, 2.0)), 9.0f, static_cast<float>(i % 32)});
+  const Rigid3 pose = Rigid3::from_pose({600.0, 1100.0, 0.3}, geometry::quaternion_from_yaw(0.4));
+  const float bad_values[] = {std::nanf(""), std::numeric_limits<float>::infinity(),
+                              -std::numeric_limits<float>::infinity()};
+  for (Path path : {Path::kPortable, Path::kFused, Path::kFusedAvx2}) {
+    if (path != Path::kPortable && !LidarLayer::fused_kernel_available()) continue;
+    SCOPED_TRACE("path " + std::to_string(static_cast<int>(path)));
+    int64_t bad_row = 7;
+    LidarLayer clean_layer;
+    const size_t kept = clean_layer.add_sweep(clean.data(), kRows, kFirstRow, Rigid3{}, pose, LidarOptions{}, 1, path, &bad_row);
+    EXPECT_EQ(bad_row, -1);
+    EXPECT_GT(kept, kRows / 2);
+    size_t k = 0;
+    for (size_t row : {size_t{0}, size_t{7}, size_t{8}, size_t{15}, size_t{16}, size_t{2047}, size_t{2048}, size_t{3001},
+                       kRows - 2, kRows - 1}) {
+      std::vector<float> rows = clean;
+      const size_t column = k % 5;  // x, y, z, intensity and ring in turn
+      rows[5 * row + column] = bad_values[k % 3];
+      if (row + 40 < kRows) rows[5 * (row + 40) + 1] = std::nanf("");  // a later one is not the first
+      ++k;
+      LidarLayer layer;
+      layer.add_sweep(rows.data(), kRows, kFirstRow, Rigid3{}, pose, LidarOptions{}, 1, path, &bad_row);
+      EXPECT_EQ(bad_row, kFirstRow + static_cast<int64_t>(row)) << "row " << row << ", column " << column;
+      LidarLayer unchecked;  // without the check the rows are added (NaN/Inf compare false)
+      EXPECT_GT(unchecked.add_sweep(rows.data(), kRows, kFirstRow, Rigid3{}, pose, LidarOptions{}, 1, path), kRows / 2);
+    }
   }
 }
 

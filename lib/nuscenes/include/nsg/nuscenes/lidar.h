@@ -36,8 +36,13 @@ class LidarFile {
   size_t rows() const { return rows_; }
   bool done() const { return next_row_ == rows_; }
   // Reads the next min(max_rows, rows left) rows into `points` (resized; capacity kept)
-  // and returns the index of the first of them in the file.
-  size_t read(std::vector<LidarPoint>& points, size_t max_rows);
+  // and returns the index of the first of them in the file. kCallerChecks skips the
+  // finite check: for a caller that checks every value in its own pass over the rows
+  // (the sweep kernel) and reports a bad one with fail_not_finite.
+  enum class Check { kFinite, kCallerChecks };
+  size_t read(std::vector<LidarPoint>& points, size_t max_rows, Check check = Check::kFinite);
+  // The ParseError of a value that is not finite in row `row` of the file.
+  [[noreturn]] void fail_not_finite(size_t row) const;
 
   static constexpr size_t kMaxRows = 0x7fffffff;
 
