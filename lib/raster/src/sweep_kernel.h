@@ -68,9 +68,13 @@ inline void LidarLayer::update_cell(const PointRef& p, int64_t col, int64_t row,
     current = &cells_.at({col, row}, cursor);
     z_copy = &sink;
   }
+  offer_point(p, sweep_id, *current, *z_copy);
+}
+
+inline void LidarLayer::offer_point(const PointRef& p, int32_t sweep_id, LidarCell& current, float& z_copy) {
   // Most points are not lower than what the cell holds (an empty cell's z is +inf):
   // decide on z before building; equal heights go on to the full tie-break.
-  if (p.z > current->z) return;
+  if (p.z > current.z) return;
   LidarCell cell;
   cell.x = p.x;
   cell.y = p.y;
@@ -79,10 +83,10 @@ inline void LidarLayer::update_cell(const PointRef& p, int64_t col, int64_t row,
   cell.intensity = static_cast<uint8_t>(std::clamp(static_cast<double>(p.intensity), 0.0, 255.0) + 0.5);
   cell.sweep = sweep_id;
   cell.point = p.point;
-  if (!current->has_data() || cell.lower_than(*current)) {
-    covered_cells_ += !current->has_data();
-    *current = cell;
-    *z_copy = cell.z;
+  if (!current.has_data() || cell.lower_than(current)) {
+    covered_cells_ += !current.has_data();
+    current = cell;
+    z_copy = cell.z;
   }
 }
 

@@ -519,11 +519,22 @@ size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, int32_t fir
       // few candidates ahead so the misses overlap.
       if (j + kPrefetchAhead < nc) {
         const size_t ahead = c.candidates[j + kPrefetchAhead];
-        if (const LidarCell* block = table_.cells[static_cast<size_t>(c.slot[ahead])]) __builtin_prefetch(block + c.offset[ahead], 1);
+        if (const LidarCell* block = table_.cells[static_cast<size_t>(c.slot[ahead])]) {
+          // A 24-byte cell may straddle two cache lines: fetch both ends.
+          const char* cell = reinterpret_cast<const char*>(block + c.offset[ahead]);
+          __builtin_prefetch(cell, 1);
+          __builtin_prefetch(cell + sizeof(LidarCell) - 1, 1);
+        }
       }
       const size_t k = c.candidates[j];
-      update_cell({c.x[k], c.y[k], c.z[k], c.intensity[k], c.ids[k]}, c.col[k], c.row[k], c.exact[k] != 0, sweep_id,
-                  cursor);
+      const PointRef p{c.x[k], c.y[k], c.z[k], c.intensity[k], c.ids[k]};
+      // A screened point's slot holds its block (the null slot never does): stage B1 found
+      // the cell already. The others (near a border, outside the table, new block) look it up.
+      const size_t slot = static_cast<size_t>(c.slot[k]);
+      if (LidarCell* block = table_.cells[slot]) [[likely]]
+        offer_point(p, sweep_id, block[c.offset[k]], table_.z[slot][c.offset[k]]);
+      else
+        update_cell(p, c.col[k], c.row[k], c.exact[k] != 0, sweep_id, cursor);
     }
   }
   return kept;

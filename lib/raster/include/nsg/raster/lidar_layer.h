@@ -105,6 +105,8 @@ class LidarLayer {
   };
   void update_cell(const PointRef& p, int64_t col, int64_t row, bool exact, int32_t sweep_id,
                    SparseGrid<LidarCell>::Cursor& cursor);
+  // The decision itself, on a cell found already (z_copy: its screen copy or a sink).
+  void offer_point(const PointRef& p, int32_t sweep_id, LidarCell& current, float& z_copy);
   double resolution_m_;
   SparseGrid<LidarCell> cells_;
   size_t covered_cells_ = 0;  // cells with data, counted as they fill
