@@ -4,6 +4,10 @@
 #include <cstring>
 #include <stdexcept>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "json_reader.h"
 #include "nsg/core/error.h"
 
@@ -13,12 +17,40 @@ namespace nsg::nuscenes {
 
 namespace {
 
+#if defined(__SSE2__)
+// 16 lowercase hex characters → 8 bytes (SSE2, baseline on x86-64); false if one is not
+// [0-9a-f]. A table record holds ~6 tokens, so this runs millions of times per table.
+bool hex16_to_bytes(const char* text, std::uint8_t* out) {
+  const __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(text));
+  const __m128i digit = _mm_sub_epi8(c, _mm_set1_epi8('0'));   // 0..9 for '0'..'9'
+  const __m128i letter = _mm_sub_epi8(c, _mm_set1_epi8('a'));  // 0..5 for 'a'..'f'
+  const __m128i is_digit = _mm_cmpeq_epi8(_mm_min_epu8(digit, _mm_set1_epi8(9)), digit);  // unsigned ≤ 9
+  const __m128i is_letter = _mm_cmpeq_epi8(_mm_min_epu8(letter, _mm_set1_epi8(5)), letter);
+  if (_mm_movemask_epi8(_mm_or_si128(is_digit, is_letter)) != 0xffff) return false;
+  const __m128i nibble =
+      _mm_or_si128(_mm_and_si128(is_digit, digit), _mm_andnot_si128(is_digit, _mm_add_epi8(letter, _mm_set1_epi8(10))));
+  // 16-bit lanes hold (second << 8 | first); a byte is (first << 4) | second.
+  const __m128i pairs = _mm_or_si128(_mm_slli_epi16(_mm_and_si128(nibble, _mm_set1_epi16(0x00ff)), 4),
+                                     _mm_srli_epi16(nibble, 8));
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(out), _mm_packus_epi16(pairs, pairs));
+  return true;
+}
+#endif
 
 }  // namespace
 
 std::optional<Token> Token::parse(std::string_view text, bool allow_short) {
   Token t;
   if (text.empty()) return t;
+#if defined(__SSE2__)
+  if (text.size() == 32) {
+    if (hex16_to_bytes(text.data(), t.bytes_.data()) && hex16_to_bytes(text.data() + 16, t.bytes_.data() + 8)) {
+      t.kind_ = Kind::kHex32;
+      return t;
+    }
+    t.bytes_ = {};
+  }
+#else
   if (text.size() == 32) {
     // SWAR: 8 chars per step; lowercase hex only (this runs ~6 times per table record).
     constexpr std::uint64_t kL = 0x0101010101010101ULL, kH = 0x8080808080808080ULL;
@@ -43,6 +75,7 @@ std::optional<Token> Token::parse(std::string_view text, bool allow_short) {
     }
     t.bytes_ = {};
   }
+#endif
   if (!allow_short || text.size() > kMaxShortLength) return std::nullopt;
   for (char c : text) {
     if (c <= ' ' || c > '~') return std::nullopt;

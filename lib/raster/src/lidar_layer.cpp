@@ -151,13 +151,11 @@ thread_local SweepColumns sweep_columns;
 size_t LidarLayer::add_sweep_portable(const float* rows5, size_t count, int32_t first_row,
                                       const geometry::Rigid3& ego_from_sensor,
                                       const geometry::Rigid3& global_from_ego, const LidarOptions& options,
-                                      int32_t sweep_id, int64_t* bad_row) {
-  if (bad_row != nullptr) {  // checked before anything is added (this path is not the fast one)
-    const int64_t bad = sweep_kernel::first_non_finite_row(rows5, count);
-    if (bad >= 0) {
-      *bad_row = first_row + bad;
-      return 0;
-    }
+                                      int32_t sweep_id, int64_t& bad_row) {
+  // Checked before anything is added (this path is not the fast one).
+  if (const int64_t bad = sweep_kernel::first_non_finite_row(rows5, count); bad >= 0) {
+    bad_row = first_row + bad;
+    return 0;
   }
   SweepColumns& buf = sweep_columns;
   // The filter runs in the sensor frame (devkit remove_close, as select_sweep_points);
@@ -184,17 +182,22 @@ size_t LidarLayer::add_sweep_portable(const float* rows5, size_t count, int32_t 
 size_t LidarLayer::add_sweep(const float* rows5, size_t count, int32_t first_row, const geometry::Rigid3& ego_from_sensor,
                              const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id,
                              SweepPath path, int64_t* first_non_finite_row) {
-  if (first_non_finite_row != nullptr) *first_non_finite_row = -1;
   const bool fused = path == SweepPath::kFused || path == SweepPath::kFusedAvx2;
   if (first_row < 0 || count > static_cast<size_t>(std::numeric_limits<int32_t>::max() - first_row))
     throw InternalError("", "", "sweep rows beyond int32 point indices");
   if (fused && !fused_kernel_available())
     throw InternalError("", "", "the fused LiDAR sweep kernel needs a CPU with AVX2");
-  if (path == SweepPath::kPortable || !fused_kernel_available())
-    return add_sweep_portable(rows5, count, first_row, ego_from_sensor, global_from_ego, options, sweep_id,
-                              first_non_finite_row);
-  return add_sweep_fused(rows5, count, first_row, ego_from_sensor, global_from_ego, options, sweep_id,
-                         path != SweepPath::kFusedAvx2, first_non_finite_row);
+  int64_t bad_row = -1;
+  const size_t kept =
+      path == SweepPath::kPortable || !fused_kernel_available()
+          ? add_sweep_portable(rows5, count, first_row, ego_from_sensor, global_from_ego, options, sweep_id, bad_row)
+          : add_sweep_fused(rows5, count, first_row, ego_from_sensor, global_from_ego, options, sweep_id,
+                            path != SweepPath::kFusedAvx2, bad_row);
+  if (first_non_finite_row != nullptr)
+    *first_non_finite_row = bad_row;
+  else if (bad_row >= 0)
+    throw DataError("", "point " + std::to_string(bad_row), "finite x, y, z, intensity and ring in every sweep row");
+  return kept;
 }
 
 void LidarLayer::merge(const LidarLayer& other) {

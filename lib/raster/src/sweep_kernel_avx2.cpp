@@ -111,11 +111,11 @@ NSG_AVX2_INLINE int dropped_bits(__m128 xf, __m128 yf, __m256d roof, __m256d ran
 }
 
 // Stage A: rows [0, n) of `rows5` (ids first_id + row) → kept points packed into c's
-// columns; returns how many. With `check_finite`, every value (ring too) is checked on
-// the way: at the first group holding an Inf or NaN, `bad_row` gets that row (in rows5)
-// and the stage stops (the caller drops the sweep).
+// columns; returns how many. Every value (ring too) is checked for Inf/NaN on the way:
+// at the first group holding one, `bad_row` gets that row (in rows5) and the stage stops
+// (nothing of the group is added; the caller reports the row).
 __attribute__((target("avx2"))) size_t filter_compact(const float* rows5, size_t n, int32_t first_id, double roof,
-                                                      double range2, bool check_finite, int64_t& bad_row,
+                                                      double range2, int64_t& bad_row,
                                                       FusedChunk& c) {
   const __m256d v_roof = _mm256_set1_pd(roof), v_range2 = _mm256_set1_pd(range2);
   const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
@@ -123,16 +123,14 @@ __attribute__((target("avx2"))) size_t filter_compact(const float* rows5, size_t
   size_t m = 0, i = 0;
   for (; i + 8 <= n; i += 8) {
     const float* p = rows5 + 5 * i;
-    if (check_finite) {  // the 8 rows' 40 values as five vectors
-      __m256i bad = _mm256_setzero_si256();
-      for (int r = 0; r < 5; ++r) {
-        const __m256i w = _mm256_and_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p + 8 * r)), exponent);
-        bad = _mm256_or_si256(bad, _mm256_cmpeq_epi32(w, exponent));
-      }
-      if (!_mm256_testz_si256(bad, bad)) [[unlikely]] {
-        bad_row = static_cast<int64_t>(i) + sweep_kernel::first_non_finite_row(p, 8);
-        return m;
-      }
+    __m256i bad = _mm256_setzero_si256();  // the 8 rows' 40 values as five vectors
+    for (int r = 0; r < 5; ++r) {
+      const __m256i w = _mm256_and_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p + 8 * r)), exponent);
+      bad = _mm256_or_si256(bad, _mm256_cmpeq_epi32(w, exponent));
+    }
+    if (!_mm256_testz_si256(bad, bad)) [[unlikely]] {
+      bad_row = static_cast<int64_t>(i) + sweep_kernel::first_non_finite_row(p, 8);
+      return m;
     }
     // Rows i..i+3 in the low halves, i+4..i+7 in the high halves; a 4×4 transpose per
     // half gives x, y, z, intensity of the 8 rows (lanes in row order).
@@ -157,7 +155,7 @@ __attribute__((target("avx2"))) size_t filter_compact(const float* rows5, size_t
   }
   for (; i < n; ++i) {  // the last < 8 rows, the same test in scalar double
     const float* p = rows5 + 5 * i;
-    if (check_finite && sweep_kernel::first_non_finite_row(p, 1) == 0) [[unlikely]] {
+    if (sweep_kernel::first_non_finite_row(p, 1) == 0) [[unlikely]] {
       bad_row = static_cast<int64_t>(i);
       return m;
     }
@@ -360,8 +358,8 @@ NSG_AVX512_TARGET __attribute__((always_inline)) inline __m512 column16(const __
 }
 
 NSG_AVX512_TARGET size_t filter_compact_avx512(const float* rows5, size_t n, int32_t first_id, double roof,
-                                               double range2, const FloatFilter& ff, bool check_finite,
-                                               int64_t& bad_row, FusedChunk& c) {
+                                               double range2, const FloatFilter& ff, int64_t& bad_row,
+                                               FusedChunk& c) {
   const __m512i exponent = _mm512_set1_epi32(static_cast<int32_t>(sweep_kernel::kFloatExponent));
   const __m512 roof_f = _mm512_set1_ps(ff.roof_f), near_f = _mm512_set1_ps(ff.near_f), far_f = _mm512_set1_ps(ff.far_f);
   const __m256d roof_d = _mm256_set1_pd(roof), range2_d = _mm256_set1_pd(range2);
@@ -371,14 +369,12 @@ NSG_AVX512_TARGET size_t filter_compact_avx512(const float* rows5, size_t n, int
     const float* p = rows5 + 5 * i;
     const __m512 v[5] = {_mm512_loadu_ps(p), _mm512_loadu_ps(p + 16), _mm512_loadu_ps(p + 32),
                          _mm512_loadu_ps(p + 48), _mm512_loadu_ps(p + 64)};
-    if (check_finite) {
-      __mmask16 bad = 0;
-      for (int r = 0; r < 5; ++r)
-        bad |= _mm512_cmpeq_epi32_mask(_mm512_and_si512(_mm512_castps_si512(v[r]), exponent), exponent);
-      if (bad != 0) [[unlikely]] {
-        bad_row = static_cast<int64_t>(i) + sweep_kernel::first_non_finite_row(p, 16);
-        return m;
-      }
+    __mmask16 bad = 0;
+    for (int r = 0; r < 5; ++r)
+      bad |= _mm512_cmpeq_epi32_mask(_mm512_and_si512(_mm512_castps_si512(v[r]), exponent), exponent);
+    if (bad != 0) [[unlikely]] {
+      bad_row = static_cast<int64_t>(i) + sweep_kernel::first_non_finite_row(p, 16);
+      return m;
     }
     const __m512 x = column16(v, 0), y = column16(v, 1), z = column16(v, 2), in = column16(v, 3);
     const __mmask16 in_roof = _mm512_cmp_ps_mask(_mm512_abs_ps(x), roof_f, _CMP_LT_OQ) &
@@ -407,7 +403,7 @@ NSG_AVX512_TARGET size_t filter_compact_avx512(const float* rows5, size_t n, int
   }
   for (; i < n; ++i) {  // the last < 16 rows, the same test in scalar double
     const float* p = rows5 + 5 * i;
-    if (check_finite && sweep_kernel::first_non_finite_row(p, 1) == 0) [[unlikely]] {
+    if (sweep_kernel::first_non_finite_row(p, 1) == 0) [[unlikely]] {
       bad_row = static_cast<int64_t>(i);
       return m;
     }
@@ -471,7 +467,7 @@ bool LidarLayer::fused_kernel_available() {
 size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, int32_t first_row,
                                    const geometry::Rigid3& ego_from_sensor,
                                    const geometry::Rigid3& global_from_ego, const LidarOptions& options,
-                                   int32_t sweep_id, bool allow_avx512, int64_t* bad_row) {
+                                   int32_t sweep_id, bool allow_avx512, int64_t& bad_row) {
   // The table is centred on the ego position (the sweep lies within max range of it);
   // poses that far out (or not finite) take the portable path, which needs no int32.
   const double ex = global_from_ego.translation.x() / resolution_m_, ey = global_from_ego.translation.y() / resolution_m_;
@@ -502,10 +498,10 @@ size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, int32_t fir
     int64_t bad = -1;
     const size_t m =
         wide && filter.usable
-            ? filter_compact_avx512(rows5 + 5 * start, n, first_id, roof, range2, filter, bad_row != nullptr, bad, c)
-            : filter_compact(rows5 + 5 * start, n, first_id, roof, range2, bad_row != nullptr, bad, c);
+            ? filter_compact_avx512(rows5 + 5 * start, n, first_id, roof, range2, filter, bad, c)
+            : filter_compact(rows5 + 5 * start, n, first_id, roof, range2, bad, c);
     if (bad >= 0) [[unlikely]] {  // this chunk is not added; the caller drops the sweep
-      *bad_row = first_row + static_cast<int64_t>(start) + bad;
+      bad_row = first_row + static_cast<int64_t>(start) + bad;
       return kept;
     }
     kept += m;
@@ -547,7 +543,7 @@ bool LidarLayer::fused_kernel_available() { return false; }
 size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, int32_t first_row,
                                    const geometry::Rigid3& ego_from_sensor,
                                    const geometry::Rigid3& global_from_ego, const LidarOptions& options,
-                                   int32_t sweep_id, bool allow_avx512, int64_t* bad_row) {
+                                   int32_t sweep_id, bool allow_avx512, int64_t& bad_row) {
   return add_sweep_portable(rows5, count, first_row, ego_from_sensor, global_from_ego, options, sweep_id, bad_row);
 }
 

@@ -43,6 +43,25 @@ TEST(Token, ParsesHexShortAndEmpty) {
   EXPECT_FALSE(Token::parse("0123456789abcdef0123456789abcde"));  // 31 chars
 }
 
+// Every byte value at every position: only [0-9a-f] parse as a 32-char token, and what
+// parses prints back the same (the vectorized parser against the definition).
+TEST(Token, AcceptsExactlyLowercaseHexAtEveryPosition) {
+  const std::string valid = "0f1e2d3c4b5a69788796a5b4c3d2e1f0";
+  for (size_t pos = 0; pos < 32; ++pos) {
+    for (int byte = 0; byte < 256; ++byte) {
+      std::string text = valid;
+      text[pos] = static_cast<char>(byte);
+      const bool hex = (byte >= '0' && byte <= '9') || (byte >= 'a' && byte <= 'f');
+      const std::optional<Token> t = Token::parse(text);
+      ASSERT_EQ(t.has_value(), hex) << "position " << pos << ", byte " << byte;
+      if (hex) {
+        ASSERT_EQ(t->kind(), Token::Kind::kHex32);
+        ASSERT_EQ(t->str(), text);
+      }
+    }
+  }
+}
+
 TEST(Token, IndexFindsEveryRowAndReportsDuplicates) {
   std::vector<Token> tokens;
   for (int i = 0; i < 1000; ++i) tokens.push_back(Token::from_string(strprintf("%032x", i * 7919)));

@@ -12,6 +12,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -246,7 +247,7 @@ TEST(SweepKernel, EmptyAndTinySweeps) {
 
 // The AVX-512 stage A decides the filter in float32 where that is exact: with a roof and
 // a range that are not float32 values, points one ulp either side of the roof edge and of
-// the range circle (and NaN) must be kept or dropped as the float64 test does.
+// the range circle must be kept or dropped as the float64 test does.
 TEST(SweepKernel, FilterEdgesWithOddOptions) {
   LidarOptions odd;
   odd.roof_half_size_m = 1.05;
@@ -289,8 +290,6 @@ TEST(SweepKernel, FilterEdgesWithOddOptions) {
       add(x, cy);
     }
   }
-  add(std::nanf(""), 3.0f);
-  add(3.0f, std::nanf(""));
   while (rows.size() / 5 % 16 != 5) add(20.0f, -20.0f);  // whole groups of 16 and a tail
   const size_t n = rows.size() / 5;
   std::vector<int32_t> expected = select_sweep_points(rows.data(), n, 5, odd);
@@ -337,8 +336,14 @@ TEST(SweepKernel, FindsTheFirstNonFiniteRow) {
       LidarLayer layer;
       layer.add_sweep(rows.data(), kRows, kFirstRow, Rigid3{}, pose, LidarOptions{}, 1, path, &bad_row);
       EXPECT_EQ(bad_row, kFirstRow + static_cast<int64_t>(row)) << "row " << row << ", column " << column;
-      LidarLayer unchecked;  // without the check the rows are added (NaN/Inf compare false)
-      EXPECT_GT(unchecked.add_sweep(rows.data(), kRows, kFirstRow, Rigid3{}, pose, LidarOptions{}, 1, path), kRows / 2);
+      LidarLayer thrown;  // without the out-parameter: an error naming the point
+      try {
+        thrown.add_sweep(rows.data(), kRows, kFirstRow, Rigid3{}, pose, LidarOptions{}, 1, path);
+        ADD_FAILURE() << "no error for row " << row;
+      } catch (const DataError& e) {
+        EXPECT_NE(std::string(e.what()).find("point " + std::to_string(kFirstRow + row)), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("finite"), std::string::npos) << e.what();
+      }
     }
   }
 }

@@ -72,10 +72,11 @@ class LidarLayer {
   // chain (bit-identical to transform_points_devkit twice) and keeps the lowest per cell;
   // cells name the point by its row in the file. A sweep may come in runs: `rows5` are
   // the file's rows [first_row, first_row + count). Returns the number of kept points.
-  // With `first_non_finite_row`, every value (ring too) is checked for Inf/NaN in the same
-  // pass (so the reader need not, nuscenes::LidarFile::Check): it gets the file row of the
-  // first row holding one, or −1; when it is set, part of the rows may have been added,
-  // so the caller drops the layer (and reports the file).
+  // Every value (ring too) must be finite, and is checked in the same pass (so a reader
+  // need not, nuscenes::LidarFile::Check): the file row of the first row holding an Inf
+  // or NaN goes to `first_non_finite_row` if given (−1 if none; when set, part of the
+  // rows may have been added, so the caller drops the layer and reports the file), else
+  // it is thrown as DataError.
   size_t add_sweep(const float* rows5, size_t count, int32_t first_row, const geometry::Rigid3& ego_from_sensor,
                    const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id,
                    SweepPath path = SweepPath::kAuto, int64_t* first_non_finite_row = nullptr);
@@ -89,12 +90,12 @@ class LidarLayer {
  private:
   size_t add_sweep_portable(const float* rows5, size_t count, int32_t first_row, const geometry::Rigid3& ego_from_sensor,
                             const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id,
-                            int64_t* bad_row);
+                            int64_t& bad_row);
   // Defined in sweep_kernel_avx2.cpp (compiled for any x86-64; the kernels carry
   // target("avx2") attributes and run only after the CPU check).
   size_t add_sweep_fused(const float* rows5, size_t count, int32_t first_row, const geometry::Rigid3& ego_from_sensor,
                          const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id,
-                         bool allow_avx512, int64_t* bad_row);
+                         bool allow_avx512, int64_t& bad_row);
   // Recentres table_ when block (bx, by) is more than a few blocks off its centre.
   void centre_table(int64_t bx, int64_t by);
   // The exact lowest-z update of point i of a batch (col/row from the vector binning when
