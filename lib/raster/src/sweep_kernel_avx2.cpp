@@ -1,13 +1,15 @@
 // The fused sweep kernel (LidarLayer::add_sweep_fused), per chunk of 2048 raw .pcd.bin
-// rows: (A) load 8 rows, de-interleave, roof/range filter in double, compact the kept
-// points into columns (L1/L2-resident); (B1) both devkit transforms, the cells and the
-// block-table slot of each point (AVX2, or AVX-512F for the float64 products and 16-lane
-// binning); (B2) the screen: one scalar load per point of the table's compact z copy, no
-// dependency between points so the cache misses overlap; (C) the exact scalar update of
-// the candidates (LidarLayer::update_cell, shared with the portable path).
+// rows: (A) load 8 rows (AVX2) or 16 (AVX-512), check every value is finite,
+// de-interleave, roof/range filter, compact the kept points into columns (L1/L2-resident);
+// (B1) both devkit transforms, the cells and the block-table slot of each point (AVX2, or
+// AVX-512F for the float64 products and 16-lane binning); (B2) the screen: one scalar load
+// per point of the table's compact z copy, no dependency between points so the cache
+// misses overlap; (C) the exact scalar update of the candidates (LidarLayer::offer_point,
+// shared with the portable path; the cell comes from B1's slot where it has one).
 //
-// Bit-exactness: every rounding is the portable path's, in its order — the filter in
-// double, each transform as ((r0·x + r1·y) + r2·z) in double rounded to float32 then +
+// Bit-exactness: every rounding is the portable path's, in its order — the filter's
+// decisions are the float64 test's (AVX-512 decides in float32 only where that provably
+// agrees), each transform is ((r0·x + r1·y) + r2·z) in double rounded to float32 then +
 // float32 translation. Cells come from a float32 product with a proven error margin;
 // points within the margin of a border go to cell_of, so every cell equals cell_of's.
 // The TU is built with -ffp-contract=off (no product is fused, also where AVX-512F brings
