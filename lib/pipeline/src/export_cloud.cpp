@@ -52,59 +52,29 @@ Index find_scene(const Database& db, const std::string& name) {
 
 namespace {
 
-// The raster stage selects its scenes by log.location. To run it on one scene, the scene
-// is pointed at a copy of its log whose location is a label no real log has; the
-// destructor undoes both changes, so `db` is unchanged after the call (also on throw).
-class SceneAsLocation {
- public:
-  SceneAsLocation(Database& db, Index scene) : db_(db), scene_(scene), old_log_(db.scene[scene].log) {
-    nuscenes::Log solo = db.log[old_log_];
-    location_ = solo.location;
-    solo.location = "\x1fscene:" + db.scene[scene].name;  // a control character: never a real location
-    label_ = solo.location;
-    db.log.rows().push_back(std::move(solo));
-    db.scene[scene].log = static_cast<Index>(db.log.size() - 1);
-  }
-  ~SceneAsLocation() {
-    db_.scene[scene_].log = old_log_;
-    db_.log.rows().pop_back();
-  }
-  SceneAsLocation(const SceneAsLocation&) = delete;
-  SceneAsLocation& operator=(const SceneAsLocation&) = delete;
-
-  const std::string& label() const { return label_; }
-  const std::string& real_location() const { return location_; }
-
- private:
-  Database& db_;
-  Index scene_;
-  Index old_log_;
-  std::string label_, location_;
-};
-
 uint32_t pack_rgb(uint8_t r, uint8_t g, uint8_t b) {
   return 0xFF000000u | (static_cast<uint32_t>(r) << 16) | (static_cast<uint32_t>(g) << 8) | b;
 }
 
 }  // namespace
 
-raster::LocationLayers accumulate_scene(Database& db, const std::string& scene, const raster::RasterOptions& options,
-                                        int threads) {
-  const SceneAsLocation solo(db, find_scene(db, scene));
-  return raster::accumulate_location(db, solo.label(), options, threads);
+raster::LocationLayers accumulate_scene(const Database& db, const std::string& scene,
+                                        const raster::RasterOptions& options, int threads) {
+  return raster::accumulate_scenes(db, {find_scene(db, scene)}, options, threads);
 }
 
-SceneCloud scene_cloud(Database& db, const std::string& scene, const raster::RasterOptions& options, int threads) {
-  const SceneAsLocation solo(db, find_scene(db, scene));
+SceneCloud scene_cloud(const Database& db, const std::string& scene, const raster::RasterOptions& options,
+                       int threads) {
+  const Index index = find_scene(db, scene);
   SceneCloud cloud;
   cloud.scene = scene;
-  cloud.location = solo.real_location();
-  const raster::LocationLayers layers = raster::accumulate_location(db, solo.label(), options, threads);
+  cloud.location = db.log[db.scene[index].log].location;
+  const raster::LocationLayers layers = raster::accumulate_scenes(db, {index}, options, threads);
   cloud.sweeps = layers.stats.sweeps;
   const bool cameras = options.camera.rgb || options.camera.semantic;
   raster::ColorLayer color(layers.lidar.resolution_m());
   if (cameras) {
-    color = raster::colorize_location(db, solo.label(), layers.lidar, {}, options.camera, threads);
+    color = raster::colorize_scenes(db, {index}, layers.lidar, {}, options.camera, threads);
     cloud.images = color.stats().images;
   }
 

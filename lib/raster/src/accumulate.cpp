@@ -45,18 +45,15 @@ struct LaneResult {
   size_t sweeps = 0, points_read = 0, points_kept = 0, boxes = 0;
 };
 
-// The scenes of `location` with their sweeps and samples, in scene-table order; a single
-// pass over sample_data and sample so the cost does not grow with scenes × rows.
-std::vector<SceneWork> plan_location(const Database& db, const std::string& location, const std::string& channel) {
+// `scenes` with their sweeps and samples; a single pass over sample_data and sample so the
+// cost does not grow with scenes × rows.
+std::vector<SceneWork> plan_scenes(const Database& db, const std::vector<Index>& scenes, const std::string& channel) {
   std::vector<int> slot(db.scene.size(), -1);
   std::vector<SceneWork> work;
-  for (Index s = 0; s < static_cast<Index>(db.scene.size()); ++s) {
-    if (db.log[db.scene[s].log].location != location) continue;
+  for (Index s : scenes) {
     slot[static_cast<size_t>(s)] = static_cast<int>(work.size());
     work.push_back({s, {}, {}});
   }
-  if (work.empty())
-    throw DataError(db.log.file(), "location " + location, "at least one log (with a scene) at this location");
   for (Index i = 0; i < static_cast<Index>(db.sample.size()); ++i) {
     const int k = slot[static_cast<size_t>(db.sample[i].scene)];
     if (k >= 0) work[static_cast<size_t>(k)].samples.push_back(i);
@@ -159,10 +156,35 @@ void add_detection_boxes(const Database& db, const nuscenes::DetectionResults& r
 
 }  // namespace
 
+void check_scene_list(const Database& db, const std::vector<Index>& scenes) {
+  if (scenes.empty()) throw InternalError("", "", "rasterizing an empty list of scenes");
+  for (Index s : scenes) {
+    if (s < 0 || static_cast<size_t>(s) >= db.scene.size() ||
+        db.log[db.scene[s].log].location != db.log[db.scene[scenes.front()].log].location)
+      throw InternalError("", "", "rasterizing scenes of different locations (or no scene) into one map frame");
+  }
+}
+
+std::vector<Index> scenes_at(const Database& db, const std::string& location) {
+  std::vector<Index> scenes;
+  for (Index s = 0; s < static_cast<Index>(db.scene.size()); ++s)
+    if (db.log[db.scene[s].log].location == location) scenes.push_back(s);
+  if (scenes.empty())
+    throw DataError(db.log.file(), "location " + location, "at least one log (with a scene) at this location");
+  return scenes;
+}
+
 LocationLayers accumulate_location(const Database& db, const std::string& location, const RasterOptions& options,
                                    int threads) {
   options.validate();
-  const std::vector<SceneWork> work = plan_location(db, location, options.lidar_channel);
+  return accumulate_scenes(db, scenes_at(db, location), options, threads);
+}
+
+LocationLayers accumulate_scenes(const Database& db, const std::vector<Index>& scenes, const RasterOptions& options,
+                                 int threads) {
+  options.validate();
+  check_scene_list(db, scenes);
+  const std::vector<SceneWork> work = plan_scenes(db, scenes, options.lidar_channel);
   nuscenes::DetectionResults detections;
   const bool use_detections = !options.detections_file.empty();
   if (use_detections) {

@@ -8,6 +8,7 @@
 
 #include "nsg/core/error.h"
 #include "nsg/core/parallel.h"
+#include "nsg/raster/accumulate.h"
 #include "nsg/geometry/transform.h"
 #include "nsg/nuscenes/camera.h"
 #include "nsg/nuscenes/database.h"
@@ -74,14 +75,9 @@ struct ImageJob {
   fs::path mask;                      // semantic mask (empty when semantics are off)
 };
 
-std::vector<ImageJob> plan_images(const Database& db, const std::string& location, const CameraOptions& options) {
-  std::vector<char> at_location(db.scene.size(), 0);
-  bool any = false;
-  for (Index s = 0; s < static_cast<Index>(db.scene.size()); ++s) {
-    at_location[static_cast<size_t>(s)] = db.log[db.scene[s].log].location == location;
-    any = any || at_location[static_cast<size_t>(s)];
-  }
-  if (!any) throw DataError(db.log.file(), "location " + location, "at least one log (with a scene) at this location");
+std::vector<ImageJob> plan_images(const Database& db, const std::vector<Index>& scenes, const CameraOptions& options) {
+  std::vector<char> at_location(db.scene.size(), 0);  // the selected scenes
+  for (Index s : scenes) at_location[static_cast<size_t>(s)] = 1;
   const fs::path root = options.semantic_root.empty() ? db.dataroot() / "semantic" : options.semantic_root;
   std::vector<ImageJob> jobs;
   for (Index i = 0; i < static_cast<Index>(db.sample_data.size()); ++i) {
@@ -277,10 +273,17 @@ ImageResult process_image(const Database& db, const ImageJob& job, const TargetI
 ColorLayer colorize_location(const Database& db, const std::string& location, const LidarLayer& lidar,
                              const std::vector<CellRect>& regions, const CameraOptions& options, int threads) {
   options.validate();
+  return colorize_scenes(db, scenes_at(db, location), lidar, regions, options, threads);
+}
+
+ColorLayer colorize_scenes(const Database& db, const std::vector<Index>& scenes, const LidarLayer& lidar,
+                           const std::vector<CellRect>& regions, const CameraOptions& options, int threads) {
+  options.validate();
   // Both off is a valid generate config (no camera layers) but nothing to colour here.
   if (!options.rgb && !options.semantic)
     throw ConfigError("", "camera.rgb / camera.semantic", "at least one of them enabled to colour points");
-  const std::vector<ImageJob> jobs = plan_images(db, location, options);
+  check_scene_list(db, scenes);
+  const std::vector<ImageJob> jobs = plan_images(db, scenes, options);
   const TargetIndex index = collect_targets(lidar, regions);
   ColorLayer layer(lidar.resolution_m());
   layer.stats_.points = index.targets.size();

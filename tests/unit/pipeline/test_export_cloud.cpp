@@ -14,6 +14,7 @@
 #include <tuple>
 
 #include "generate_fixture.h"
+#include "nsg/core/error.h"
 #include "nsg/core/files.h"
 #include "nsg/nuscenes/database.h"
 #include "nsg/pipeline/export_cloud.h"
@@ -135,7 +136,7 @@ TEST_F(ExportCloud, PclReadsOnePointPerCoveredCellAtTheLowestZ) {
 // Only the scene's sweeps: each scene's cloud lies at or above the location's layer, and
 // the lowest over all scenes' clouds is the location's layer exactly.
 TEST_F(ExportCloud, ScenesPartitionTheLocationsSweeps) {
-  Database db = *db_;
+  const Database& db = *db_;
   const std::string location = db.log[db.scene[0].log].location;
   const raster::LocationLayers whole = raster::accumulate_location(db, location, raster::RasterOptions{}, 2);
   std::map<std::pair<int64_t, int64_t>, float> lowest;
@@ -157,6 +158,41 @@ TEST_F(ExportCloud, ScenesPartitionTheLocationsSweeps) {
     if (cell.has_data()) equal += lowest.at({c.row, c.col}) == cell.z;
   });
   EXPECT_EQ(equal, whole.stats.covered_cells);
+}
+
+// A scene list is one map frame: empty lists, scenes of two locations and rows outside the
+// scene table are refused; the whole location as a list is accumulate_location.
+TEST_F(ExportCloud, SceneListsAreOneLocation) {
+  const Database& db = *db_;
+  const std::string location = db.log[db.scene[0].log].location;
+  const std::vector<nuscenes::Index> scenes = raster::scenes_at(db, location);
+  EXPECT_THROW(raster::accumulate_scenes(db, {}, raster::RasterOptions{}, 1), nsg::InternalError);
+  EXPECT_THROW(raster::accumulate_scenes(db, {static_cast<nuscenes::Index>(db.scene.size())}, raster::RasterOptions{}, 1),
+               nsg::InternalError);
+  {  // the release has one location: move its last scene to a second one
+    ASSERT_GE(scenes.size(), 2u);
+    Database two = db;
+    nuscenes::Log elsewhere = two.log[two.scene[scenes.back()].log];
+    elsewhere.location = "elsewhere";
+    two.log.rows().push_back(elsewhere);
+    two.scene[scenes.back()].log = static_cast<nuscenes::Index>(two.log.size() - 1);
+    EXPECT_THROW(raster::accumulate_scenes(two, {scenes.front(), scenes.back()}, raster::RasterOptions{}, 1),
+                 nsg::InternalError);
+    EXPECT_THROW(raster::colorize_scenes(two, {scenes.front(), scenes.back()}, raster::LidarLayer{}, {},
+                                         raster::CameraOptions{}, 1),
+                 nsg::InternalError);
+    EXPECT_EQ(raster::scenes_at(two, "elsewhere"), std::vector<nuscenes::Index>{scenes.back()});
+  }
+  const raster::LocationLayers all = raster::accumulate_scenes(db, scenes, raster::RasterOptions{}, 2);
+  const raster::LocationLayers whole = raster::accumulate_location(db, location, raster::RasterOptions{}, 1);
+  EXPECT_EQ(all.stats.sweeps, whole.stats.sweeps);
+  EXPECT_EQ(all.stats.covered_cells, whole.stats.covered_cells);
+  try {
+    raster::scenes_at(db, "nowhere");
+    ADD_FAILURE() << "no error for an unknown location";
+  } catch (const DataError& e) {
+    EXPECT_NE(std::string(e.what()).find("location nowhere"), std::string::npos) << e.what();
+  }
 }
 
 // Debian's python3 + numpy parse the header and the binary body; ascii and

@@ -47,15 +47,13 @@ struct SceneCloud {
 // valid names otherwise (exit 2).
 nuscenes::Index find_scene(const nuscenes::Database& db, const std::string& name);
 
-// accumulate_location restricted to the sweeps of one scene. `db` is borrowed mutably: for
-// the duration of the call the scene is moved to a private location label (the raster stage
-// selects its work by location), and restored before returning or throwing.
-raster::LocationLayers accumulate_scene(nuscenes::Database& db, const std::string& scene,
+// accumulate_location restricted to the sweeps of one scene (raster::accumulate_scenes).
+raster::LocationLayers accumulate_scene(const nuscenes::Database& db, const std::string& scene,
                                         const raster::RasterOptions& options, int threads);
 
-// The scene's cloud: accumulate_scene, then colorize_location over its covered cells with
-// the scene's key frames only (when options.camera.rgb or .semantic).
-SceneCloud scene_cloud(nuscenes::Database& db, const std::string& scene, const raster::RasterOptions& options,
+// The scene's cloud: accumulate_scene, then raster::colorize_scenes over its covered cells
+// with the scene's key frames only (when options.camera.rgb or .semantic).
+SceneCloud scene_cloud(const nuscenes::Database& db, const std::string& scene, const raster::RasterOptions& options,
                        int threads);
 
 // Writes `points` as PCD v0.7 (fields x y z intensity rgb label; F4 F4 F4 F4 F4 U4; height

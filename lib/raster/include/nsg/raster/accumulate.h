@@ -3,13 +3,16 @@
 // every LIDAR_TOP sweep (key and non-key) of every scene at the location is read,
 // filtered in the sensor frame, moved to the global frame with the sweep's own ego pose
 // and binned lowest-z; vehicle boxes come from a detection results file or from the
-// vehicle.* annotations. Scenes run in parallel and are reduced in scene order with the
-// layers' order-free merges, so the result is identical at any thread count.
+// vehicle.* annotations. Scenes run in parallel, each thread accumulating its scenes into
+// its own layers, reduced with the layers' order-free merges, so the result is identical
+// at any thread count.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
+#include "nsg/nuscenes/token.h"
 #include "nsg/raster/color_layer.h"
 #include "nsg/raster/lidar_layer.h"
 #include "nsg/raster/vehicle_layer.h"
@@ -54,5 +57,14 @@ struct LocationLayers {
 // location), IoError / ParseError from the sweep and results readers.
 LocationLayers accumulate_location(const nuscenes::Database& db, const std::string& location,
                                    const RasterOptions& options, int threads);
+
+// The scenes (scene-table rows, in table order) of `location`; DataError if it has none.
+std::vector<nuscenes::Index> scenes_at(const nuscenes::Database& db, const std::string& location);
+// accumulate_location over a subset of a location's scenes (export-cloud: one scene).
+// InternalError if `scenes` is empty or spans locations (one map frame per layer): the
+// check, check_scene_list, is shared with colorize_scenes.
+void check_scene_list(const nuscenes::Database& db, const std::vector<nuscenes::Index>& scenes);
+LocationLayers accumulate_scenes(const nuscenes::Database& db, const std::vector<nuscenes::Index>& scenes,
+                                 const RasterOptions& options, int threads);
 
 }  // namespace nsg::raster

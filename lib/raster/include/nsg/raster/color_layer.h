@@ -71,8 +71,8 @@ class ColorLayer {
   const ColorStats& stats() const { return stats_; }
 
  private:
-  friend ColorLayer colorize_location(const nuscenes::Database&, const std::string&, const LidarLayer&,
-                                      const std::vector<CellRect>&, const CameraOptions&, int);
+  friend ColorLayer colorize_scenes(const nuscenes::Database&, const std::vector<int32_t>&, const LidarLayer&,
+                                    const std::vector<CellRect>&, const CameraOptions&, int);
   double resolution_m_;
   SparseGrid<ColorCell> cells_;
   size_t rgb_cells_ = 0, semantic_cells_ = 0;
@@ -87,5 +87,9 @@ class ColorLayer {
 // options.semantic, IoError / ParseError from the JPEG, PNG and sweep readers.
 ColorLayer colorize_location(const nuscenes::Database& db, const std::string& location, const LidarLayer& lidar,
                              const std::vector<CellRect>& regions, const CameraOptions& options, int threads);
+// The same over a subset of a location's scenes (scene-table rows; `lidar` from
+// accumulate_scenes of the same scenes). InternalError as accumulate_scenes.
+ColorLayer colorize_scenes(const nuscenes::Database& db, const std::vector<int32_t>& scenes, const LidarLayer& lidar,
+                           const std::vector<CellRect>& regions, const CameraOptions& options, int threads);
 
 }  // namespace nsg::raster
