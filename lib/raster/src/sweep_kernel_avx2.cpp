@@ -112,6 +112,25 @@ NSG_AVX2_INLINE int dropped_bits(__m128 xf, __m128 yf, __m256d roof, __m256d ran
   return _mm256_movemask_pd(_mm256_or_pd(in_roof, far));
 }
 
+// Stage A's rows [i, n) after the last whole vector group, one at a time: the finite
+// check and the filter in scalar double; returns the new kept count (from m).
+size_t filter_tail(const float* rows5, size_t i, size_t n, int32_t first_id, double roof, double range2,
+                   int64_t& bad_row, FusedChunk& c, size_t m) {
+  for (; i < n; ++i) {
+    const float* p = rows5 + 5 * i;
+    if (sweep_kernel::first_non_finite_row(p, 1) == 0) [[unlikely]] {
+      bad_row = static_cast<int64_t>(i);
+      return m;
+    }
+    const double x = p[0], y = p[1];
+    const bool dropped = (std::abs(x) < roof && std::abs(y) < roof) || x * x + y * y > range2;
+    c.x[m] = p[0], c.y[m] = p[1], c.z[m] = p[2], c.intensity[m] = p[3];
+    c.ids[m] = first_id + static_cast<int32_t>(i);
+    m += !dropped;
+  }
+  return m;
+}
+
 // Stage A: rows [0, n) of `rows5` (ids first_id + row) → kept points packed into c's
 // columns; returns how many. Every value (ring too) is checked for Inf/NaN on the way:
 // at the first group holding one, `bad_row` gets that row (in rows5) and the stage stops
@@ -155,19 +174,7 @@ __attribute__((target("avx2"))) size_t filter_compact(const float* rows5, size_t
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(c.ids + m), _mm256_permutevar8x32_epi32(ids, perm));
     m += static_cast<size_t>(std::popcount(keep));
   }
-  for (; i < n; ++i) {  // the last < 8 rows, the same test in scalar double
-    const float* p = rows5 + 5 * i;
-    if (sweep_kernel::first_non_finite_row(p, 1) == 0) [[unlikely]] {
-      bad_row = static_cast<int64_t>(i);
-      return m;
-    }
-    const double x = p[0], y = p[1];
-    const bool dropped = (std::abs(x) < roof && std::abs(y) < roof) || x * x + y * y > range2;
-    c.x[m] = p[0], c.y[m] = p[1], c.z[m] = p[2], c.intensity[m] = p[3];
-    c.ids[m] = first_id + static_cast<int32_t>(i);
-    m += !dropped;
-  }
-  return m;
+  return filter_tail(rows5, i, n, first_id, roof, range2, bad_row, c, m);  // the last < 8 rows
 }
 
 // One devkit transform of 8 points in place: per half of 4, float → double,
@@ -403,19 +410,7 @@ NSG_AVX512_TARGET size_t filter_compact_avx512(const float* rows5, size_t n, int
     _mm512_storeu_si512(c.ids + m, _mm512_maskz_compress_epi32(keep, ids));
     m += static_cast<size_t>(std::popcount(static_cast<unsigned>(keep)));
   }
-  for (; i < n; ++i) {  // the last < 16 rows, the same test in scalar double
-    const float* p = rows5 + 5 * i;
-    if (sweep_kernel::first_non_finite_row(p, 1) == 0) [[unlikely]] {
-      bad_row = static_cast<int64_t>(i);
-      return m;
-    }
-    const double x = p[0], y = p[1];
-    const bool dropped = (std::abs(x) < roof && std::abs(y) < roof) || x * x + y * y > range2;
-    c.x[m] = p[0], c.y[m] = p[1], c.z[m] = p[2], c.intensity[m] = p[3];
-    c.ids[m] = first_id + static_cast<int32_t>(i);
-    m += !dropped;
-  }
-  return m;
+  return filter_tail(rows5, i, n, first_id, roof, range2, bad_row, c, m);  // the last < 16 rows
 }
 
 NSG_AVX512_TARGET void transform_bin_avx512(FusedChunk& c, size_t m, const DevkitTransform& a,
