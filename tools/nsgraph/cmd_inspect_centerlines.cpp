@@ -5,6 +5,8 @@
 
 #include "commands.h"
 #include "nsg/core/error.h"
+#include "nsg/core/issues.h"
+#include "nsg/core/log.h"
 #include "nsg/geometry/georef.h"
 #include "nsg/nuscenes/map_expansion.h"
 
@@ -27,9 +29,15 @@ int run_inspect_centerlines(const InspectCenterlinesOptions& options) {
   options.validate();
   const nuscenes::MapExpansion map = nuscenes::load_map_expansion(options.dataroot, options.location);
   std::ios::sync_with_stdio(false);  // large outputs: let cout buffer
-  nuscenes::write_centerlines_json(map, options.json, std::cout);
+  Issues defects = map.issues();
+  nuscenes::write_centerlines_json(map, options.json, std::cout, &defects);
   std::cout.flush();
   if (!std::cout) throw IoError("<stdout>", "", "write failed");
+  // Map defects the devkit tolerates go to stderr: stdout stays the centerline JSON.
+  for (const Issue& issue : defects.items()) {
+    log::warn(std::string(severity_name(issue.severity)) + " " + issue.check + " " + issue.subject + ": " +
+              issue.message);
+  }
   return kExitOk;
 }
 

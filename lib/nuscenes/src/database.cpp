@@ -1,6 +1,8 @@
 #include "nsg/nuscenes/database.h"
 
+#include <algorithm>
 #include <array>
+#include <vector>
 
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
@@ -33,7 +35,58 @@ Index link(const Table<From>& from, const From& row, const char* field, const To
   return i;
 }
 
+// Release folders under `dataroot`: sub-folders holding a category.json, sorted.
+std::vector<std::string> version_folders(const std::filesystem::path& dataroot) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dataroot, ec)) {
+    std::error_code ec2;
+    if (entry.is_directory(ec2) && std::filesystem::is_regular_file(entry.path() / "category.json", ec2))
+      out.push_back(entry.path().filename().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// --version defaults to v1.0-trainval, so a dataroot holding only v1.0-mini/ is common:
+// name the release folders that do exist instead of "missing category table".
+void require_version_folder(const std::filesystem::path& dataroot, const std::string& version) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(dataroot / version, ec)) return;
+  const std::vector<std::string> found = version_folders(dataroot);
+  std::string what = "no " + version + "/ under " + dataroot.string();
+  if (found.empty()) {
+    what += "; found no release folder (a folder holding category.json) there either";
+  } else {
+    std::string list;
+    for (const std::string& f : found) {
+      if (!list.empty()) list += ", ";
+      list += f;
+    }
+    what += "; found: " + list +
+            (found.size() == 1 ? " (use --version " + found.front() + ")" : " (pick one with --version)");
+  }
+  throw IoError((dataroot / version).string(), "", what);
+}
+
 }  // namespace
+
+// The devkit asserts that every category has an "index" once lidarseg.json (or
+// panoptic.json) is present: the nuScenes-lidarseg category.json must be used with it.
+void Database::check_lidarseg_categories() const {
+  std::error_code ec;
+  const char* task = std::filesystem::exists(table_path("lidarseg"), ec)   ? "lidarseg.json"
+                     : std::filesystem::exists(table_path("panoptic"), ec) ? "panoptic.json"
+                                                                           : nullptr;
+  if (task == nullptr) return;
+  for (const Category& c : category) {
+    if (!c.index) {
+      throw DataError(category.file(), record_of(c.token) + " (" + c.name + ")",
+                      std::string("an \"index\" in every category record: ") + task +
+                          " exists, so (like the devkit) the nuScenes-lidarseg category.json is required");
+    }
+  }
+}
 
 std::filesystem::path Database::table_path(std::string_view table) const {
   return dataroot_ / version_ / (std::string(table) + ".json");
@@ -52,10 +105,12 @@ Database Database::load(const std::filesystem::path& dataroot, const std::string
   Database db;
   db.dataroot_ = dataroot;
   db.version_ = version;
+  require_version_folder(dataroot, version);
   // The devkit fails early if any table is missing; so do we, before parsing anything.
   for (const char* name : kTableNames) require_file(db.table_path(name), std::string(name) + " table");
 
   db.category = Table<Category>::load(db.table_path("category"));
+  db.check_lidarseg_categories();
   db.attribute = Table<Attribute>::load(db.table_path("attribute"));
   db.visibility = Table<Visibility>::load(db.table_path("visibility"));
   db.instance = Table<Instance>::load(db.table_path("instance"));

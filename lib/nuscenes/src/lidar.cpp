@@ -32,7 +32,13 @@ __attribute__((target_clones("avx2", "default"))) bool all_finite(const uint32_t
 
 LidarFile::LidarFile(const std::filesystem::path& file) : file_(file) {
   fd_ = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd_ < 0) throw IoError(file.string(), "", std::string("cannot open LiDAR sweep: ") + std::strerror(errno));
+  if (fd_ < 0) {
+    // Missing sweeps usually mean an archive of the release was not extracted (devkit #756).
+    const int err = errno;
+    throw IoError(file.string(), "",
+                  std::string("cannot open LiDAR sweep: ") + std::strerror(err) +
+                      (err == ENOENT ? " (was every archive of the release extracted into the dataroot?)" : ""));
+  }
   struct stat st {};
   if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
     ::close(fd_);
@@ -43,7 +49,8 @@ LidarFile::LidarFile(const std::filesystem::path& file) : file_(file) {
     ::close(fd_);
     throw ParseError(file.string(), "size " + std::to_string(bytes) + " bytes",
                      bytes % sizeof(LidarPoint) != 0
-                         ? "a multiple of 20 bytes (5 float32 per point); the last point is truncated"
+                         ? "a multiple of 20 bytes (5 float32 per point); the last point is truncated "
+                           "(download damage, devkit #233: fetch the file again)"
                          : "at most 2^31 - 1 points (point indices are int32)");
   }
   rows_ = bytes / sizeof(LidarPoint);

@@ -33,6 +33,17 @@ void write_number(std::ostream& out, double v, const MapExpansion& map, std::str
   out << format_double(v);
 }
 
+// An edge target the devkit could discretize: a lane, a lane connector or any arcline key.
+bool has_centerline(const MapExpansion& map, std::string_view token) {
+  return map.centerline_layer(token).has_value() || map.find_arcline_path(token) != nullptr;
+}
+
+void report_dangling(const MapExpansion& map, const std::string& from, const std::string& to, Issues& issues) {
+  issues.warning("map.dangling_connectivity", map.file().string() + ": connectivity '" + from + "'",
+                 "key \"outgoing\" names '" + to +
+                     "', which is no lane, lane connector or arcline_path_3 key; that edge is left out");
+}
+
 }  // namespace
 
 void CenterlinesJsonOptions::validate() const {
@@ -41,7 +52,7 @@ void CenterlinesJsonOptions::validate() const {
 }
 
 void write_centerlines_json(const MapExpansion& map, const CenterlinesJsonOptions& options,
-                            std::ostream& out) {
+                            std::ostream& out, Issues* issues) {
   options.validate();
   std::unordered_set<std::string_view> selected;
   for (const std::string& token : options.tokens) {
@@ -83,6 +94,10 @@ void write_centerlines_json(const MapExpansion& map, const CenterlinesJsonOption
   for (const std::string& from : map.connectivity_tokens()) {
     if (!wanted(from)) continue;
     for (const std::string& to : map.find_connectivity(from)->outgoing) {
+      if (!has_centerline(map, to)) {
+        if (issues) report_dangling(map, from, to, *issues);
+        continue;
+      }
       out << (first ? "\n[" : ",\n[");
       first = false;
       write_json_string(out, from);

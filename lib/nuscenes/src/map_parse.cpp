@@ -4,6 +4,8 @@
 // ParseErrors; consistent-looking but wrong content (old version, dangling reference,
 // invalid arcline path) are DataErrors. Every message names the file, the layer and record
 // token (or its position while the token is unknown), the key, and what was expected.
+// Defects the devkit loads (null tokens, "" links, degenerate geometry) are not errors:
+// they are collected into MapExpansion::issues() (map_defects.h).
 #include <simdjson.h>
 
 #include <array>
@@ -12,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "map_defects.h"
+#include "map_json.h"
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
 #include "nsg/core/strings.h"
@@ -21,182 +25,17 @@
 namespace nsg::nuscenes {
 namespace {
 
-namespace od = simdjson::ondemand;
+using namespace map_detail;  // the JSON readers and record layouts (map_json.h)
 using geometry::ArclinePath;
 
 constexpr std::string_view kMinVersion = "1.3";
-
-// Where the reader is; only used to build error messages.
-struct Ctx {
-  std::string file;
-  std::string_view layer;  // "lane", "arcline_path_3", … ("" at the top level)
-  size_t index = 0;        // record position in its array
-  std::string token;       // record token once known (arcline/connectivity: the map key)
-  std::string_view key;    // field being read
-  bool in_list = false;    // arcline paths: index is the path number within the token's list
-
-  std::string record() const {
-    if (layer.empty()) return {};
-    std::string out(layer);
-    if (!token.empty()) out += " '" + token + "'";
-    if (token.empty() || in_list) out += strprintf(" %s#%zu", in_list ? "path " : "", index);
-    return out;
-  }
-  std::string field_prefix() const {
-    return key.empty() ? std::string() : "key \"" + std::string(key) + "\": ";
-  }
-  [[noreturn]] void parse_fail(const std::string& expected,
-                               simdjson::error_code ec = simdjson::SUCCESS) const {
-    std::string what = field_prefix() + "expected " + expected;
-    if (ec != simdjson::SUCCESS) what += std::string(" (JSON: ") + simdjson::error_message(ec) + ")";
-    throw ParseError(file, record(), what);
-  }
-  [[noreturn]] void data_fail(const std::string& expected) const {
-    throw DataError(file, record(), field_prefix() + "expected " + expected);
-  }
-};
-
-// ---- scalar and list readers ---------------------------------------------------------
-
-std::string_view get_string(od::value& v, const Ctx& c) {
-  std::string_view s;
-  if (auto ec = v.get_string().get(s)) c.parse_fail("a string", ec);
-  return s;
-}
-
-double get_number(od::value& v, const Ctx& c) {
-  double d;
-  if (auto ec = v.get_double().get(d)) c.parse_fail("a finite number", ec);
-  if (!std::isfinite(d)) c.parse_fail("a finite number");
-  return d;
-}
-
-bool get_bool(od::value& v, const Ctx& c) {
-  bool b;
-  if (auto ec = v.get_bool().get(b)) c.parse_fail("true or false", ec);
-  return b;
-}
-
-od::array get_array(od::value& v, const Ctx& c, const char* what) {
-  od::array a;
-  if (auto ec = v.get_array().get(a)) c.parse_fail(what, ec);
-  return a;
-}
-
-// Calls f(element_value, position) for each element of a JSON array.
-template <class F>
-void for_each_element(od::value& v, const Ctx& c, const char* what, F&& f) {
-  od::array array = get_array(v, c, what);
-  size_t i = 0;
-  for (auto element : array) {
-    od::value ev;
-    if (auto ec = std::move(element).get(ev)) c.parse_fail(what, ec);
-    f(ev, i++);
-  }
-}
-
-std::vector<std::string> get_string_list(od::value& v, const Ctx& c) {
-  std::vector<std::string> out;
-  for_each_element(v, c, "an array of strings",
-                   [&](od::value& ev, size_t) { out.emplace_back(get_string(ev, c)); });
-  return out;
-}
-
-template <size_t N>
-std::array<double, N> get_numbers(od::value& v, const Ctx& c) {
-  std::array<double, N> out{};
-  const std::string what = strprintf("an array of %zu finite numbers", N);
-  size_t count = 0;
-  for_each_element(v, c, what.c_str(), [&](od::value& ev, size_t i) {
-    if (i >= N) c.parse_fail(what);
-    out[i] = get_number(ev, c);
-    count = i + 1;
-  });
-  if (count != N) c.parse_fail(what);
-  return out;
-}
-
-// ---- declarative record layouts -------------------------------------------------------
-
-template <class R>
-struct Field {
-  std::string_view key;
-  void (*read)(od::value& v, Ctx& c, R& r);
-  bool required = true;
-};
-
-template <class R, std::string R::*M>
-void string_field(od::value& v, Ctx& c, R& r) { r.*M = std::string(get_string(v, c)); }
-template <class R, std::vector<std::string> R::*M>
-void string_list_field(od::value& v, Ctx& c, R& r) { r.*M = get_string_list(v, c); }
-template <class R, double R::*M>
-void number_field(od::value& v, Ctx& c, R& r) { r.*M = get_number(v, c); }
-template <class R, bool R::*M>
-void bool_field(od::value& v, Ctx& c, R& r) { r.*M = get_bool(v, c); }
-
-// Reads the fields of one JSON object into `r`: keys in any order, unknown keys skipped
-// (forward compatible; also "token", read before by read_record), each known key at most
-// once, required keys present.
-template <class R, size_t N>
-void read_fields(od::object& object, Ctx& c, const std::array<Field<R>, N>& spec, R& r) {
-  static_assert(N < 64);
-  std::uint64_t seen = 0;
-  for (auto field_result : object) {
-    od::field field;
-    c.key = {};
-    if (auto ec = std::move(field_result).get(field)) c.parse_fail("a key/value pair", ec);
-    std::string_view key;
-    if (auto ec = field.unescaped_key().get(key)) c.parse_fail("a string key", ec);
-    size_t k = 0;
-    while (k < N && spec[k].key != key) ++k;
-    if (k == N) continue;
-    c.key = spec[k].key;
-    if (seen & (std::uint64_t{1} << k)) c.parse_fail("the key once per object (it repeats)");
-    seen |= std::uint64_t{1} << k;
-    od::value& value = field.value();
-    spec[k].read(value, c, r);
-  }
-  for (size_t k = 0; k < N; ++k) {
-    if (spec[k].required && !(seen & (std::uint64_t{1} << k))) {
-      c.key = spec[k].key;
-      c.parse_fail("this required key (missing)");
-    }
-  }
-  c.key = {};
-}
-
-template <class R, size_t N>
-void read_object(od::value& v, Ctx& c, const std::array<Field<R>, N>& spec, R& r) {
-  od::object object;
-  if (auto ec = v.get_object().get(object)) c.parse_fail("a JSON object", ec);
-  read_fields(object, c, spec, r);
-}
-
-// Records with a "token": it is read first so that an error in any other field, whatever
-// the key order, names the record.
-template <class R, size_t N>
-void read_record(od::value& v, Ctx& c, const std::array<Field<R>, N>& spec, R& r) {
-  od::object object;
-  if (auto ec = v.get_object().get(object)) c.parse_fail("a JSON object", ec);
-  od::value token_value;
-  c.key = "token";
-  const auto ec = object.find_field_unordered("token").get(token_value);
-  if (ec == simdjson::NO_SUCH_FIELD) c.parse_fail("this required key (missing)");
-  if (ec) c.parse_fail("a JSON object with a \"token\"", ec);
-  r.token = std::string(get_string(token_value, c));
-  c.token = r.token;
-  c.key = {};
-  bool is_empty = false;
-  if (auto rec = object.reset().get(is_empty)) c.parse_fail("a JSON object", rec);
-  read_fields(object, c, spec, r);
-}
 
 // ---- nested values --------------------------------------------------------------------
 
 struct HoleRecord {
   MapHole hole;
 };
-void hole_nodes(od::value& v, Ctx& c, HoleRecord& r) { r.hole.node_tokens = get_string_list(v, c); }
+void hole_nodes(od::value& v, Ctx& c, HoleRecord& r) { r.hole.node_tokens = get_token_list(v, c); }
 constexpr std::array<Field<HoleRecord>, 1> kHoleFields{{{"node_tokens", &hole_nodes}}};
 
 void polygon_holes(od::value& v, Ctx& c, MapPolygon& r) {
@@ -210,7 +49,7 @@ void polygon_holes(od::value& v, Ctx& c, MapPolygon& r) {
 }
 
 constexpr std::array<Field<LaneDividerSegment>, 2> kSegmentFields{{
-    {"node_token", &string_field<LaneDividerSegment, &LaneDividerSegment::node_token>},
+    {"node_token", &token_field<LaneDividerSegment, &LaneDividerSegment::node_token>},
     {"segment_type", &string_field<LaneDividerSegment, &LaneDividerSegment::segment_type>},
 }};
 
@@ -247,7 +86,7 @@ constexpr std::array<Field<TrafficLightItem>, 4> kItemFields{{
     {"shape", &string_field<TrafficLightItem, &TrafficLightItem::shape>},
     {"rel_pos", &pose6_field<TrafficLightItem, &TrafficLightItem::rel_pos>},
     {"to_road_block_tokens",
-     &string_list_field<TrafficLightItem, &TrafficLightItem::to_road_block_tokens>},
+     &token_list_field<TrafficLightItem, &TrafficLightItem::to_road_block_tokens>},
 }};
 
 void traffic_light_items(od::value& v, Ctx& c, TrafficLight& r) {
@@ -267,78 +106,78 @@ void node_y(od::value& v, Ctx& c, MapNode& r) { r.y_m = get_number(v, c); }
 constexpr std::array<Field<MapNode>, 2> kNodeFields{{{"x", &node_x}, {"y", &node_y}}};
 
 constexpr std::array<Field<MapLine>, 1> kLineFields{{
-    {"node_tokens", &string_list_field<MapLine, &MapLine::node_tokens>}}};
+    {"node_tokens", &token_list_field<MapLine, &MapLine::node_tokens>}}};
 
 constexpr std::array<Field<MapPolygon>, 2> kPolygonFields{{
-    {"exterior_node_tokens", &string_list_field<MapPolygon, &MapPolygon::exterior_node_tokens>},
+    {"exterior_node_tokens", &token_list_field<MapPolygon, &MapPolygon::exterior_node_tokens>},
     {"holes", &polygon_holes},
 }};
 
 constexpr std::array<Field<DrivableArea>, 1> kDrivableAreaFields{{
-    {"polygon_tokens", &string_list_field<DrivableArea, &DrivableArea::polygon_tokens>}}};
+    {"polygon_tokens", &token_list_field<DrivableArea, &DrivableArea::polygon_tokens>}}};
 
 constexpr std::array<Field<RoadSegment>, 3> kRoadSegmentFields{{
-    {"polygon_token", &string_field<RoadSegment, &RoadSegment::polygon_token>},
+    {"polygon_token", &token_field<RoadSegment, &RoadSegment::polygon_token>},
     {"is_intersection", &bool_field<RoadSegment, &RoadSegment::is_intersection>, false},
-    {"drivable_area_token", &string_field<RoadSegment, &RoadSegment::drivable_area_token>, false},
+    {"drivable_area_token", &token_field<RoadSegment, &RoadSegment::drivable_area_token>, false},
 }};
 
 constexpr std::array<Field<RoadBlock>, 4> kRoadBlockFields{{
-    {"polygon_token", &string_field<RoadBlock, &RoadBlock::polygon_token>},
-    {"from_edge_line_token", &string_field<RoadBlock, &RoadBlock::from_edge_line_token>, false},
-    {"to_edge_line_token", &string_field<RoadBlock, &RoadBlock::to_edge_line_token>, false},
-    {"road_segment_token", &string_field<RoadBlock, &RoadBlock::road_segment_token>, false},
+    {"polygon_token", &token_field<RoadBlock, &RoadBlock::polygon_token>},
+    {"from_edge_line_token", &token_field<RoadBlock, &RoadBlock::from_edge_line_token>, false},
+    {"to_edge_line_token", &token_field<RoadBlock, &RoadBlock::to_edge_line_token>, false},
+    {"road_segment_token", &token_field<RoadBlock, &RoadBlock::road_segment_token>, false},
 }};
 
 constexpr std::array<Field<Lane>, 6> kLaneFields{{
-    {"polygon_token", &string_field<Lane, &Lane::polygon_token>},
+    {"polygon_token", &token_field<Lane, &Lane::polygon_token>},
     {"lane_type", &string_field<Lane, &Lane::lane_type>, false},
-    {"from_edge_line_token", &string_field<Lane, &Lane::from_edge_line_token>, false},
-    {"to_edge_line_token", &string_field<Lane, &Lane::to_edge_line_token>, false},
+    {"from_edge_line_token", &token_field<Lane, &Lane::from_edge_line_token>, false},
+    {"to_edge_line_token", &token_field<Lane, &Lane::to_edge_line_token>, false},
     {"left_lane_divider_segments", &segments_field<Lane, &Lane::left_lane_divider_segments>},
     {"right_lane_divider_segments", &segments_field<Lane, &Lane::right_lane_divider_segments>},
 }};
 
 constexpr std::array<Field<LaneConnector>, 1> kLaneConnectorFields{{
-    {"polygon_token", &string_field<LaneConnector, &LaneConnector::polygon_token>, false}}};
+    {"polygon_token", &token_field<LaneConnector, &LaneConnector::polygon_token>, false}}};
 
 constexpr std::array<Field<PedCrossing>, 2> kPedCrossingFields{{
-    {"polygon_token", &string_field<PedCrossing, &PedCrossing::polygon_token>},
-    {"road_segment_token", &string_field<PedCrossing, &PedCrossing::road_segment_token>, false},
+    {"polygon_token", &token_field<PedCrossing, &PedCrossing::polygon_token>},
+    {"road_segment_token", &token_field<PedCrossing, &PedCrossing::road_segment_token>, false},
 }};
 
 constexpr std::array<Field<Walkway>, 1> kWalkwayFields{{
-    {"polygon_token", &string_field<Walkway, &Walkway::polygon_token>}}};
+    {"polygon_token", &token_field<Walkway, &Walkway::polygon_token>}}};
 
 constexpr std::array<Field<StopLine>, 5> kStopLineFields{{
-    {"polygon_token", &string_field<StopLine, &StopLine::polygon_token>},
+    {"polygon_token", &token_field<StopLine, &StopLine::polygon_token>},
     {"stop_line_type", &string_field<StopLine, &StopLine::stop_line_type>},
-    {"ped_crossing_tokens", &string_list_field<StopLine, &StopLine::ped_crossing_tokens>},
-    {"traffic_light_tokens", &string_list_field<StopLine, &StopLine::traffic_light_tokens>},
-    {"road_block_token", &string_field<StopLine, &StopLine::road_block_token>, false},
+    {"ped_crossing_tokens", &token_list_field<StopLine, &StopLine::ped_crossing_tokens>},
+    {"traffic_light_tokens", &token_list_field<StopLine, &StopLine::traffic_light_tokens>},
+    {"road_block_token", &token_field<StopLine, &StopLine::road_block_token>, false},
 }};
 
 constexpr std::array<Field<CarparkArea>, 3> kCarparkAreaFields{{
-    {"polygon_token", &string_field<CarparkArea, &CarparkArea::polygon_token>},
+    {"polygon_token", &token_field<CarparkArea, &CarparkArea::polygon_token>},
     {"orientation", &number_field<CarparkArea, &CarparkArea::orientation_rad>, false},
-    {"road_block_token", &string_field<CarparkArea, &CarparkArea::road_block_token>, false},
+    {"road_block_token", &token_field<CarparkArea, &CarparkArea::road_block_token>, false},
 }};
 
 constexpr std::array<Field<RoadDivider>, 2> kRoadDividerFields{{
-    {"line_token", &string_field<RoadDivider, &RoadDivider::line_token>},
-    {"road_segment_token", &string_field<RoadDivider, &RoadDivider::road_segment_token>, false},
+    {"line_token", &token_field<RoadDivider, &RoadDivider::line_token>},
+    {"road_segment_token", &token_field<RoadDivider, &RoadDivider::road_segment_token>, false},
 }};
 
 constexpr std::array<Field<LaneDivider>, 2> kLaneDividerFields{{
-    {"line_token", &string_field<LaneDivider, &LaneDivider::line_token>},
+    {"line_token", &token_field<LaneDivider, &LaneDivider::line_token>},
     {"lane_divider_segments", &segments_field<LaneDivider, &LaneDivider::lane_divider_segments>,
      false},
 }};
 
 constexpr std::array<Field<TrafficLight>, 5> kTrafficLightFields{{
-    {"line_token", &string_field<TrafficLight, &TrafficLight::line_token>},
+    {"line_token", &token_field<TrafficLight, &TrafficLight::line_token>},
     {"traffic_light_type", &string_field<TrafficLight, &TrafficLight::traffic_light_type>, false},
-    {"from_road_block_token", &string_field<TrafficLight, &TrafficLight::from_road_block_token>,
+    {"from_road_block_token", &token_field<TrafficLight, &TrafficLight::from_road_block_token>,
      false},
     {"items", &traffic_light_items, false},
     {"pose", &pose6_field<TrafficLight, &TrafficLight::pose>, false},
@@ -391,8 +230,8 @@ ArclinePath read_arcline_path(od::value& v, Ctx& c) {
 }
 
 constexpr std::array<Field<LaneConnectivity>, 2> kConnectivityFields{{
-    {"incoming", &string_list_field<LaneConnectivity, &LaneConnectivity::incoming>},
-    {"outgoing", &string_list_field<LaneConnectivity, &LaneConnectivity::outgoing>},
+    {"incoming", &token_list_field<LaneConnectivity, &LaneConnectivity::incoming>},
+    {"outgoing", &token_list_field<LaneConnectivity, &LaneConnectivity::outgoing>},
 }};
 
 }  // namespace
@@ -403,8 +242,9 @@ class MapExpansionBuilder {
   static MapExpansion load(const std::filesystem::path& path);
 
  private:
-  MapExpansionBuilder(MapExpansion& map, const std::filesystem::path& path) : m_(map) {
+  MapExpansionBuilder(MapExpansion& map, const std::filesystem::path& path) : m_(map), defects_(path.string()) {
     c_.file = path.string();
+    c_.defects = &defects_;
   }
   void parse(const std::filesystem::path& path);
   void parse_top_level(od::object& top);
@@ -422,8 +262,10 @@ class MapExpansionBuilder {
   MapIndex resolve(MapLayer target, std::string_view token, MapLayer from,
                    const std::string& from_token, std::string_view field) const;
   void resolve_references();
+  void resolve_drivable_areas();
 
   MapExpansion& m_;
+  MapDefectLog defects_;
   Ctx c_;
 };
 
@@ -691,10 +533,13 @@ void MapExpansionBuilder::index_layers() {
 MapIndex MapExpansionBuilder::resolve(MapLayer target, std::string_view token, MapLayer from,
                                       const std::string& from_token, std::string_view field) const {
   if (const auto found = m_.find(target, token)) return *found;
+  // A null link reads as "": the devkit finds the record whose own token is null, if any.
+  const std::string got = token.empty() ? "null or \"\", and no " + std::string(map_layer_name(target)) +
+                                              " record has a null token"
+                                        : "'" + std::string(token) + "'";
   throw DataError(c_.file, std::string(map_layer_name(from)) + " '" + from_token + "'",
                   "key \"" + std::string(field) + "\": expected an existing " +
-                      std::string(map_layer_name(target)) + " token, got '" + std::string(token) +
-                      "' (dangling reference)");
+                      std::string(map_layer_name(target)) + " token, got " + got + " (dangling reference)");
 }
 
 void MapExpansionBuilder::resolve_references() {
@@ -711,11 +556,7 @@ void MapExpansionBuilder::resolve_references() {
     r.exterior_nodes = nodes_of(r.exterior_node_tokens, L::kPolygon, r.token, "exterior_node_tokens");
     for (MapHole& h : r.holes) h.nodes = nodes_of(h.node_tokens, L::kPolygon, r.token, "holes");
   }
-  for (DrivableArea& r : m_.drivable_area_) {
-    for (const std::string& t : r.polygon_tokens) {
-      r.polygons.push_back(resolve(L::kPolygon, t, L::kDrivableArea, r.token, "polygon_tokens"));
-    }
-  }
+  resolve_drivable_areas();
   // The devkit's _make_shortcuts: polygon of every polygon layer, line of every line layer.
   const auto polygon_of = [&](auto& records, L from) {
     for (auto& r : records) r.polygon = resolve(L::kPolygon, r.polygon_token, from, r.token, "polygon_token");
@@ -762,6 +603,25 @@ void MapExpansionBuilder::resolve_references() {
   }
 }
 
+// The devkit never resolves drivable_area polygons at load (it skips the layer in
+// _make_shortcuts), so a null entry that finds no null-token polygon is left out of
+// `polygons` with a warning; a dangling non-null token stays an error, as it would fail
+// the devkit's first use of the record.
+void MapExpansionBuilder::resolve_drivable_areas() {
+  for (size_t i = 0; i < m_.drivable_area_.size(); ++i) {
+    DrivableArea& r = m_.drivable_area_[i];
+    for (const std::string& t : r.polygon_tokens) {
+      if (t.empty() && !m_.find(MapLayer::kPolygon, t)) {
+        defects_.add(Severity::kWarning, "map.unresolved_null", "drivable_area", "polygon_tokens",
+                     record_label(r.token, i),
+                     "holds null or \"\" but no polygon has a null token; the entry is left out");
+        continue;
+      }
+      r.polygons.push_back(resolve(MapLayer::kPolygon, t, MapLayer::kDrivableArea, r.token, "polygon_tokens"));
+    }
+  }
+}
+
 MapExpansion MapExpansionBuilder::load(const std::filesystem::path& path) {
   MapExpansion map;
   map.file_ = path;
@@ -770,6 +630,8 @@ MapExpansion MapExpansionBuilder::load(const std::filesystem::path& path) {
   builder.parse(path);
   builder.index_layers();
   builder.resolve_references();
+  check_geometry(map, builder.defects_);
+  map.issues_ = builder.defects_.issues();
   return map;
 }
 

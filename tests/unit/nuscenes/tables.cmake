@@ -6,5 +6,6 @@ nsg_add_test(nuscenes PART tables
     ${CMAKE_CURRENT_LIST_DIR}/test_lidar.cpp
     ${CMAKE_CURRENT_LIST_DIR}/test_images.cpp
     ${CMAKE_CURRENT_LIST_DIR}/test_detections.cpp
+    ${CMAKE_CURRENT_LIST_DIR}/test_real_table_quirks.cpp
   DEPS nsg::nuscenes nsg::dep::json nsg::dep::turbojpeg nsg::dep::png)
 add_dependencies(test_nuscenes_tables nsgraph)

@@ -10,7 +10,8 @@ namespace nsg::graph {
 
 std::vector<LaneSource> lane_sources(const nuscenes::MapExpansion& map);
 
-// build_lane_graph over lane_sources(map); defects name the map file.
+// build_lane_graph over lane_sources(map), after the map's own load defects
+// (map.issues(), appended first to `issues`); defects name the map file.
 LaneGraph build_lane_graph(const nuscenes::MapExpansion& map, const LaneGraphOptions& options,
                            Issues* issues);
 

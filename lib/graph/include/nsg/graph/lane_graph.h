@@ -62,11 +62,16 @@ struct LaneGraph {
 };
 
 // Builds the graph. Map defects (dangling connectivity, unmirrored incoming/outgoing,
-// lanes without paths, ends farther apart than the tolerance, isolated lanes) are added
-// to `issues` as errors (checks "graph.*"); with options.strict the first one throws
-// DataError naming `map_label` and the token.
+// lanes without paths, ends farther apart than the tolerance) are added to `issues` as
+// warnings, isolated lanes as infos (checks "graph.*"). Edges to unknown tokens are left
+// out, every other edge kept. With options.strict the first warning throws DataError
+// naming `map_label` and the token.
 LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGraphOptions& options,
                            Issues* issues, const std::string& map_label = "");
+
+// --strict: throws DataError(map_label, subject, …) naming the first issue that is not an
+// info and how many there are; returns if all are infos.
+void throw_if_defects(const std::vector<Issue>& found, const std::string& map_label);
 
 // Points of a polyline resampled along its arc length into n = ceil(length / max_spacing) + 1
 // evenly spaced points (n ≥ 2), first and last kept exactly.

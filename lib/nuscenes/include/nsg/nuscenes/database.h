@@ -22,9 +22,11 @@ struct LoadOptions {
 class Database {
  public:
   // Loads <dataroot>/<version>/*.json. Throws IoError (missing dataroot, table file or map
-  // PNG), ParseError (malformed table) or DataError (dangling link: names the table file,
-  // the record token and the field; log listed by no map; two key frames of one channel
-  // in a sample).
+  // PNG; a missing <version>/ names the release folders that exist), ParseError (malformed
+  // table) or DataError (dangling link: names the table file, the record token and the
+  // field; log listed by no map; two key frames of one channel in a sample; a category
+  // without "index" when lidarseg.json exists, as the devkit asserts). Empty tables (the
+  // test split's instance and sample_annotation) load as empty.
   static Database load(const std::filesystem::path& dataroot, const std::string& version,
                        const LoadOptions& options = {});
 
@@ -61,6 +63,7 @@ class Database {
   Table<Map> map;
 
  private:
+  void check_lidarseg_categories() const;
   void resolve_links();
   void derive_indices();
   void check_maps(const LoadOptions& options);

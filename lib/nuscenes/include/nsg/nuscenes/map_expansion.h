@@ -3,6 +3,10 @@
 // every layer in typed records, in file order, with token → index maps and every
 // reference the devkit resolves at load checked (plus node references of lines and
 // polygons). Parsed with simdjson on-demand: real maps are up to ~100 MB.
+// Whatever the devkit loads loads here too (real-data.md "Map expansion v1.3"): a JSON null
+// where a token is expected reads as "" (a null link then finds the record whose own token
+// is null, like the devkit's lookup of None), and null tokens, "" links, lines without
+// nodes, empty holes and self-intersecting rings are reported in issues(), not thrown.
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -14,6 +18,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "nsg/core/issues.h"
 #include "nsg/geometry/arcline.h"
 
 namespace nsg::nuscenes {
@@ -85,7 +90,8 @@ struct MapPose6 {
 struct DrivableArea {
   std::string token;
   std::vector<std::string> polygon_tokens;
-  std::vector<MapIndex> polygons;
+  std::vector<MapIndex> polygons;  // resolved polygon_tokens; a null entry that finds no
+                                   // null-token polygon is left out (issue map.unresolved_null)
 };
 
 struct RoadSegment {
@@ -212,6 +218,9 @@ class MapExpansion {
   // The file stem ("boston-seaport"), like the devkit's map_name.
   const std::string& location() const { return location_; }
   const std::string& version() const { return version_; }
+  // Defects found at load that the devkit tolerates (checks "map.*", subject naming the
+  // file, layer and record); one issue per kind of defect and key, with its count.
+  const Issues& issues() const { return issues_; }
   // canvas_edge: [width, height] m.
   const std::array<double, 2>& canvas_edge_m() const { return canvas_edge_m_; }
 
@@ -271,6 +280,7 @@ class MapExpansion {
   std::string location_;
   std::string version_;
   std::array<double, 2> canvas_edge_m_{};
+  Issues issues_;
   std::vector<MapPolygon> polygon_;
   std::vector<MapLine> line_;
   std::vector<MapNode> node_;
@@ -317,9 +327,11 @@ struct CenterlinesJsonOptions {
 // "edges": [[from, to], ...]}: lanes then connectors in file order, poses exactly as
 // discretize_lanes at the resolution, doubles in shortest round-trip form; edges from
 // every connectivity `outgoing` list in file order (only from the selected tokens when
-// `tokens` is given). One centerline is discretized at a time (no document in memory).
+// `tokens` is given). An outgoing token that is no lane, lane connector or arcline_path_3
+// key (dangling, devkit #415/#885) gives no edge and an issue "map.dangling_connectivity"
+// in `issues` (if given). One centerline is discretized at a time (no document in memory).
 // ConfigError naming any token that is neither a lane nor a lane connector.
 void write_centerlines_json(const MapExpansion& map, const CenterlinesJsonOptions& options,
-                            std::ostream& out);
+                            std::ostream& out, Issues* issues = nullptr);
 
 }  // namespace nsg::nuscenes
