@@ -4,6 +4,10 @@
 # figures; bench/python/report.py collects them into bench-out/bench.json and bench.md.
 #   NSG_BENCH_REUSE=1  keep the existing releases in bench-out/data/synth-* instead of synthesizing
 #                      them again (synth is deterministic; for reruns while developing)
+#   NSG_BENCH_SCALE_MB size of the table scale case (default 2500; 0 skips it): a sample_data-shaped
+#                      table larger than the real trainval one, made at run time in bench-out/data
+#                      and deleted afterwards; FAIL (and exit 1 at the end) on a wrong record count
+#                      or peak RSS above 1x the file
 set -euo pipefail
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -19,8 +23,12 @@ cat /proc/loadavg >"$out/loadavg-start.txt"  # the machine may be shared: say ho
 
 # bench_nuscenes keeps its generated table for the json.load baseline; removed on exit.
 table_file=""
-cleanup() { [ -z "$table_file" ] || rm -f "$table_file"; }
+cleanup() {
+  [ -z "$table_file" ] || rm -f "$table_file"
+  rm -f "$NSG_BENCH_DIR"/nsg-bench-scale-sample_data-*.json  # the scale table, if its run was killed
+}
 trap cleanup EXIT
+failed=()
 
 ran=0
 for module in nuscenes metrics synth raster; do
@@ -49,6 +57,24 @@ for module in nuscenes metrics synth raster; do
   fi
   ran=$((ran + 1))
 done
+
+# Table scale: one load of a table larger than the real trainval sample_data.json (> 1 GB),
+# with its record count and peak RSS <= 1x the file checked by bench_nuscenes itself.
+scale_mb=${NSG_BENCH_SCALE_MB:-2500}
+bin="$root/$build/bench/nuscenes/bench_nuscenes"
+if [ -x "$bin" ] && [ "$scale_mb" != 0 ]; then
+  printf '\n== table scale: %s MB sample_data-shaped table\n' "$scale_mb"
+  free_mb=$(df -Pm "$NSG_BENCH_DIR" | awk 'NR == 2 {print $4}')
+  if [ "$free_mb" -lt $((scale_mb + 1024)) ]; then
+    echo "bench_nuscenes scale: SKIP only $free_mb MB free in $NSG_BENCH_DIR (needs $scale_mb MB + 1 GB)" \
+      | tee "$out/tables_scale.txt"
+  elif NSG_BENCH_SCALE_MB=$scale_mb "$bin" | tee "$out/tables_scale.txt"; then
+    ran=$((ran + 1))
+  else
+    failed+=("table scale")
+    ran=$((ran + 1))
+  fi
+fi
 
 exe="$root/$build/tools/nsgraph/nsgraph"
 
@@ -148,3 +174,7 @@ printf '\n== report\n'
 "$py" "$root/bench/python/report.py" --dir "$out"
 echo
 echo "$ran benchmark(s) run; results in $out (bench.json, bench.md)"
+if [ ${#failed[@]} -gt 0 ]; then
+  echo "FAIL: ${failed[*]}"
+  exit 1
+fi

@@ -5,6 +5,10 @@
 //   NSG_BENCH_MB   table size in MB (default 320)
 //   NSG_BENCH_REPS repetitions (default 3)
 //   NSG_BENCH_KEEP keep the generated file
+//   NSG_BENCH_SCALE_MB  instead: the scale case (issue 19; the real trainval sample_data.json
+//                  is over 1 GB): one table of this many MB (e.g. 2500), loaded once; checks
+//                  the record count and peak RSS ≤ 1× the file, prints PASS or FAIL lines and
+//                  exits 1 on FAIL. The table is always deleted afterwards.
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -61,8 +65,9 @@ struct SplitMix {
 void token(char out[33], std::uint64_t a, std::uint64_t b) { std::snprintf(out, 33, "%016" PRIx64 "%016" PRIx64, a, b); }
 
 // Writes records shaped like real sample_data (json.dump indent=0 style, ~600 bytes each)
-// until the file reaches `target_bytes`; one record buffer, nothing accumulated.
-std::uint64_t generate(const fs::path& file, std::uint64_t target_bytes) {
+// until the file reaches `target_bytes`; one record buffer, nothing accumulated. `records`
+// receives the number written.
+std::uint64_t generate(const fs::path& file, std::uint64_t target_bytes, std::uint64_t* records = nullptr) {
   std::FILE* f = std::fopen(file.c_str(), "wb");
   if (f == nullptr) throw nsg::IoError(file.string(), "", "cannot create the benchmark table");
   std::setvbuf(f, nullptr, _IOFBF, 1 << 20);
@@ -70,7 +75,8 @@ std::uint64_t generate(const fs::path& file, std::uint64_t target_bytes) {
   SplitMix rng{42};
   std::uint64_t written = std::fprintf(f, "[\n");
   char tok[33], sample[33], cs[33], prev[33], next[33];
-  for (std::uint64_t i = 0; written < target_bytes; ++i) {
+  std::uint64_t i = 0;
+  for (; written < target_bytes; ++i) {
     const std::uint64_t key = rng.next();
     token(tok, key, i);
     token(sample, rng.next(), i / 20);
@@ -92,7 +98,8 @@ std::uint64_t generate(const fs::path& file, std::uint64_t target_bytes) {
         camera ? "jpg" : "pcd.bin", i == 0 ? "" : prev, next);
   }
   written += std::fprintf(f, "\n]\n");
-  if (std::fclose(f) != 0) throw nsg::IoError(file.string(), "", "write failed (disk full?)");
+  if (std::ferror(f) != 0 || std::fclose(f) != 0) throw nsg::IoError(file.string(), "", "write failed (disk full?)");
+  if (records != nullptr) *records = i;
   return written;
 }
 
@@ -139,17 +146,64 @@ Measurement measure_in_child(const fs::path& file) {
   return m;
 }
 
+// Removes the benchmark table however the run ends (forked children leave with _exit).
+struct RemoveOnExit {
+  fs::path file;
+  ~RemoveOnExit() {
+    std::error_code ec;
+    if (!file.empty()) fs::remove(file, ec);
+  }
+};
+
+// The scale case: a table as large as (or larger than) the real trainval sample_data.json.
+int run_scale(std::uint64_t target_mb, const fs::path& dir) {
+  const fs::path file = dir / ("nsg-bench-scale-sample_data-" + std::to_string(::getpid()) + ".json");
+  RemoveOnExit cleanup{file};
+  std::uint64_t records = 0;
+  const auto start = std::chrono::steady_clock::now();
+  const std::uint64_t bytes = generate(file, target_mb * 1000 * 1000, &records);
+  const double gen_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("bench_nuscenes scale: sample_data-shaped table %.1f MB (%" PRIu64 " records, written in %.1f s) at %s\n",
+              bytes / 1e6, records, gen_s, file.c_str());
+  std::fflush(stdout);
+  const Measurement m = measure_in_child(file);
+  const double mbps = bytes / 1e6 / m.seconds;
+  const double ratio = static_cast<double>(m.rss_peak) / static_cast<double>(bytes);
+  std::printf("bench_nuscenes scale: loaded %" PRIu64 " records in %.2f s = %.0f MB/s (CPU %.2f s = %.0f MB/s); "
+              "peak RSS %.1f MB = %.2fx file (%.1f MB before load)\n",
+              m.records, m.seconds, mbps, m.cpu_seconds, bytes / 1e6 / m.cpu_seconds, m.rss_peak / 1e6, ratio,
+              m.rss_before / 1e6);
+  bool ok = true;
+  if (m.records != records) {
+    std::printf("bench_nuscenes scale: FAIL record count %" PRIu64 " (written %" PRIu64 ")\n", m.records, records);
+    ok = false;
+  }
+  if (ratio > 1.0) {
+    std::printf("bench_nuscenes scale: FAIL peak RSS %.2fx the file (limit 1.00x)\n", ratio);
+    ok = false;
+  }
+  if (ok) std::printf("bench_nuscenes scale: PASS (records %" PRIu64 " = written; peak RSS %.2fx <= 1.00x)\n", records, ratio);
+  return ok ? 0 : 1;
+}
+
 }  // namespace
 
 int main() {
   try {
+    if (const long scale_mb = env_long("NSG_BENCH_SCALE_MB", 0); scale_mb > 0) {
+      const char* dir_env = std::getenv("NSG_BENCH_DIR");
+      const fs::path dir = dir_env != nullptr && *dir_env ? fs::path(dir_env) : fs::temp_directory_path();
+      fs::create_directories(dir);
+      return run_scale(static_cast<std::uint64_t>(scale_mb), dir);
+    }
     const std::uint64_t target = static_cast<std::uint64_t>(env_long("NSG_BENCH_MB", 320)) * 1000 * 1000;
     const int reps = static_cast<int>(env_long("NSG_BENCH_REPS", 3));
     const char* dir_env = std::getenv("NSG_BENCH_DIR");
     const fs::path dir = dir_env != nullptr && *dir_env ? fs::path(dir_env) : fs::temp_directory_path();
     fs::create_directories(dir);
     const fs::path file = dir / ("nsg-bench-sample_data-" + std::to_string(::getpid()) + ".json");
-    const std::uint64_t bytes = generate(file, target);
+    std::uint64_t records = 0;
+    const std::uint64_t bytes = generate(file, target, &records);
     std::printf("bench_nuscenes: sample_data-shaped table %.1f MB at %s\n", bytes / 1e6, file.c_str());
     double best_mbps = 0, best_cpu_mbps = 0, worst_ratio = 0;
     for (int r = 0; r < reps; ++r) {
@@ -160,6 +214,9 @@ int main() {
       best_mbps = std::max(best_mbps, mbps);
       best_cpu_mbps = std::max(best_cpu_mbps, cpu_mbps);
       worst_ratio = std::max(worst_ratio, ratio);
+      if (m.records != records)
+        throw nsg::InternalError(file.string(), "", "the loader read " + std::to_string(m.records) + " records of " +
+                                                        std::to_string(records) + " written");
       std::printf("  load %d: %" PRIu64 " records in %.3f s = %.0f MB/s (CPU %.3f s = %.0f MB/s); peak RSS %.1f MB (%.2fx file; %.1f MB before load)\n",
                   r + 1, m.records, m.seconds, mbps, m.cpu_seconds, cpu_mbps, m.rss_peak / 1e6, ratio, m.rss_before / 1e6);
     }

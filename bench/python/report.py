@@ -66,6 +66,23 @@ def table_loader(text):
             "mb_per_cpu_s": float(m.group(2)), "peak_rss_over_file": float(m.group(3))}
 
 
+def table_scale(text):
+    """bench_nuscenes' scale case (NSG_BENCH_SCALE_MB): size, records, rate, peak RSS / file, verdict."""
+    if not text:
+        return None
+    if "SKIP" in text:
+        return {"skipped": text.strip()}
+    size = re.search(r"table ([\d.]+) MB \((\d+) records", text)
+    load = re.search(r"loaded (\d+) records in ([\d.]+) s = (\d+) MB/s \(CPU ([\d.]+) s = (\d+) MB/s\); "
+                     r"peak RSS ([\d.]+) MB = ([\d.]+)x file", text)
+    if not size or not load:
+        return {"failed": text.strip()[-500:]}
+    return {"table_mb": float(size.group(1)), "records_written": int(size.group(2)), "records_read": int(load.group(1)),
+            "load_s": float(load.group(2)), "mb_per_s": float(load.group(3)), "mb_per_cpu_s": float(load.group(5)),
+            "peak_rss_mb": float(load.group(6)), "peak_rss_over_file": float(load.group(7)), "limit_over_file": 1.0,
+            "pass": "PASS" in text and "FAIL" not in text}
+
+
 def google_benchmarks(path):
     doc = read_json(path)
     if not doc:
@@ -141,7 +158,8 @@ def collect(d):
                   "ratio_bounds_from_stage_rounding": lidar_ratio_range(gen, lidar)},
         "tables": {"nsgraph": table_loader(read_text(os.path.join(d, "bench_nuscenes.txt"))), "python": tables,
                    "target_ratio": TABLE_TARGET,
-                   "ratio_nsgraph_over_python": tables and tables.get("ratio_nsgraph_over_python")},
+                   "ratio_nsgraph_over_python": tables and tables.get("ratio_nsgraph_over_python"),
+                   "scale": table_scale(read_text(os.path.join(d, "tables_scale.txt")))},
         "memory_vs_canvas": memory,
         "google_benchmarks": {m: google_benchmarks(os.path.join(d, f"bench_{m}.json"))
                               for m in ("metrics", "synth", "raster")
@@ -188,6 +206,14 @@ def markdown(r):
     tnr, tpr = tn.get("peak_rss_over_file"), tp.get("peak_rss_over_file")
     lines.append(f"| table load peak RSS / file size | {fmt(tnr, '.2f', '×')} | {fmt(tpr, '.2f', '×')} "
                  f"| | ≤ 2× (nsgraph) | {verdict(None if tnr is None else tnr <= 2.0)} |")
+    sc = r["tables"].get("scale")
+    if sc and "table_mb" in sc:
+        lines.append(f"| table load at scale, {sc['table_mb']:,.0f} MB sample_data ({sc['records_read']:,} of "
+                     f"{sc['records_written']:,} records), one load | {sc['mb_per_s']:,.0f} MB/s, peak RSS "
+                     f"{sc['peak_rss_over_file']:.2f}× file | | | ≤ 1× file, all records | {verdict(sc['pass'])} |")
+    elif sc:
+        lines.append(f"| table load at scale | {sc.get('skipped') or 'FAILED to run'} | | | ≤ 1× file | "
+                     f"{'n/a' if 'skipped' in sc else 'FAIL'} |")
     mem = r["memory_vs_canvas"]
     for tool in ("generate", "synth"):
         ratio = mem[f"{tool}_peak_rss_ratio_4x_over_1x"]

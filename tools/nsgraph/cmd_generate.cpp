@@ -27,6 +27,7 @@ struct GenerateCommandOptions {
   bool no_rgb = false, no_semantic = false, strict = false;
   std::vector<std::string> settings;  // --set key.path=value
   bool print_config = false;
+  bool allow_empty = false;
   int threads = 0;
 
   pipeline::GenerateConfig resolve() const {
@@ -70,6 +71,7 @@ int run_generate(const GenerateCommandOptions& o, const Context& ctx) {
   run.share = pipeline::resolve_share(o.shard_index, o.num_shards);
   run.threads = o.threads;
   run.progress = !ctx.quiet;
+  run.allow_empty = o.allow_empty;
   const auto start = std::chrono::steady_clock::now();
   const pipeline::GenerateSummary s = pipeline::generate(config, run);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -112,6 +114,8 @@ void add_generate_command(CLI::App& root, Context& ctx) {
   cmd->add_option("--num-shards", o->num_shards, "Number of processes sharing the work");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
   cmd->add_flag("--print-config", o->print_config, "Print the resolved config and exit");
+  cmd->add_flag("--allow-empty", o->allow_empty,
+                "Write the dataset even when no crop passes the filters (else: exit 1 naming the filters)");
   cmd->callback([o, &ctx] { ctx.run = [o, &ctx] { return run_generate(*o, ctx); }; });
 }
 

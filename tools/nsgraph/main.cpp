@@ -1,7 +1,10 @@
 // nsgraph: one binary, one subcommand per pipeline stage (DESIGN.md §2).
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <string>
+#include <vector>
 
 #include "commands.h"
 #include "nsg/core/error.h"
@@ -25,6 +28,58 @@ constexpr nsg::cli::AddCommand kCommands[] = {
     &nsg::cli::add_predict_command,
 };
 
+// The command names of `app`, in table order.
+std::vector<std::string> command_names(CLI::App& app) {
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) names.push_back(sub->get_name());
+  return names;
+}
+
+// Edit distance, for "did you mean" (names are short).
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// The first word that is not a global flag names the command. Checked before CLI11 parses:
+// with an unknown command CLI11 would treat the rest as extras and act on global flags
+// among them (`nsgraph generat --version v1.0-mini` printed the program version, exit 0).
+// The global options are flags only, so no word before the command is an option's value.
+bool check_command_word(CLI::App& app, int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word == "--") break;
+    if (!word.empty() && word[0] == '-') continue;
+    const std::vector<std::string> names = command_names(app);
+    if (std::find(names.begin(), names.end(), word) != names.end()) return true;
+    std::string hint;
+    size_t best = 3;  // suggest only close names
+    for (const std::string& n : names) {
+      const size_t d = edit_distance(word, n);
+      if (d < best) {
+        best = d;
+        hint = " (did you mean '" + n + "'?)";
+      }
+    }
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    std::fprintf(stderr, "nsgraph: error: unknown command '%s'%s\ncommands: %s\nRun 'nsgraph --help' for more.\n",
+                 word.c_str(), hint.c_str(), list.c_str());
+    return false;
+  }
+  return true;
+}
+
 int run(int argc, char** argv) {
   CLI::App app{"nsgraph — build, validate and score the NuScenesGraph lane-graph benchmark"};
   app.set_version_flag("--version", std::string("nsgraph ") + nsg::kVersion);
@@ -34,6 +89,7 @@ int run(int argc, char** argv) {
   app.add_flag("-q,--quiet", ctx.quiet, "Only errors on stderr");
   app.add_flag("-v,--verbose", ctx.verbose, "Debug log lines");
   for (nsg::cli::AddCommand add : kCommands) add(app, ctx);
+  if (!check_command_word(app, argc, argv)) return nsg::kExitInput;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -236,6 +236,9 @@ std::vector<Record> read_records(const std::filesystem::path& file, Fill fill) {
       }
       return rows;
     } catch (const ParseError&) {
+      // simdjson parses one document of at most 4 GiB (32-bit structural indices): a
+      // larger file cannot be re-parsed whole, so the window's own error stands.
+      if (file_size > simdjson::SIMDJSON_MAXSIZE_BYTES) throw;
       rows = {};  // fall through to the whole-file parse
     }
   }

@@ -2,6 +2,7 @@
 #include "nsg/nuscenes/tables.h"
 
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #if defined(__SSE2__)
@@ -343,6 +344,8 @@ Table<Record> Table<Record>::load(const std::filesystem::path& file) {
   Table<Record> t;
   t.file_ = file.string();
   t.rows_ = read_table<Record>(file);
+  if (t.rows_.size() > static_cast<size_t>(std::numeric_limits<Index>::max()))  // row indices are int32
+    throw ParseError(t.file_, "", "at most 2147483647 records (the table's row indices are 32-bit)");
   const Index dup = t.index_.build(t.rows_.size(), [&](size_t i) -> const Token& { return t.rows_[i].token; });
   if (dup != kNoIndex) {
     const Token& token = t.rows_[static_cast<size_t>(dup)].token;

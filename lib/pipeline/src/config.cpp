@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <set>
 
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
@@ -26,6 +27,16 @@ void OutputOptions::validate() const {
   if (deflate_level < 1 || deflate_level > 9) throw ConfigError("", "output.deflate_level", "a zlib level 1 to 9");
 }
 
+std::vector<ExcludedScene> default_excluded_scenes() {
+  const std::string bad_fit = "boston-seaport: the ego poses fit the map badly (nuScenes devkit README, map_api blacklist)";
+  const std::string off_map = "boston-seaport: lies outside the annotated map (nuScenes devkit README, map_api blacklist)";
+  return {{"scene-0499", bad_fit},
+          {"scene-0501", off_map},
+          {"scene-0502", off_map},
+          {"scene-0515", bad_fit},
+          {"scene-0517", bad_fit}};
+}
+
 tiling::SplitOptions GenerateConfig::split_options_for(const std::string& location) const {
   tiling::SplitOptions s = splits;
   auto it = regions.find(location);
@@ -36,6 +47,12 @@ tiling::SplitOptions GenerateConfig::split_options_for(const std::string& locati
 void GenerateConfig::validate(bool require_inputs) const {
   if (require_inputs && dataroot.empty()) throw ConfigError("", "dataroot", "the nuScenes dataroot (--dataroot)");
   if (require_inputs && version.empty()) throw ConfigError("", "version", "a release version such as v1.0-mini (--version)");
+  std::set<std::string> excluded;
+  for (const ExcludedScene& e : exclude_scenes) {
+    if (e.name.empty()) throw ConfigError("", "scenes.exclude", "scene names that are not empty");
+    if (!excluded.insert(e.name).second)
+      throw ConfigError("", "scenes.exclude", "each scene once ('" + e.name + "' repeats)");
+  }
   if (!(resolution_m > 0.0 && resolution_m <= 10.0)) throw ConfigError("", "resolution_m", "metres per pixel in (0, 10]");
   if (std::abs(raster.lidar.resolution_m - resolution_m) > 1e-12)
     throw InternalError("", "raster.lidar.resolution_m", "equal to resolution_m");
@@ -146,6 +163,20 @@ std::vector<tiling::Region> read_regions(const json& list, const std::string& pa
   return out;
 }
 
+std::vector<ExcludedScene> read_excluded_scenes(const json& list, const std::string& path, const std::string& file) {
+  const char* shape = "an array of {\"name\": scene name, \"reason\": text} ([] keeps every scene)";
+  if (!list.is_array()) throw ConfigError(file, path, shape);
+  std::vector<ExcludedScene> out;
+  for (size_t i = 0; i < list.size(); ++i) {
+    const json& e = list[i];
+    if (!e.is_object() || e.size() != 2 || !e.contains("name") || !e.contains("reason") || !e["name"].is_string() ||
+        !e["reason"].is_string())
+      throw ConfigError(file, path + "[" + std::to_string(i) + "]", shape);
+    out.push_back({e["name"].get<std::string>(), e["reason"].get<std::string>()});
+  }
+  return out;
+}
+
 }  // namespace
 
 ordered_json config_to_json(const GenerateConfig& c) {
@@ -156,11 +187,14 @@ ordered_json config_to_json(const GenerateConfig& c) {
     regions[location] = arr;
   }
   const raster::CameraOptions& cam = c.raster.camera;
+  ordered_json excluded = ordered_json::array();
+  for (const ExcludedScene& e : c.exclude_scenes) excluded.push_back({{"name", e.name}, {"reason", e.reason}});
   return ordered_json{
       {"schema_version", "1"},
       {"dataroot", c.dataroot},
       {"version", c.version},
       {"locations", c.locations},
+      {"scenes", {{"exclude", excluded}}},
       {"seed", c.seed},
       {"resolution_m", c.resolution_m},
       {"lidar",
@@ -225,6 +259,7 @@ GenerateConfig config_from_json(const json& doc, const std::string& file, Genera
   c.dataroot = r.str("dataroot");
   c.version = r.str("version");
   c.locations = r.strings("locations");
+  c.exclude_scenes = read_excluded_scenes(r.at("scenes.exclude"), "scenes.exclude", file);
   c.seed = r.seed("seed");
   c.resolution_m = r.num("resolution_m");
   c.raster.lidar.resolution_m = c.resolution_m;

@@ -102,10 +102,13 @@ ordered_json plan_json(const LocationPlan& p) {
                       {"tiles", s.count},
                       {"first_key", p.keys[s.first]},
                       {"last_key", p.keys[s.first + s.count - 1]}});
+  ordered_json excluded = ordered_json::array();
+  for (const ExcludedScene& e : p.excluded_scenes) excluded.push_back({{"name", e.name}, {"reason", e.reason}});
   return {{"name", p.location},
           {"map_version", p.map_version},
           {"lane_graph",
            {{"nodes", p.graph_nodes}, {"edges", p.graph_edges}, {"lanes", p.graph_lanes}, {"map_defects", p.map_defects}}},
+          {"scenes", {{"used", p.scenes_used}, {"excluded", excluded}}},
           {"regions", regions},
           {"counts", counts},
           {"shards", shards}};
@@ -147,13 +150,14 @@ struct StageTotals {
 };
 
 StageTotals count_stage_work(const nuscenes::Database& db, const std::vector<std::string>& locations,
-                             const std::string& lidar_channel) {
+                             const std::string& lidar_channel, const std::vector<char>& excluded) {
   StageTotals t;
   for (const std::string& l : locations) t.scenes[l] = t.sweeps[l] = t.images[l] = 0;
   const auto location_of_scene = [&](nuscenes::Index scene) -> const std::string& {
     return db.log[db.scene[scene].log].location;
   };
   for (nuscenes::Index s = 0; s < static_cast<nuscenes::Index>(db.scene.size()); ++s) {
+    if (excluded[static_cast<size_t>(s)]) continue;
     auto it = t.scenes.find(location_of_scene(s));
     if (it != t.scenes.end()) ++it->second;
   }
@@ -161,13 +165,34 @@ StageTotals count_stage_work(const nuscenes::Database& db, const std::vector<std
     const bool lidar = sd.modality == nuscenes::Modality::kLidar && db.channel(sd) == lidar_channel;
     const bool image = sd.modality == nuscenes::Modality::kCamera && sd.is_key_frame;
     if (!lidar && !image) continue;
+    const nuscenes::Index scene = db.sample[sd.sample].scene;
+    if (excluded[static_cast<size_t>(scene)]) continue;
     std::map<std::string, size_t>& per = lidar ? t.sweeps : t.images;
-    auto it = per.find(location_of_scene(db.sample[sd.sample].scene));
+    auto it = per.find(location_of_scene(scene));
     if (it == per.end()) continue;
     ++it->second;
     ++(lidar ? t.all_sweeps : t.all_images);
   }
   return t;
+}
+
+// Marks the scenes of the run's locations that the config leaves out (scenes.exclude) and
+// returns them, in scene-table order, with their reasons.
+std::vector<std::pair<nuscenes::Index, const ExcludedScene*>> find_excluded_scenes(
+    const GenerateConfig& config, const nuscenes::Database& db, const std::vector<std::string>& locations,
+    std::vector<char>& excluded) {
+  std::map<std::string, const ExcludedScene*> by_name;
+  for (const ExcludedScene& e : config.exclude_scenes) by_name[e.name] = &e;
+  const std::set<std::string> planned(locations.begin(), locations.end());
+  excluded.assign(db.scene.size(), 0);
+  std::vector<std::pair<nuscenes::Index, const ExcludedScene*>> out;
+  for (nuscenes::Index s = 0; s < static_cast<nuscenes::Index>(db.scene.size()); ++s) {
+    auto it = by_name.find(db.scene[s].name);
+    if (it == by_name.end() || !planned.count(db.log[db.scene[s].log].location)) continue;
+    excluded[static_cast<size_t>(s)] = 1;
+    out.emplace_back(s, it->second);
+  }
+  return out;
 }
 
 uint64_t location_seed(uint64_t seed, const std::string& location) {
@@ -205,6 +230,18 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
   const nuscenes::Database db = nuscenes::Database::load(config.dataroot, config.version);
   summary.seconds.load_s = seconds_since(t0);
   summary.locations = resolve_locations(config, db);
+  std::vector<char> excluded;
+  const auto excluded_list = find_excluded_scenes(config, db, summary.locations, excluded);
+  if (!excluded_list.empty()) {
+    std::vector<std::string> named;
+    for (const auto& [s, e] : excluded_list) {
+      summary.excluded_scenes.push_back(db.scene[s].name);
+      named.push_back(db.scene[s].name + (e->reason.empty() ? "" : " (" + e->reason + ")"));
+    }
+    log::info(strprintf("generate: leaving out %zu scene(s) (scenes.exclude): ", excluded_list.size()) +
+              join(named, ", "));
+  }
+  std::vector<PlanFilters> filters;
 
   OutputWriter out(run.out, config, run.share);
   const int64_t per_shard = config.output.resolved_tiles_per_shard();
@@ -213,7 +250,7 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
   // One progress line per stage over the whole run (tiles: per location, as a location's
   // tiles are known only once its LiDAR is accumulated and planned). Stages interleave
   // per location; each line is finished when its stage's last location is done.
-  const StageTotals totals = count_stage_work(db, summary.locations, config.raster.lidar_channel);
+  const StageTotals totals = count_stage_work(db, summary.locations, config.raster.lidar_channel, excluded);
   const bool cameras = config.raster.camera.rgb || config.raster.camera.semantic;
   Progress lidar_progress("lidar sweeps", totals.all_sweeps, run.progress);
   std::optional<Progress> camera_progress;
@@ -237,9 +274,26 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
     st.plan.map_defects = defects.items().size();
     summary.seconds.graph_s += seconds_since(t0);
 
+    // The location's scenes less the excluded ones.
+    std::vector<nuscenes::Index> scenes;
+    for (nuscenes::Index s : raster::scenes_at(db, location)) {
+      if (!excluded[static_cast<size_t>(s)]) {
+        scenes.push_back(s);
+        continue;
+      }
+      for (const auto& [index, e] : excluded_list)
+        if (index == s) st.plan.excluded_scenes.push_back({db.scene[s].name, e->reason});
+    }
+    st.plan.scenes_used = scenes.size();
+
     t0 = std::chrono::steady_clock::now();
-    log::info("generate: " + location + ": accumulating LiDAR");
-    st.layers = raster::accumulate_location(db, location, config.raster, run.threads);
+    if (scenes.empty()) {
+      log::warn("generate: " + location + ": every scene is excluded (scenes.exclude): no LiDAR, no tiles");
+      st.layers = raster::LocationLayers{raster::LidarLayer(config.resolution_m), raster::VehicleLayer(config.resolution_m), {}};
+    } else {
+      log::info(strprintf("generate: %s: accumulating LiDAR of %zu scene(s)", location.c_str(), scenes.size()));
+      st.layers = raster::accumulate_scenes(db, scenes, config.raster, run.threads);
+    }
     summary.sweeps += st.layers.stats.sweeps;
     summary.seconds.lidar_s += seconds_since(t0);
     scenes_done += st.layers.stats.scenes;
@@ -249,8 +303,13 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
 
     t0 = std::chrono::steady_clock::now();
     const uint64_t seed = location_seed(config.seed, location);
-    st.plan.regions = tiling::plan_regions(st.layers.lidar, config.split_options_for(location), config.crop_size_m(), seed);
-    st.plan.crops = tiling::plan_crops(st.layers.lidar, st.plan.regions, config.crops, seed);
+    PlanFilters& filter = filters.emplace_back();
+    filter.location = location;
+    filter.scenes_used = st.plan.scenes_used;
+    filter.scenes_excluded = st.plan.excluded_scenes.size();
+    st.plan.regions = tiling::plan_regions(st.layers.lidar, config.split_options_for(location), config.crop_size_m(),
+                                           seed, &filter.regions);
+    st.plan.crops = tiling::plan_crops(st.layers.lidar, st.plan.regions, config.crops, seed, &filter.crops);
     assign_keys_and_shards(st.plan, per_shard, next_shard);
     summary.tiles_planned += st.plan.crops.size();
     summary.seconds.plan_s += seconds_since(t0);
@@ -297,9 +356,9 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
         rects.push_back({c.col0, c.row0, c.col0 + config.crops.size_px, c.row0 + config.crops.size_px});
       }
     }
-    if (cameras && !rects.empty()) {
+    if (cameras && !rects.empty() && !scenes.empty()) {
       log::info(strprintf("generate: %s: colouring %zu tiles from the cameras", location.c_str(), rects.size()));
-      color = raster::colorize_location(db, location, st.layers.lidar, rects, config.raster.camera, run.threads);
+      color = raster::colorize_scenes(db, scenes, st.layers.lidar, rects, config.raster.camera, run.threads);
       summary.images += color.stats().images_used;
       images_decoded += color.stats().images_used;
     }
@@ -323,6 +382,15 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
     }
     if (tile_progress) tile_progress->finish();
     summary.seconds.tiles_s += seconds_since(t0);
+  }
+  // The whole plan is known here, the same in every share: an empty dataset is refused by
+  // all shares alike (the done-records stay incomplete, so no merge writes a manifest).
+  if (summary.tiles_planned == 0) {
+    const std::string why = explain_empty_plan(filters, config);
+    if (!run.allow_empty) throw EmptyDatasetError("", "", why);
+    log::warn(why + "\n(--allow-empty: writing the empty dataset)");
+  } else {
+    for (const std::string& w : empty_split_warnings(filters, config)) log::warn("generate: " + w);
   }
   out.finish();
   if (run.share.count == 1) {

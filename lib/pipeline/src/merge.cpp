@@ -7,6 +7,7 @@
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
+#include "nsg/core/log.h"
 #include "nsg/core/sha256.h"
 #include "nsg/core/strings.h"
 #include "nsg/core/version.h"
@@ -188,6 +189,12 @@ void merge(const fs::path& out) {
     total += split_tiles[split];
   }
   counts["total_tiles"] = total;
+  if (total == 0) log::warn("merge: " + out.string() + " holds no tiles (a run with --allow-empty)");
+  ordered_json excluded_scenes = ordered_json::array();
+  for (const auto& location : plan)
+    if (location.contains("scenes"))
+      for (const auto& e : location["scenes"]["excluded"])
+        excluded_scenes.push_back({{"name", e["name"]}, {"location", location["name"]}, {"reason", e["reason"]}});
   const ordered_json& config = first.doc["config"];
   const ordered_json manifest = {
       {"schema_version", "1"},
@@ -203,6 +210,7 @@ void merge(const fs::path& out) {
         {"key_pattern", "<location>-<split>-<NNNNNN>"},
         {"files", tile_file_suffixes()}}},
       {"locations", plan},
+      {"excluded_scenes", excluded_scenes},
       {"counts", counts},
       {"shards", shards},
       {"maps", maps}};

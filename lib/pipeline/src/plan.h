@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nsg/pipeline/config.h"
 #include "nsg/tiling/crops.h"
 #include "nsg/tiling/regions.h"
 
@@ -23,12 +24,31 @@ struct LocationPlan {
   std::string location;
   std::string map_version;
   size_t graph_nodes = 0, graph_edges = 0, graph_lanes = 0, map_defects = 0;
+  size_t scenes_used = 0;
+  std::vector<ExcludedScene> excluded_scenes;  // present at the location, left out by the config
   std::vector<tiling::Region> regions;
   std::vector<tiling::Crop> crops;  // train, then val, then test; plan order inside a split
   std::vector<std::string> keys;    // one per crop
   std::vector<PlannedShard> shards;
   size_t count(const std::string& split) const;
 };
+
+// How a location's plan came to its crops: what each filter of the region and crop
+// planning took (tiling's stats), kept after the location's layers are gone so the end of
+// the run can explain an empty dataset or an empty split. Every share computes the same.
+struct PlanFilters {
+  std::string location;
+  size_t scenes_used = 0, scenes_excluded = 0;
+  tiling::RegionStats regions;
+  tiling::CropStats crops;
+};
+
+// The message of a run whose plan holds no tile at all: per location, which filter dropped
+// the candidates and how many, then what to change.
+std::string explain_empty_plan(const std::vector<PlanFilters>& filters, const GenerateConfig& config);
+// Warning lines for splits that end with no tile while others have tiles (only splits the
+// config asks for: a ratio > 0 or explicit regions of the split); empty when none.
+std::vector<std::string> empty_split_warnings(const std::vector<PlanFilters>& filters, const GenerateConfig& config);
 
 enum class ItemKind { kMaps, kShard };
 

@@ -80,30 +80,49 @@ CornerRange corner_range(const RectM& r, double res, int size_px) {
           static_cast<int64_t>(std::floor(r.y_north_m / res + 1e-9)) - size_px};
 }
 
-void grid_crops(const raster::LidarLayer& lidar, const Region& region, const CropOptions& o,
+// Tests one candidate window: kept (appended to `out`) or counted as below the threshold.
+void consider(const raster::LidarLayer& lidar, const Region& region, int64_t col, int64_t row, const CropOptions& o,
+              SplitCropStats& st, std::vector<Crop>& out) {
+  const double cov = window_coverage(lidar, col, row, o.size_px);
+  ++st.windows;
+  if (cov < o.min_lidar_coverage || cov <= 0.0) {
+    ++st.below_coverage;
+    st.best_rejected_coverage = std::max(st.best_rejected_coverage, cov);
+    return;
+  }
+  out.push_back({region.name, region.split, col, row, cov});
+  ++st.kept;
+}
+
+void grid_crops(const raster::LidarLayer& lidar, const Region& region, const CropOptions& o, SplitCropStats& st,
                 std::vector<Crop>& out) {
   const CornerRange range = corner_range(region.bounds, lidar.resolution_m(), o.size_px);
-  if (range.empty()) return;
+  if (range.empty()) {
+    ++st.regions_no_room;
+    return;
+  }
   for (int64_t row = range.row_lo; row <= range.row_hi; row += o.size_px)
-    for (int64_t col = range.col_lo; col <= range.col_hi; col += o.size_px) {
-      const double cov = window_coverage(lidar, col, row, o.size_px);
-      if (cov >= o.min_lidar_coverage && cov > 0.0) out.push_back({region.name, region.split, col, row, cov});
-    }
+    for (int64_t col = range.col_lo; col <= range.col_hi; col += o.size_px) consider(lidar, region, col, row, o, st, out);
 }
 
 void random_crops(const raster::LidarLayer& lidar, const Region& region, int64_t wanted, const CropOptions& o,
-                  uint64_t seed, std::vector<Crop>& out) {
+                  uint64_t seed, SplitCropStats& st, std::vector<Crop>& out) {
   const CornerRange range = corner_range(region.bounds, lidar.resolution_m(), o.size_px);
-  if (range.empty() || wanted <= 0) return;
+  if (range.empty()) {
+    ++st.regions_no_room;
+    return;
+  }
+  if (wanted <= 0) {
+    ++st.regions_none_wanted;
+    return;
+  }
+  st.wanted += wanted;
   Rng rng(seed, hash_string(region.name.data(), region.name.size()));
-  int64_t kept = 0;
-  for (int64_t attempt = 0; attempt < wanted * o.attempts_per_crop && kept < wanted; ++attempt) {
+  const int64_t kept_before = st.kept;
+  for (int64_t attempt = 0; attempt < wanted * o.attempts_per_crop && st.kept - kept_before < wanted; ++attempt) {
     const int64_t col = rng.uniform_int(range.col_lo, range.col_hi);
     const int64_t row = rng.uniform_int(range.row_lo, range.row_hi);
-    const double cov = window_coverage(lidar, col, row, o.size_px);
-    if (cov < o.min_lidar_coverage || cov <= 0.0) continue;
-    out.push_back({region.name, region.split, col, row, cov});
-    ++kept;
+    consider(lidar, region, col, row, o, st, out);
   }
 }
 
@@ -124,8 +143,11 @@ int64_t covered_cells_in(const raster::LidarLayer& lidar, const RectM& rect) {
 }
 
 std::vector<Crop> plan_crops(const raster::LidarLayer& lidar, const std::vector<Region>& regions,
-                             const CropOptions& options, uint64_t seed) {
+                             const CropOptions& options, uint64_t seed, CropStats* stats) {
   options.validate();
+  CropStats local;
+  CropStats& st = stats != nullptr ? *stats : local;
+  st = {};
   const double cell_km2 = lidar.resolution_m() * lidar.resolution_m() * 1e-6;
   // Covered area per region, and per split (to spread a total over the split's regions).
   std::vector<double> covered_km2(regions.size());
@@ -134,17 +156,26 @@ std::vector<Crop> plan_crops(const raster::LidarLayer& lidar, const std::vector<
     covered_km2[i] = static_cast<double>(covered_cells_in(lidar, regions[i].bounds)) * cell_km2;
     split_km2[regions[i].split] += covered_km2[i];
   }
+  // Regions are validated to carry a split name (explicit) or get one (automatic).
+  const auto split_stats = [&](const std::string& split) -> SplitCropStats& {
+    const int k = split_index(split);
+    if (k < 0) throw InternalError("", "region split", "train, val or test (got '" + split + "')");
+    return st.splits[static_cast<size_t>(k)];
+  };
   std::vector<Crop> crops;
   for (size_t i = 0; i < regions.size(); ++i) {
     const Region& region = regions[i];
+    SplitCropStats& sst = split_stats(region.split);
+    ++sst.regions;
+    sst.covered_km2 += covered_km2[i];
     if (placement_of(options, region.split) == Placement::kGrid) {
-      grid_crops(lidar, region, options, crops);
+      grid_crops(lidar, region, options, sst, crops);
       continue;
     }
     const double share = split_km2[region.split] > 0 ? covered_km2[i] / split_km2[region.split] : 0.0;
     const double wanted = options.random_total > 0 ? static_cast<double>(options.random_total) * share
                                                    : options.random_per_km2 * covered_km2[i];
-    random_crops(lidar, region, static_cast<int64_t>(std::llround(wanted)), options, seed, crops);
+    random_crops(lidar, region, static_cast<int64_t>(std::llround(wanted)), options, seed, sst, crops);
   }
   return crops;
 }

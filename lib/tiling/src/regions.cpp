@@ -17,6 +17,12 @@ bool is_split_name(std::string_view name) {
   return std::find(kSplitNames.begin(), kSplitNames.end(), name) != kSplitNames.end();
 }
 
+int split_index(std::string_view split) {
+  for (size_t i = 0; i < kSplitNames.size(); ++i)
+    if (kSplitNames[i] == split) return static_cast<int>(i);
+  return -1;
+}
+
 bool RectM::contains(const RectM& inner) const {
   return inner.x_west_m >= x_west_m && inner.x_east_m <= x_east_m && inner.y_south_m >= y_south_m &&
          inner.y_north_m <= y_north_m;
@@ -101,11 +107,20 @@ struct Block {
 }  // namespace
 
 std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOptions& options, double crop_size_m,
-                                 uint64_t seed) {
+                                 uint64_t seed, RegionStats* stats) {
   options.validate(crop_size_m);
-  if (!options.regions.empty()) return options.regions;
+  RegionStats local;
+  RegionStats& st = stats != nullptr ? *stats : local;
+  st = {};
+  if (!options.regions.empty()) {
+    st.explicit_regions = true;
+    return options.regions;
+  }
   const CellWindow e = covered_window(lidar);
-  if (e.empty()) return {};
+  if (e.empty()) {
+    st.no_lidar = true;
+    return {};
+  }
   const double res = lidar.resolution_m();
   const double x0 = static_cast<double>(e.col0) * res, y0 = static_cast<double>(e.row0) * res;
   const double w = static_cast<double>(e.col1 - e.col0) * res, h = static_cast<double>(e.row1 - e.row0) * res;
@@ -115,6 +130,8 @@ std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOpt
   const int64_t nx = static_cast<int64_t>(std::ceil(w / block_m - 1e-9));
   const int64_t ny = static_cast<int64_t>(std::ceil(h / block_m - 1e-9));
   const int64_t block_cells = static_cast<int64_t>(std::llround(block_m / res));
+  st.block_size_m = block_m;
+  st.blocks = nx * ny;
 
   // Blocks with enough coverage, ordered by a seeded hash of their grid position.
   std::vector<Block> blocks;
@@ -124,6 +141,8 @@ std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOpt
       const double cells = static_cast<double>(block_cells * block_cells);
       if (static_cast<double>(covered_cells_in(lidar, b.bounds)) >= options.min_block_coverage * cells)
         blocks.push_back(b);
+      else
+        ++st.blocks_low_coverage;
     }
   const auto rank = [&](const Block& b) {
     return mix64(seed ^ mix64(static_cast<uint64_t>(b.bx) * 0x9E3779B97F4A7C15ull + static_cast<uint64_t>(b.by)));
@@ -139,8 +158,10 @@ std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOpt
   if (n_test == 0 && options.ratios.test > 0 && blocks.size() >= 2) n_test = 1;
   size_t n_val = static_cast<size_t>(std::llround(n * options.ratios.val));
   if (n_test + n_val > blocks.size()) n_val = blocks.size() - n_test;
-  for (size_t k = 0; k < order.size(); ++k)
+  for (size_t k = 0; k < order.size(); ++k) {
     blocks[order[k]].split = k < n_test ? "test" : k < n_test + n_val ? "val" : "train";
+    ++st.blocks_assigned[static_cast<size_t>(split_index(blocks[order[k]].split))];
+  }
 
   // Buffers: a block gives up `buffer_m` on each side that faces (edge or corner) a block
   // of a split ranked higher; equal ranks never meet across different splits.
@@ -163,7 +184,10 @@ std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOpt
           if (dy < 0 && !corners) r.y_south_m = b.bounds.y_south_m + options.buffer_m;
           if (dy > 0 && !corners) r.y_north_m = b.bounds.y_north_m - options.buffer_m;
         }
-    if (r.width_m() < crop_size_m || r.height_m() < crop_size_m) continue;
+    if (r.width_m() < crop_size_m || r.height_m() < crop_size_m) {
+      ++st.blocks_too_small[static_cast<size_t>(split_index(b.split))];
+      continue;
+    }
     char name[64];
     std::snprintf(name, sizeof name, "%s-%02lld-%02lld", b.split.c_str(), static_cast<long long>(b.bx),
                   static_cast<long long>(b.by));

@@ -23,6 +23,36 @@ fs::path e2e_release() {
   });
 }
 
+fs::path tiny_release() {
+  const fs::path config = source_dir() / "samples/synth/tiny.json";
+  return cached_folder("release_tiny", nsgraph_build_key() + "-" + content_key(config), [&](const fs::path& dir) {
+    const CommandResult r =
+        run_nsgraph({"synth", "--quiet", "--config", config.string(), "--out", dir.string(), "--seed", "7"});
+    if (r.exit_code != 0) throw std::runtime_error("synth tiny failed: " + r.err);
+  });
+}
+
+fs::path release_with_renamed_scene(const fs::path& release, const std::string& version, const std::string& from,
+                                    const std::string& to, const fs::path& dir) {
+  fs::create_directories(dir / version);
+  for (const auto& e : fs::directory_iterator(release))
+    if (e.path().filename() != version) fs::create_symlink(e.path(), dir / e.path().filename());
+  for (const auto& e : fs::directory_iterator(release / version)) {
+    if (e.path().filename() != "scene.json") {
+      fs::create_symlink(e.path(), dir / version / e.path().filename());
+      continue;
+    }
+    std::string text = read_file(e.path());
+    const std::string quoted = "\"" + from + "\"";
+    const size_t at = text.find(quoted);
+    if (at == std::string::npos || text.find(quoted, at + 1) != std::string::npos)
+      throw std::runtime_error("scene " + from + " not found once in " + e.path().string());
+    text.replace(at, quoted.size(), "\"" + to + "\"");
+    write_text(dir / version / "scene.json", text);
+  }
+  return dir;
+}
+
 std::vector<std::string> e2e_generate_args(const fs::path& out) {
   return {"generate", "--quiet", "--config", (source_dir() / "tests/data/generate/e2e.json").string(), "--dataroot",
           e2e_release().string(), "--version", "v1.0-mini", "--out", out.string()};

@@ -10,6 +10,14 @@
 namespace nsg::test {
 
 std::filesystem::path e2e_release();
+// samples/synth/tiny.json synthesized with seed 7 (one small block: the default config
+// plans no tile on it).
+std::filesystem::path tiny_release();
+// A view of `release` (symlinks to its files) whose scene table has scene `from` renamed
+// to `to`, written under `dir`; returns the view's root.
+std::filesystem::path release_with_renamed_scene(const std::filesystem::path& release, const std::string& version,
+                                                 const std::string& from, const std::string& to,
+                                                 const std::filesystem::path& dir);
 // The dataset generated with 2 threads in one process.
 std::filesystem::path e2e_dataset();
 std::vector<std::string> e2e_generate_args(const std::filesystem::path& out);

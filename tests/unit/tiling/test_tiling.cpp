@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "nsg/core/error.h"
@@ -108,6 +109,78 @@ TEST(Regions, ExplicitRegionsAreCheckedForTheBuffer) {
   EXPECT_EQ(plan_regions(layer, o, 51.2, 1).size(), 2u);
   o.regions[1].split = "holdout";
   EXPECT_THROW(plan_regions(layer, o, 51.2, 1), ConfigError);
+}
+
+// The planners count what each filter took (generate's empty-dataset message reads them).
+TEST(Crops, StatsCountEveryCandidateWindow) {
+  const raster::LidarLayer layer = filled(0, 0, 150, 100);
+  CropOptions o;
+  o.size_px = 100;  // 20 m
+  o.min_lidar_coverage = 0.6;
+  const std::vector<Region> regions = {{"t", "test", {0, 0, 200, 100}}, {"small", "test", {300, 0, 319.9, 100}}};
+  CropStats st;
+  const std::vector<Crop> crops = plan_crops(layer, regions, o, 1, &st);
+  const SplitCropStats& test = st.splits[2];
+  EXPECT_EQ(test.regions, 2);
+  EXPECT_EQ(test.regions_no_room, 1) << "19.9 m is narrower than a 20 m crop";
+  // 10 × 5 grid windows: columns 0–6 full, column 7 (x 140–160) half covered (< 0.6), 8–9 empty.
+  EXPECT_EQ(test.windows, 50);
+  EXPECT_EQ(test.kept, 35);
+  EXPECT_EQ(test.below_coverage, 15);
+  EXPECT_EQ(static_cast<size_t>(test.kept), crops.size());
+  EXPECT_DOUBLE_EQ(test.best_rejected_coverage, 0.5);
+  EXPECT_NEAR(test.covered_km2, 150.0 * 100.0 * 1e-6, 1e-9);
+  EXPECT_EQ(st.splits[0].windows, 0);
+
+  // Random placement: a region whose share rounds to 0 crops asks for none.
+  o.random_per_km2 = 10.0;  // × 0.015 km² = 0.15 → 0
+  const std::vector<Region> train = {{"r", "train", {0, 0, 150, 100}}};
+  EXPECT_TRUE(plan_crops(layer, train, o, 1, &st).empty());
+  EXPECT_EQ(st.splits[0].regions, 1);
+  EXPECT_EQ(st.splits[0].regions_none_wanted, 1);
+  EXPECT_EQ(st.splits[0].windows, 0);
+  EXPECT_EQ(st.splits[2].regions, 0) << "the stats are reset per call";
+  o.random_per_km2 = 1000.0;  // 15 wanted
+  o.min_lidar_coverage = 1.0;
+  const std::vector<Crop> some = plan_crops(layer, train, o, 1, &st);
+  EXPECT_EQ(st.splits[0].wanted, 15);
+  EXPECT_EQ(st.splits[0].windows, st.splits[0].kept + st.splits[0].below_coverage);
+  EXPECT_EQ(static_cast<size_t>(st.splits[0].kept), some.size());
+}
+
+TEST(Regions, StatsCountBlocksPerSplit) {
+  SplitOptions o;
+  o.block_size_m = 160;
+  o.ratios = {0.6, 0.1, 0.3};
+  RegionStats st;
+  const std::vector<Region> regions = plan_regions(filled(0, 0, 800, 800), o, 51.2, 3, &st);
+  EXPECT_FALSE(st.explicit_regions);
+  EXPECT_FALSE(st.no_lidar);
+  EXPECT_DOUBLE_EQ(st.block_size_m, 160.0);
+  EXPECT_EQ(st.blocks, 25);
+  EXPECT_EQ(st.blocks_low_coverage, 0);
+  EXPECT_EQ(st.blocks_assigned[0], 14);
+  EXPECT_EQ(st.blocks_assigned[1], 3);
+  EXPECT_EQ(st.blocks_assigned[2], 8);
+  EXPECT_EQ(static_cast<size_t>(25 - st.blocks_too_small[0] - st.blocks_too_small[1] - st.blocks_too_small[2]),
+            regions.size());
+
+  // Only one corner block holds LiDAR: the other blocks fall below min_block_coverage.
+  o.block_size_m = 0;
+  raster::LidarLayer corner = filled(0, 0, 40, 40);
+  const float far[] = {399.9f, 399.9f, 0.0f, 1.0f};
+  corner.add_points(far, 1, 4, 0);
+  EXPECT_EQ(plan_regions(corner, o, 51.2, 3, &st).size(), 1u);
+  EXPECT_EQ(st.blocks, 16);
+  EXPECT_EQ(st.blocks_low_coverage, 15);
+  EXPECT_EQ(st.blocks_assigned[2], 0) << "one block: no test block";
+
+  EXPECT_TRUE(plan_regions(raster::LidarLayer(kRes), o, 51.2, 3, &st).empty());
+  EXPECT_TRUE(st.no_lidar);
+  o.regions = {{"a", "train", {0, 0, 100, 100}}};
+  plan_regions(corner, o, 51.2, 3, &st);
+  EXPECT_TRUE(st.explicit_regions);
+  EXPECT_EQ(st.blocks, 0);
 }
 
 }  // namespace

@@ -34,10 +34,21 @@ struct OutputOptions {
   void validate() const;
 };
 
+// A scene left out of the run (config `scenes.exclude`): its sweeps, camera images and
+// boxes contribute nothing. The manifest lists the ones present in the release.
+struct ExcludedScene {
+  std::string name;    // scene.name, e.g. "scene-0499"
+  std::string reason;  // why, for the manifest and the log
+};
+// The real release's known-bad boston-seaport scenes (devkit README, map_api blacklist;
+// ../shared/real-data.md): 499, 515, 517 fit the map badly, 501, 502 lie outside it.
+std::vector<ExcludedScene> default_excluded_scenes();
+
 struct GenerateConfig {
   std::string dataroot;
   std::string version = "v1.0-trainval";
   std::vector<std::string> locations;  // empty = every location with a log in the release
+  std::vector<ExcludedScene> exclude_scenes = default_excluded_scenes();  // [] = keep every scene
   uint64_t seed = 1;
   double resolution_m = 0.2;
   raster::RasterOptions raster;        // LiDAR filters, detections file, camera options

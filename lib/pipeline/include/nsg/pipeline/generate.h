@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "nsg/core/error.h"
 #include "nsg/pipeline/config.h"
 
 namespace nsg::pipeline {
@@ -34,8 +35,19 @@ struct StageTimes {
   double load_s = 0, graph_s = 0, lidar_s = 0, plan_s = 0, camera_s = 0, tiles_s = 0, merge_s = 0;
 };
 
+// The plan holds no tile at all and the run did not allow that (GenerateRun::allow_empty):
+// exit code 1 ("problems found"), the message says which filter dropped the candidate
+// crops at each location and what to change. Thrown by every share alike (each computes
+// the whole plan), after the maps and before the done-record is completed.
+class EmptyDatasetError : public Error {
+ public:
+  using Error::Error;
+  int exit_code() const override { return kExitProblems; }
+};
+
 struct GenerateSummary {
   std::vector<std::string> locations;
+  std::vector<std::string> excluded_scenes;  // names left out by scenes.exclude (present in the release)
   size_t sweeps = 0;           // LiDAR sweeps accumulated (every share reads all)
   size_t images = 0;           // camera images decoded for this share's tiles
   size_t tiles_written = 0;    // by this share, this run
@@ -51,8 +63,10 @@ struct GenerateRun {
   ShareSpec share;
   int threads = 0;        // 0 = all cores; results do not depend on it
   bool progress = true;
+  bool allow_empty = false;  // write a dataset of 0 tiles instead of throwing EmptyDatasetError
 };
 
+// Splits that end with no tile while others have tiles are reported with log::warn.
 GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run);
 
 // Verifies every share's done-record and output file under `out` and writes manifest.json.

@@ -3,6 +3,7 @@
 // 0.2 m cell grid, lie wholly inside one region and are kept only when enough of their
 // cells hold LiDAR. Train crops go to random positions (a count per km² of covered area,
 // or a total); val/test crops to a non-overlapping grid (random on request).
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -42,6 +43,23 @@ struct Crop {
   RectM bounds(double resolution_m, int size_px) const;
 };
 
+// Where the candidate crops of one split went (plan_crops), for the message of a run that
+// ends with few or none: every window tested is either kept or below the coverage threshold.
+struct SplitCropStats {
+  int64_t regions = 0;              // regions of this split
+  int64_t regions_no_room = 0;      // no whole crop fits on the cell grid inside the region
+  int64_t regions_none_wanted = 0;  // random placement: the region's share rounds to 0 crops
+  double covered_km2 = 0.0;         // LiDAR-covered area inside the split's regions
+  int64_t wanted = 0;               // random placement: crops asked for
+  int64_t windows = 0;              // candidate windows tested (grid positions, random draws)
+  int64_t below_coverage = 0;       // of them, under min_lidar_coverage (or without LiDAR)
+  int64_t kept = 0;
+  double best_rejected_coverage = 0.0;  // the highest coverage among the rejected windows
+};
+struct CropStats {
+  std::array<SplitCropStats, 3> splits{};  // kSplitNames order
+};
+
 // Fraction of the cells of the size×size window at (col0, row0) that hold LiDAR; reads
 // only the blocks under the window.
 double window_coverage(const raster::LidarLayer& lidar, int64_t col0, int64_t row0, int size_px);
@@ -52,7 +70,8 @@ int64_t covered_cells_in(const raster::LidarLayer& lidar, const RectM& rect);
 // (grid: south to north, west to east; random: draw order). Deterministic for a seed;
 // each region draws from its own RNG stream (hash of the region name), so adding a
 // region does not move the crops of another.
+// `stats` (optional) receives the counts above.
 std::vector<Crop> plan_crops(const raster::LidarLayer& lidar, const std::vector<Region>& regions,
-                             const CropOptions& options, uint64_t seed);
+                             const CropOptions& options, uint64_t seed, CropStats* stats = nullptr);
 
 }  // namespace nsg::tiling

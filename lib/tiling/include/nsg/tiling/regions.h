@@ -65,6 +65,23 @@ struct CellWindow {
   bool empty() const { return col1 <= col0 || row1 <= row0; }
 };
 
+// What plan_regions did with the ground it was given, so a run that ends with few or no
+// crops can say which filter took them (generate's empty-dataset message).
+struct RegionStats {
+  bool explicit_regions = false;   // regions came from the config (the counts below stay 0)
+  bool no_lidar = false;           // no cell holds LiDAR: nothing to cut into blocks
+  double block_size_m = 0.0;       // automatic blocks: the edge used
+  int64_t blocks = 0;              // automatic blocks on the grid over the covered extent
+  int64_t blocks_low_coverage = 0; // of them, below min_block_coverage
+  // Per split (kSplitNames order): blocks assigned, and of them dropped as smaller than a
+  // crop once the buffers to other splits were cut off.
+  std::array<int64_t, 3> blocks_assigned{};
+  std::array<int64_t, 3> blocks_too_small{};
+};
+
+// Position of a split name in kSplitNames (train 0, val 1, test 2); -1 for others.
+int split_index(std::string_view split);
+
 // The bounding window of the LiDAR cells holding a point (empty when there are none).
 CellWindow covered_window(const raster::LidarLayer& lidar);
 
@@ -77,8 +94,9 @@ CellWindow covered_window(const raster::LidarLayer& lidar);
 // to) a block of a different split gives up `buffer_m` on that side — train blocks give
 // way to val/test, val to test — so different splits never come closer than the buffer.
 // Blocks too small for one crop after that are dropped.
+// `stats` (optional) receives the counts above.
 std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOptions& options,
-                                 double crop_size_m, uint64_t seed);
+                                 double crop_size_m, uint64_t seed, RegionStats* stats = nullptr);
 
 // The smallest distance between regions of different splits (infinity when one split only).
 double min_split_gap_m(const std::vector<Region>& regions);
