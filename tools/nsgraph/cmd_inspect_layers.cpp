@@ -13,6 +13,7 @@
 #include "nsg/core/strings.h"
 #include "nsg/io/raster.h"
 #include "nsg/nuscenes/database.h"
+#include "nsg/preview/preview.h"
 #include "nsg/raster/accumulate.h"
 #include "nsg/raster/color_layer.h"
 #include "nsg/tiling/regions.h"
@@ -25,7 +26,7 @@ namespace {
 constexpr int64_t kMaxPixels = 400'000'000;
 
 struct InspectLayersOptions {
-  std::string dataroot, version = "v1.0-mini", location, out_dir, bbox_text, detections;
+  std::string dataroot, version = "v1.0-mini", location, out_dir, bbox_text, detections, png;
   bool no_rgb = false, no_semantic = false;
   int threads = 0;
   raster::RasterOptions raster;
@@ -54,6 +55,18 @@ void write_tif(const std::string& path, const io::Raster& r, const io::GeoRef& g
   opt.nodata = nodata;
   const std::vector<uint8_t> bytes = io::encode_geotiff(r, geo, opt);
   write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
+// The LiDAR and RGB panels as one PNG (the README's picture of the real key frame).
+void write_panels(const InspectLayersOptions& o, const tiling::TileRasters& r, int w, int h, double res,
+                  size_t samples) {
+  preview::LayerPanelsInput in{w, h, r.lidar, r.rgb,
+                               strprintf("%s, %s: %zu sample%s, %.0f x %.0f m at %.1f m/px", o.location.c_str(),
+                                         o.version.c_str(), samples, samples == 1 ? "" : "s", w * res, h * res, res)};
+  preview::LayerPanelsOptions options;
+  options.resolution_m = res;
+  const std::vector<uint8_t> png = preview::encode_png(preview::render_layer_panels(in, options));
+  write_file_atomic(o.png, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
 
 int run(const InspectLayersOptions& in) {
@@ -100,6 +113,7 @@ int run(const InspectLayersOptions& in) {
   write_tif(base + ".semantic.tif", u8(r.semantic, 1), geo, 255.0);
   write_tif(base + ".vehicle.tif", vehicle, geo, -1.0);
   write_tif(base + ".coverage.tif", u8(r.coverage, 1), geo, std::nullopt);
+  if (!o.png.empty()) write_panels(o, r, w, h, res, db.sample.size());
 
   const double px = static_cast<double>(w) * h;
   nlohmann::ordered_json out = {
@@ -116,6 +130,7 @@ int run(const InspectLayersOptions& in) {
       {"lidar_layer_bytes", layers.lidar.cells().memory_bytes()},
       {"files", {base + ".lidar.tif", base + ".rgb.tif", base + ".semantic.tif", base + ".vehicle.tif",
                  base + ".coverage.tif"}}};
+  if (!o.png.empty()) out["files"].push_back(o.png);
   std::cout << out.dump(2) << "\n";
   return kExitOk;
 }
@@ -131,6 +146,7 @@ void add_inspect_layers(CLI::App& inspect, Context& ctx) {
   cmd->add_option("--out", o->out_dir, "Folder for <location>.<layer>.tif")->required();
   cmd->add_option("--bbox", o->bbox_text, "Only xmin,ymin,xmax,ymax (map metres); default: the covered extent");
   cmd->add_option("--detections", o->detections, "Detection results JSON for the vehicle layer");
+  cmd->add_option("--png", o->png, "Also write the LiDAR and RGB layers side by side as this PNG");
   cmd->add_flag("--no-rgb", o->no_rgb, "Skip camera colours");
   cmd->add_flag("--no-semantic", o->no_semantic, "Skip semantic masks");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));

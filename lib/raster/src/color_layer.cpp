@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <thread>
 #include <utility>
 
@@ -26,6 +27,10 @@ void CameraOptions::validate() const {
   if (!(min_depth_m >= 0.0)) throw ConfigError("", "camera.min_depth_m", "expected ≥ 0 m");
   if (occlusion_window_px < 0 || occlusion_window_px > 512)
     throw ConfigError("", "camera.occlusion_window_px", "expected 0..512 px");
+  if (occlusion_side_px < 0 || occlusion_side_px > 512)
+    throw ConfigError("", "camera.occlusion_side_px", "expected 0..512 px");
+  if (!(occlusion_height_m >= 0.0 && occlusion_height_m <= 10.0))
+    throw ConfigError("", "camera.occlusion_height_m", "expected 0..10 m");
   if (!(occlusion_margin_m >= 0.0)) throw ConfigError("", "camera.occlusion_margin_m", "expected ≥ 0 m");
   if (jpeg_scale_denom != 1 && jpeg_scale_denom != 2 && jpeg_scale_denom != 4)
     throw ConfigError("", "camera.jpeg_scale_denom", "expected 1, 2 or 4");
@@ -34,7 +39,7 @@ void CameraOptions::validate() const {
 
 namespace {
 
-constexpr int kZCellPx = 8;          // z-buffer cell (full-resolution pixels)
+constexpr int kShadowCellPx = 4;     // occlusion buffer cell (full-resolution pixels)
 constexpr size_t kChunkImages = 16;  // images in flight at once: bounds memory, not results
 
 // A kept LiDAR point to colour.
@@ -138,40 +143,73 @@ ViewGeometry view_geometry(const Database& db, Index camera) {
   return g;
 }
 
-// Minimum depth of the key frame's LiDAR returns per kZCellPx² image cell.
-class DepthBuffer {
+// The occlusion test as a depth buffer looked up at the point's own pixel. Each LiDAR
+// return Q of the key frame casts a "shadow": the image rectangle it may hide, ± side_px
+// sideways, from the row where the line of sight passes height_m below Q down to window_px
+// further. A point P is occluded when a shadow covering its pixel comes from a return
+// closer by more than margin_m. Why this shape: flat ground in front of P lies below P's
+// line of sight (up to the few cm by which the kept lowest-z point sits below the surface),
+// so it never casts a shadow over P, however dense the rings at a grazing angle; an object
+// standing between the camera and P rises above that line and, as rings sample it every
+// ≈ 29 px, has a return within window_px above P. Cells are kShadowCellPx² and a return
+// writes only the cells its rectangle covers entirely, so a shadow never grows.
+class ShadowBuffer {
  public:
-  DepthBuffer(const ViewGeometry& view, int window_px)
-      : cols_(view.width / kZCellPx + 1), rows_(view.height / kZCellPx + 1), window_px_(window_px),
+  ShadowBuffer(const ViewGeometry& view, const CameraOptions& options)
+      : cols_(view.width / kShadowCellPx + 1), rows_(view.height / kShadowCellPx + 1),
+        side_px_(options.occlusion_side_px), window_px_(options.occlusion_window_px),
+        height_px_m_(view.k(1, 1) * options.occlusion_height_m),
         depth_(static_cast<size_t>(cols_) * rows_, std::numeric_limits<float>::infinity()) {}
 
   void add_sweep(const Database& db, Index lidar, const ViewGeometry& view, std::vector<nuscenes::LidarPoint>& buf) {
     nuscenes::read_lidar_points(db.file_path(db.sample_data[lidar]), buf);
+    if (side_px_ == 0.0) side_px_ = column_spacing_px(buf, view);
     // The ego's own roof returns (devkit remove_close) are not obstacles.
     std::erase_if(buf, [](const nuscenes::LidarPoint& p) { return std::abs(p.x) < 1.0f && std::abs(p.y) < 1.0f; });
     nuscenes::sensor_to_global(db, lidar, buf);
     for (const nuscenes::LidarPoint& p : buf) {
       double depth, u, v;
       if (!view.project(p.x, p.y, p.z, depth, u, v) || !(depth > 0.0)) continue;
-      if (u < 0.0 || v < 0.0 || u >= view.width || v >= view.height) continue;
-      float& d = depth_[static_cast<size_t>(static_cast<int>(v) / kZCellPx) * cols_ + static_cast<int>(u) / kZCellPx];
-      d = std::min(d, static_cast<float>(depth));
+      cast(u, v + height_px_m_ / depth, static_cast<float>(depth));
     }
   }
-  // The closest return within ± window sideways and from window above down to the point's row.
-  float closest_above(double u, double v) const {
-    const int c0 = std::max(0, static_cast<int>(std::floor((u - window_px_) / kZCellPx)));
-    const int c1 = std::min(cols_ - 1, static_cast<int>(std::floor((u + window_px_) / kZCellPx)));
-    const int r0 = std::max(0, static_cast<int>(std::floor((v - window_px_) / kZCellPx)));
-    const int r1 = std::min(rows_ - 1, static_cast<int>(std::floor(v / kZCellPx)));
-    float best = std::numeric_limits<float>::infinity();
-    for (int r = r0; r <= r1; ++r)
-      for (int c = c0; c <= c1; ++c) best = std::min(best, depth_[static_cast<size_t>(r) * cols_ + c]);
-    return best;
+  // Depth of the closest return whose shadow covers pixel (u, v); +inf when none does.
+  float closest(double u, double v) const {
+    const int c = static_cast<int>(std::floor(u / kShadowCellPx)), r = static_cast<int>(std::floor(v / kShadowCellPx));
+    if (c < 0 || r < 0 || c >= cols_ || r >= rows_) return std::numeric_limits<float>::infinity();
+    return depth_[static_cast<size_t>(r) * cols_ + c];
   }
 
  private:
-  int cols_, rows_, window_px_;
+  // The image width of one step between the sweep's columns (a spinning LiDAR returns
+  // rings × columns points; 2π / columns in azimuth, f_x px per radian): a shadow as wide
+  // closes the gaps between columns on an object, and no wider, so a raised kerb or a
+  // pole beside a point does not hide it. Rings = the largest ring index + 1; a sweep
+  // without plausible ring indices counts as 32 beams (the nuScenes HDL-32E).
+  static double column_spacing_px(const std::vector<nuscenes::LidarPoint>& sweep, const ViewGeometry& view) {
+    float max_ring = 0.0f;
+    for (const nuscenes::LidarPoint& p : sweep) max_ring = std::max(max_ring, p.ring);
+    const double rings = max_ring >= 1.0f && max_ring < 128.0f ? std::floor(max_ring) + 1.0 : 32.0;
+    const double columns = std::max(1.0, static_cast<double>(sweep.size()) / rings);
+    return std::min(512.0, view.k(0, 0) * 2.0 * std::numbers::pi / columns);
+  }
+
+  // Cells entirely inside [u − side, u + side] × [top, top + window].
+  void cast(double u, double top, float depth) {
+    const double u0 = u - side_px_, u1 = u + side_px_, v1 = top + window_px_;
+    if (!(u1 > 0.0) || !(v1 > 0.0) || !(u0 < cols_ * kShadowCellPx) || !(top < rows_ * kShadowCellPx)) return;
+    const int c0 = std::max(0, static_cast<int>(std::ceil(u0 / kShadowCellPx)));
+    const int c1 = std::min(cols_, static_cast<int>(std::floor(u1 / kShadowCellPx)));  // exclusive
+    const int r0 = std::max(0, static_cast<int>(std::ceil(top / kShadowCellPx)));
+    const int r1 = std::min(rows_, static_cast<int>(std::floor(v1 / kShadowCellPx)));
+    for (int r = r0; r < r1; ++r) {
+      float* row = depth_.data() + static_cast<size_t>(r) * cols_;
+      for (int c = c0; c < c1; ++c) row[c] = std::min(row[c], depth);
+    }
+  }
+
+  int cols_, rows_;
+  double side_px_, window_px_, height_px_m_;  // height_px_m_: focal length (px) × occlusion_height_m
   std::vector<float> depth_;
 };
 
@@ -215,9 +253,9 @@ ImageResult process_image(const Database& db, const ImageJob& job, const TargetI
                           const std::vector<Best>& best, const CameraOptions& options) {
   ImageResult out;
   const ViewGeometry view = view_geometry(db, job.camera);
-  DepthBuffer zbuf(view, options.occlusion_window_px);
+  ShadowBuffer shadows(view, options);
   std::vector<nuscenes::LidarPoint> buf;
-  if (job.lidar != nuscenes::kNoIndex) zbuf.add_sweep(db, job.lidar, view, buf);
+  if (job.lidar != nuscenes::kNoIndex) shadows.add_sweep(db, job.lidar, view, buf);
 
   const double r = options.view_radius_m, r2 = r * r;
   const auto visit_block = [&](size_t begin, size_t end) {
@@ -228,7 +266,7 @@ ImageResult process_image(const Database& db, const ImageJob& job, const TargetI
       double depth, u, v;
       if (!view.project(p.x, p.y, p.z, depth, u, v) || !(depth > options.min_depth_m) || !view.inside(u, v)) continue;
       if (!(depth < best[t].depth)) continue;  // an earlier image already saw it closer
-      if (zbuf.closest_above(u, v) < depth - options.occlusion_margin_m) {
+      if (shadows.closest(u, v) < depth - options.occlusion_margin_m) {
         ++out.occluded;
         continue;
       }

@@ -129,6 +129,22 @@ struct Overview {
 Overview render_overview(const io::Dataset& dataset, const std::string& location, const std::string& split,
                          const OverviewOptions& options);
 
+// Two BEV panels side by side (`inspect layers --png`): LiDAR intensity and camera RGB of
+// one raster window, row 0 north, no data dark, with a scale bar.
+struct LayerPanelsInput {
+  int width = 0, height = 0;    // raster pixels
+  std::vector<uint8_t> lidar;   // width × height, 0 = no data
+  std::vector<uint8_t> rgb;     // width × height × 3, 0,0,0 = no data
+  std::string title;            // a caption line over both panels ("" = none)
+};
+struct LayerPanelsOptions {
+  int max_panel_px = 900;      // longest side of one panel (upscaled by at most 4×)
+  double resolution_m = 0.2;   // raster metres per pixel, for the scale bar
+  void validate() const;       // throws ConfigError
+};
+// Throws InternalError when the rasters do not have the stated size.
+Image render_layer_panels(const LayerPanelsInput& input, const LayerPanelsOptions& options);
+
 // PNG bytes (deterministic for identical images).
 std::vector<uint8_t> encode_png(const Image& image);
 

@@ -41,13 +41,18 @@ struct CameraOptions {
   std::filesystem::path semantic_root;  // empty = <dataroot>/semantic; masks at <root>/<CHANNEL>/<basename>.png
   double view_radius_m = 40.0;          // key-frame ego poses farther (in xy) from the point are not considered
   double min_depth_m = 1.0;             // devkit min_dist
-  // Occlusion: the view is rejected when a LiDAR return of the image's key frame projects
-  // within ± occlusion_window_px (full-resolution pixels) sideways, at or above the point
-  // in the image, and is closer by more than occlusion_margin_m. Only returns at or above
-  // count: flat ground in front of a point always lies below it in the image, so it never
-  // hides it, while any object hiding it covers its pixel and the rows above. The window
-  // must exceed the LiDAR's beam spacing in the image (≈ 29 px at 1266 px focal, 32 beams).
-  int occlusion_window_px = 32;
+  // Occlusion: the view is rejected when a LiDAR return of the image's key frame is closer
+  // by more than occlusion_margin_m and stands above the point's line of sight: it projects
+  // within ± occlusion_side_px sideways (0 = one step between the sweep's columns in the
+  // image, 2π·rings / points radians: ≈ 7 px for a real 34 720-point sweep), and from
+  // occlusion_height_m above the line of sight up to occlusion_window_px (full-resolution
+  // pixels) higher in the image. Flat ground in front of a point lies below its line of
+  // sight and never hides it, even where the rings are dense at a grazing angle; an object
+  // hiding the point rises above the line, and one of its rings is within the window (the
+  // LiDAR's beam spacing is ≈ 29 px at 1266 px focal, 32 beams over 41°).
+  int occlusion_window_px = 40;
+  int occlusion_side_px = 0;
+  double occlusion_height_m = 0.05;
   double occlusion_margin_m = 0.15;
   int jpeg_scale_denom = 2;  // 1, 2 or 4 (turbojpeg scaled decode)
   std::string lidar_channel = "LIDAR_TOP";  // the key-frame sweep used for occlusion
