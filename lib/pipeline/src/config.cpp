@@ -208,6 +208,8 @@ ordered_json config_to_json(const GenerateConfig& c) {
         {"view_radius_m", cam.view_radius_m},
         {"min_depth_m", cam.min_depth_m},
         {"occlusion_window_px", cam.occlusion_window_px},
+        {"occlusion_side_px", cam.occlusion_side_px},
+        {"occlusion_height_m", cam.occlusion_height_m},
         {"occlusion_margin_m", cam.occlusion_margin_m},
         {"jpeg_scale_denom", cam.jpeg_scale_denom}}},
       {"vehicles",
@@ -273,6 +275,8 @@ GenerateConfig config_from_json(const json& doc, const std::string& file, Genera
   cam.view_radius_m = r.num("camera.view_radius_m");
   cam.min_depth_m = r.num("camera.min_depth_m");
   cam.occlusion_window_px = static_cast<int>(r.integer("camera.occlusion_window_px"));
+  cam.occlusion_side_px = static_cast<int>(r.integer("camera.occlusion_side_px"));
+  cam.occlusion_height_m = r.num("camera.occlusion_height_m");
   cam.occlusion_margin_m = r.num("camera.occlusion_margin_m");
   cam.jpeg_scale_denom = static_cast<int>(r.integer("camera.jpeg_scale_denom"));
   cam.lidar_channel = c.raster.lidar_channel;

@@ -375,6 +375,8 @@ TEST_F(RasterRelease, RejectsBadOptions) {
   bad([](CameraOptions& o) { o.view_radius_m = 0.0; });
   bad([](CameraOptions& o) { o.rgb = o.semantic = false; });
   bad([](CameraOptions& o) { o.occlusion_window_px = -1; });
+  bad([](CameraOptions& o) { o.occlusion_side_px = -1; });
+  bad([](CameraOptions& o) { o.occlusion_height_m = -0.1; });
   RasterOptions r;
   r.camera.min_depth_m = -1.0;
   EXPECT_THROW(r.validate(), ConfigError);
