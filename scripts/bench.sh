@@ -4,6 +4,7 @@
 # figures; bench/python/report.py collects them into bench-out/bench.json and bench.md.
 #   NSG_BENCH_REUSE=1  keep the existing releases in bench-out/data/synth-* instead of synthesizing
 #                      them again (synth is deterministic; for reruns while developing)
+#   NSG_BENCH_CITY=0   skip the city world (samples/synth/city.json, ≈ 2 min synth + 4 GB of sweeps)
 #   NSG_BENCH_SCALE_MB size of the table scale case (default 2500; 0 skips it): a sample_data-shaped
 #                      table larger than the real trainval one, made at run time in bench-out/data
 #                      and deleted afterwards; FAIL (and exit 1 at the end) on a wrong record count
@@ -166,6 +167,13 @@ PY
       --version "$(basename "$(ls -d "$NSG_BENCH_DIR/synth-canvas$c"/v1.0-* | head -1)")" \
       --out "$out/canvas$c-coverage.json" >/dev/null
   done
+  ran=$((ran + 1))
+fi
+
+# The city world (issue 22): memory at 1 and 2 threads, bytes per covered cell, the
+# memory estimate; FAIL lines in city.json's "pass" are reported, not fatal.
+if "$exe" generate --help >/dev/null 2>&1 && [ -f "$root/samples/synth/city.json" ] && [ "${NSG_BENCH_CITY:-1}" != 0 ]; then
+  bash "$root/bench/city.sh" "$exe" "$out" "$NSG_BENCH_DIR"
   ran=$((ran + 1))
 fi
 

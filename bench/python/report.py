@@ -161,6 +161,7 @@ def collect(d):
                    "ratio_nsgraph_over_python": tables and tables.get("ratio_nsgraph_over_python"),
                    "scale": table_scale(read_text(os.path.join(d, "tables_scale.txt")))},
         "memory_vs_canvas": memory,
+        "city": read_json(os.path.join(d, "city.json")),
         "google_benchmarks": {m: google_benchmarks(os.path.join(d, f"bench_{m}.json"))
                               for m in ("metrics", "synth", "raster")
                               if os.path.exists(os.path.join(d, f"bench_{m}.json"))},
@@ -221,6 +222,20 @@ def markdown(r):
         lines.append(f"| `{tool}` peak RSS, 4× map canvas vs 1× (same covered area) "
                      f"| {fmt(four, '.0f', ' MB')} vs {fmt(one, '.0f', ' MB')} | | {fmt(ratio, '.2f', '×')} "
                      f"| ≤ {CANVAS_LIMIT}× | {verdict(None if ratio is None else ratio <= CANVAS_LIMIT)} |")
+    city = r.get("city")
+    if city:
+        one, two, ok = city["threads_1"], city["threads_2"], city["pass"]
+        lines.append(f"| city world (2.2 × 1.7 km, {one['sweeps']:,} sweeps, {one['covered_cells']:,} covered cells): "
+                     f"peak RSS 2 threads / 1 thread | {two['peak_rss_bytes'] / 1e6:,.0f} MB / "
+                     f"{one['peak_rss_bytes'] / 1e6:,.0f} MB | | {city['peak_ratio_2_over_1']:.2f}× "
+                     f"| ≤ {city['limit_ratio']}× | {verdict(ok['threads'])} |")
+        lines.append(f"| city world: peak RSS per covered LiDAR cell, 1 thread | "
+                     f"{one['peak_bytes_per_covered_cell']:.0f} B | | | ≤ {city['bytes_per_cell_limit']} B "
+                     f"| {verdict(ok['bytes_per_cell'])} |")
+        lines.append(f"| city world: `generate`'s memory estimate / measured peak, 1 and 2 threads | "
+                     f"{one['estimate_over_peak']:.2f}× / {two['estimate_over_peak']:.2f}× | | | "
+                     f"within ±{city['estimate_tolerance']:.0%} | {verdict(ok['estimate'])} |")
+        lines.append(f"| city world: LiDAR stage, 1 thread | {one['sweeps_per_s']:,.0f} sweeps/s | | | (info) | |")
     lines.append("")
     lines.append("¹ Best of several runs; each side counts the faster of its wall-time and CPU-time rate, "
                  "because the machine is shared and a busy moment slows whichever side runs then. "

@@ -5,6 +5,7 @@
 
 #include "commands.h"
 #include "nsg/core/error.h"
+#include "nsg/core/memory.h"
 #include "nsg/core/log.h"
 #include "nsg/core/strings.h"
 #include "nsg/pipeline/config.h"
@@ -28,6 +29,7 @@ struct GenerateCommandOptions {
   std::vector<std::string> settings;  // --set key.path=value
   bool print_config = false;
   bool allow_empty = false;
+  std::string max_memory;  // "16G"; empty = no limit
   int threads = 0;
 
   pipeline::GenerateConfig resolve() const {
@@ -72,6 +74,7 @@ int run_generate(const GenerateCommandOptions& o, const Context& ctx) {
   run.threads = o.threads;
   run.progress = !ctx.quiet;
   run.allow_empty = o.allow_empty;
+  if (!o.max_memory.empty()) run.max_memory_bytes = parse_memory_size(o.max_memory, "--max-memory");
   const auto start = std::chrono::steady_clock::now();
   const pipeline::GenerateSummary s = pipeline::generate(config, run);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -114,6 +117,8 @@ void add_generate_command(CLI::App& root, Context& ctx) {
   cmd->add_option("--num-shards", o->num_shards, "Number of processes sharing the work");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
   cmd->add_flag("--print-config", o->print_config, "Print the resolved config and exit");
+  cmd->add_option("--max-memory", o->max_memory,
+                  "Refuse to start when the estimated peak memory exceeds this (e.g. 16G; the estimate is logged)");
   cmd->add_flag("--allow-empty", o->allow_empty,
                 "Write the dataset even when no crop passes the filters (else: exit 1 naming the filters)");
   cmd->callback([o, &ctx] { ctx.run = [o, &ctx] { return run_generate(*o, ctx); }; });

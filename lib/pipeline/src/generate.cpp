@@ -14,6 +14,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
 #include "nsg/core/log.h"
+#include "nsg/core/memory.h"
 #include "nsg/core/parallel.h"
 #include "nsg/core/progress.h"
 #include "nsg/core/rng.h"
@@ -30,6 +31,7 @@
 #include "nsg/raster/accumulate.h"
 #include "nsg/raster/color_layer.h"
 #include "nsg/tiling/tile.h"
+#include "memory_plan.h"
 #include "outputs.h"
 #include "plan.h"
 
@@ -195,6 +197,32 @@ std::vector<std::pair<nuscenes::Index, const ExcludedScene*>> find_excluded_scen
   return out;
 }
 
+// Resident memory after a stage, for --verbose runs and for checking the estimate.
+void log_memory(const std::string& stage) {
+  log::debug(strprintf("generate: memory after %s: %s resident, peak %s", stage.c_str(),
+                       human_bytes(static_cast<double>(current_rss_bytes())).c_str(),
+                       human_bytes(static_cast<double>(peak_rss_bytes())).c_str()));
+}
+
+// The peak-memory estimate, logged, and refused above --max-memory before any heavy work.
+void check_memory(const nuscenes::Database& db, const std::vector<std::string>& locations,
+                  const std::vector<char>& excluded, const GenerateConfig& config, const GenerateRun& run) {
+  std::map<std::string, std::vector<nuscenes::Index>> scenes;
+  for (const std::string& location : locations) scenes[location];
+  for (nuscenes::Index s = 0; s < static_cast<nuscenes::Index>(db.scene.size()); ++s) {
+    auto it = scenes.find(db.log[db.scene[s].log].location);
+    if (it != scenes.end() && !excluded[static_cast<size_t>(s)]) it->second.push_back(s);
+  }
+  const bool cameras = config.raster.camera.rgb || config.raster.camera.semantic;
+  const MemoryEstimate e = estimate_generate_memory(db, scenes, config, run.threads, cameras);
+  log::info("generate: estimated peak memory " + e.describe());
+  log::debug(strprintf("generate: estimated peak memory in bytes: %llu", static_cast<unsigned long long>(e.total())));
+  if (run.max_memory_bytes == 0 || e.total() <= run.max_memory_bytes) return;
+  throw ConfigError("", "--max-memory",
+                    "a run that fits in " + human_bytes(static_cast<double>(run.max_memory_bytes)) +
+                        "; the estimated peak is " + e.describe() + ". What would lower it:" + e.how_to_lower());
+}
+
 uint64_t location_seed(uint64_t seed, const std::string& location) {
   return mix64(seed ^ hash_string(location.data(), location.size()));
 }
@@ -242,6 +270,7 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
               join(named, ", "));
   }
   std::vector<PlanFilters> filters;
+  check_memory(db, summary.locations, excluded, config, run);
 
   OutputWriter out(run.out, config, run.share);
   const int64_t per_shard = config.output.resolved_tiles_per_shard();
@@ -296,6 +325,8 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
     }
     summary.sweeps += st.layers.stats.sweeps;
     summary.seconds.lidar_s += seconds_since(t0);
+    log_memory(location + ": LiDAR accumulated: " +
+               strprintf("%zu blocks, %zu covered cells", st.layers.stats.lidar_blocks, st.layers.stats.covered_cells));
     scenes_done += st.layers.stats.scenes;
     lidar_progress.set_detail(strprintf("%zu/%zu scenes", scenes_done, scenes_total));
     lidar_progress.advance(st.layers.stats.sweeps);
@@ -364,6 +395,7 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
     }
     camera_stage_done();
     summary.seconds.camera_s += seconds_since(t0);
+    log_memory(location + ": cameras done");
 
     t0 = std::chrono::steady_clock::now();
     const tiling::LocationRasters layers{&st.layers.lidar, cameras ? &color : nullptr, &st.layers.vehicles, &st.graph,
@@ -382,6 +414,7 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
     }
     if (tile_progress) tile_progress->finish();
     summary.seconds.tiles_s += seconds_since(t0);
+    log_memory(location + ": tiles written");
   }
   // The whole plan is known here, the same in every share: an empty dataset is refused by
   // all shares alike (the done-records stay incomplete, so no merge writes a manifest).

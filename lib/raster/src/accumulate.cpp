@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <mutex>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -44,6 +45,16 @@ struct LaneResult {
   VehicleLayer vehicles;
   size_t sweeps = 0, points_read = 0, points_kept = 0, boxes = 0;
 };
+
+// Folds a lane's scene into the shared result.
+void fold(const LaneResult& scene, LaneResult& into) {
+  into.lidar.merge(scene.lidar);
+  into.vehicles.merge(scene.vehicles);
+  into.sweeps += scene.sweeps;
+  into.points_read += scene.points_read;
+  into.points_kept += scene.points_kept;
+  into.boxes += scene.boxes;
+}
 
 // `scenes` with their sweeps and samples; a single pass over sample_data and sample so the
 // cost does not grow with scenes × rows.
@@ -192,19 +203,24 @@ LocationLayers accumulate_scenes(const Database& db, const std::vector<Index>& s
     nuscenes::check_known_samples(detections, db);
   }
 
-  // Scenes go to lanes (one per thread), each accumulating into its own layers: the
-  // layers' reductions are associative and commutative, so which lane took which scene
-  // does not change the result, and the scenes of one lane share blocks (they drive the
-  // same roads) instead of allocating and merging their own.
+  // Scenes go to lanes (one per thread). With one lane, scenes accumulate straight into
+  // the result. With more, a lane accumulates one scene into its scratch layers and folds
+  // them into the shared result under a lock when the scene is done: a thread then holds
+  // one scene's area on top of the result, not most of the city again (scenes of a city
+  // overlap), so peak memory follows the covered area whatever the thread count (issue
+  // 22). The folds are associative and commutative (lowest z with tie-breaks; vehicle
+  // cells by score and time), so which lane folds what, and when, does not show.
   const double res = options.lidar.resolution_m;
   const size_t lanes = lane_count(work.size(), threads);
-  std::vector<LaneResult> results;  // layers are move-only
-  results.reserve(lanes);
-  for (size_t k = 0; k < lanes; ++k) results.emplace_back(res);
+  LaneResult shared(res);
+  std::vector<LaneResult> scratch;  // layers are move-only
+  scratch.reserve(lanes);
+  for (size_t k = 0; k < lanes; ++k) scratch.emplace_back(res);
   std::vector<SweepBuffers> buffers(lanes);
+  std::mutex fold_mutex;
   parallel_for_lanes(work.size(), threads, [&](size_t lane, size_t k) {
     SweepBuffers& buf = buffers[lane];
-    LaneResult& out = results[lane];
+    LaneResult& out = lanes == 1 ? shared : scratch[lane];
     const std::vector<Index>& sweeps = work[k].sweeps;
     for (size_t i = 0; i < sweeps.size(); ++i) {
       if (i + 1 < sweeps.size()) read_ahead(db.file_path(db.sample_data[sweeps[i + 1]]));
@@ -214,27 +230,18 @@ LocationLayers accumulate_scenes(const Database& db, const std::vector<Index>& s
       add_detection_boxes(db, detections, options.detection_score_threshold, work[k], out);
     else
       add_annotation_boxes(db, work[k], out);
+    if (lanes == 1) return;
+    const std::lock_guard<std::mutex> lock(fold_mutex);
+    fold(out, shared);
+    out = LaneResult(res);  // frees the scene's blocks (and the block table that pointed at them)
   });
 
-  // Reduce the lanes (the layers iterate their blocks in key order, so the allocation
-  // order does not show downstream either).
-  LocationLayers layers{LidarLayer(res), VehicleLayer(res), {}};
+  LocationLayers layers{std::move(shared.lidar), std::move(shared.vehicles), {}};
   layers.stats.scenes = work.size();
-  for (size_t k = 0; k < results.size(); ++k) {
-    LaneResult& r = results[k];
-    if (k == 0) {  // merging into empty layers would copy the same cells and blocks
-      layers.lidar = std::move(r.lidar);
-      layers.vehicles = std::move(r.vehicles);
-    } else {
-      layers.lidar.merge(r.lidar);
-      layers.vehicles.merge(r.vehicles);
-    }
-    layers.stats.sweeps += r.sweeps;
-    layers.stats.points_read += r.points_read;
-    layers.stats.points_kept += r.points_kept;
-    layers.stats.vehicle_boxes += r.boxes;
-    r = LaneResult(res);  // free the lane's blocks as soon as they are merged
-  }
+  layers.stats.sweeps = shared.sweeps;
+  layers.stats.points_read = shared.points_read;
+  layers.stats.points_kept = shared.points_kept;
+  layers.stats.vehicle_boxes = shared.boxes;
   layers.stats.covered_cells = layers.lidar.covered_cells();
   layers.stats.lidar_blocks = layers.lidar.cells().block_count();
   return layers;

@@ -56,19 +56,34 @@ struct TargetIndex {
   std::map<std::pair<int64_t, int64_t>, std::pair<size_t, size_t>> blocks;  // (by, bx) → range
 };
 
-int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+// The rects that overlap block (bx, by), so a cell is tested against a few rects, not
+// against every tile of the location.
+std::vector<CellRect> rects_over_block(const std::vector<CellRect>& regions, int64_t bx, int64_t by) {
+  const CellRect block{bx * kBlockCells, by * kBlockCells, (bx + 1) * kBlockCells, (by + 1) * kBlockCells};
+  std::vector<CellRect> out;
+  for (const CellRect& r : regions)
+    if (r.col0 < block.col1 && block.col0 < r.col1 && r.row0 < block.row1 && block.row0 < r.row1) out.push_back(r);
+  return out;
+}
 
 TargetIndex collect_targets(const LidarLayer& lidar, const std::vector<CellRect>& regions) {
   TargetIndex index;
   index.resolution_m = lidar.resolution_m();
-  lidar.cells().for_each([&](CellIndex c, const LidarCell& cell) {
-    if (!cell.has_data()) return;
-    if (!regions.empty() && std::none_of(regions.begin(), regions.end(), [&](const CellRect& r) { return r.contains(c); }))
-      return;
-    const std::pair<int64_t, int64_t> key{floor_div(c.row, kBlockCells), floor_div(c.col, kBlockCells)};
-    auto [it, fresh] = index.blocks.try_emplace(key, index.targets.size(), index.targets.size());
-    index.targets.push_back({cell.x, cell.y, cell.z, c});
-    it->second.second = index.targets.size();  // for_each visits a block's cells contiguously
+  lidar.cells().for_each_block([&](int64_t bx, int64_t by, const LidarCell* cells) {
+    const std::vector<CellRect> rects = regions.empty() ? regions : rects_over_block(regions, bx, by);
+    if (!regions.empty() && rects.empty()) return;
+    const size_t begin = index.targets.size();
+    for (int r = 0; r < kBlockCells; ++r) {
+      for (int c = 0; c < kBlockCells; ++c) {
+        const LidarCell& cell = cells[r * kBlockCells + c];
+        const CellIndex ci{bx * kBlockCells + c, by * kBlockCells + r};
+        if (!cell.has_data()) continue;
+        if (!rects.empty() && std::none_of(rects.begin(), rects.end(), [&](const CellRect& x) { return x.contains(ci); }))
+          continue;
+        index.targets.push_back({cell.x, cell.y, cell.z, ci});
+      }
+    }
+    if (index.targets.size() > begin) index.blocks[{by, bx}] = {begin, index.targets.size()};
   });
   return index;
 }
@@ -322,8 +337,9 @@ ColorLayer colorize_scenes(const Database& db, const std::vector<Index>& scenes,
     throw ConfigError("", "camera.rgb / camera.semantic", "at least one of them enabled to colour points");
   check_scene_list(db, scenes);
   const std::vector<ImageJob> jobs = plan_images(db, scenes, options);
-  const TargetIndex index = collect_targets(lidar, regions);
   ColorLayer layer(lidar.resolution_m());
+  if (jobs.empty()) return layer;  // no camera images (e.g. a LiDAR-only release): nothing to index
+  const TargetIndex index = collect_targets(lidar, regions);
   layer.stats_.points = index.targets.size();
   layer.stats_.images = jobs.size();
   if (index.targets.empty()) return layer;

@@ -64,6 +64,10 @@ struct GenerateRun {
   int threads = 0;        // 0 = all cores; results do not depend on it
   bool progress = true;
   bool allow_empty = false;  // write a dataset of 0 tiles instead of throwing EmptyDatasetError
+  // Refuse to start (ConfigError naming the estimate and what would lower it) when the
+  // estimated peak memory exceeds this many bytes; 0 = no limit. The estimate is logged
+  // either way.
+  uint64_t max_memory_bytes = 0;
 };
 
 // Splits that end with no tile while others have tiles are reported with log::warn.

@@ -76,6 +76,12 @@ class SparseGrid {
         for (int c = 0; c < kBlockCells; ++c)
           f(CellIndex{k.bx * kBlockCells + c, k.by * kBlockCells + r}, (*block)[r * kBlockCells + c]);
   }
+  // Visits every allocated block in the same order: f(bx, by, const T* cells) with the
+  // block's kBlockCells² cells row-major.
+  template <typename F>
+  void for_each_block(F&& f) const {
+    for (const auto& [k, block] : blocks_) f(k.bx, k.by, block->data());
+  }
   template <typename F>
   void for_each(F&& f) const {
     for (const auto& [k, block] : blocks_)

@@ -1,0 +1,45 @@
+"""Figures of the city world runs (bench/city.sh) for bench.json and bench.md (issue 22)."""
+import argparse
+import json
+import os
+import re
+
+RSS_THREAD_LIMIT = 1.1      # peak at 2 threads / peak at 1 thread
+BYTES_PER_CELL_LIMIT = 60   # peak RSS per covered LiDAR cell, 1 thread
+ESTIMATE_TOLERANCE = 0.25   # |estimate / peak - 1|
+SWEEPS_TARGET = 3000        # per core (on bench.json; reported here for the city too)
+
+def parse(path):
+    text = open(path).read()
+    run = re.search(r"(\d+) sweeps, (\d+) images; ([\d.]+) s \(load [\d.]+, graph [\d.]+, lidar ([\d.]+), plan "
+                    r"[\d.]+, camera ([\d.]+), tiles ([\d.]+)", text)
+    rss = re.search(r"generate: ([\d.]+) s wall, (\d+) KiB peak RSS", text)
+    est = re.search(r"estimated peak memory in bytes: (\d+)", text)
+    cells = re.search(r"LiDAR accumulated: (\d+) blocks, (\d+) covered cells", text)
+    if not (run and rss and est and cells):
+        raise SystemExit(f"city_report: {path}: missing generate summary, time, estimate or memory lines")
+    peak = int(rss.group(2)) * 1024
+    return {"sweeps": int(run.group(1)), "lidar_s": float(run.group(4)),
+            "sweeps_per_s": int(run.group(1)) / max(float(run.group(4)), 1e-9), "camera_s": float(run.group(5)),
+            "wall_s": float(rss.group(1)), "peak_rss_bytes": peak, "estimate_bytes": int(est.group(1)),
+            "estimate_over_peak": int(est.group(1)) / peak, "lidar_blocks": int(cells.group(1)),
+            "covered_cells": int(cells.group(2)), "peak_bytes_per_covered_cell": peak / int(cells.group(2))}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--dir", required=True)
+    a = ap.parse_args()
+    one, two = (parse(os.path.join(a.dir, f"generate-city-{t}.txt")) for t in (1, 2))
+    r = {"threads_1": one, "threads_2": two,
+         "peak_ratio_2_over_1": two["peak_rss_bytes"] / one["peak_rss_bytes"], "limit_ratio": RSS_THREAD_LIMIT,
+         "bytes_per_cell_limit": BYTES_PER_CELL_LIMIT, "estimate_tolerance": ESTIMATE_TOLERANCE}
+    r["pass"] = {"threads": r["peak_ratio_2_over_1"] <= RSS_THREAD_LIMIT,
+                 "bytes_per_cell": one["peak_bytes_per_covered_cell"] <= BYTES_PER_CELL_LIMIT,
+                 "estimate": all(abs(x["estimate_over_peak"] - 1) <= ESTIMATE_TOLERANCE for x in (one, two))}
+    json.dump(r, open(os.path.join(a.dir, "city.json"), "w"), indent=1)
+    print(json.dumps(r, indent=1))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,18 @@
+#pragma once
+// The process's memory as the kernel counts it (Linux /proc/self/status): what `generate`
+// reports per stage and checks its estimate against, and size arguments ("16G").
+#include <cstdint>
+#include <string>
+
+namespace nsg {
+
+// Resident set size now, and its peak since the process started (VmRSS, VmHWM), in bytes;
+// 0 where /proc is not available.
+uint64_t current_rss_bytes();
+uint64_t peak_rss_bytes();
+
+// "800M", "16G", "1.5GB", "2048" (bytes), "512KiB": decimal units for K/M/G/T(B), binary for
+// KiB/MiB/GiB/TiB. Throws ConfigError naming `what` for anything else or a value ≤ 0.
+uint64_t parse_memory_size(const std::string& text, const std::string& what);
+
+}  // namespace nsg

@@ -1,0 +1,157 @@
+#include "memory_plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <utility>
+
+#include "nsg/core/memory.h"
+#include "nsg/core/parallel.h"
+#include "nsg/core/strings.h"
+#include "nsg/pipeline/config.h"
+#include "nsg/raster/color_layer.h"
+#include "nsg/raster/lidar_layer.h"
+#include "nsg/raster/vehicle_layer.h"
+
+namespace nsg::pipeline {
+namespace {
+
+using Block = std::pair<int64_t, int64_t>;
+constexpr uint64_t kCellsPerBlock = static_cast<uint64_t>(raster::kBlockCells) * raster::kBlockCells;
+
+// Fraction of the blocks within LiDAR range of a pose that returns actually reach: 0.85
+// on the synthetic city (2.2 × 1.7 km), 0.69 on the demo world whose map edge is near its
+// roads. Real cities are built up to the range limit, like the synthetic city.
+constexpr double kReachedBlockFraction = 0.8;
+// Covered cells per allocated LiDAR block (0.31 of 4 096 on the city, 0.40 on the demo).
+constexpr double kCoveredCellFraction = 0.4;
+// Per camera point: its index entry (raster::Target, 32 B) and best view (8 B).
+constexpr uint64_t kCameraBytesPerPoint = 40;
+// JPEGs decoded at half size in flight per chunk of images (16 × 800 × 450 × 3 B).
+constexpr uint64_t kCameraImageBytes = 16ull * 800 * 450 * 3;
+// Graph, GeoJSON, tile encoding and the shard being written (the camera stage's buffers
+// are gone by then, so the larger of the two counts).
+constexpr uint64_t kWorkingBytes = 32ull << 20;
+constexpr uint64_t kWorkingBytesPerThread = 8ull << 20;
+
+// Blocks within `range_m` of any of the poses (blocks of `block_m` metres).
+void mark_disc_blocks(double x, double y, double range_m, double block_m, std::set<Block>& out) {
+  const auto lo = [&](double v) { return static_cast<int64_t>(std::floor((v - range_m) / block_m)); };
+  const auto hi = [&](double v) { return static_cast<int64_t>(std::floor((v + range_m) / block_m)); };
+  for (int64_t by = lo(y); by <= hi(y); ++by) {
+    for (int64_t bx = lo(x); bx <= hi(x); ++bx) {
+      const double dx = std::max({bx * block_m - x, 0.0, x - (bx + 1) * block_m});
+      const double dy = std::max({by * block_m - y, 0.0, y - (by + 1) * block_m});
+      if (dx * dx + dy * dy <= range_m * range_m) out.insert({bx, by});
+    }
+  }
+}
+
+struct LocationFootprint {
+  size_t lidar_blocks = 0;      // union over the location's sweeps
+  size_t max_scene_blocks = 0;  // the largest single scene
+  size_t vehicle_blocks = 0;
+  size_t images = 0;
+};
+
+LocationFootprint footprint(const nuscenes::Database& db, const std::vector<nuscenes::Index>& scenes,
+                           const GenerateConfig& config) {
+  const double block_m = raster::kBlockCells * config.resolution_m;
+  const double range_m = config.raster.lidar.max_range_m;
+  std::vector<int> slot(db.scene.size(), -1);
+  for (size_t i = 0; i < scenes.size(); ++i) slot[static_cast<size_t>(scenes[i])] = static_cast<int>(i);
+  std::vector<std::set<Block>> per_scene(scenes.size());
+  std::vector<std::pair<double, double>> last(scenes.size(), {1e300, 1e300});
+  LocationFootprint f;
+  for (const nuscenes::SampleData& sd : db.sample_data) {
+    const int k = slot[static_cast<size_t>(db.sample[sd.sample].scene)];
+    if (k < 0) continue;
+    if (sd.modality == nuscenes::Modality::kCamera && sd.is_key_frame) ++f.images;
+    if (sd.modality != nuscenes::Modality::kLidar || db.channel(sd) != config.raster.lidar_channel) continue;
+    const auto& t = db.ego_pose[sd.ego_pose].translation;
+    auto& [lx, ly] = last[static_cast<size_t>(k)];
+    if (std::hypot(t[0] - lx, t[1] - ly) < 0.25 * block_m) continue;  // nearby poses mark the same blocks
+    lx = t[0], ly = t[1];
+    mark_disc_blocks(t[0], t[1], range_m, block_m, per_scene[static_cast<size_t>(k)]);
+  }
+  std::set<Block> all, vehicles;
+  for (const std::set<Block>& s : per_scene) {
+    f.max_scene_blocks = std::max(f.max_scene_blocks, s.size());
+    all.insert(s.begin(), s.end());
+  }
+  f.lidar_blocks = all.size();
+  for (const nuscenes::SampleAnnotation& a : db.sample_annotation) {
+    if (slot[static_cast<size_t>(db.sample[a.sample].scene)] < 0) continue;
+    if (!db.category[a.category].name.starts_with("vehicle.")) continue;
+    mark_disc_blocks(a.translation[0], a.translation[1], std::hypot(a.size[0], a.size[1]) / 2, block_m, vehicles);
+  }
+  f.vehicle_blocks = vehicles.size();
+  return f;
+}
+
+MemoryEstimate location_estimate(const LocationFootprint& f, size_t lanes, size_t threads, bool cameras) {
+  MemoryEstimate e;
+  const auto blocks_of = [](double blocks, size_t cell_bytes) {
+    return static_cast<uint64_t>(blocks * kCellsPerBlock * cell_bytes);
+  };
+  const double reached = kReachedBlockFraction * static_cast<double>(f.lidar_blocks);
+  e.lidar_blocks = static_cast<uint64_t>(reached);
+  e.lidar_bytes = blocks_of(reached, sizeof(raster::LidarCell));
+  e.vehicle_bytes = blocks_of(static_cast<double>(f.vehicle_blocks), sizeof(raster::VehicleCell));
+  // Each lane holds one scene's LiDAR and vehicle blocks while the others fold theirs.
+  if (lanes > 1)
+    e.threads_bytes = lanes * blocks_of(kReachedBlockFraction * static_cast<double>(f.max_scene_blocks),
+                                        sizeof(raster::LidarCell) + sizeof(raster::VehicleCell) / 4);
+  if (cameras && f.images > 0)
+    e.camera_bytes = blocks_of(reached, sizeof(raster::ColorCell)) +
+                     static_cast<uint64_t>(reached * kCellsPerBlock * kCoveredCellFraction) * kCameraBytesPerPoint +
+                     kCameraImageBytes;
+  e.working_bytes = kWorkingBytes + threads * kWorkingBytesPerThread;
+  return e;
+}
+
+std::string mb(uint64_t bytes) { return human_bytes(static_cast<double>(bytes)); }
+
+}  // namespace
+
+std::string MemoryEstimate::describe() const {
+  return strprintf("%s (at %s: tables and process %s, LiDAR layer %s over ~%llu blocks, vehicles %s, "
+                   "extra threads %s, cameras %s, tiles and graph %s)",
+                   mb(total()).c_str(), location.c_str(), mb(base_bytes).c_str(), mb(lidar_bytes).c_str(),
+                   static_cast<unsigned long long>(lidar_blocks), mb(vehicle_bytes).c_str(), mb(threads_bytes).c_str(),
+                   mb(camera_bytes).c_str(), mb(working_bytes).c_str());
+}
+
+std::string MemoryEstimate::how_to_lower() const {
+  std::vector<std::pair<uint64_t, std::string>> ways = {
+      {lidar_bytes + vehicle_bytes,
+       "a smaller region: --locations, or fewer scenes (scenes.exclude) — the LiDAR and vehicle layers grow with "
+       "the area the scenes cover"},
+      {threads_bytes, "fewer threads (--threads): each extra thread holds one scene's layers"},
+      {camera_bytes, "more processes (--num-shards N, then nsgraph merge): each colours only its own tiles"},
+  };
+  std::stable_sort(ways.begin(), ways.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::string out;
+  for (const auto& [bytes, text] : ways)
+    if (bytes > 0) out += "\n  - " + text + " (" + mb(bytes) + ")";
+  return out;
+}
+
+MemoryEstimate estimate_generate_memory(const nuscenes::Database& db,
+                                        const std::map<std::string, std::vector<nuscenes::Index>>& scenes,
+                                        const GenerateConfig& config, int threads, bool cameras) {
+  const size_t workers = static_cast<size_t>(resolve_threads(threads));
+  MemoryEstimate peak;
+  for (const auto& [location, list] : scenes) {
+    if (list.empty()) continue;
+    const LocationFootprint f = footprint(db, list, config);
+    MemoryEstimate e = location_estimate(f, lane_count(list.size(), threads), workers, cameras);
+    e.location = location;
+    if (peak.location.empty() || e.total() > peak.total()) peak = e;
+  }
+  peak.base_bytes = current_rss_bytes();
+  if (peak.location.empty()) peak.working_bytes = kWorkingBytes;
+  return peak;
+}
+
+}  // namespace nsg::pipeline

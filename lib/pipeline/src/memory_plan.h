@@ -1,0 +1,40 @@
+#pragma once
+// generate's peak-memory estimate (issue 22), made from the tables before the heavy work so
+// that `--max-memory` can refuse a run instead of the kernel killing it half-way.
+#include <algorithm>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "nsg/nuscenes/database.h"
+
+namespace nsg::pipeline {
+
+struct GenerateConfig;
+
+struct MemoryEstimate {
+  std::string location;         // the location whose stages set the peak
+  uint64_t base_bytes = 0;      // the process when estimating: tables, map readers
+  uint64_t lidar_blocks = 0;    // estimated 64 × 64 LiDAR blocks at that location
+  uint64_t lidar_bytes = 0;     // the LiDAR layer
+  uint64_t vehicle_bytes = 0;   // the vehicle layer
+  uint64_t threads_bytes = 0;   // the extra threads' scene scratch layers
+  uint64_t camera_bytes = 0;    // colour layer, point index and images in flight
+  uint64_t working_bytes = 0;   // graph, tile and shard buffers (after the camera stage)
+  // The layers live through both later stages; the camera stage's buffers and the tile
+  // writer's do not overlap.
+  uint64_t total() const {
+    return base_bytes + lidar_bytes + vehicle_bytes + threads_bytes + std::max(camera_bytes, working_bytes);
+  }
+  std::string describe() const;  // one line: total and its parts
+  std::string how_to_lower() const;  // what would make it smaller, largest part first
+};
+
+// `scenes`: per location, the scene rows the run accumulates (excluded scenes left out).
+// `threads` as generate's (0 = all cores); `cameras`: the camera stage runs.
+MemoryEstimate estimate_generate_memory(const nuscenes::Database& db,
+                                        const std::map<std::string, std::vector<nuscenes::Index>>& scenes,
+                                        const GenerateConfig& config, int threads, bool cameras);
+
+}  // namespace nsg::pipeline
