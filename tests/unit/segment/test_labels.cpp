@@ -55,6 +55,22 @@ TEST(Labels, ShippedFilesNameTheirSourceClassesInOrder) {
   EXPECT_EQ(read_json_file(labels_dir() / "mapillary-vistas-v1.2.json")["source_classes"]["65"], "Unlabeled");
 }
 
+TEST(Labels, TheDocumentedExampleLoads) {
+  const SegmentLabels l = labels_from_json(nlohmann::json::parse(R"({"schema_version": "1",
+      "input": {"width": 800, "height": 448, "rgb": true, "scale": 0.00392156862745098,
+                "mean": [0.485, 0.456, 0.406], "std": [0.229, 0.224, 0.225]},
+      "classes": {"0": "road", "1": "sidewalk", "2": "building", "5": "pole_sign", "13": "car", "10": "void"}})"),
+                                           "example.json");
+  EXPECT_EQ(l.max_channel(), 13);
+  EXPECT_EQ(l.class_of(13), 8);
+  EXPECT_EQ(l.class_of(5), 12);
+  EXPECT_EQ(l.class_of(10), kVoid);
+  EXPECT_EQ(l.class_of(3), kVoid);  // unnamed
+  ASSERT_TRUE(l.input.has_value());
+  EXPECT_EQ(l.input->width, 800);
+  EXPECT_DOUBLE_EQ(l.input->std[2], 0.225);
+}
+
 TEST(Labels, BuiltinLidarsegEqualsTheShippedFile) {
   const SegmentLabels shipped = load_labels(labels_dir() / "nuscenes-lidarseg.json");
   EXPECT_EQ(builtin_lidarseg_labels().class_of_channel, shipped.class_of_channel);
