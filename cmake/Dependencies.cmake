@@ -57,11 +57,17 @@ target_include_directories(nsg_dep_geotiff INTERFACE ${NSG_GEOTIFF_INCLUDE})
 target_link_libraries(nsg_dep_geotiff INTERFACE ${NSG_GEOTIFF_LIB} nsg::dep::tiff)
 add_library(nsg::dep::geotiff ALIAS nsg_dep_geotiff)
 
-find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs ml ximgproc)
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs ml ximgproc dnn)
+# OpenCV's dnn module (ONNX models, `nsgraph segment`) only where it is used: lib/segment.
+set(NSG_OPENCV_LIBS ${OpenCV_LIBS})
+list(REMOVE_ITEM NSG_OPENCV_LIBS opencv_dnn)
 add_library(nsg_dep_opencv INTERFACE)
 target_include_directories(nsg_dep_opencv INTERFACE ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(nsg_dep_opencv INTERFACE ${OpenCV_LIBS})
+target_link_libraries(nsg_dep_opencv INTERFACE ${NSG_OPENCV_LIBS})
 add_library(nsg::dep::opencv ALIAS nsg_dep_opencv)
+add_library(nsg_dep_opencv_dnn INTERFACE)
+target_link_libraries(nsg_dep_opencv_dnn INTERFACE nsg::dep::opencv opencv_dnn)
+add_library(nsg::dep::opencv_dnn ALIAS nsg_dep_opencv_dnn)
 
 # PCL, for `export-cloud` only (one .cpp in lib/pipeline). Its CMake config drags in VTK,
 # OpenNI and Boost targets; we take only the two libraries and the include folders used.

@@ -17,6 +17,7 @@ namespace {
 constexpr nsg::cli::AddCommand kCommands[] = {
     &nsg::cli::add_synth_command,
     &nsg::cli::add_inspect_command,
+    &nsg::cli::add_segment_command,
     &nsg::cli::add_generate_command,
     &nsg::cli::add_merge_command,
     &nsg::cli::add_stats_command,

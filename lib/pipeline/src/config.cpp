@@ -205,6 +205,8 @@ ordered_json config_to_json(const GenerateConfig& c) {
        {{"rgb", cam.rgb},
         {"semantic", cam.semantic},
         {"semantic_root", cam.semantic_root.string()},
+        {"semantic_source", cam.semantic_source == raster::SemanticSource::kLidarseg ? "lidarseg" : "masks"},
+        {"lidarseg_labels", cam.lidarseg_labels.string()},
         {"view_radius_m", cam.view_radius_m},
         {"min_depth_m", cam.min_depth_m},
         {"occlusion_window_px", cam.occlusion_window_px},
@@ -272,6 +274,12 @@ GenerateConfig config_from_json(const json& doc, const std::string& file, Genera
   cam.rgb = r.boolean("camera.rgb");
   cam.semantic = r.boolean("camera.semantic");
   cam.semantic_root = r.str("camera.semantic_root");
+  const std::string source = r.str("camera.semantic_source");
+  if (source != "masks" && source != "lidarseg")
+    throw ConfigError(file, "camera.semantic_source", "\"masks\" (class-id masks of the camera images) or \"lidarseg\" "
+                                                      "(nuScenes-lidarseg point labels), got \"" + source + "\"");
+  cam.semantic_source = source == "lidarseg" ? raster::SemanticSource::kLidarseg : raster::SemanticSource::kMasks;
+  cam.lidarseg_labels = r.str("camera.lidarseg_labels");
   cam.view_radius_m = r.num("camera.view_radius_m");
   cam.min_depth_m = r.num("camera.min_depth_m");
   cam.occlusion_window_px = static_cast<int>(r.integer("camera.occlusion_window_px"));

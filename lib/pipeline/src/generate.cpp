@@ -30,6 +30,9 @@
 #include "nsg/pipeline/tile_files.h"
 #include "nsg/raster/accumulate.h"
 #include "nsg/raster/color_layer.h"
+#include "nsg/raster/lidarseg_layer.h"
+#include "nsg/segment/labels.h"
+#include "nsg/nuscenes/lidarseg.h"
 #include "nsg/tiling/tile.h"
 #include "memory_plan.h"
 #include "outputs.h"
@@ -258,6 +261,16 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
   const nuscenes::Database db = nuscenes::Database::load(config.dataroot, config.version);
   summary.seconds.load_s = seconds_since(t0);
   summary.locations = resolve_locations(config, db);
+  // Semantics from nuScenes-lidarseg: its table and the label mapping are checked before
+  // any work (a missing lidarseg.json or a bad labels file is a setup question).
+  const raster::CameraOptions& camera = config.raster.camera;
+  const bool lidarseg = camera.semantic && camera.semantic_source == raster::SemanticSource::kLidarseg;
+  raster::LidarsegClassTable lidarseg_classes{};
+  if (lidarseg) {
+    lidarseg_classes = camera.lidarseg_labels.empty() ? segment::builtin_lidarseg_labels().table()
+                                                      : segment::load_labels(camera.lidarseg_labels).table();
+    (void)nuscenes::LidarsegIndex::load(db);
+  }
   std::vector<char> excluded;
   const auto excluded_list = find_excluded_scenes(config, db, summary.locations, excluded);
   if (!excluded_list.empty()) {
@@ -389,9 +402,19 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
     }
     if (cameras && !rects.empty() && !scenes.empty()) {
       log::info(strprintf("generate: %s: colouring %zu tiles from the cameras", location.c_str(), rects.size()));
-      color = raster::colorize_scenes(db, scenes, st.layers.lidar, rects, config.raster.camera, run.threads);
-      summary.images += color.stats().images_used;
-      images_decoded += color.stats().images_used;
+      if (camera.rgb || camera.semantic_masks()) {
+        color = raster::colorize_scenes(db, scenes, st.layers.lidar, rects, camera, run.threads);
+        summary.images += color.stats().images_used;
+        images_decoded += color.stats().images_used;
+      }
+      if (lidarseg) {
+        const raster::LidarsegLayer labels = raster::accumulate_lidarseg(
+            db, scenes, config.raster.lidar, config.raster.lidar_channel, lidarseg_classes, run.threads);
+        if (labels.stats.sweeps_without_labels > 0)
+          log::warn(strprintf("generate: %s: %zu of %zu key-frame sweeps have no lidarseg labels (their points give no "
+                              "class)", location.c_str(), labels.stats.sweeps_without_labels, labels.stats.sweeps));
+        raster::overlay_semantics(color, labels, rects);
+      }
     }
     camera_stage_done();
     summary.seconds.camera_s += seconds_since(t0);

@@ -105,7 +105,7 @@ std::vector<ImageJob> plan_images(const Database& db, const std::vector<Index>& 
     if (sd.modality != nuscenes::Modality::kCamera || !sd.is_key_frame) continue;
     if (!at_location[static_cast<size_t>(db.sample[sd.sample].scene)]) continue;
     ImageJob job{i, db.key_frame(sd.sample, options.lidar_channel), {}};
-    if (options.semantic) {
+    if (options.semantic_masks()) {
       job.mask = root / db.channel(sd) / (fs::path(sd.filename).stem().string() + ".png");
       // Fail before any work: a release without masks is a configuration question.
       if (!fs::exists(job.mask))
@@ -311,7 +311,7 @@ ImageResult process_image(const Database& db, const ImageJob& job, const TargetI
                                              std::to_string(view.height));
     for (Candidate& c : out.candidates) sample_rgb(img, options.jpeg_scale_denom, c);
   }
-  if (options.semantic) {
+  if (options.semantic_masks()) {
     const nuscenes::GrayImage mask = nuscenes::read_semantic_mask(job.mask);
     if (mask.width != view.width || mask.height != view.height)
       throw DataError(job.mask.string(), "", "a mask of the image's size " + std::to_string(view.width) + "×" +
@@ -333,8 +333,8 @@ ColorLayer colorize_scenes(const Database& db, const std::vector<Index>& scenes,
                            const std::vector<CellRect>& regions, const CameraOptions& options, int threads) {
   options.validate();
   // Both off is a valid generate config (no camera layers) but nothing to colour here.
-  if (!options.rgb && !options.semantic)
-    throw ConfigError("", "camera.rgb / camera.semantic", "at least one of them enabled to colour points");
+  if (!options.rgb && !options.semantic_masks())
+    throw ConfigError("", "camera.rgb / camera.semantic", "at least one of them enabled (semantics from masks) to colour points");
   check_scene_list(db, scenes);
   const std::vector<ImageJob> jobs = plan_images(db, scenes, options);
   ColorLayer layer(lidar.resolution_m());
@@ -365,15 +365,16 @@ ColorLayer colorize_scenes(const Database& db, const std::vector<Index>& scenes,
     }
   }
 
-  const uint8_t flags = (options.rgb ? kCoverageRgb : 0) | (options.semantic ? kCoverageSemantic : 0);
+  const bool masks = options.semantic_masks();
+  const uint8_t flags = (options.rgb ? kCoverageRgb : 0) | (masks ? kCoverageSemantic : 0);
   SparseGrid<ColorCell>::Cursor cursor;
   for (size_t t = 0; t < index.targets.size(); ++t) {
     const Best& b = best[t];
     if (!std::isfinite(b.depth)) continue;
     ColorCell& cell = layer.cells_.at(index.targets[t].cell, cursor);
-    cell = {b.rgb[0], b.rgb[1], b.rgb[2], options.semantic ? b.cls : uint8_t{255}, flags, b.depth};
+    cell = {b.rgb[0], b.rgb[1], b.rgb[2], masks ? b.cls : uint8_t{255}, flags, b.depth};
     layer.rgb_cells_ += options.rgb;
-    layer.semantic_cells_ += options.semantic;
+    layer.semantic_cells_ += masks;
   }
   return layer;
 }

@@ -37,7 +37,10 @@ class ObjectReader {
     auto it = obj_.find(name);
     if (it == obj_.end()) return;
     try {
-      if constexpr (std::is_same_v<T, double>) {
+      if constexpr (std::is_same_v<T, bool>) {
+        if (!it->is_boolean()) throw std::invalid_argument("boolean");
+        out = it->template get<bool>();
+      } else if constexpr (std::is_same_v<T, double>) {
         if (!it->is_number()) throw std::invalid_argument("number");
         out = it->template get<double>();
         if (!std::isfinite(out)) throw std::invalid_argument("number");
@@ -232,6 +235,7 @@ SynthConfig SynthConfig::from_json_text(const std::string& text, const std::stri
     s.get("roof_points", c.lidar.roof_points);
     s.get("max_range_m", c.lidar.max_range_m);
     s.get("range_noise_m", c.lidar.range_noise_m);
+    s.get("lidarseg", c.lidar.lidarseg);
     s.finish();
   }
   if (const json* j = r.child("camera")) {
@@ -288,7 +292,7 @@ std::string SynthConfig::to_json() const {
                  {"ego_speed_mps", scenes.ego_speed_mps}, {"first_timestamp_us", scenes.first_timestamp_us}};
   j["lidar"] = {{"rate_hz", lidar.rate_hz}, {"beams", lidar.beams}, {"points_per_sweep", lidar.points_per_sweep},
                 {"roof_points", lidar.roof_points}, {"max_range_m", lidar.max_range_m},
-                {"range_noise_m", lidar.range_noise_m}};
+                {"range_noise_m", lidar.range_noise_m}, {"lidarseg", lidar.lidarseg}};
   j["camera"] = {{"rate_hz", camera.rate_hz}, {"channels", camera.channels}, {"width_px", camera.width_px},
                  {"height_px", camera.height_px}, {"jpeg_quality", camera.jpeg_quality},
                  {"label_noise_rate", camera.label_noise_rate}};

@@ -465,10 +465,39 @@ std::vector<float> simulate_lidar_sweep(const SceneSnapshot& scene,
   return simulate_lidar_sweep(caster, global_from_sensor, options, rng);
 }
 
+uint8_t lidarseg_label(const RayHit& hit) {
+  if (!hit.hit) return 0;  // noise
+  if (hit.kind == RayHit::Kind::kGround) {
+    switch (hit.material) {
+      case GroundMaterial::kAsphalt:
+      case GroundMaterial::kPaintWhite:
+      case GroundMaterial::kPaintYellow:
+      case GroundMaterial::kCrosswalkPaint: return 24;  // flat.driveable_surface
+      case GroundMaterial::kSidewalk:
+      case GroundMaterial::kCurbTop: return 26;  // flat.sidewalk
+      case GroundMaterial::kTerrain: return 27;  // flat.terrain
+      case GroundMaterial::kVegetation: return 30;  // static.vegetation
+    }
+    return 25;  // flat.other
+  }
+  switch (hit.cls) {
+    case SemanticClass::kCar: return 17;          // vehicle.car
+    case SemanticClass::kTruckBus: return 23;     // vehicle.truck (buses too: one class of ours)
+    case SemanticClass::kPerson: return 2;        // human.pedestrian.adult
+    case SemanticClass::kTwoWheeler: return 14;   // vehicle.bicycle
+    case SemanticClass::kBuilding:
+    case SemanticClass::kPoleSign: return 28;     // static.manmade
+    case SemanticClass::kVegetation: return 30;   // static.vegetation (tree trunks)
+    default: return 29;                           // static.other
+  }
+}
+
 std::vector<float> simulate_lidar_sweep(const SceneRaycaster& caster,
                                         const geometry::Rigid3& global_from_sensor,
-                                        const LidarSimOptions& options, Rng& rng) {
+                                        const LidarSimOptions& options, Rng& rng,
+                                        std::vector<uint8_t>* lidarseg_labels) {
   options.validate();
+  if (lidarseg_labels != nullptr) lidarseg_labels->clear();
   const int beams = options.beams;
   const int azimuth_steps = options.points_per_sweep / beams;
   std::vector<double> cos_el(beams), sin_el(beams);
@@ -493,6 +522,7 @@ std::vector<float> simulate_lidar_sweep(const SceneRaycaster& caster,
       const Eigen::Vector3d dir(cos_el[r] * sa, cos_el[r] * ca, sin_el[r]);
       const bool roof = static_cast<long>(r) * azimuth_steps + k < options.roof_points;
       double range = 0.0, intensity = 0.0;
+      uint8_t label = kLidarsegEgo;
       if (roof) {
         // The roof plane z = −roof_depth_m, or the edge of the roof square if the ray
         // leaves it first.
@@ -506,6 +536,7 @@ std::vector<float> simulate_lidar_sweep(const SceneRaycaster& caster,
       } else {
         const RayHit hit = caster.cast(origin, rotation * dir, options.max_range_m);
         if (!hit.hit) continue;
+        label = lidarseg_label(hit);
         if (hit.kind == RayHit::Kind::kGround) {
           const double spread = ground_intensity_spread(hit.material);
           intensity = lidar_ground_intensity(hit.material) + rng.uniform(-spread, spread);
@@ -523,6 +554,7 @@ std::vector<float> simulate_lidar_sweep(const SceneRaycaster& caster,
       out.push_back(static_cast<float>(p.z()));
       out.push_back(quantise_intensity(intensity));
       out.push_back(static_cast<float>(r));
+      if (lidarseg_labels != nullptr) lidarseg_labels->push_back(label);
     }
   }
   return out;

@@ -136,6 +136,16 @@ const std::vector<CategorySpec>& categories() {
       {"movable_object.pushable_pullable", "Objects that a pedestrian may push or pull, e.g. dolleys, wheel barrows, garbage-bins.", 11},
       {"movable_object.debris", "Movable object that is left on the driveable surface that is too large to be driven over safely.", 10},
       {"static_object.bicycle_rack", "Area or device intended to park or secure the bicycles in a row.", 13},
+      // The classes nuScenes-lidarseg adds (its category.json has all 32, each with index).
+      {"noise", "Any lidar return that does not correspond to a physical object, such as dust, vapor, noise, fog, raindrops, smoke and reflections.", 0},
+      {"flat.driveable_surface", "All paved or unpaved surfaces that a car can drive on with no concern of traffic rules.", 24},
+      {"flat.other", "All other forms of horizontal ground-level structures that do not belong to any of driveable_surface, curb, sidewalk and terrain. Includes elevated parts of traffic islands, delimiters, rail tracks, stairs with at most 3 steps and larger bodies of water - lakes, rivers.", 25},
+      {"flat.sidewalk", "Sidewalk, pedestrian walkways, bike paths, etc. Part of the ground designated for pedestrians or cyclists. Sidewalks do **not** have to be next to a road.", 26},
+      {"flat.terrain", "Natural horizontal surfaces such as ground level horizontal vegetation (< 20 cm tall), grass, rolling hills, soil, sand and gravel.", 27},
+      {"static.manmade", "Includes man-made structures but not limited to: buildings, walls, guard rails, fences, poles, drainages, hydrants, flags, banners, street signs, electric circuit boxes, traffic lights, parking meters and stairs with more than 3 steps.", 28},
+      {"static.other", "Points in the background that are not distinguishable. Or objects that do not match any of the above labels.", 29},
+      {"static.vegetation", "Any vegetation in the frame that is higher than the ground, including bushes, plants, potted plants, trees, etc. Only tall grass (> 20cm) is part of this, ground level grass is part of `flat.terrain`.", 30},
+      {"vehicle.ego", "The vehicle on which the cameras, radar and lidar are mounted, that is sometimes visible at the bottom of the image.", 31},
   };
   return k;
 }
@@ -453,8 +463,11 @@ class ReleaseWriter {
       lo.max_range_m = cfg_.lidar.max_range_m;
       lo.range_noise_m = cfg_.lidar.range_noise_m;
       const SceneRaycaster caster(snap, lo.raycast);
-      std::vector<float> pts = simulate_lidar_sweep(caster, global_from_sensor, lo, rng);
+      std::vector<uint8_t> labels;
+      const bool lidarseg = f.key && cfg_.lidar.lidarseg;
+      std::vector<float> pts = simulate_lidar_sweep(caster, global_from_sensor, lo, rng, lidarseg ? &labels : nullptr);
       put(f.filename, std::string_view(reinterpret_cast<const char*>(pts.data()), pts.size() * sizeof(float)));
+      if (lidarseg) put(lidarseg_filename(f), labels);
       if (f.key) {
         // num_lidar_pts: the sweep in the global frame with the devkit chain.
         const Pose2 ego = s.plan.ego_pose_at(t);
@@ -477,6 +490,27 @@ class ReleaseWriter {
   }
 
   // ---- tables -----------------------------------------------------------------------------
+  // nuScenes-lidarseg's layout: lidarseg/<version>/<sample_data token>_lidarseg.bin.
+  std::string lidarseg_filename(const Frame& f) const {
+    return "lidarseg/" + cfg_.version + "/" + f.token + "_lidarseg.bin";
+  }
+
+  // lidarseg.json: one record per key-frame LIDAR_TOP sweep, its token the sweep's
+  // sample_data token (the devkit looks records up by it), in sample_data order.
+  void write_lidarseg_table() {
+    PyJson lidarseg = PyJson::array();
+    for (const SceneRun& s : scenes_) {
+      auto it = s.frames.find("LIDAR_TOP");
+      if (it == s.frames.end()) continue;
+      for (const Frame& f : it->second) {
+        if (!f.key) continue;
+        lidarseg.push_back(
+            PyJson{{"token", f.token}, {"sample_data_token", f.token}, {"filename", lidarseg_filename(f)}});
+      }
+    }
+    write_table("lidarseg", lidarseg);
+  }
+
   void write_table(const std::string& name, const PyJson& records) {
     put(cfg_.version + "/" + name + ".json", py_json_dump(records, PyJsonStyle::kIndent0));
   }
@@ -631,6 +665,7 @@ class ReleaseWriter {
     write_table("scene", scene);
     write_table("sensor", sensor);
     write_table("visibility", visibility);
+    if (cfg_.lidar.lidarseg) write_lidarseg_table();
   }
 
   // ---- detections -------------------------------------------------------------------------

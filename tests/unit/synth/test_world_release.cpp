@@ -15,6 +15,7 @@
 #include "nsg/nuscenes/camera.h"
 #include "nsg/nuscenes/database.h"
 #include "nsg/nuscenes/lidar.h"
+#include "nsg/nuscenes/lidarseg.h"
 #include "nsg/nuscenes/map_expansion.h"
 #include "nsg/nuscenes/semantic_mask.h"
 #include "nsg/synth/camera_sim.h"
@@ -86,12 +87,50 @@ bool near_annotated_object(const Database& db, Index sample, const nuscenes::Lid
   return false;
 }
 
+// nuScenes-lidarseg: one record per key-frame LIDAR_TOP sweep, keyed by its sample_data
+// token, one label per point; the 32 categories carry the lidarseg index of their name.
+TEST(WorldRelease, WritesLidarsegForEveryKeyFrameSweep) {
+  const Database& db = tiny_db();
+  for (const nuscenes::Category& c : db.category) {
+    ASSERT_TRUE(c.index.has_value()) << c.name;
+    EXPECT_EQ(nuscenes::lidarseg_class_names().at(static_cast<size_t>(*c.index)), c.name);
+  }
+  const nuscenes::LidarsegIndex index = nuscenes::LidarsegIndex::load(db);
+  size_t key_sweeps = 0;
+  std::map<uint8_t, size_t> counts;
+  std::vector<uint8_t> labels;
+  for (Index i = 0; i < static_cast<Index>(db.sample_data.size()); ++i) {
+    const nuscenes::SampleData& sd = db.sample_data[i];
+    if (sd.modality != nuscenes::Modality::kLidar) continue;
+    if (!sd.is_key_frame) {
+      EXPECT_TRUE(index.labels_file(i).empty());
+      continue;
+    }
+    ++key_sweeps;
+    const fs::path file = index.labels_file(i);
+    EXPECT_EQ(file, tiny_release() / "lidarseg" / "v1.0-mini" / (sd.token.str() + "_lidarseg.bin"));
+    const std::vector<nuscenes::LidarPoint> points = nuscenes::read_lidar_points(db.file_path(sd));
+    nuscenes::read_lidarseg_labels(file, points.size(), labels);
+    for (size_t p = 0; p < points.size(); ++p) {
+      ++counts[labels[p]];
+      // The roof returns (|x|, |y| < 1 m in the sensor frame) are the ego vehicle.
+      if (std::abs(points[p].x) < 1.0f && std::abs(points[p].y) < 1.0f && points[p].z < 0.0f)
+        EXPECT_EQ(labels[p], 31) << p;
+    }
+  }
+  EXPECT_EQ(index.labelled_sweeps(), key_sweeps);
+  EXPECT_EQ(key_sweeps, db.sample.size());
+  for (const auto& [label, n] : counts) EXPECT_LT(label, 32) << n;
+  // The street: driveable surface, sidewalks, buildings and the ego all appear.
+  for (uint8_t label : {24, 26, 28, 31}) EXPECT_GT(counts[label], 100u) << int(label);
+}
+
 TEST(WorldRelease, LoadsWithTheToolkitReader) {
   const Database& db = tiny_db();
   EXPECT_EQ(db.scene.size(), 2u);
   EXPECT_EQ(db.sample.size(), 8u);
   EXPECT_EQ(db.sensor.size(), 12u);
-  EXPECT_EQ(db.category.size(), 23u);
+  EXPECT_EQ(db.category.size(), 32u);  // nuScenes-lidarseg's category.json: all with index
   EXPECT_EQ(db.attribute.size(), 8u);
   EXPECT_EQ(db.visibility.size(), 4u);
   EXPECT_EQ(db.map.size(), 1u);

@@ -35,10 +35,18 @@ struct CellRect {
   bool contains(CellIndex c) const { return c.col >= col0 && c.col < col1 && c.row >= row0 && c.row < row1; }
 };
 
+// Where the semantic layer comes from: class-id masks of the camera images (projected like
+// RGB), or nuScenes-lidarseg's per-point labels of the key-frame sweeps (lidarseg_layer.h).
+enum class SemanticSource { kMasks, kLidarseg };
+
 struct CameraOptions {
   bool rgb = true;
   bool semantic = true;
+  SemanticSource semantic_source = SemanticSource::kMasks;
   std::filesystem::path semantic_root;  // empty = <dataroot>/semantic; masks at <root>/<CHANNEL>/<basename>.png
+  // lidarseg label → our class (a labels file, schemas/v1/segment-labels.schema.json);
+  // empty = the built-in copy of samples/semantic-labels/nuscenes-lidarseg.json.
+  std::filesystem::path lidarseg_labels;
   double view_radius_m = 40.0;          // key-frame ego poses farther (in xy) from the point are not considered
   double min_depth_m = 1.0;             // devkit min_dist
   // Occlusion: the view is rejected when a LiDAR return of the image's key frame is closer
@@ -57,6 +65,8 @@ struct CameraOptions {
   int jpeg_scale_denom = 2;  // 1, 2 or 4 (turbojpeg scaled decode)
   std::string lidar_channel = "LIDAR_TOP";  // the key-frame sweep used for occlusion
   void validate() const;  // ConfigError naming the bad field (both rgb and semantic off is valid)
+  // True when the semantic layer comes from the camera masks (read by the colouring).
+  bool semantic_masks() const { return semantic && semantic_source == SemanticSource::kMasks; }
 };
 
 struct ColorStats {
@@ -65,6 +75,10 @@ struct ColorStats {
   size_t images_used = 0;     // images that won at least one candidate test (decoded)
   size_t occluded_views = 0;  // views rejected by the occlusion test
 };
+
+struct LidarsegLayer;
+class ColorLayer;
+void overlay_semantics(ColorLayer& color, const LidarsegLayer& lidarseg, const std::vector<CellRect>& regions);
 
 class ColorLayer {
  public:
@@ -78,6 +92,7 @@ class ColorLayer {
  private:
   friend ColorLayer colorize_scenes(const nuscenes::Database&, const std::vector<int32_t>&, const LidarLayer&,
                                     const std::vector<CellRect>&, const CameraOptions&, int);
+  friend void overlay_semantics(ColorLayer&, const LidarsegLayer&, const std::vector<CellRect>&);
   double resolution_m_;
   SparseGrid<ColorCell> cells_;
   size_t rgb_cells_ = 0, semantic_cells_ = 0;

@@ -50,6 +50,9 @@ struct LidarConfig {
   int roof_points = 8000;
   double max_range_m = 100.0;
   double range_noise_m = 0.02;
+  // nuScenes-lidarseg for every key-frame sweep: lidarseg.json and one
+  // lidarseg/<version>/<sd_token>_lidarseg.bin of per-point labels (the ray caster's hit).
+  bool lidarseg = true;
   void validate() const;
 };
 

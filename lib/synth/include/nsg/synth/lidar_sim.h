@@ -112,8 +112,20 @@ std::vector<float> simulate_lidar_sweep(const SceneSnapshot& scene,
                                         const geometry::Rigid3& global_from_sensor,
                                         const LidarSimOptions& options, Rng& rng);
 // Same with a ray caster built once for the snapshot (reuse it for several sensors).
+// `lidarseg_labels`, when given, receives one nuScenes-lidarseg label per returned point
+// (lidarseg_label() of what the ray hit; the roof returns are vehicle.ego); the random
+// draws, and so the points, are the same with or without it.
 std::vector<float> simulate_lidar_sweep(const SceneRaycaster& caster,
                                         const geometry::Rigid3& global_from_sensor,
-                                        const LidarSimOptions& options, Rng& rng);
+                                        const LidarSimOptions& options, Rng& rng,
+                                        std::vector<uint8_t>* lidarseg_labels = nullptr);
+
+// The nuScenes-lidarseg category index (0 noise … 31 vehicle.ego) of a ray hit: the road
+// surface (asphalt, paint, crosswalks) flat.driveable_surface, sidewalks and curb tops
+// flat.sidewalk, terrain flat.terrain, vegetation static.vegetation, buildings and poles
+// static.manmade, cars vehicle.car, trucks and buses vehicle.truck, people
+// human.pedestrian.adult, two-wheelers vehicle.bicycle; a miss is noise.
+uint8_t lidarseg_label(const RayHit& hit);
+inline constexpr uint8_t kLidarsegEgo = 31;
 
 }  // namespace nsg::synth
