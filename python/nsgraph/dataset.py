@@ -57,6 +57,10 @@ class Dataset(collections.abc.Sequence):
     def key(self, i):
         return self._index.key(i)
 
+    def shard(self, i):
+        """Manifest name of the shard holding tile i ("train-000000")."""
+        return self._index.shard_name(i)
+
     @property
     def keys(self):
         return [self._index.key(i) for i in range(len(self))]
