@@ -147,6 +147,15 @@ if "$exe" generate --help >/dev/null 2>&1 && [ -f "$root/samples/synth/bench.jso
     | "$py" -c 'import json,sys; r=json.load(sys.stdin); print({k: r[k] for k in ("sweeps","wall_s","sweeps_per_s","covered_cells")}, "agree:", r["check"]["agree"])'
   ran=$((ran + 2))
 
+  # Reading the dataset from Python (issue 21): nsgraph.Dataset vs tarfile + PIL on one shard
+  # of the dataset just generated, one core, arrays checked equal.
+  if [ -f "$root/$build/python/nsgraph/__init__.py" ]; then
+    printf '\n== Python dataset read: nsgraph.Dataset vs tarfile + PIL, one shard, one core\n'
+    PYTHONPATH="$root/$build/python" "$py" "$root/bench/python/dataset_read.py" \
+      --dataset "$NSG_BENCH_DIR/generate-bench" --out "$out/dataset_read.json" || failed+=("dataset read")
+    ran=$((ran + 1))
+  fi
+
   # Memory vs canvas: the same city and scenes on a 1x and a 4x map canvas (bench.json,
   # bench-canvas4.json), both cut to the same few samples and key-frame cameras so the
   # extra runs stay cheap; the covered area is the same, so peak RSS should be too.

@@ -162,6 +162,7 @@ def collect(d):
                    "scale": table_scale(read_text(os.path.join(d, "tables_scale.txt")))},
         "memory_vs_canvas": memory,
         "city": read_json(os.path.join(d, "city.json")),
+        "dataset_read": read_json(os.path.join(d, "dataset_read.json")),
         "google_benchmarks": {m: google_benchmarks(os.path.join(d, f"bench_{m}.json"))
                               for m in ("metrics", "synth", "raster")
                               if os.path.exists(os.path.join(d, f"bench_{m}.json"))},
@@ -215,6 +216,13 @@ def markdown(r):
     elif sc:
         lines.append(f"| table load at scale | {sc.get('skipped') or 'FAILED to run'} | | | ≤ 1× file | "
                      f"{'n/a' if 'skipped' in sc else 'FAIL'} |")
+    dr = r.get("dataset_read")
+    if dr:
+        ok = dr["arrays_equal"] and dr["nsgraph_tiles_per_s"] >= dr["target_tiles_per_s"]
+        lines.append(f"| Python: read {dr['tiles']} tiles ({dr['tile_px']} px, 5 layers + graph + meta) from one shard, "
+                     f"1 core | `nsgraph.Dataset` {dr['nsgraph_tiles_per_s']:,.0f} tiles/s¹ "
+                     f"| tarfile + PIL {dr['python_tiles_per_s']:,.0f} tiles/s¹ | {dr['ratio_nsgraph_over_python']:.1f}× "
+                     f"| ≥ {dr['target_tiles_per_s']} tiles/s | {verdict(ok)} |")
     mem = r["memory_vs_canvas"]
     for tool in ("generate", "synth"):
         ratio = mem[f"{tool}_peak_rss_ratio_4x_over_1x"]

@@ -12,8 +12,7 @@
 #include "nsg/core/strings.h"
 #include "nsg/metrics/io.h"
 #include "nsg/metrics/score.h"
-#include "nsg/validate/schema.h"
-#include "nsg/validate/submission.h"
+#include "nsg/metrics/submission_input.h"
 
 namespace nsg::cli {
 namespace {
@@ -34,34 +33,23 @@ struct ScoreCliOptions {
   }
 };
 
-// Schema and structural checks; returns the problems (empty = valid).
-Issues check_submission(const nlohmann::json& doc, const ScoreCliOptions& o) {
-  const std::filesystem::path dir = validate::find_schemas_dir(o.schemas);
-  Issues issues = validate::validate_against_schema(dir / "v1" / "submission.schema.json", doc,
-                                                    o.submission, "submission.schema");
-  issues.append(validate::check_submission_structure(doc, o.submission));
-  return issues;
-}
-
 int run_score(const ScoreCliOptions& o) {
   o.validate();
   metrics::ScoreOptions options;
   options.threads = o.threads;
   options.validate();
 
-  // The submission is read within validate's limits (file size, JSON values, nesting)
-  // before a DOM is built: a huge or hostile file is refused, never parsed.
-  Issues issues;
-  const std::optional<nlohmann::json> doc =
-      metrics::read_submission_file(o.submission, validate::SubmissionLimits{}, issues);
-  if (doc) issues.append(check_submission(*doc, o));
+  // Read within validate's limits, schema and structural checks (shared with the Python
+  // binding, nsg/metrics/submission_input.h).
+  metrics::CheckedSubmission checked = metrics::check_submission_file(o.submission, o.schemas);
+  const Issues& issues = checked.issues;
   if (!issues.empty()) {
     std::fputs(issues.format().c_str(), stderr);
     log::error(strprintf("%zu problem(s) in submission %s; not scored", issues.size(),
                          o.submission.c_str()));
     return kExitProblems;
   }
-  const metrics::GraphSet pred = metrics::graphs_from_submission(*doc, o.submission);
+  const metrics::GraphSet pred = std::move(checked.graphs);
   const metrics::GraphSet gt = metrics::load_ground_truth(o.ground_truth, o.split);
 
   metrics::ScoreReport report = metrics::score(gt, pred, options);

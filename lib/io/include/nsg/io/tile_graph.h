@@ -1,0 +1,18 @@
+#pragma once
+// Reading a tile's <key>.graph.json (DESIGN.md §5) back into the graph module's type,
+// node ids turned into indices.
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "nsg/graph/clip.h"
+
+namespace nsg::io {
+
+// {schema_version, key, nodes: [{id, u, v, x, y}], edges: [{source, target, lane_token}]}.
+// TileNode::id keeps the file's id; TileEdge source/target are node indices. Throws
+// DataError naming `file` and the JSON path on a missing field, a non-finite number, a
+// repeated node id or an edge to an unknown id.
+graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::string& file);
+
+}  // namespace nsg::io

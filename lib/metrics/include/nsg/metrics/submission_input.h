@@ -1,0 +1,31 @@
+#pragma once
+// What `nsgraph score` does with a submission before scoring, shared with the Python
+// binding so both refuse and accept the same documents: read within the size limits,
+// check against schemas/v1/submission.schema.json and the structural rules, convert.
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "nsg/core/issues.h"
+#include "nsg/metrics/graph.h"
+#include "nsg/validate/submission.h"
+
+namespace nsg::metrics {
+
+struct CheckedSubmission {
+  Issues issues;    // problems of the submission; non-empty = not scored (exit 1)
+  GraphSet graphs;  // the tiles, when there is no problem
+};
+
+// Throws IoError if the file cannot be read and when the schemas are not found
+// (schemas_dir "" = validate::find_schemas_dir()).
+CheckedSubmission check_submission_file(const std::filesystem::path& file,
+                                        const std::filesystem::path& schemas_dir = {},
+                                        const validate::SubmissionLimits& limits = {});
+// The same checks on a document already in memory; `label` names it in the issues.
+CheckedSubmission check_submission_document(const nlohmann::json& doc, const std::string& label,
+                                            const std::filesystem::path& schemas_dir = {},
+                                            const validate::SubmissionLimits& limits = {});
+
+}  // namespace nsg::metrics

@@ -1,0 +1,83 @@
+"""nsgraph.Dataset: random access to the tiles of one split, decoded in C++."""
+import collections.abc
+import os
+
+from . import _nsgraph
+
+MODALITIES = ("lidar", "rgb", "semantic", "vehicle")
+
+
+class Dataset(collections.abc.Sequence):
+    """The tiles of one split of a NuScenesGraph dataset (tar shards or folder layout).
+
+    ``ds[i]`` is a dict::
+
+        key, shard                     str
+        lidar     uint8   (H, W)       0 = no data
+        rgb       uint8   (H, W, 3)    0, 0, 0 = no data
+        semantic  uint8   (H, W)       255 = no data
+        vehicle   float32 (H, W)       heading / 2π clockwise from north in [0, 1), -1 = none
+        coverage  uint8   (H, W)       bit flags 1 LiDAR, 2 RGB, 4 semantics
+        graph     {nodes_px (N, 2) float64 u, v;  nodes_m (N, 2) float64 x, y;
+                   edges (E, 2) int64 node indices;  lane_tokens [E str];  node_ids (N,) int64}
+        meta      the tile's meta.json as a dict
+
+    Only the requested ``modalities`` are read (coverage always). Shards are indexed once
+    per process (member offsets), tiles are read with positioned reads and decoded in C++
+    without the GIL: safe and parallel in DataLoader workers (fork or spawn).
+    """
+
+    def __init__(self, root, split, modalities=MODALITIES, graph=True, meta=True):
+        modalities = tuple(modalities)
+        unknown = [m for m in modalities if m not in MODALITIES]
+        if unknown:
+            from .errors import ConfigError
+            raise ConfigError(f"modalities: {unknown} unknown; expected a subset of {MODALITIES}")
+        self.root = os.fspath(root)
+        self.split = split
+        self.modalities = modalities
+        self.graph = graph
+        self.meta = meta
+        self._index = _nsgraph.SplitIndex(self.root, split)
+        self._layers = list(modalities) + ["coverage"]
+
+    def __len__(self):
+        return len(self._index)
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(len(self)))]
+        n = len(self)
+        if i < 0:
+            i += n
+        if not 0 <= i < n:
+            raise IndexError(f"tile index {i} out of range for {n} tiles of split '{self.split}'")
+        return self._index.read(i, self._layers, self.graph, self.meta)
+
+    def key(self, i):
+        return self._index.key(i)
+
+    def shard(self, i):
+        """Manifest name of the shard holding tile i ("train-000000")."""
+        return self._index.shard_name(i)
+
+    @property
+    def keys(self):
+        return [self._index.key(i) for i in range(len(self))]
+
+    def member_bytes(self, i, suffix):
+        """Raw bytes of one member of tile i ("lidar.tif", "graph.json", ...)."""
+        return self._index.read_member(i, suffix)
+
+    # Pickled by arguments (spawned DataLoader workers): the index is rebuilt, from the
+    # per-process cache when the shards were indexed before.
+    def __getstate__(self):
+        return {"root": self.root, "split": self.split, "modalities": self.modalities,
+                "graph": self.graph, "meta": self.meta}
+
+    def __setstate__(self, state):
+        self.__init__(**state)
+
+    def __repr__(self):
+        return (f"nsgraph.Dataset({self.root!r}, {self.split!r}, modalities={self.modalities}) "
+                f"with {len(self)} tiles")

@@ -1,0 +1,116 @@
+"""Scoring and submissions: nsgraph.score (= ``nsgraph score``), score_tile,
+write_submission, check_submission. The metrics, the checks and the writer are the C++
+library's; this module only converts arguments."""
+import json
+import os
+
+import numpy as np
+
+from . import _nsgraph
+from .errors import SubmissionError
+
+SCHEMAS_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "schemas")
+MEMORY_LABEL = "<memory>"
+
+
+def graph_arrays(graph):
+    """(nodes float64 (N, 2) pixel u, v; edges int64 (E, 2)) of a graph given as a dataset
+    tile (or its ``graph``: nodes_px), a submission tile ({nodes, edges}) or a pair
+    (nodes, edges)."""
+    if isinstance(graph, dict):
+        if "graph" in graph and isinstance(graph["graph"], dict):
+            graph = graph["graph"]
+        nodes = graph["nodes_px"] if "nodes_px" in graph else graph["nodes"]
+        edges = graph["edges"]
+    else:
+        nodes, edges = graph
+    return as_pairs(nodes, np.float64), as_pairs(edges, np.int64)
+
+
+def as_pairs(values, dtype):
+    """A contiguous array of the dtype; an empty one as (0, 2). Other shapes pass as they are
+    for the C++ side to refuse by name."""
+    a = np.asarray(values, dtype=dtype)
+    return np.zeros((0, 2), dtype) if a.size == 0 else np.ascontiguousarray(a)
+
+
+def _tile_document(graph):
+    nodes, edges = graph_arrays(graph)
+    tile = {"nodes": nodes.tolist(), "edges": edges.tolist()}
+    if isinstance(graph, dict):
+        for name in ("node_scores", "edge_scores"):
+            if name in graph:
+                tile[name] = np.asarray(graph[name], dtype=np.float64).tolist()
+    return tile
+
+
+def submission_document(tiles):
+    """A submission-format dict from {key: graph} (any form graph_arrays takes); a dict
+    that already has ``tiles`` is returned as it is."""
+    if isinstance(tiles, dict) and "tiles" in tiles:
+        return tiles
+    return {"schema_version": "1", "tiles": {str(k): _tile_document(g) for k, g in tiles.items()}}
+
+
+def _source(value):
+    """(text or path, is_path, label) for the C++ side."""
+    if isinstance(value, (str, os.PathLike)):
+        path = os.fspath(value)
+        return path, True, path
+    # repr-exact floats; NaN passes as "NaN" so the C++ parser names it
+    return json.dumps(submission_document(value)), False, MEMORY_LABEL
+
+
+def _params_json(params):
+    return json.dumps(params)
+
+
+def score(ground_truth, submission, split=None, threads=1, **params):
+    """Scores a submission like ``nsgraph score`` and returns its JSON report as a dict.
+
+    ground_truth: a dataset folder (its ``split``, default "test"), a ground-truth file in
+    the submission format, or in memory {key: graph} / a submission-format dict.
+    submission: a submission file, or in memory likewise. params: METRICS.md parameters
+    (resolution_m, snap_m, ...). Raises SubmissionError (with .issues) when the submission
+    has problems (the CLI's exit 1), nsgraph.errors.* for bad input (exit 2).
+    """
+    gt, gt_is_path, gt_label = _source(ground_truth)
+    sub, sub_is_path, sub_label = _source(submission)
+    report, issues, text = _nsgraph.score(gt, gt_is_path, sub, sub_is_path, split or "test", _params_json(params),
+                                          threads, SCHEMAS_DIR, gt_label, sub_label)
+    if report is None:
+        raise SubmissionError(f"{len(issues)} problem(s) in submission {sub_label}; not scored:\n{text}", issues)
+    return report
+
+
+def score_tile(gt, pred, key="tile", **params):
+    """Metrics of one tile (the report's per-tile entry: values and counts). gt, pred: any
+    form graph_arrays takes; pred None = a missing prediction."""
+    gt_nodes, gt_edges = graph_arrays(gt)
+    if pred is None:
+        return _nsgraph.score_tile(gt_nodes, gt_edges, None, None, _params_json(params), key)
+    pred_nodes, pred_edges = graph_arrays(pred)
+    return _nsgraph.score_tile(gt_nodes, gt_edges, pred_nodes, pred_edges, _params_json(params), key)
+
+
+def write_submission(path, tiles):
+    """Writes {key: (nodes, edges)} (or any graph form) as a submission file (coordinates
+    rounded to 1/1000 px, as ``nsgraph predict`` writes them) and checks it like ``nsgraph
+    score``; raises SubmissionError (the file removed) on problems such as NaN coordinates."""
+    keys = sorted(str(k) for k in tiles)
+    by_key = {str(k): g for k, g in tiles.items()}
+    arrays = [graph_arrays(by_key[k]) for k in keys]
+    issues, text = _nsgraph.write_submission(os.fspath(path), keys, [a[0] for a in arrays],
+                                             [a[1] for a in arrays], SCHEMAS_DIR)
+    if issues:
+        raise SubmissionError(f"{len(issues)} problem(s) in the submission written to {os.fspath(path)}:\n{text}",
+                              issues)
+    return os.fspath(path)
+
+
+def check_submission(submission):
+    """The problems ``nsgraph score`` would refuse a submission for (list of dicts; empty
+    = valid). submission: a path or in-memory tiles."""
+    source, is_path, label = _source(submission)
+    issues, _ = _nsgraph.check_submission(source, is_path, label, SCHEMAS_DIR)
+    return issues

@@ -1,0 +1,118 @@
+// nsgraph.Dataset's engine: io::SplitIndex for random access, io's GeoTIFF and graph
+// decoders. Reading and decoding run without the GIL so DataLoader workers (and threads)
+// proceed in parallel; only the wrapping into numpy arrays and dicts holds it.
+#include <algorithm>
+#include <utility>
+
+#include "bindings.h"
+#include "convert.h"
+#include "nsg/core/error.h"
+#include "nsg/io/tile_graph.h"
+#include "nsg/io/tile_index.h"
+
+namespace nsg::py_bind {
+namespace {
+
+const std::vector<std::string> kRasterNames = {"lidar", "rgb", "semantic", "vehicle", "coverage"};
+
+// One tile decoded in C++ (no Python objects: built without the GIL).
+struct DecodedTile {
+  std::string key, shard;
+  std::vector<std::pair<std::string, io::Raster>> rasters;
+  graph::TileGraph graph;
+  bool has_graph = false;
+  nlohmann::json meta;
+};
+
+DecodedTile decode(const io::SplitIndex& index, size_t i, const std::vector<std::string>& layers, bool graph,
+                   bool meta) {
+  std::vector<std::string> suffixes;
+  for (const std::string& l : layers) suffixes.push_back(l + ".tif");
+  if (graph) suffixes.push_back("graph.json");
+  if (meta) suffixes.push_back("meta.json");
+  const io::DatasetTile tile = index.read(i, suffixes);
+  DecodedTile out{tile.key, tile.shard, {}, {}, graph, {}};
+  for (const std::string& l : layers) out.rasters.emplace_back(l, tile.raster(l + ".tif"));
+  if (graph) out.graph = io::tile_graph_from_json(tile.json("graph.json"), tile.key + ".graph.json");
+  if (meta) out.meta = tile.json("meta.json");
+  return out;
+}
+
+py::dict graph_to_py(const graph::TileGraph& g) {
+  std::vector<std::array<double, 2>> px, m;
+  std::vector<std::array<int64_t, 2>> edges;
+  std::vector<int64_t> ids;
+  py::list tokens;
+  for (const graph::TileNode& n : g.nodes) {
+    px.push_back({n.u_px, n.v_px});
+    m.push_back({n.x_m, n.y_m});
+    ids.push_back(n.id);
+  }
+  for (const graph::TileEdge& e : g.edges) {
+    edges.push_back({e.source, e.target});
+    tokens.append(py::str(e.lane_token));
+  }
+  py::dict d;
+  d["nodes_px"] = pairs_to_numpy(px);
+  d["nodes_m"] = pairs_to_numpy(m);
+  d["edges"] = pairs_to_numpy(edges);
+  d["lane_tokens"] = tokens;
+  d["node_ids"] = ints_to_numpy(ids);
+  return d;
+}
+
+py::dict to_py(DecodedTile&& t) {
+  py::dict d;
+  d["key"] = t.key;
+  d["shard"] = t.shard;
+  for (auto& [name, raster] : t.rasters) d[py::str(name)] = raster_to_numpy(std::move(raster));
+  if (t.has_graph) d["graph"] = graph_to_py(t.graph);
+  if (!t.meta.is_null()) d["meta"] = json_to_py(t.meta);
+  return d;
+}
+
+}  // namespace
+
+void bind_dataset(py::module_& m) {
+  py::class_<io::SplitIndex>(m, "SplitIndex",
+                             "Random access to the tiles of one split (tar shards indexed once per process).")
+      .def(py::init([](const std::string& root, const std::string& split) {
+             py::gil_scoped_release release;
+             return std::make_unique<io::SplitIndex>(root, split);
+           }),
+           py::arg("root"), py::arg("split"))
+      .def("__len__", &io::SplitIndex::size)
+      .def("key", &io::SplitIndex::key, py::arg("i"))
+      .def("shard_name", &io::SplitIndex::shard_name, py::arg("i"))
+      .def("suffixes", &io::SplitIndex::suffixes, py::arg("i"))
+      .def_property_readonly("tar_layout", &io::SplitIndex::tar_layout)
+      .def(
+          "read",
+          [](const io::SplitIndex& index, size_t i, const std::vector<std::string>& layers, bool graph, bool meta) {
+            for (const std::string& l : layers)
+              NSG_CHECK(std::find(kRasterNames.begin(), kRasterNames.end(), l) != kRasterNames.end(), ConfigError,
+                        "", "layer '" + l + "'", "one of lidar, rgb, semantic, vehicle, coverage");
+            DecodedTile t;
+            {
+              py::gil_scoped_release release;
+              t = decode(index, i, layers, graph, meta);
+            }
+            return to_py(std::move(t));
+          },
+          py::arg("i"), py::arg("layers"), py::arg("graph") = true, py::arg("meta") = true,
+          "Tile i decoded: {key, shard, <layer>: ndarray, graph: {...}, meta: {...}}.")
+      .def(
+          "read_member",
+          [](const io::SplitIndex& index, size_t i, const std::string& suffix) {
+            io::DatasetTile t;
+            {
+              py::gil_scoped_release release;
+              t = index.read(i, {suffix});
+            }
+            const std::vector<uint8_t>& b = t.files.at(suffix);
+            return py::bytes(reinterpret_cast<const char*>(b.data()), b.size());
+          },
+          py::arg("i"), py::arg("suffix"), "The raw bytes of one member (\"lidar.tif\", \"graph.json\", …).");
+}
+
+}  // namespace nsg::py_bind

@@ -1,0 +1,155 @@
+// Scoring (metrics::score, the CLI's submission checks) and the submission writer
+// (model::write_submission) for nsgraph.score / score_tile / write_submission.
+#include <filesystem>
+#include <optional>
+
+#include "bindings.h"
+#include "convert.h"
+#include "nsg/core/error.h"
+#include "nsg/metrics/io.h"
+#include "nsg/metrics/score.h"
+#include "nsg/metrics/submission_input.h"
+#include "nsg/model/model.h"
+
+namespace nsg::py_bind {
+namespace {
+
+namespace fs = std::filesystem;
+
+py::list issues_to_py(const Issues& issues) {
+  py::list out;
+  for (const Issue& i : issues.items()) {
+    py::dict d;
+    d["severity"] = severity_name(i.severity);
+    d["check"] = i.check;
+    d["subject"] = i.subject;
+    d["message"] = i.message;
+    out.append(d);
+  }
+  return out;
+}
+
+// A submission-format document given as a path or as JSON text; checked like `nsgraph
+// score` checks its --submission.
+metrics::CheckedSubmission checked_submission(const std::string& source, bool is_path, const std::string& label,
+                                              const std::string& schemas_dir) {
+  if (is_path) return metrics::check_submission_file(source, schemas_dir);
+  return metrics::check_submission_document(parse_json(source, label), label, schemas_dir);
+}
+
+// The ground truth as `nsgraph score --ground-truth` takes it (a dataset folder and its
+// split, or a submission-format file), or a submission-format document in memory.
+metrics::GraphSet ground_truth(const std::string& source, bool is_path, const std::string& split,
+                               const std::string& label) {
+  if (is_path) return metrics::load_ground_truth(source, split);
+  return metrics::graphs_from_submission(parse_json(source, label), label);
+}
+
+metrics::Graph graph_arg(const Points& nodes, const Pairs& edges, const std::string& what) {
+  metrics::Graph g;
+  for (const auto& p : points_arg(nodes, what + " nodes")) g.nodes.push_back({p[0], p[1]});
+  g.edges = pairs_arg(edges, what + " edges");
+  const auto n = static_cast<int64_t>(g.nodes.size());
+  for (size_t k = 0; k < g.edges.size(); ++k)
+    for (int64_t i : g.edges[k])
+      NSG_CHECK(i >= 0 && i < n, DataError, "", what + " edges[" + std::to_string(k) + "]",
+                "node indices in [0, " + std::to_string(n) + ")");
+  return g;
+}
+
+metrics::ScoreOptions score_options(const std::string& params_json, int threads) {
+  metrics::ScoreOptions o;
+  o.params = metrics::MetricParams::from_json(parse_json(params_json, "score parameters"), "score parameters");
+  o.params.validate();
+  o.threads = threads;
+  o.validate();
+  return o;
+}
+
+// (report dict, []) or (None, issues) when the submission has problems (the CLI's exit 1).
+py::tuple score(const std::string& gt, bool gt_is_path, const std::string& sub, bool sub_is_path,
+                const std::string& split, const std::string& params_json, int threads, const std::string& schemas_dir,
+                const std::string& gt_label, const std::string& sub_label) {
+  const metrics::ScoreOptions options = score_options(params_json, threads);
+  metrics::ScoreReport report;
+  Issues issues;
+  {
+    py::gil_scoped_release release;
+    metrics::CheckedSubmission checked = checked_submission(sub, sub_is_path, sub_label, schemas_dir);
+    issues = std::move(checked.issues);
+    if (issues.empty()) {
+      const metrics::GraphSet truth = ground_truth(gt, gt_is_path, split, gt_label);
+      report = metrics::score(truth, checked.graphs, options);
+      report.ground_truth = gt_label;
+      report.submission = sub_label;
+      report.split = split;
+    }
+  }
+  if (!issues.empty()) return py::make_tuple(py::none(), issues_to_py(issues), issues.format());
+  return py::make_tuple(json_to_py(metrics::report_to_json(report)), py::list(), "");
+}
+
+py::object score_tile(const Points& gt_nodes, const Pairs& gt_edges, std::optional<Points> pred_nodes,
+                      std::optional<Pairs> pred_edges, const std::string& params_json, const std::string& key) {
+  const metrics::ScoreOptions options = score_options(params_json, 1);
+  const metrics::Graph gt = graph_arg(gt_nodes, gt_edges, "ground truth");
+  std::optional<metrics::Graph> pred;
+  if (pred_nodes) pred = graph_arg(*pred_nodes, pred_edges ? *pred_edges : Pairs(), "prediction");
+  metrics::TileMeasurement m;
+  {
+    py::gil_scoped_release release;
+    m = metrics::measure(key, gt, pred ? &*pred : nullptr, options.params);
+  }
+  return json_to_py(metrics::measurement_to_json(m));
+}
+
+// Writes with the reference model's writer, then checks the file like `nsgraph score`
+// would; a file with problems is removed and the issues returned.
+py::tuple write_submission(const std::string& path, const std::vector<std::string>& keys,
+                           const std::vector<Points>& nodes, const std::vector<Pairs>& edges,
+                           const std::string& schemas_dir) {
+  NSG_CHECK(keys.size() == nodes.size() && keys.size() == edges.size(), InternalError, path, "",
+            "as many node and edge arrays as keys");
+  metrics::GraphSet graphs;
+  for (size_t k = 0; k < keys.size(); ++k) {
+    metrics::Graph g;
+    for (const auto& p : points_arg(nodes[k], "tile '" + keys[k] + "' nodes")) g.nodes.push_back({p[0], p[1]});
+    g.edges = pairs_arg(edges[k], "tile '" + keys[k] + "' edges");
+    NSG_CHECK(graphs.emplace(keys[k], std::move(g)).second, ConfigError, path, keys[k], "each tile key once");
+  }
+  Issues issues;
+  {
+    py::gil_scoped_release release;
+    model::write_submission(graphs, path);
+    issues = metrics::check_submission_file(path, schemas_dir).issues;
+    if (!issues.empty()) fs::remove(path);
+  }
+  return py::make_tuple(issues_to_py(issues), issues.format());
+}
+
+py::tuple check_submission(const std::string& source, bool is_path, const std::string& label,
+                           const std::string& schemas_dir) {
+  Issues issues;
+  {
+    py::gil_scoped_release release;
+    issues = checked_submission(source, is_path, label, schemas_dir).issues;
+  }
+  return py::make_tuple(issues_to_py(issues), issues.format());
+}
+
+}  // namespace
+
+void bind_metrics(py::module_& m) {
+  m.def("score", &score, py::arg("ground_truth"), py::arg("ground_truth_is_path"), py::arg("submission"),
+        py::arg("submission_is_path"), py::arg("split"), py::arg("params_json"), py::arg("threads"),
+        py::arg("schemas_dir"), py::arg("ground_truth_label"), py::arg("submission_label"));
+  m.def("score_tile", &score_tile, py::arg("gt_nodes"), py::arg("gt_edges"), py::arg("pred_nodes"),
+        py::arg("pred_edges"), py::arg("params_json"), py::arg("key"));
+  m.def("write_submission", &write_submission, py::arg("path"), py::arg("keys"), py::arg("nodes"), py::arg("edges"),
+        py::arg("schemas_dir"));
+  m.def("check_submission", &check_submission, py::arg("source"), py::arg("is_path"), py::arg("label"),
+        py::arg("schemas_dir"));
+  m.def("default_params_json", [] { return metrics::MetricParams{}.to_json().dump(); });
+}
+
+}  // namespace nsg::py_bind

@@ -1,0 +1,136 @@
+"""nsgraph.Dataset against independent readers of the same files: tarfile + PIL for the
+GeoTIFFs, json for graph and meta, the folder layout against the tar layout."""
+import io
+import json
+import os
+import tarfile
+import threading
+import unittest
+
+import numpy as np
+from PIL import Image
+
+import fixtures
+import nsgraph
+
+LAYERS = ("lidar", "rgb", "semantic", "vehicle", "coverage")
+
+
+def tar_tiles(root, split):
+    """{key: {suffix: bytes}} of every shard of the split, in manifest order (keys list)."""
+    manifest = fixtures.read_json(os.path.join(root, "manifest.json"))
+    keys, files = [], {}
+    for shard in manifest["shards"]:
+        if shard["split"] != split:
+            continue
+        with tarfile.open(os.path.join(root, shard["file"])) as tar:
+            for m in tar.getmembers():
+                key, suffix = m.name.split(".", 1)
+                if key not in files:
+                    keys.append(key)
+                    files[key] = {}
+                files[key][suffix] = tar.extractfile(m).read()
+    return keys, files
+
+
+def pil_array(data):
+    return np.array(Image.open(io.BytesIO(data)))
+
+
+class DatasetTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.root = fixtures.e2e_dataset("tar")
+        cls.folder_root = fixtures.e2e_dataset("folder")
+
+    def test_every_array_equals_the_geotiff_and_json(self):
+        for split in ("train", "test"):
+            ds = nsgraph.Dataset(self.root, split)
+            keys, files = tar_tiles(self.root, split)
+            self.assertGreater(len(ds), 0)
+            self.assertEqual(ds.keys, keys)
+            for i, tile in enumerate(ds):
+                self.assertEqual(tile["key"], keys[i])
+                member = files[keys[i]]
+                for layer in LAYERS:
+                    expected = pil_array(member[layer + ".tif"])
+                    got = tile[layer]
+                    self.assertEqual(got.dtype, expected.dtype, layer)
+                    self.assertEqual(got.shape, expected.shape, layer)
+                    np.testing.assert_array_equal(got, expected, err_msg=f"{keys[i]} {layer}")
+                self.assertEqual(tile["lidar"].dtype, np.uint8)
+                self.assertEqual(tile["rgb"].shape[2], 3)
+                self.assertEqual(tile["vehicle"].dtype, np.float32)
+                graph = json.loads(member["graph.json"])
+                ids = {n["id"]: k for k, n in enumerate(graph["nodes"])}
+                np.testing.assert_array_equal(tile["graph"]["nodes_px"],
+                                              np.array([[n["u"], n["v"]] for n in graph["nodes"]]).reshape(-1, 2))
+                np.testing.assert_array_equal(tile["graph"]["nodes_m"],
+                                              np.array([[n["x"], n["y"]] for n in graph["nodes"]]).reshape(-1, 2))
+                np.testing.assert_array_equal(tile["graph"]["edges"].reshape(-1, 2),
+                                              np.array([[ids[e["source"]], ids[e["target"]]] for e in graph["edges"]],
+                                                       dtype=np.int64).reshape(-1, 2))
+                self.assertEqual(tile["graph"]["edges"].dtype, np.int64)
+                self.assertEqual(tile["graph"]["lane_tokens"], [e["lane_token"] for e in graph["edges"]])
+                self.assertEqual(tile["meta"], json.loads(member["meta.json"]))
+
+    def test_the_graph_nodes_lie_on_their_pixels(self):
+        # u = (x − x_west) / 0.2 − 0.5: the two coordinate sets agree through meta's bounds
+        tile = nsgraph.Dataset(self.root, "test")[0]
+        x_west, _, _, y_north = tile["meta"]["bounds_m"]
+        uv, xy = tile["graph"]["nodes_px"], tile["graph"]["nodes_m"]
+        np.testing.assert_allclose(uv[:, 0], (xy[:, 0] - x_west) / 0.2 - 0.5, atol=1e-6)
+        np.testing.assert_allclose(uv[:, 1], (y_north - xy[:, 1]) / 0.2 - 0.5, atol=1e-6)
+
+    def test_folder_layout_reads_the_same_tiles(self):
+        tar_ds = nsgraph.Dataset(self.root, "test")
+        folder_ds = nsgraph.Dataset(self.folder_root, "test")
+        self.assertEqual(tar_ds.keys, folder_ds.keys)
+        for a, b in zip(tar_ds, folder_ds):
+            for layer in LAYERS:
+                np.testing.assert_array_equal(a[layer], b[layer])
+            np.testing.assert_array_equal(a["graph"]["nodes_px"], b["graph"]["nodes_px"])
+            self.assertEqual(a["meta"], b["meta"])
+
+    def test_modalities_random_access_and_negative_indices(self):
+        ds = nsgraph.Dataset(self.root, "train", modalities=("lidar",), meta=False)
+        n = len(ds)
+        last = ds[-1]
+        self.assertEqual(last["key"], ds.key(n - 1))
+        self.assertEqual(set(k for k in last if k in LAYERS), {"lidar", "coverage"})
+        self.assertNotIn("meta", last)
+        order = [n - 1, 0, n // 2, 1, n - 1]
+        full = nsgraph.Dataset(self.root, "train")
+        for i in order:
+            np.testing.assert_array_equal(ds[i]["lidar"], full[i]["lidar"])
+        with self.assertRaises(IndexError):
+            ds[n]
+
+    def test_threads_read_in_parallel_without_interference(self):
+        ds = nsgraph.Dataset(self.root, "train")
+        expected = [t["lidar"].copy() for t in ds]
+        errors = []
+
+        def work(offset):
+            for k in range(len(ds)):
+                i = (k + offset) % len(ds)
+                if not np.array_equal(ds[i]["lidar"], expected[i]):
+                    errors.append(i)
+
+        threads = [threading.Thread(target=work, args=(o,)) for o in range(4)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        self.assertEqual(errors, [])
+
+    def test_pickles_by_arguments(self):
+        import pickle
+        ds = nsgraph.Dataset(self.root, "test", modalities=("rgb",))
+        again = pickle.loads(pickle.dumps(ds))
+        self.assertEqual(again.keys, ds.keys)
+        np.testing.assert_array_equal(again[0]["rgb"], ds[0]["rgb"])
+
+
+if __name__ == "__main__":
+    unittest.main()

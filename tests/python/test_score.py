@@ -1,0 +1,134 @@
+"""nsgraph.score / score_tile / write_submission against the CLI on the same files."""
+import json
+import os
+import tempfile
+import unittest
+
+import numpy as np
+
+import fixtures
+import nsgraph
+
+
+def leaves(x, path=""):
+    """Flattened (path, value) pairs of a JSON-like value."""
+    if isinstance(x, dict):
+        for k in sorted(x):
+            yield from leaves(x[k], f"{path}/{k}")
+    elif isinstance(x, list):
+        for i, v in enumerate(x):
+            yield from leaves(v, f"{path}/{i}")
+    else:
+        yield path, x
+
+
+def perturbed_predictions(ds):
+    """A deterministic imperfect prediction per tile: nodes moved, every third edge
+    reversed, every fifth dropped, one tile left out (a missing prediction)."""
+    rng = np.random.default_rng(5)
+    out = {}
+    for i, tile in enumerate(ds):
+        if i == 1:
+            continue
+        nodes = tile["graph"]["nodes_px"] + rng.normal(0.0, 1.5, tile["graph"]["nodes_px"].shape)
+        edges = tile["graph"]["edges"].copy()
+        edges[::3] = edges[::3, ::-1]
+        keep = np.arange(len(edges)) % 5 != 4
+        out[tile["key"]] = (nodes, edges[keep])
+    return out
+
+
+class ScoreTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.root = fixtures.e2e_dataset("tar")
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.ds = nsgraph.Dataset(cls.root, "test", modalities=())
+        cls.pred = perturbed_predictions(cls.ds)
+        cls.submission = os.path.join(cls.tmp.name, "pred.json")
+        nsgraph.write_submission(cls.submission, cls.pred)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def cli_report(self, *extra):
+        out = os.path.join(self.tmp.name, "cli-report.json")
+        fixtures.run_nsgraph("score", "--ground-truth", self.root, "--submission", self.submission, "--split", "test",
+                             "--out", out, *extra)
+        return fixtures.read_json(out)
+
+    def assert_reports_equal(self, got, expected, skip=()):
+        a = dict(leaves(got))
+        b = dict(leaves(expected))
+        self.assertEqual(sorted(a), sorted(b))
+        compared = 0
+        for path, value in b.items():
+            if any(path.startswith(s) for s in skip):
+                continue
+            if isinstance(value, float):
+                self.assertAlmostEqual(a[path], value, delta=1e-12, msg=path)
+                compared += 1
+            else:
+                self.assertEqual(a[path], value, msg=path)
+        self.assertGreater(compared, 50)
+
+    def test_python_scores_equal_the_cli(self):
+        cli = self.cli_report()
+        py = nsgraph.score(self.root, self.submission, split="test")
+        self.assert_reports_equal(py, cli)
+        self.assertEqual(py["aggregate"]["n_missing_predictions"], 1)
+
+    def test_in_memory_submission_and_ground_truth_score_the_same(self):
+        cli = self.cli_report()
+        written = fixtures.read_json(self.submission)  # the rounded coordinates the CLI scored
+        in_memory = nsgraph.score(self.root, written, split="test")
+        self.assert_reports_equal(in_memory, cli, skip=("/submission",))
+        self.assertEqual(in_memory["submission"], "<memory>")
+        gt = {t["key"]: t["graph"] for t in self.ds}
+        both = nsgraph.score(gt, written)
+        self.assert_reports_equal(both, cli, skip=("/submission", "/ground_truth"))
+
+    def test_parameters_reach_the_scorer(self):
+        cli = self.cli_report()
+        loose = nsgraph.score(self.root, self.submission, snap_m=6.0, lane_width_px=13)
+        self.assertEqual(loose["params"]["snap_m"], 6.0)
+        self.assertNotEqual(loose["aggregate"]["mean"]["f1"], cli["aggregate"]["mean"]["f1"])
+        with self.assertRaises(nsgraph.ConfigError) as e:
+            nsgraph.score(self.root, self.submission, snap_mm=6.0)
+        self.assertIn("snap_mm", str(e.exception))
+
+    def test_score_tile_equals_the_report_entry(self):
+        report = nsgraph.score(self.root, self.submission)
+        written = fixtures.read_json(self.submission)["tiles"]
+        by_key = report["tiles"]
+        for tile in list(self.ds)[:3]:
+            key = tile["key"]
+            got = nsgraph.score_tile(tile, written.get(key), key=key)
+            self.assert_close(got, by_key[key])
+
+    def assert_close(self, got, expected):
+        a, b = dict(leaves(got)), dict(leaves(expected))
+        self.assertEqual(sorted(a), sorted(b))
+        for path, value in b.items():
+            if isinstance(value, float):
+                self.assertAlmostEqual(a[path], value, delta=1e-12, msg=path)
+            else:
+                self.assertEqual(a[path], value, msg=path)
+
+    def test_perfect_prediction_scores_one(self):
+        tile = self.ds[0]
+        m = nsgraph.score_tile(tile, tile["graph"])
+        self.assertAlmostEqual(m["apls"], 1.0)
+        self.assertAlmostEqual(m["f1"], 1.0)
+        self.assertEqual(m["counts"]["missing_prediction"], 0)
+        self.assertEqual(nsgraph.score_tile(tile, None)["counts"]["missing_prediction"], 1)
+
+    def test_written_submission_is_valid_for_validate(self):
+        r = fixtures.run_nsgraph("validate", "--submission", self.submission, "--dataset", self.root, "--split", "test",
+                                 check=False)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
