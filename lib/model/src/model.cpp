@@ -173,12 +173,20 @@ PairSamples pair_samples(const LaneModel::Impl& m, const io::DatasetTile& tile) 
 void train_connection(LaneModel::Impl& m, const io::Dataset& dataset, const std::string& split, ThreadPool& pool,
                       size_t total, bool progress, TrainReport& r) {
   const auto t0 = std::chrono::steady_clock::now();
-  const auto every = static_cast<size_t>(m.options.pairs.train_tile_every);
+  // A small split gives pairs from more of its tiles: at least ≈ 30 tiles when it has them.
+  const size_t every = std::max<size_t>(
+      1, std::min(static_cast<size_t>(m.options.pairs.train_tile_every), total / 30));
+  // Every k-th tile, plus every other held-out tile for the held-out accuracy (the k-th
+  // tiles may never be held out, e.g. k = 4 with every 10th held out).
+  auto wanted = [&](size_t i) {
+    return i % every == 0 ||
+           (is_holdout(m.options, i) && (i / static_cast<size_t>(m.options.holdout_every)) % 2 == 0);
+  };
   std::vector<PairSamples> slots(total);
   {
     Progress bar("pairs " + split, total, progress);
     detail::for_each_tile_parallel(dataset, split, pool, [&](size_t i, const io::DatasetTile& tile) {
-      if (i < total && i % every == 0) slots[i] = pair_samples(m, tile);
+      if (i < total && wanted(i)) slots[i] = pair_samples(m, tile);
       bar.advance();
     });
   }
@@ -277,17 +285,20 @@ LaneModel LaneModel::train(const io::Dataset& dataset, const std::string& split,
   Impl& m = *model.impl_;
   m.options = options;
   m.feature_names = feature_names(options.modalities);
-  // The forests are independent: the direction head beside the others when there is a
-  // second core. Each is seeded on its own thread, so the bytes do not depend on this.
-  std::thread direction_thread;
-  auto train_direction = [&] { m.direction = detail::train_forest(options.direction, dx, dy, true, options.seed * 2 + 1); };
-  if (pool.size() > 1) direction_thread = std::thread(train_direction);
+  // The forests are independent: the direction head, then the anchor head, beside the
+  // centreline head when there is a second core (the centreline forest has the most
+  // samples). Each is seeded on its own thread, so the bytes do not depend on this.
+  std::thread second;
+  auto train_others = [&] {
+    m.direction = detail::train_forest(options.direction, dx, dy, true, options.seed * 2 + 1);
+    if (options.variant != Variant::kB1) {
+      m.anchor = detail::train_forest(options.anchor, cx, ay, false, mix64(options.seed ^ 0xa4c402ull));
+    }
+  };
+  if (pool.size() > 1) second = std::thread(train_others);
   m.centre = detail::train_forest(options.centre, cx, cy, false, options.seed * 2);
-  if (options.variant != Variant::kB1) {
-    m.anchor = detail::train_forest(options.anchor, cx, ay, false, mix64(options.seed ^ 0xa4c402ull));
-  }
-  if (direction_thread.joinable()) direction_thread.join();
-  else train_direction();
+  if (second.joinable()) second.join();
+  else train_others();
   r.train_s = seconds_since(t1);
 
   r.centre_mse_train = detail::mse(*m.centre, cx, cy);

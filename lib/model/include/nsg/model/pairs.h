@@ -22,8 +22,9 @@ struct PairOptions {
   double label_max_distance_px = 10.0;
   double label_max_follow_px = 100.0;
   // Training pairs come from every k-th training tile (the classifier needs far fewer
-  // samples than the pixel heads, and each tile costs a full prediction).
-  int train_tile_every = 3;
+  // samples than the pixel heads, and each tile costs a full prediction); splits of fewer
+  // than 30·k tiles use a smaller k, down to every tile.
+  int train_tile_every = 4;
   void validate() const;  // ConfigError naming the field
 };
 
