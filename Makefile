@@ -3,7 +3,7 @@ BUILD   ?= build
 JOBS    ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build test demo ablation bench fuzz clean format
+.PHONY: all deps configure build test demo ablation baselines bench fuzz clean format
 
 all: build
 
@@ -26,6 +26,9 @@ demo: build
 
 ablation: build
 	@bash scripts/ablation.sh $(BUILD)
+
+baselines: build
+	@bash scripts/baselines.sh $(BUILD)
 
 bench: build
 	@bash scripts/bench.sh $(BUILD)

@@ -91,7 +91,7 @@ else
   next+=("preview (issue 9)")
 fi
 
-step "train: the reference model on the train split (lib/model)"
+step "train: the reference model (default variant: graph) on the train split (lib/model)"
 if have train && [ -f "$out/dataset/manifest.json" ]; then
   /usr/bin/time -f 'train: %e s wall, %M KiB peak RSS' \
     "$exe" train --dataset "$out/dataset" --split train --model "$out/model.yml.gz"

@@ -94,6 +94,8 @@ void ExtractionOptions::validate() const {
   NSG_CHECK(max_edge_fraction > 0.0 && max_edge_fraction <= 1.5, ConfigError, "", "max_edge_fraction", "in (0, 1.5]");
 }
 
+double sample_bilinear(const cv::Mat& map, double u, double v) { return sample(map, u, v); }
+
 cv::Mat thin(const cv::Mat& mask) {
   cv::Mat binary = (mask != 0), out;
   cv::ximgproc::thinning(binary, out, cv::ximgproc::THINNING_ZHANGSUEN);

@@ -23,27 +23,33 @@ using nsg::test::run_nsgraph;
 const std::vector<std::string> kTreeArgs = {"--trees", "6"};
 
 std::vector<std::string> train_args(const fs::path& model, const std::string& threads,
-                                    const std::string& modalities = "all") {
+                                    const std::string& modalities = "all", const std::string& variant = "") {
   std::vector<std::string> args = {"train",   "--dataset", nsg::test::e2e_dataset().string(),
                                    "--model", model.string(), "--threads", threads, "--modalities", modalities};
+  if (!variant.empty()) args.insert(args.end(), {"--variant", variant});
   args.insert(args.end(), kTreeArgs.begin(), kTreeArgs.end());
   return args;
 }
 
-// model-t1 / model-t2: all modalities with 1 and 2 threads; model-lidar: LiDAR only;
+// model-t1 / model-t2: all modalities with 1 and 2 threads (the default variant, graph);
+// model-lidar: LiDAR only; model-b1 / model-b2-t1 / model-b2-t2: the baselines;
 // train-t1.log: what the first training printed on stderr.
 fs::path trained_models() {
   const fs::path dataset = nsg::test::e2e_dataset();
   return nsg::test::cached_folder(
-      "model_e2e", nsg::test::nsgraph_build_key() + "-" + dataset.filename().string() + "-t6", [&](const fs::path& dir) {
-        auto train = [&](const std::string& name, const std::string& threads, const std::string& modalities) {
-          const CommandResult r = run_nsgraph(train_args(dir / (name + ".yml.gz"), threads, modalities));
+      "model_e2e", nsg::test::nsgraph_build_key() + "-" + dataset.filename().string() + "-t6v", [&](const fs::path& dir) {
+        auto train = [&](const std::string& name, const std::string& threads, const std::string& modalities,
+                         const std::string& variant = "") {
+          const CommandResult r = run_nsgraph(train_args(dir / (name + ".yml.gz"), threads, modalities, variant));
           if (r.exit_code != 0) throw std::runtime_error("train " + name + " failed: " + r.err);
           return r;
         };
         nsg::test::write_text(dir / "train-t1.log", train("model-t1", "1", "all").err);
         train("model-t2", "2", "all");
         train("model-lidar", "2", "lidar");
+        train("model-b1", "2", "all", "b1");
+        train("model-b2-t1", "1", "all", "b2");
+        train("model-b2-t2", "2", "all", "b2");
       });
 }
 
@@ -106,6 +112,57 @@ TEST(ModelCli, PredictIsValidScorableAndThreadIndependent) {
   EXPECT_EQ(report["aggregate"]["n_tiles"], split_tiles("test"));
   EXPECT_EQ(report["aggregate"]["n_missing_predictions"], 0);
   EXPECT_EQ(report["aggregate"]["n_extra_predictions"], 0);
+}
+
+// The model file's text (gunzipped), to look for keys.
+std::string model_text(const fs::path& path) {
+  nsg::test::TempDir dir("model-text");
+  nsg::model::LaneModel::load(path).save(dir / "m.yml");
+  return nsg::read_file(dir / "m.yml");
+}
+
+TEST(ModelCli, VariantIsRecordedAndLoaded) {
+  const fs::path models = trained_models();
+  using nsg::model::Variant;
+  EXPECT_EQ(nsg::model::LaneModel::load(models / "model-t1.yml.gz").options().variant, Variant::kGraph);
+  EXPECT_EQ(nsg::model::LaneModel::load(models / "model-b2-t1.yml.gz").options().variant, Variant::kB2);
+  EXPECT_EQ(nsg::model::LaneModel::load(models / "model-b1.yml.gz").options().variant, Variant::kB1);
+  EXPECT_NE(model_text(models / "model-t1.yml.gz").find("variant: graph"), std::string::npos);
+  EXPECT_NE(model_text(models / "model-b2-t1.yml.gz").find("variant: b2"), std::string::npos);
+  // b1 files are those of before the variants: no variant key, and such a file loads as b1.
+  const std::string b1 = model_text(models / "model-b1.yml.gz");
+  EXPECT_EQ(b1.find("variant:"), std::string::npos);
+  EXPECT_EQ(b1.find("anchor_forest"), std::string::npos);
+  // Each variant carries the forests it needs: graph has the connection classifier.
+  const std::string graph = model_text(models / "model-t1.yml.gz");
+  EXPECT_NE(graph.find("connection:"), std::string::npos);
+  EXPECT_NE(graph.find("pair_features:"), std::string::npos);
+  EXPECT_EQ(model_text(models / "model-b2-t1.yml.gz").find("connection:"), std::string::npos);
+  const std::string log = nsg::test::read_text(models / "train-t1.log");
+  EXPECT_NE(log.find("connection classifier"), std::string::npos) << log;
+}
+
+TEST(ModelCli, BaselinesAreByteIdenticalAcrossThreadCountsAndPredict) {
+  const fs::path models = trained_models();
+  EXPECT_TRUE(nsg::read_file(models / "model-b2-t1.yml.gz") == nsg::read_file(models / "model-b2-t2.yml.gz"));
+  nsg::test::TempDir dir("model-variants");
+  for (const std::string name : {"model-b1", "model-b2-t1", "model-t1"}) {
+    SCOPED_TRACE(name);
+    const fs::path sub = dir / (name + ".json");
+    const CommandResult p = run_nsgraph(predict_args(models / (name + ".yml.gz"), sub, "2"));
+    ASSERT_EQ(p.exit_code, 0) << p.err;
+    const CommandResult v = run_nsgraph(
+        {"validate", "--submission", sub.string(), "--dataset", nsg::test::e2e_dataset().string(), "--split", "test"});
+    EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+    const nlohmann::json doc = nsg::test::read_json(sub);
+    EXPECT_EQ(doc["tiles"].size(), split_tiles("test"));
+    size_t edges = 0;
+    for (const auto& [key, t] : doc["tiles"].items()) edges += t["edges"].size();
+    EXPECT_GT(edges, 0u);
+  }
+  // Three different models.
+  EXPECT_FALSE(nsg::read_file(dir / "model-b1.json") == nsg::read_file(dir / "model-b2-t1.json"));
+  EXPECT_FALSE(nsg::read_file(dir / "model-b2-t1.json") == nsg::read_file(dir / "model-t1.json"));
 }
 
 TEST(ModelCli, LidarOnlyModelPredicts) {
@@ -175,6 +232,10 @@ TEST(ModelCli, BadOptionsExit2) {
   const CommandResult trees = run_nsgraph(args);
   EXPECT_EQ(trees.exit_code, 2) << trees.err;
   EXPECT_NE(trees.err.find("trees"), std::string::npos) << trees.err;
+  const CommandResult variant = run_nsgraph(train_args(dir / "m.yml.gz", "1", "all", "b3"));
+  EXPECT_EQ(variant.exit_code, 2) << variant.err;
+  EXPECT_NE(variant.err.find("--variant"), std::string::npos) << variant.err;
+  EXPECT_FALSE(fs::exists(dir / "m.yml.gz"));
   const CommandResult split = run_nsgraph({"train", "--dataset", nsg::test::e2e_dataset().string(), "--split", "nope",
                                            "--model", (dir / "m.yml.gz").string(), "--trees", "2"});
   EXPECT_EQ(split.exit_code, 2) << split.err;

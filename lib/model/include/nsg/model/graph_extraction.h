@@ -47,6 +47,9 @@ struct SkeletonGraph {
   std::vector<Branch> branches;
 };
 
+// Bilinear sample of a CV_32F map at pixel coordinates (u, v); 0 outside the map.
+double sample_bilinear(const cv::Mat& map, double u, double v);
+
 // Zhang–Suen thinning of a binary mask (non-zero = foreground) to a one-pixel skeleton.
 cv::Mat thin(const cv::Mat& mask);
 // Traces a one-pixel skeleton (non-zero pixels, 8-connected). Staircase diagonals are

@@ -1,10 +1,13 @@
 #pragma once
-// The reference model (issue 10): per-pixel features → two random forests (OpenCV ml):
+// The reference model (issues 10, 23): per-pixel features → random forests (OpenCV ml):
 //   centreline head — regression of the centreline likelihood exp(−d²/2σ²) from the
 //                     distance d to the nearest lane (the paper's B1 idea, softened);
 //   LaneDirNet head — 19-class direction classifier (18 bins of 20° + background);
-// then graph extraction (graph_extraction.h). Trained on a CPU in minutes, deterministic
-// for a seed whatever the thread count; saved as one OpenCV FileStorage (.yml.gz).
+//   anchor head     — (b2, graph) regression of an anchor score peaked on the GT nodes;
+//   connection head — (graph) has-connection classifier on anchor pairs;
+// then the variant's graph building (variants.h). Trained on a CPU in minutes,
+// deterministic for a seed whatever the thread count; saved as one OpenCV FileStorage
+// (.yml.gz) that records the variant.
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -18,6 +21,7 @@
 #include "nsg/model/features.h"
 #include "nsg/model/graph_extraction.h"
 #include "nsg/model/tile_input.h"
+#include "nsg/model/variants.h"
 
 namespace nsg::model {
 
@@ -29,9 +33,14 @@ struct ForestOptions {
 };
 
 struct ModelOptions {
+  Variant variant = Variant::kB1;
   Modalities modalities;
   ForestOptions centre{32, 14, 5};
   ForestOptions direction{40, 18, 3};
+  ForestOptions anchor{24, 14, 5};       // b2, graph
+  ForestOptions connection{60, 14, 3};   // graph
+  AnchorOptions anchors;                 // b2, graph
+  PairOptions pairs;                     // graph
   double sigma_px = 2.0;  // width of the soft centreline target
   // Pixels sampled per training tile: near a centreline, around it, far from it, and for
   // the direction head on lanes plus background.
@@ -54,10 +63,16 @@ struct TrainReport {
   // samples and on the held-out tiles' samples (lane pixels only for the direction).
   double centre_mse_train = 0.0, centre_mse_holdout = 0.0;
   double direction_accuracy_train = 0.0, direction_accuracy_holdout = 0.0;
+  // b2, graph: the anchor head's MSE; graph: the connection classifier's pairs and accuracy.
+  double anchor_mse_train = 0.0, anchor_mse_holdout = 0.0;
+  size_t pair_samples = 0, pair_positives = 0;
+  double pairs_s = 0.0;
+  double pair_accuracy_train = 0.0, pair_accuracy_holdout = 0.0;
 };
 
 struct TilePrediction {
-  cv::Mat likelihood;  // CV_32F centreline likelihood in [0, 1]
+  cv::Mat likelihood;    // CV_32F centreline likelihood in [0, 1]
+  cv::Mat anchor_score;  // CV_32F anchor score in [0, 1] (b2, graph; empty for b1)
   metrics::Graph graph;
 };
 
@@ -73,14 +88,16 @@ class LaneModel {
                          int threads, bool progress, TrainReport* report);
   // FileStorage (.yml.gz or .yml); written to a temp name and renamed.
   void save(const std::filesystem::path& path) const;
-  // ParseError naming the file when it is not a model of this format version.
+  // ParseError naming the file when it is not a model of this format version. Files
+  // without a variant (written before issue 23) load as b1.
   static LaneModel load(const std::filesystem::path& path);
 
   TilePrediction predict(const TileInput& tile) const;
   const ModelOptions& options() const;
 
+  struct Impl;  // opaque: defined in the library's sources (keeps OpenCV ml out of this header)
+
  private:
-  struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -1,0 +1,214 @@
+// The model file (OpenCV FileStorage YAML, gzip when the name ends in .gz) and the
+// submission writer.
+#include <charconv>
+#include <cmath>
+
+#include "gzip.h"
+#include "model_impl.h"
+#include "nsg/core/atomic_file.h"
+#include "nsg/core/error.h"
+#include "nsg/core/version.h"
+
+namespace nsg::model {
+namespace {
+
+constexpr const char* kFormat = "nsgraph-lane-model";
+constexpr int kFormatVersion = 1;
+
+// A stored number, or `fallback` when the field is absent (files from before it existed).
+template <typename T>
+T value_or(const cv::FileNode& n, T fallback) {
+  return n.empty() ? fallback : static_cast<T>(static_cast<double>(n));
+}
+
+void write_forest_options(cv::FileStorage& fs, const std::string& name, const ForestOptions& f) {
+  fs << name << "{" << "trees" << f.trees << "max_depth" << f.max_depth << "min_samples" << f.min_samples << "}";
+}
+
+ForestOptions read_forest_options(const cv::FileNode& n) {
+  return ForestOptions{static_cast<int>(n["trees"]), static_cast<int>(n["max_depth"]),
+                       static_cast<int>(n["min_samples"])};
+}
+
+void write_forest(cv::FileStorage& fs, const std::string& name, const cv::ml::RTrees& forest) {
+  fs << name << "{";
+  forest.write(fs);
+  fs << "}";
+}
+
+cv::Ptr<cv::ml::RTrees> read_forest(const cv::FileStorage& fs, const std::string& name, const std::string& file) {
+  NSG_CHECK(!fs[name].empty(), ParseError, file, name, "a trained forest '" + name + "' (the variant needs it)");
+  cv::Ptr<cv::ml::RTrees> rt = cv::ml::RTrees::create();
+  rt->read(fs[name]);
+  NSG_CHECK(rt->isTrained(), ParseError, file, name, "a trained forest");
+  return rt;
+}
+
+// The variant's extra options (b2, graph); b1 files carry none of these keys.
+void write_variant_options(cv::FileStorage& fs, const ModelOptions& o) {
+  if (o.variant == Variant::kB1) return;
+  write_forest_options(fs, "anchor_forest", o.anchor);
+  const AnchorOptions& a = o.anchors;
+  fs << "anchors" << "{" << "target_sigma_px" << a.target_sigma_px << "smooth_sigma_px" << a.smooth_sigma_px
+     << "min_score" << a.min_score << "nms_radius_px" << a.nms_radius_px << "neighbours" << a.neighbours << "}";
+  if (o.variant != Variant::kGraph) return;
+  write_forest_options(fs, "connection_forest", o.connection);
+  const PairOptions& p = o.pairs;
+  fs << "pairs" << "{" << "radius_px" << p.radius_px << "min_connection_score" << p.min_connection_score
+     << "label_max_distance_px" << p.label_max_distance_px << "label_max_follow_px" << p.label_max_follow_px
+     << "train_tile_every" << p.train_tile_every << "}";
+  fs << "pair_features" << "[";
+  for (const auto& n : pair_feature_names()) fs << n;
+  fs << "]";
+}
+
+void read_variant_options(const cv::FileStorage& fs, ModelOptions& o, const std::string& file) {
+  if (o.variant == Variant::kB1) return;
+  o.anchor = read_forest_options(fs["anchor_forest"]);
+  const cv::FileNode a = fs["anchors"];
+  o.anchors.target_sigma_px = value_or(a["target_sigma_px"], o.anchors.target_sigma_px);
+  o.anchors.smooth_sigma_px = value_or(a["smooth_sigma_px"], o.anchors.smooth_sigma_px);
+  o.anchors.min_score = value_or(a["min_score"], o.anchors.min_score);
+  o.anchors.nms_radius_px = value_or(a["nms_radius_px"], o.anchors.nms_radius_px);
+  o.anchors.neighbours = value_or(a["neighbours"], o.anchors.neighbours);
+  if (o.variant != Variant::kGraph) return;
+  o.connection = read_forest_options(fs["connection_forest"]);
+  const cv::FileNode p = fs["pairs"];
+  o.pairs.radius_px = value_or(p["radius_px"], o.pairs.radius_px);
+  o.pairs.min_connection_score = value_or(p["min_connection_score"], o.pairs.min_connection_score);
+  o.pairs.label_max_distance_px = value_or(p["label_max_distance_px"], o.pairs.label_max_distance_px);
+  o.pairs.label_max_follow_px = value_or(p["label_max_follow_px"], o.pairs.label_max_follow_px);
+  o.pairs.train_tile_every = value_or(p["train_tile_every"], o.pairs.train_tile_every);
+  std::vector<std::string> names;
+  for (const auto& n : fs["pair_features"]) names.push_back(static_cast<std::string>(n));
+  NSG_CHECK(names == pair_feature_names(), ParseError, file, "pair_features",
+            "the pair feature list of this nsgraph version (retrain the model)");
+}
+
+}  // namespace
+
+void LaneModel::save(const std::filesystem::path& path) const {
+  const Impl& m = *impl_;
+  cv::FileStorage fs(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
+  fs << "format" << kFormat << "format_version" << kFormatVersion << "tool_version" << kVersion;
+  // A b1 file leaves the variant out: absent means b1, so b1 files stay byte-identical
+  // to the files written before the variants existed (and those load as b1).
+  if (m.options.variant != Variant::kB1) fs << "variant" << to_string(m.options.variant);
+  fs << "modalities" << m.options.modalities.to_string();
+  fs << "features" << "[";
+  for (const auto& n : m.feature_names) fs << n;
+  fs << "]";
+  fs << "predict_stride_px" << m.options.predict_stride_px;
+  // The seed as text: FileStorage numbers are int or double, too narrow for every uint64.
+  fs << "sigma_px" << m.options.sigma_px << "seed" << std::to_string(m.options.seed);
+  write_forest_options(fs, "centre_forest", m.options.centre);
+  write_forest_options(fs, "direction_forest", m.options.direction);
+  const ExtractionOptions& e = m.options.extraction;
+  fs << "extraction" << "{" << "threshold" << e.threshold << "min_component_px" << e.min_component_px
+     << "min_spur_px" << e.min_spur_px << "simplify_tolerance_px" << e.simplify_tolerance_px
+     << "anchor_spacing_px" << e.anchor_spacing_px << "min_node_score" << e.min_node_score
+     << "min_edge_score" << e.min_edge_score << "max_edge_fraction" << e.max_edge_fraction
+     << "smooth_sigma_px" << e.smooth_sigma_px << "min_piece_length_px" << e.min_piece_length_px
+     << "max_direction_angle_deg" << e.max_direction_angle_deg << "}";
+  write_variant_options(fs, m.options);
+  // Numbers in the map (OpenCV's YAML writer mangles strings that look like JSON); the
+  // split's name, a plain word, beside it.
+  fs << "training_report" << "{";
+  for (const auto& [k, v] : m.report.items()) {
+    if (v.is_number()) fs << k << v.get<double>();
+  }
+  fs << "}";
+  if (m.report.contains("split") && m.report["split"].is_string())
+    fs << "training_split" << m.report["split"].get<std::string>();
+  write_forest(fs, "centre", *m.centre);
+  write_forest(fs, "direction", *m.direction);
+  if (m.anchor) write_forest(fs, "anchor", *m.anchor);
+  if (m.connection) write_forest(fs, "connection", *m.connection);
+  const std::string text = fs.releaseAndGetString();
+  const bool gz = path.extension() == ".gz";
+  write_file_atomic(path, gz ? gzip_compress(text) : text);
+}
+
+LaneModel LaneModel::load(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  std::string text = read_maybe_gzip(path);
+  LaneModel model;
+  Impl& m = *model.impl_;
+  try {
+    cv::FileStorage fs(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
+    NSG_CHECK(fs.isOpened() && static_cast<std::string>(fs["format"]) == kFormat, ParseError, file, "format",
+              std::string("an nsgraph model (format: ") + kFormat + ")");
+    NSG_CHECK(static_cast<int>(fs["format_version"]) == kFormatVersion, ParseError, file, "format_version",
+              "version " + std::to_string(kFormatVersion));
+    // Files from before the variants hold today's b1.
+    m.options.variant = fs["variant"].empty() ? Variant::kB1
+                                              : parse_variant(static_cast<std::string>(fs["variant"]), "variant");
+    m.options.modalities = Modalities::parse(static_cast<std::string>(fs["modalities"]));
+    for (const auto& n : fs["features"]) m.feature_names.push_back(static_cast<std::string>(n));
+    NSG_CHECK(m.feature_names == feature_names(m.options.modalities), ParseError, file, "features",
+              "the feature list of this nsgraph version for modalities " + m.options.modalities.to_string() +
+                  " (retrain the model)");
+    m.options.sigma_px = static_cast<double>(fs["sigma_px"]);
+    m.options.predict_stride_px = static_cast<int>(fs["predict_stride_px"]);
+    const std::string seed = static_cast<std::string>(fs["seed"]);
+    const auto [end, ec] = std::from_chars(seed.data(), seed.data() + seed.size(), m.options.seed);
+    NSG_CHECK(ec == std::errc() && end == seed.data() + seed.size() && !seed.empty(), ParseError, file, "seed",
+              "an unsigned integer as text");
+    m.options.centre = read_forest_options(fs["centre_forest"]);
+    m.options.direction = read_forest_options(fs["direction_forest"]);
+    const cv::FileNode e = fs["extraction"];
+    ExtractionOptions& x = m.options.extraction;
+    x.threshold = value_or(e["threshold"], x.threshold);
+    x.min_component_px = value_or(e["min_component_px"], x.min_component_px);
+    x.min_spur_px = value_or(e["min_spur_px"], x.min_spur_px);
+    x.simplify_tolerance_px = value_or(e["simplify_tolerance_px"], x.simplify_tolerance_px);
+    x.anchor_spacing_px = value_or(e["anchor_spacing_px"], x.anchor_spacing_px);
+    x.min_node_score = value_or(e["min_node_score"], x.min_node_score);
+    x.min_edge_score = value_or(e["min_edge_score"], x.min_edge_score);
+    x.max_edge_fraction = value_or(e["max_edge_fraction"], x.max_edge_fraction);
+    x.smooth_sigma_px = value_or(e["smooth_sigma_px"], x.smooth_sigma_px);
+    x.min_piece_length_px = value_or(e["min_piece_length_px"], x.min_piece_length_px);
+    x.max_direction_angle_deg = value_or(e["max_direction_angle_deg"], x.max_direction_angle_deg);
+    read_variant_options(fs, m.options, file);
+    m.report = nlohmann::json::object();
+    for (const auto& n : fs["training_report"]) m.report[n.name()] = static_cast<double>(n);
+    if (fs["training_split"].isString()) m.report["split"] = static_cast<std::string>(fs["training_split"]);
+    m.centre = cv::ml::RTrees::create();
+    m.centre->read(fs["centre"]);
+    m.direction = cv::ml::RTrees::create();
+    m.direction->read(fs["direction"]);
+    NSG_CHECK(m.centre->isTrained() && m.direction->isTrained(), ParseError, file, "centre/direction",
+              "two trained forests");
+    if (m.options.variant != Variant::kB1) m.anchor = read_forest(fs, "anchor", file);
+    if (m.options.variant == Variant::kGraph) m.connection = read_forest(fs, "connection", file);
+  } catch (const cv::Exception& ex) {
+    throw ParseError(file, "model", std::string("a readable OpenCV FileStorage (") + ex.what() + ")");
+  }
+  m.options.validate();
+  return model;
+}
+
+void write_submission(const metrics::GraphSet& graphs, const std::filesystem::path& path) {
+  // Coordinates rounded to 1/1000 px: well below any metric's resolution, smaller files.
+  auto round3 = [](double x) { return std::round(x * 1000.0) / 1000.0; };
+  nlohmann::json tiles = nlohmann::json::object();
+  for (const auto& [key, g] : graphs) {
+    nlohmann::json nodes = nlohmann::json::array(), edges = nlohmann::json::array();
+    for (const auto& n : g.nodes) nodes.push_back({round3(n.u), round3(n.v)});
+    for (const auto& e : g.edges) edges.push_back({e[0], e[1]});
+    nlohmann::json t = {{"nodes", nodes}, {"edges", edges}};
+    if (!g.node_scores.empty()) {
+      t["node_scores"] = nlohmann::json::array();
+      for (double s : g.node_scores) t["node_scores"].push_back(round3(s));
+    }
+    if (!g.edge_scores.empty()) {
+      t["edge_scores"] = nlohmann::json::array();
+      for (double s : g.edge_scores) t["edge_scores"].push_back(round3(s));
+    }
+    tiles[key] = std::move(t);
+  }
+  const nlohmann::json doc = {{"schema_version", "1"}, {"tiles", tiles}};
+  write_file_atomic(path, doc.dump() + "\n");
+}
+
+}  // namespace nsg::model

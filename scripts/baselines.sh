@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# `make baselines`: the paper's Table II on the demo dataset — the reference model's three
+# variants (b1 skeletonized centrelines, b2 anchors + two nearest neighbours, graph anchors
+# + a trained has-connection classifier), each trained on the train split with the same
+# seed and scored on the test split. Writes demo-out/baselines/{baselines.json,baselines.md}
+# and prints the Markdown table.
+set -euo pipefail
+build=${1:-build}
+root=$(cd "$(dirname "$0")/.." && pwd)
+exe="$root/$build/tools/nsgraph/nsgraph"
+out="$root/demo-out"
+dir="$out/baselines"
+py=/usr/bin/python3
+mkdir -p "$dir"
+
+# The demo release and dataset (as `make demo` builds them) unless they are there and up to
+# date with samples/synth/demo.json and samples/generate-demo.json.
+if [ ! -f "$out/release/.synth-done" ] || ! cmp -s "$root/samples/synth/demo.json" "$out/release/.synth-done"; then
+  rm -rf "$out/release" "$out/dataset"
+  "$exe" synth --config "$root/samples/synth/demo.json" --out "$out/release"
+  cp "$root/samples/synth/demo.json" "$out/release/.synth-done"
+fi
+if [ ! -f "$out/dataset/manifest.json" ] || ! cmp -s "$root/samples/generate-demo.json" "$out/.dataset-config.json"; then
+  rm -rf "$out/dataset"
+  "$exe" generate --config "$root/samples/generate-demo.json" --dataroot "$out/release" --out "$out/dataset"
+  cp "$root/samples/generate-demo.json" "$out/.dataset-config.json"
+fi
+
+rows=("b1" "b2" "graph")
+for v in "${rows[@]}"; do
+  printf '\n== %s\n' "$v"
+  start=$(date +%s%N)
+  "$exe" train -q --dataset "$out/dataset" --split train --variant "$v" --model "$dir/$v.yml.gz"
+  mid=$(date +%s%N)
+  "$exe" predict -q --model "$dir/$v.yml.gz" --dataset "$out/dataset" --split test --out "$dir/$v.json"
+  end=$(date +%s%N)
+  "$exe" score -q --ground-truth "$out/dataset" --submission "$dir/$v.json" --split test --out "$dir/$v.score.json" >/dev/null
+  echo "{\"train_s\": $(( (mid - start) / 1000000 ))e-3, \"predict_s\": $(( (end - mid) / 1000000 ))e-3}" > "$dir/$v.time.json"
+done
+
+"$py" - "$dir" "${rows[@]}" <<'PY'
+import json, sys
+d, rows = sys.argv[1], sys.argv[2:]
+labels = {"b1": "B1: skeletonized centreline regression", "b2": "B2: anchors + two nearest neighbours",
+          "graph": "graph: anchors + has-connection classifier"}
+table, result = [], []
+for v in rows:
+    rep = json.load(open(f"{d}/{v}.score.json"))
+    t = json.load(open(f"{d}/{v}.time.json"))
+    mean = rep["aggregate"]["mean"]
+    r = {"variant": v, "apls": mean["apls"], "f1": mean["f1"], "iou": mean["iou"],
+         "chamfer_mean_m": mean["chamfer_mean_m"], "direction_accuracy": mean["direction_accuracy"],
+         "topo_f1": mean["topo_f1"], "tiles": rep["aggregate"]["n_tiles"], "train_s": t["train_s"],
+         "predict_s_incl_load": t["predict_s"]}
+    result.append(r)
+    f = lambda x: "—" if x is None else f"{x:.3f}"
+    table.append(f"| {labels.get(v, v)} | {f(r['apls'])} | {f(r['f1'])} | {f(r['iou'])} | {f(r['chamfer_mean_m'])} | "
+                 f"{f(r['direction_accuracy'])} | {f(r['topo_f1'])} | {r['train_s']:.0f} |")
+tiles = result[0]["tiles"] if result else 0
+md = (f"| variant (synthetic demo test split, {tiles} tiles) | APLS | F1 | IoU | Chamfer mean m | direction acc. | "
+      "TOPO F1 | train s |\n|---|---:|---:|---:|---:|---:|---:|---:|\n" + "\n".join(table) + "\n")
+json.dump(result, open(f"{d}/baselines.json", "w"), indent=1)
+open(f"{d}/baselines.md", "w").write(md)
+print("\n" + md)
+PY
