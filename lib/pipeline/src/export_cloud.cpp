@@ -81,12 +81,12 @@ SceneCloud scene_cloud(const Database& db, const std::string& scene, const raste
   // Cells sorted by (row, col): the file's point order does not depend on block layout.
   struct Kept {
     raster::CellIndex cell;
-    const raster::LidarCell* lidar;
+    raster::LidarCell lidar;  // a copy: for_each's cells live only through the call (packed blocks)
   };
   std::vector<Kept> kept;
   kept.reserve(layers.stats.covered_cells);
   layers.lidar.cells().for_each([&](raster::CellIndex c, const raster::LidarCell& cell) {
-    if (cell.has_data()) kept.push_back({c, &cell});
+    if (cell.has_data()) kept.push_back({c, cell});
   });
   std::sort(kept.begin(), kept.end(), [](const Kept& a, const Kept& b) {
     return a.cell.row != b.cell.row ? a.cell.row < b.cell.row : a.cell.col < b.cell.col;
@@ -94,10 +94,10 @@ SceneCloud scene_cloud(const Database& db, const std::string& scene, const raste
   cloud.points.reserve(kept.size());
   for (const Kept& k : kept) {
     CloudPoint p;
-    p.x_m = k.lidar->x;
-    p.y_m = k.lidar->y;
-    p.z_m = k.lidar->z;
-    p.intensity = static_cast<float>(k.lidar->intensity);
+    p.x_m = k.lidar.x;
+    p.y_m = k.lidar.y;
+    p.z_m = k.lidar.z;
+    p.intensity = static_cast<float>(k.lidar.intensity);
     if (const raster::ColorCell* c = cameras ? color.cells().find(k.cell) : nullptr) {
       if (c->flags & raster::kCoverageRgb) {
         p.rgb = pack_rgb(c->r, c->g, c->b);

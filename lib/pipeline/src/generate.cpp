@@ -305,16 +305,19 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
     LocationState st;
     st.plan.location = location;
     t0 = std::chrono::steady_clock::now();
-    const nuscenes::MapExpansion map = nuscenes::load_map_expansion(config.dataroot, location);
     Issues defects;
-    st.graph = graph::build_lane_graph(map, config.graph, &defects);
+    {  // the map's records are not needed past the graph (a city's take ~100 MB)
+      const nuscenes::MapExpansion map = nuscenes::load_map_expansion(config.dataroot, location);
+      st.graph = graph::build_lane_graph(map, config.graph, &defects);
+      st.plan.map_version = map.version();
+    }
     st.index = std::make_unique<graph::SegmentIndex>(st.graph);
-    st.plan.map_version = map.version();
     st.plan.graph_nodes = st.graph.nodes.size();
     st.plan.graph_edges = st.graph.edges.size();
     st.plan.graph_lanes = st.graph.lanes.size();
     st.plan.map_defects = defects.items().size();
     summary.seconds.graph_s += seconds_since(t0);
+    log_memory(location + ": lane graph built");
 
     // The location's scenes less the excluded ones.
     std::vector<nuscenes::Index> scenes;
@@ -339,7 +342,11 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
     summary.sweeps += st.layers.stats.sweeps;
     summary.seconds.lidar_s += seconds_since(t0);
     log_memory(location + ": LiDAR accumulated: " +
-               strprintf("%zu blocks, %zu covered cells", st.layers.stats.lidar_blocks, st.layers.stats.covered_cells));
+               strprintf("%zu blocks, %zu covered cells (LiDAR layer %s, vehicle layer %s over %zu blocks)",
+                         st.layers.stats.lidar_blocks, st.layers.stats.covered_cells,
+                         human_bytes(static_cast<double>(st.layers.lidar.cells().memory_bytes())).c_str(),
+                         human_bytes(static_cast<double>(st.layers.vehicles.cells().memory_bytes())).c_str(),
+                         st.layers.vehicles.cells().block_count()));
     scenes_done += st.layers.stats.scenes;
     lidar_progress.set_detail(strprintf("%zu/%zu scenes", scenes_done, scenes_total));
     lidar_progress.advance(st.layers.stats.sweeps);

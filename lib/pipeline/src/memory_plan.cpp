@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <set>
+#include <tuple>
 #include <utility>
 
 #include "nsg/core/memory.h"
@@ -16,6 +18,8 @@
 namespace nsg::pipeline {
 namespace {
 
+namespace fs = std::filesystem;
+
 using Block = std::pair<int64_t, int64_t>;
 constexpr uint64_t kCellsPerBlock = static_cast<uint64_t>(raster::kBlockCells) * raster::kBlockCells;
 
@@ -24,7 +28,13 @@ constexpr uint64_t kCellsPerBlock = static_cast<uint64_t>(raster::kBlockCells) *
 // roads. Real cities are built up to the range limit, like the synthetic city.
 constexpr double kReachedBlockFraction = 0.8;
 // Covered cells per allocated LiDAR block (0.31 of 4 096 on the city, 0.40 on the demo).
-constexpr double kCoveredCellFraction = 0.4;
+constexpr double kCoveredCellFraction = 0.35;
+// A packed block's bookkeeping besides its cells: occupancy bitmap, row counts, vector
+// headers and its node in the block map.
+constexpr uint64_t kPackedBlockBytes = 750;
+// Reading a map expansion peaks at this many bytes per byte of its JSON file (document,
+// records and the graph being built; measured 3.75 on the city's 60 MB map).
+constexpr double kMapReadBytesPerFileByte = 3.75;
 // Per camera point: its index entry (raster::Target, 32 B) and best view (8 B).
 constexpr uint64_t kCameraBytesPerPoint = 40;
 // JPEGs decoded at half size in flight per chunk of images (16 × 800 × 450 × 3 B).
@@ -51,11 +61,30 @@ struct LocationFootprint {
   size_t lidar_blocks = 0;      // union over the location's sweeps
   size_t max_scene_blocks = 0;  // the largest single scene
   size_t vehicle_blocks = 0;
+  double vehicle_cells = 0.0;   // box footprints, a box seen again in the same place counted once
   size_t images = 0;
+  uint64_t map_file_bytes = 0;
 };
 
+// Vehicle boxes of the scenes: the blocks their footprints reach, and the cells they cover
+// (a parked car annotated in every key frame fills the same cells each time).
+void add_vehicle_footprint(const nuscenes::Database& db, const std::vector<int>& slot, double block_m,
+                           double resolution_m, LocationFootprint& f) {
+  std::set<Block> blocks;
+  std::set<std::tuple<nuscenes::Index, int64_t, int64_t>> seen;  // (instance, 1 m cell of the centre)
+  for (const nuscenes::SampleAnnotation& a : db.sample_annotation) {
+    if (slot[static_cast<size_t>(db.sample[a.sample].scene)] < 0) continue;
+    if (!db.category[a.category].name.starts_with("vehicle.")) continue;
+    mark_disc_blocks(a.translation[0], a.translation[1], std::hypot(a.size[0], a.size[1]) / 2, block_m, blocks);
+    if (seen.insert({a.instance, std::llround(a.translation[0]), std::llround(a.translation[1])}).second)
+      f.vehicle_cells += a.size[0] * a.size[1] / (resolution_m * resolution_m);
+  }
+  f.vehicle_blocks = blocks.size();
+  f.vehicle_cells = std::min(f.vehicle_cells, static_cast<double>(f.vehicle_blocks * kCellsPerBlock));
+}
+
 LocationFootprint footprint(const nuscenes::Database& db, const std::vector<nuscenes::Index>& scenes,
-                           const GenerateConfig& config) {
+                           const GenerateConfig& config, const std::string& location) {
   const double block_m = raster::kBlockCells * config.resolution_m;
   const double range_m = config.raster.lidar.max_range_m;
   std::vector<int> slot(db.scene.size(), -1);
@@ -74,18 +103,16 @@ LocationFootprint footprint(const nuscenes::Database& db, const std::vector<nusc
     lx = t[0], ly = t[1];
     mark_disc_blocks(t[0], t[1], range_m, block_m, per_scene[static_cast<size_t>(k)]);
   }
-  std::set<Block> all, vehicles;
+  std::set<Block> all;
   for (const std::set<Block>& s : per_scene) {
     f.max_scene_blocks = std::max(f.max_scene_blocks, s.size());
     all.insert(s.begin(), s.end());
   }
   f.lidar_blocks = all.size();
-  for (const nuscenes::SampleAnnotation& a : db.sample_annotation) {
-    if (slot[static_cast<size_t>(db.sample[a.sample].scene)] < 0) continue;
-    if (!db.category[a.category].name.starts_with("vehicle.")) continue;
-    mark_disc_blocks(a.translation[0], a.translation[1], std::hypot(a.size[0], a.size[1]) / 2, block_m, vehicles);
-  }
-  f.vehicle_blocks = vehicles.size();
+  add_vehicle_footprint(db, slot, block_m, config.resolution_m, f);
+  std::error_code ec;  // a missing map fails later with its own message
+  const uintmax_t map_size = fs::file_size(fs::path(config.dataroot) / "maps" / "expansion" / (location + ".json"), ec);
+  f.map_file_bytes = ec ? 0 : static_cast<uint64_t>(map_size);
   return f;
 }
 
@@ -95,13 +122,16 @@ MemoryEstimate location_estimate(const LocationFootprint& f, size_t lanes, size_
     return static_cast<uint64_t>(blocks * kCellsPerBlock * cell_bytes);
   };
   const double reached = kReachedBlockFraction * static_cast<double>(f.lidar_blocks);
+  e.map_bytes = static_cast<uint64_t>(kMapReadBytesPerFileByte * static_cast<double>(f.map_file_bytes));
   e.lidar_blocks = static_cast<uint64_t>(reached);
-  e.lidar_bytes = blocks_of(reached, sizeof(raster::LidarCell));
-  e.vehicle_bytes = blocks_of(static_cast<double>(f.vehicle_blocks), sizeof(raster::VehicleCell));
-  // Each lane holds one scene's LiDAR and vehicle blocks while the others fold theirs.
-  if (lanes > 1)
-    e.threads_bytes = lanes * blocks_of(kReachedBlockFraction * static_cast<double>(f.max_scene_blocks),
-                                        sizeof(raster::LidarCell) + sizeof(raster::VehicleCell) / 4);
+  // The finished layers are packed: the covered cells and a little per block.
+  e.lidar_bytes = static_cast<uint64_t>(reached * (kCoveredCellFraction * kCellsPerBlock * sizeof(raster::LidarCell) +
+                                                   kPackedBlockBytes));
+  e.vehicle_bytes = static_cast<uint64_t>(f.vehicle_cells * sizeof(raster::VehicleCell)) +
+                    f.vehicle_blocks * kPackedBlockBytes;
+  // Each lane holds one scene's dense LiDAR and vehicle blocks while it accumulates.
+  e.scenes_bytes = lanes * blocks_of(kReachedBlockFraction * static_cast<double>(f.max_scene_blocks),
+                                     sizeof(raster::LidarCell) + sizeof(raster::VehicleCell) / 4);
   if (cameras && f.images > 0)
     e.camera_bytes = blocks_of(reached, sizeof(raster::ColorCell)) +
                      static_cast<uint64_t>(reached * kCellsPerBlock * kCoveredCellFraction) * kCameraBytesPerPoint +
@@ -115,11 +145,11 @@ std::string mb(uint64_t bytes) { return human_bytes(static_cast<double>(bytes));
 }  // namespace
 
 std::string MemoryEstimate::describe() const {
-  return strprintf("%s (at %s: tables and process %s, LiDAR layer %s over ~%llu blocks, vehicles %s, "
-                   "extra threads %s, cameras %s, tiles and graph %s)",
-                   mb(total()).c_str(), location.c_str(), mb(base_bytes).c_str(), mb(lidar_bytes).c_str(),
-                   static_cast<unsigned long long>(lidar_blocks), mb(vehicle_bytes).c_str(), mb(threads_bytes).c_str(),
-                   mb(camera_bytes).c_str(), mb(working_bytes).c_str());
+  return strprintf("%s (at %s: tables and process %s; reading the map %s, then: LiDAR layer %s over ~%llu "
+                   "blocks, vehicles %s, scenes in progress %s, cameras %s, tiles and graph %s)",
+                   mb(total()).c_str(), location.c_str(), mb(base_bytes).c_str(), mb(map_bytes).c_str(),
+                   mb(lidar_bytes).c_str(), static_cast<unsigned long long>(lidar_blocks), mb(vehicle_bytes).c_str(),
+                   mb(scenes_bytes).c_str(), mb(camera_bytes).c_str(), mb(working_bytes).c_str());
 }
 
 std::string MemoryEstimate::how_to_lower() const {
@@ -127,7 +157,7 @@ std::string MemoryEstimate::how_to_lower() const {
       {lidar_bytes + vehicle_bytes,
        "a smaller region: --locations, or fewer scenes (scenes.exclude) — the LiDAR and vehicle layers grow with "
        "the area the scenes cover"},
-      {threads_bytes, "fewer threads (--threads): each extra thread holds one scene's layers"},
+      {scenes_bytes, "fewer threads (--threads): each thread holds the dense layers of the scene it accumulates"},
       {camera_bytes, "more processes (--num-shards N, then nsgraph merge): each colours only its own tiles"},
   };
   std::stable_sort(ways.begin(), ways.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
@@ -144,7 +174,7 @@ MemoryEstimate estimate_generate_memory(const nuscenes::Database& db,
   MemoryEstimate peak;
   for (const auto& [location, list] : scenes) {
     if (list.empty()) continue;
-    const LocationFootprint f = footprint(db, list, config);
+    const LocationFootprint f = footprint(db, list, config, location);
     MemoryEstimate e = location_estimate(f, lane_count(list.size(), threads), workers, cameras);
     e.location = location;
     if (peak.location.empty() || e.total() > peak.total()) peak = e;

@@ -203,13 +203,14 @@ LocationLayers accumulate_scenes(const Database& db, const std::vector<Index>& s
     nuscenes::check_known_samples(detections, db);
   }
 
-  // Scenes go to lanes (one per thread). With one lane, scenes accumulate straight into
-  // the result. With more, a lane accumulates one scene into its scratch layers and folds
-  // them into the shared result under a lock when the scene is done: a thread then holds
-  // one scene's area on top of the result, not most of the city again (scenes of a city
-  // overlap), so peak memory follows the covered area whatever the thread count (issue
-  // 22). The folds are associative and commutative (lowest z with tie-breaks; vehicle
-  // cells by score and time), so which lane folds what, and when, does not show.
+  // Scenes go to lanes (one per thread). A lane accumulates one scene into its dense
+  // scratch layers (what the sweep kernel writes fastest) and folds them into the shared
+  // result under a lock when the scene is done; the fold leaves the result's blocks packed
+  // (only the cells holding data, issue 22). A thread thus holds one scene's dense area on
+  // top of the packed result, not most of the city again (scenes of a city overlap), so
+  // peak memory follows the covered area whatever the thread count. The folds are
+  // associative and commutative (lowest z with tie-breaks; vehicle cells by score and
+  // time), so which lane folds what, and when, does not show.
   const double res = options.lidar.resolution_m;
   const size_t lanes = lane_count(work.size(), threads);
   LaneResult shared(res);
@@ -220,7 +221,7 @@ LocationLayers accumulate_scenes(const Database& db, const std::vector<Index>& s
   std::mutex fold_mutex;
   parallel_for_lanes(work.size(), threads, [&](size_t lane, size_t k) {
     SweepBuffers& buf = buffers[lane];
-    LaneResult& out = lanes == 1 ? shared : scratch[lane];
+    LaneResult& out = scratch[lane];
     const std::vector<Index>& sweeps = work[k].sweeps;
     for (size_t i = 0; i < sweeps.size(); ++i) {
       if (i + 1 < sweeps.size()) read_ahead(db.file_path(db.sample_data[sweeps[i + 1]]));
@@ -230,7 +231,6 @@ LocationLayers accumulate_scenes(const Database& db, const std::vector<Index>& s
       add_detection_boxes(db, detections, options.detection_score_threshold, work[k], out);
     else
       add_annotation_boxes(db, work[k], out);
-    if (lanes == 1) return;
     const std::lock_guard<std::mutex> lock(fold_mutex);
     fold(out, shared);
     out = LaneResult(res);  // frees the scene's blocks (and the block table that pointed at them)

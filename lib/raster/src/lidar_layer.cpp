@@ -203,17 +203,16 @@ size_t LidarLayer::add_sweep(const float* rows5, size_t count, int32_t first_row
 void LidarLayer::merge(const LidarLayer& other) {
   if (other.resolution_m_ != resolution_m_)
     throw InternalError("", "", "merging LiDAR layers of different resolutions");
-  // Cells come block by block: the cursor makes that one map lookup per block, not per cell.
-  // (The block table's z copies may go stale-high here: still safe, see BlockTable.)
-  SparseGrid<LidarCell>::Cursor cursor;
-  other.cells_.for_each([&](CellIndex c, const LidarCell& cell) {
-    if (!cell.has_data()) return;
-    LidarCell& current = cells_.at(c, cursor);
+  cells_.merge(other.cells_, [&](LidarCell& current, const LidarCell& cell) {
     if (!current.has_data() || cell.lower_than(current)) {
       covered_cells_ += !current.has_data();
       current = cell;
     }
   });
+  // The merge packed the blocks it touched: the sweep loop's block pointers are stale.
+  table_.cells.clear();
+  table_.z.clear();
+  table_.z_used = 0;
 }
 
 }  // namespace nsg::raster

@@ -15,12 +15,14 @@ double heading_fraction(double yaw_rad) {
   return f >= 1.0 ? 0.0 : f;
 }
 
+bool VehicleCell::wins_over(const VehicleCell& current) const {
+  return !current.has_data() || score > current.score || (score == current.score && order > current.order) ||
+         (score == current.score && order == current.order && heading > current.heading);
+}
+
 void VehicleLayer::offer(CellIndex c, const VehicleCell& v, SparseGrid<VehicleCell>::Cursor& cursor) {
   VehicleCell& current = cells_.at(c, cursor);
-  if (current.heading < 0.0f || v.score > current.score ||
-      (v.score == current.score && v.order > current.order) ||
-      (v.score == current.score && v.order == current.order && v.heading > current.heading))
-    current = v;
+  if (v.wins_over(current)) current = v;
 }
 
 void VehicleLayer::add_box(const VehicleBox& box) {
@@ -45,9 +47,8 @@ void VehicleLayer::add_box(const VehicleBox& box) {
 void VehicleLayer::merge(const VehicleLayer& other) {
   if (other.resolution_m_ != resolution_m_)
     throw InternalError("", "", "merging vehicle layers of different resolutions");
-  SparseGrid<VehicleCell>::Cursor cursor;
-  other.cells_.for_each([&](CellIndex c, const VehicleCell& v) {
-    if (v.heading >= 0.0f) offer(c, v, cursor);
+  cells_.merge(other.cells_, [](VehicleCell& current, const VehicleCell& v) {
+    if (v.wins_over(current)) current = v;
   });
 }
 

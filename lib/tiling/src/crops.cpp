@@ -42,18 +42,15 @@ int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1)
 
 // Covered cells of the half-open cell window [col0, col1) × [row0, row1), block by block.
 int64_t covered_cells_window(const raster::LidarLayer& lidar, int64_t col0, int64_t row0, int64_t col1, int64_t row1) {
+  // The window's part of block b along one axis, block-local.
+  const auto local = [](int64_t v, int64_t b) {
+    return static_cast<int>(std::clamp<int64_t>(v - b * kBlockCells, 0, kBlockCells));
+  };
   int64_t n = 0;
   for (int64_t by = floor_div(row0, kBlockCells); by * kBlockCells < row1; ++by)
-    for (int64_t bx = floor_div(col0, kBlockCells); bx * kBlockCells < col1; ++bx) {
-      const raster::LidarCell* first = lidar.cells().find({bx * kBlockCells, by * kBlockCells});
-      if (first == nullptr) continue;
-      const int64_t c0 = std::max(col0, bx * kBlockCells) - bx * kBlockCells;
-      const int64_t c1 = std::min(col1, (bx + 1) * kBlockCells) - bx * kBlockCells;
-      const int64_t r0 = std::max(row0, by * kBlockCells) - by * kBlockCells;
-      const int64_t r1 = std::min(row1, (by + 1) * kBlockCells) - by * kBlockCells;
-      for (int64_t r = r0; r < r1; ++r)
-        for (int64_t c = c0; c < c1; ++c) n += first[r * kBlockCells + c].has_data() ? 1 : 0;
-    }
+    for (int64_t bx = floor_div(col0, kBlockCells); bx * kBlockCells < col1; ++bx)
+      n += static_cast<int64_t>(lidar.cells().count_with_data(bx, by, local(col0, bx), local(col1, bx),
+                                                              local(row0, by), local(row1, by)));
   return n;
 }
 

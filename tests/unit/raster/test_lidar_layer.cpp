@@ -152,6 +152,34 @@ TEST(LidarLayer, ReductionIsOrderAndGroupingIndependent) {
   EXPECT_GT(compared, 9000u);
 }
 
+// merge() packs the blocks it touches (issue 22); sweeps added afterwards must land in
+// them again (the sweep loop's block table is rebuilt) and the layer stay exact.
+TEST(LidarLayer, SweepsAddedAfterAMergeLandInThePackedBlocks) {
+  Rng rng(8);
+  std::vector<std::vector<float>> sweeps(4);
+  for (auto& s : sweeps)
+    for (int i = 0; i < 3000; ++i)
+      s.insert(s.end(), {static_cast<float>(rng.uniform(-15, 15)), static_cast<float>(rng.uniform(-15, 15)),
+                         static_cast<float>(rng.uniform(-1, 1)), 9.0f});
+  LidarLayer all, part, merged;
+  for (int s = 0; s < 4; ++s) all.add_points(sweeps[s].data(), 3000, 4, s);
+  part.add_points(sweeps[0].data(), 3000, 4, 0);
+  merged.add_points(sweeps[1].data(), 3000, 4, 1);  // the table points at dense blocks...
+  merged.merge(part);                               // ...which this packs
+  merged.add_points(sweeps[2].data(), 3000, 4, 2);
+  merged.add_points(sweeps[3].data(), 3000, 4, 3);
+  size_t compared = 0;
+  all.cells().for_each([&](CellIndex c, const LidarCell& x) {
+    const LidarCell* y = merged.cells().find(c);
+    ASSERT_NE(y, nullptr);
+    ASSERT_EQ(x.sweep, y->sweep);
+    ASSERT_EQ(x.point, y->point);
+    compared += x.has_data();
+  });
+  EXPECT_EQ(compared, merged.covered_cells());
+  EXPECT_EQ(all.covered_cells(), merged.covered_cells());
+}
+
 TEST(LidarLayer, RoofSquareAndRangeAreDropped) {
   const std::vector<float> p{0.5f, 0.9f, 0, 0, 0, 0.5f, 1.0f, 0, 0, 0,  // roof / just outside
                              -0.99f, -0.99f, 0, 0, 0, 70.0f, 0.0f, 0, 0, 0, 59.0f, 0.0f, 0, 0, 0};

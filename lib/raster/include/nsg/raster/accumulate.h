@@ -3,9 +3,9 @@
 // every LIDAR_TOP sweep (key and non-key) of every scene at the location is read,
 // filtered in the sensor frame, moved to the global frame with the sweep's own ego pose
 // and binned lowest-z; vehicle boxes come from a detection results file or from the
-// vehicle.* annotations. Scenes run in parallel, each thread accumulating its scenes into
-// its own layers, reduced with the layers' order-free merges, so the result is identical
-// at any thread count.
+// vehicle.* annotations. Scenes run in parallel, each thread accumulating one scene at a
+// time into its own dense layers and folding it into the shared packed result with the
+// layers' order-free merges, so the result is identical at any thread count.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>

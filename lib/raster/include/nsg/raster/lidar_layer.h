@@ -80,7 +80,9 @@ class LidarLayer {
   size_t add_sweep(const float* rows5, size_t count, int32_t first_row, const geometry::Rigid3& ego_from_sensor,
                    const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id,
                    SweepPath path = SweepPath::kAuto, int64_t* first_non_finite_row = nullptr);
-  // Lowest-wins union with another layer of the same resolution.
+  // Lowest-wins union with another layer of the same resolution. Leaves the blocks it
+  // touches packed (a finished layer's form, issue 22); adding sweeps afterwards unpacks
+  // the blocks they reach.
   void merge(const LidarLayer& other);
 
   const SparseGrid<LidarCell>& cells() const { return cells_; }
@@ -112,7 +114,7 @@ class LidarLayer {
   SparseGrid<LidarCell> cells_;
   size_t covered_cells_ = 0;  // cells with data, counted as they fill
   // The sweep loop's block pointers around the current sweeps (kept from sweep to sweep:
-  // blocks never move while the layer lives), so a point finds its block without a map
+  // blocks move only when merge() packs them), so a point finds its block without a map
   // lookup; recentred when the sweeps move away.
   struct BlockTable {
     int64_t bx0 = 0, by0 = 0;  // block coordinates of entry 0
@@ -120,7 +122,7 @@ class LidarLayer {
     // Per slot with a block, a compact copy of its cells' z for the fused kernel's screen
     // (16 cells per cache line instead of 2.7). Every table write updates it and z only
     // decreases, so it is never below the cell's z: "higher than the copy" ⇒ "not lower
-    // than the cell" (merge() leaves it stale-high: still safe).
+    // than the cell". merge() packs blocks, so it clears the table.
     std::vector<float*> z;
     std::vector<std::unique_ptr<float[]>> z_storage;  // arrays in use (the first z_used) and spare
     size_t z_used = 0;

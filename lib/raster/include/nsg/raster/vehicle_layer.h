@@ -24,6 +24,11 @@ struct VehicleCell {
   float heading = -1.0f;  // −1 = no vehicle
   float score = -1.0f;
   int64_t order = -1;
+
+  bool has_data() const { return heading >= 0.0f; }
+  // The overlap rule: a higher score, then a later order, then a larger heading (so the
+  // result does not depend on the order boxes and layers come in).
+  bool wins_over(const VehicleCell& current) const;
 };
 
 // Heading in [0, 1) of a forward axis with yaw `yaw_rad` (CCW from east).
@@ -34,6 +39,7 @@ class VehicleLayer {
   explicit VehicleLayer(double resolution_m = 0.2) : resolution_m_(resolution_m) {}
   // Fills every cell whose centre lies inside the box footprint.
   void add_box(const VehicleBox& box);
+  // Order-free union (the overlap rule); leaves the blocks it touches packed.
   void merge(const VehicleLayer& other);
   const SparseGrid<VehicleCell>& cells() const { return cells_; }
 
