@@ -1,30 +1,51 @@
 #!/usr/bin/env bash
-# The city world of issue 22 (samples/synth/city.json: 2.2 × 1.7 km, 160 scenes, LiDAR
-# only), called by scripts/bench.sh: synthesizes it (or reuses it with NSG_BENCH_REUSE=1),
-# runs `generate -v` at 1 and 2 threads under /usr/bin/time and writes city.json (via
-# bench/python/city_report.py): LiDAR sweeps/s, peak RSS per thread count, bytes of peak
-# RSS per covered LiDAR cell, the memory estimate against the measured peak.
+# Memory at scale (issue 22), called by scripts/bench.sh. The city world
+# (samples/synth/city.json: 2.2 × 1.7 km, 160 scenes, LiDAR only) and the demo world
+# (samples/synth/demo.json with samples/generate-demo.json: cameras on) are synthesized (or
+# reused with NSG_BENCH_REUSE=1), then `generate -v` runs on each at 1 and 2 threads under
+# /usr/bin/time; bench/python/city_report.py writes city.json: LiDAR sweeps/s, peak RSS per
+# thread count, bytes of peak RSS per covered LiDAR cell, the memory estimate against the
+# measured peak on both worlds.
 #   usage: bench/city.sh NSGRAPH_EXE OUT_DIR DATA_DIR
 set -euo pipefail
 exe=$1 out=$2 data=$3
 root=$(cd "$(dirname "$0")/.." && pwd)
-release="$data/synth-city"
-if [ "${NSG_BENCH_REUSE:-}" = 1 ] && ls -d "$release"/v1.0-* >/dev/null 2>&1; then
-  printf '\n== synth city: reusing %s (NSG_BENCH_REUSE=1)\n' "$release"
-  [ -s "$out/synth-city.txt" ] || echo "synth: reused" >"$out/synth-city.txt"
-else
-  printf '\n== synth city (2.2 x 1.7 km, 160 scenes, no cameras)\n'
-  rm -rf "$release"
-  /usr/bin/time -f 'synth: %e s wall, %M KiB peak RSS' \
-    "$exe" synth --quiet --config "$root/samples/synth/city.json" --out "$release" 2>&1 | tee "$out/synth-city.txt"
-fi
-version=$(basename "$(ls -d "$release"/v1.0-* | head -1)")
-for threads in 1 2; do
-  printf '\n== generate on the city world, %s thread(s)\n' "$threads"
-  rm -rf "$data/generate-city"
-  /usr/bin/time -f 'generate: %e s wall, %M KiB peak RSS' \
-    "$exe" -v generate --dataroot "$release" --version "$version" --out "$data/generate-city" \
-    --threads "$threads" 2>&1 | grep -E '^generate|^debug: generate|peak RSS' | tee "$out/generate-city-$threads.txt"
-done
-rm -rf "$data/generate-city"
+
+# synth_world NAME CONFIG: the release in $data/synth-NAME.
+synth_world() {
+  local name=$1 config=$2 release="$data/synth-$1"
+  if [ "${NSG_BENCH_REUSE:-}" = 1 ] && ls -d "$release"/v1.0-* >/dev/null 2>&1; then
+    printf '\n== synth %s: reusing %s (NSG_BENCH_REUSE=1)\n' "$name" "$release"
+    [ -s "$out/synth-$name.txt" ] || echo "synth: reused" >"$out/synth-$name.txt"
+  else
+    printf '\n== synth %s (%s)\n' "$name" "$config"
+    rm -rf "$release"
+    /usr/bin/time -f 'synth: %e s wall, %M KiB peak RSS' \
+      "$exe" synth --quiet --config "$config" --out "$release" 2>&1 | tee "$out/synth-$name.txt"
+  fi
+}
+
+# generate_world NAME [generate options...]: runs at 1 and 2 threads into generate-NAME-T.txt.
+generate_world() {
+  local name=$1 release="$data/synth-$1"
+  shift
+  local version
+  version=$(basename "$(ls -d "$release"/v1.0-* | head -1)")
+  # Both thread counts read the sweeps from the page cache: the first run would otherwise
+  # time the disk (a cold city read is 5× slower than a warm one).
+  find "$release/sweeps" -type f -exec cat {} + >/dev/null
+  for threads in 1 2; do
+    printf '\n== generate on the %s world, %s thread(s)\n' "$name" "$threads"
+    rm -rf "$data/generate-$name"
+    /usr/bin/time -f 'generate: %e s wall, %M KiB peak RSS' \
+      "$exe" -v generate "$@" --dataroot "$release" --version "$version" --out "$data/generate-$name" \
+      --threads "$threads" 2>&1 | grep -E '^generate|^debug: generate|peak RSS' | tee "$out/generate-$name-$threads.txt"
+  done
+  rm -rf "$data/generate-$name"
+}
+
+synth_world city "$root/samples/synth/city.json"
+generate_world city
+synth_world demo "$root/samples/synth/demo.json"
+generate_world demo --config "$root/samples/generate-demo.json"
 /usr/bin/python3 "$root/bench/python/city_report.py" --dir "$out"

@@ -179,7 +179,7 @@ PY
   ran=$((ran + 1))
 fi
 
-# The city world (issue 22): memory at 1 and 2 threads, bytes per covered cell, the
+# The city and demo worlds (issue 22): memory at 1 and 2 threads, bytes per covered cell, the
 # memory estimate; FAIL lines in city.json's "pass" are reported, not fatal.
 if "$exe" generate --help >/dev/null 2>&1 && [ -f "$root/samples/synth/city.json" ] && [ "${NSG_BENCH_CITY:-1}" != 0 ]; then
   bash "$root/bench/city.sh" "$exe" "$out" "$NSG_BENCH_DIR"

@@ -243,6 +243,12 @@ def markdown(r):
         lines.append(f"| city world: `generate`'s memory estimate / measured peak, 1 and 2 threads | "
                      f"{one['estimate_over_peak']:.2f}× / {two['estimate_over_peak']:.2f}× | | | "
                      f"within ±{city['estimate_tolerance']:.0%} | {verdict(ok['estimate'])} |")
+        demo = city.get("demo")
+        if demo:
+            lines.append(f"| demo world (cameras on): `generate`'s memory estimate / measured peak, 1 and 2 threads | "
+                         f"{demo['threads_1']['estimate_over_peak']:.2f}× / {demo['threads_2']['estimate_over_peak']:.2f}× "
+                         f"({demo['threads_1']['peak_rss_bytes'] / 1e6:,.0f} MB at 1 thread) | | | "
+                         f"within ±{city['estimate_tolerance']:.0%} | {verdict(ok['estimate'])} |")
         lines.append(f"| city world: LiDAR stage, 1 thread | {one['sweeps_per_s']:,.0f} sweeps/s | | | (info) | |")
     lines.append("")
     lines.append("¹ Best of several runs; each side counts the faster of its wall-time and CPU-time rate, "

@@ -13,6 +13,7 @@
 #include "nsg/pipeline/config.h"
 #include "nsg/raster/color_layer.h"
 #include "nsg/raster/lidar_layer.h"
+#include "nsg/raster/lidarseg_layer.h"
 #include "nsg/raster/vehicle_layer.h"
 
 namespace nsg::pipeline {
@@ -27,7 +28,7 @@ constexpr uint64_t kCellsPerBlock = static_cast<uint64_t>(raster::kBlockCells) *
 // on the synthetic city (2.2 × 1.7 km), 0.69 on the demo world whose map edge is near its
 // roads. Real cities are built up to the range limit, like the synthetic city.
 constexpr double kReachedBlockFraction = 0.8;
-// Covered cells per allocated LiDAR block (0.31 of 4 096 on the city, 0.40 on the demo).
+// Covered cells per allocated LiDAR block (0.31 of 4 096 on the city, 0.53 on the demo).
 constexpr double kCoveredCellFraction = 0.35;
 // A packed block's bookkeeping besides its cells: occupancy bitmap, row counts, vector
 // headers and its node in the block map.
@@ -39,6 +40,8 @@ constexpr double kMapReadBytesPerFileByte = 3.75;
 constexpr uint64_t kCameraBytesPerPoint = 40;
 // JPEGs decoded at half size in flight per chunk of images (16 × 800 × 450 × 3 B).
 constexpr uint64_t kCameraImageBytes = 16ull * 800 * 450 * 3;
+// The lidarseg layer's dense scratch before a fold (256 blocks of 64 KB).
+constexpr uint64_t kLidarsegScratchBytes = 16ull << 20;
 // Graph, GeoJSON, tile encoding and the shard being written (the camera stage's buffers
 // are gone by then, so the larger of the two counts).
 constexpr uint64_t kWorkingBytes = 32ull << 20;
@@ -116,7 +119,8 @@ LocationFootprint footprint(const nuscenes::Database& db, const std::vector<nusc
   return f;
 }
 
-MemoryEstimate location_estimate(const LocationFootprint& f, size_t lanes, size_t threads, bool cameras) {
+MemoryEstimate location_estimate(const LocationFootprint& f, size_t lanes, size_t threads, bool cameras,
+                                 bool lidarseg) {
   MemoryEstimate e;
   const auto blocks_of = [](double blocks, size_t cell_bytes) {
     return static_cast<uint64_t>(blocks * kCellsPerBlock * cell_bytes);
@@ -136,6 +140,12 @@ MemoryEstimate location_estimate(const LocationFootprint& f, size_t lanes, size_
     e.camera_bytes = blocks_of(reached, sizeof(raster::ColorCell)) +
                      static_cast<uint64_t>(reached * kCellsPerBlock * kCoveredCellFraction) * kCameraBytesPerPoint +
                      kCameraImageBytes;
+  // The lidarseg layer (packed, key frames only: at most the LiDAR layer's cells) and the
+  // dense blocks it folds from.
+  if (cameras && lidarseg)
+    e.camera_bytes += static_cast<uint64_t>(reached * kCellsPerBlock * kCoveredCellFraction) *
+                          sizeof(raster::LidarsegCell) +
+                      kLidarsegScratchBytes;
   e.working_bytes = kWorkingBytes + threads * kWorkingBytesPerThread;
   return e;
 }
@@ -171,11 +181,13 @@ MemoryEstimate estimate_generate_memory(const nuscenes::Database& db,
                                         const std::map<std::string, std::vector<nuscenes::Index>>& scenes,
                                         const GenerateConfig& config, int threads, bool cameras) {
   const size_t workers = static_cast<size_t>(resolve_threads(threads));
+  const bool lidarseg = config.raster.camera.semantic &&
+                        config.raster.camera.semantic_source == raster::SemanticSource::kLidarseg;
   MemoryEstimate peak;
   for (const auto& [location, list] : scenes) {
     if (list.empty()) continue;
     const LocationFootprint f = footprint(db, list, config, location);
-    MemoryEstimate e = location_estimate(f, lane_count(list.size(), threads), workers, cameras);
+    MemoryEstimate e = location_estimate(f, lane_count(list.size(), threads), workers, cameras, lidarseg);
     e.location = location;
     if (peak.location.empty() || e.total() > peak.total()) peak = e;
   }

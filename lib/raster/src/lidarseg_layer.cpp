@@ -17,6 +17,7 @@ using nuscenes::Index;
 namespace {
 
 constexpr size_t kChunkSweeps = 16;  // sweeps in flight at once: bounds memory, not results
+constexpr size_t kScratchBlocks = 256;  // dense blocks (64 KB each) before a fold into the packed layer
 
 // A labelled point of one sweep, ready to bin.
 struct LabelledPoint {
@@ -82,7 +83,19 @@ LidarsegLayer accumulate_lidarseg(const Database& db, const std::vector<Index>& 
   LidarsegLayer layer;
   layer.stats.sweeps = sweeps.size();
   std::vector<SweepResult> results;
+  // Points land in dense scratch blocks, folded into the packed layer every few hundred
+  // blocks (issue 22: the layer then keeps only its labelled cells); lowest-wins is
+  // order-free, so when the folds happen does not show.
+  SparseGrid<LidarsegCell> scratch;
   SparseGrid<LidarsegCell>::Cursor cursor;
+  const auto fold = [&] {
+    layer.cells.merge(scratch, [&](LidarsegCell& into, const LidarsegCell& from) {
+      if (!into.has_data()) ++layer.stats.cells;
+      if (!into.has_data() || from.lower_than(into)) into = from;
+    });
+    scratch = {};
+    cursor = {};
+  };
   for (size_t first = 0; first < sweeps.size(); first += kChunkSweeps) {
     const size_t n = std::min(kChunkSweeps, sweeps.size() - first);
     results.assign(n, {});
@@ -91,12 +104,13 @@ LidarsegLayer accumulate_lidarseg(const Database& db, const std::vector<Index>& 
       layer.stats.sweeps_without_labels += r.without_labels;
       layer.stats.points_labelled += r.points.size();
       for (const LabelledPoint& p : r.points) {
-        LidarsegCell& cell = layer.cells.at(p.cell, cursor);
-        if (!cell.has_data()) ++layer.stats.cells;
+        LidarsegCell& cell = scratch.at(p.cell, cursor);
         if (!cell.has_data() || p.value.lower_than(cell)) cell = p.value;
       }
     }
+    if (scratch.block_count() >= kScratchBlocks) fold();
   }
+  fold();
   return layer;
 }
 

@@ -46,7 +46,7 @@ struct LidarsegStats {
 };
 
 struct LidarsegLayer {
-  SparseGrid<LidarsegCell> cells;
+  SparseGrid<LidarsegCell> cells;  // packed: the labelled cells only
   LidarsegStats stats;
 };
 

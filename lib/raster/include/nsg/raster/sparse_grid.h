@@ -138,11 +138,17 @@ class SparseGrid {
     std::vector<T> from_buffer, into_buffer(kCells);
     for (const auto& [k, from_block] : other.blocks_) {
       const T* from = from_block->cells(from_buffer);
-      std::unique_ptr<Block>& slot = blocks_[k];
-      if (!slot) slot = std::make_unique<Block>();  // packed, empty
+      auto [it, added] = blocks_.try_emplace(k);
+      std::unique_ptr<Block>& slot = it->second;
+      if (added) slot = std::make_unique<Block>();  // packed, empty
       T* into = slot->is_packed() ? slot->expand(into_buffer.data()) : slot->dense.data();
+      size_t combined = 0;
       for (size_t i = 0; i < kCells; ++i)
-        if (from[i].has_data()) combine(into[i], from[i]);
+        if (from[i].has_data()) combine(into[i], from[i]), ++combined;
+      if (added && combined == 0) {  // as with at(): a block only where data fell
+        blocks_.erase(it);
+        continue;
+      }
       slot->pack(into);
     }
   }
