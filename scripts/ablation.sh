@@ -11,25 +11,12 @@ dir="$out/ablation"
 py=/usr/bin/python3
 mkdir -p "$dir"
 
-# The demo dataset (as `make demo` builds it) when it is not there yet.
-if [ ! -f "$out/dataset/manifest.json" ]; then
-  rm -rf "$out/release" "$out/dataset"
-  "$exe" synth --config "$root/samples/synth/demo.json" --out "$out/release"
-  cp "$root/samples/synth/demo.json" "$out/release/.synth-done"
-  "$exe" generate --config "$root/samples/generate-demo.json" --dataroot "$out/release" --out "$out/dataset"
-fi
-
+# shellcheck source=scripts/model_runs.sh
+source "$root/scripts/model_runs.sh"
+ensure_demo_dataset
 rows=("lidar" "lidar,rgb" "lidar,semantic" "lidar,vehicle" "all")
 for m in "${rows[@]}"; do
-  name=${m//,/+}
-  printf '\n== %s\n' "$m"
-  start=$(date +%s%N)
-  "$exe" train -q --dataset "$out/dataset" --split train --modalities "$m" --model "$dir/$name.yml.gz"
-  mid=$(date +%s%N)
-  "$exe" predict -q --model "$dir/$name.yml.gz" --dataset "$out/dataset" --split test --out "$dir/$name.json"
-  end=$(date +%s%N)
-  "$exe" score -q --ground-truth "$out/dataset" --submission "$dir/$name.json" --split test --out "$dir/$name.score.json" >/dev/null
-  echo "{\"train_s\": $(( (mid - start) / 1000000 ))e-3, \"predict_s\": $(( (end - mid) / 1000000 ))e-3}" > "$dir/$name.time.json"
+  run_model "$dir" "${m//,/+}" --modalities "$m"
 done
 
 "$py" - "$dir" "${rows[@]}" <<'PY'

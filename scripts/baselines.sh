@@ -13,29 +13,12 @@ dir="$out/baselines"
 py=/usr/bin/python3
 mkdir -p "$dir"
 
-# The demo release and dataset (as `make demo` builds them) unless they are there and up to
-# date with samples/synth/demo.json and samples/generate-demo.json.
-if [ ! -f "$out/release/.synth-done" ] || ! cmp -s "$root/samples/synth/demo.json" "$out/release/.synth-done"; then
-  rm -rf "$out/release" "$out/dataset"
-  "$exe" synth --config "$root/samples/synth/demo.json" --out "$out/release"
-  cp "$root/samples/synth/demo.json" "$out/release/.synth-done"
-fi
-if [ ! -f "$out/dataset/manifest.json" ] || ! cmp -s "$root/samples/generate-demo.json" "$out/.dataset-config.json"; then
-  rm -rf "$out/dataset"
-  "$exe" generate --config "$root/samples/generate-demo.json" --dataroot "$out/release" --out "$out/dataset"
-  cp "$root/samples/generate-demo.json" "$out/.dataset-config.json"
-fi
-
+# shellcheck source=scripts/model_runs.sh
+source "$root/scripts/model_runs.sh"
+ensure_demo_dataset
 rows=("b1" "b2" "graph")
 for v in "${rows[@]}"; do
-  printf '\n== %s\n' "$v"
-  start=$(date +%s%N)
-  "$exe" train -q --dataset "$out/dataset" --split train --variant "$v" --model "$dir/$v.yml.gz"
-  mid=$(date +%s%N)
-  "$exe" predict -q --model "$dir/$v.yml.gz" --dataset "$out/dataset" --split test --out "$dir/$v.json"
-  end=$(date +%s%N)
-  "$exe" score -q --ground-truth "$out/dataset" --submission "$dir/$v.json" --split test --out "$dir/$v.score.json" >/dev/null
-  echo "{\"train_s\": $(( (mid - start) / 1000000 ))e-3, \"predict_s\": $(( (end - mid) / 1000000 ))e-3}" > "$dir/$v.time.json"
+  run_model "$dir" "$v" --variant "$v"
 done
 
 "$py" - "$dir" "${rows[@]}" <<'PY'

@@ -38,9 +38,10 @@ int run_predict(const PredictCliOptions& o, const Context& ctx) {
     nodes += g.nodes.size();
     edges += g.edges.size();
   }
-  log::info(strprintf("predicted %zu tiles of '%s' in %.1f s (%.1f tiles/s): %zu nodes, %zu edges → %s",
-                      graphs.size(), o.split.c_str(), s, graphs.size() / std::max(s, 1e-9), nodes, edges,
-                      o.out.c_str()));
+  log::info(strprintf("predicted %zu tiles of '%s' with the %s model in %.1f s (%.1f tiles/s): %zu nodes, "
+                      "%zu edges → %s",
+                      graphs.size(), o.split.c_str(), model::to_string(m.options().variant).c_str(), s,
+                      graphs.size() / std::max(s, 1e-9), nodes, edges, o.out.c_str()));
   return kExitOk;
 }
 

@@ -306,7 +306,7 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
     st.plan.location = location;
     t0 = std::chrono::steady_clock::now();
     Issues defects;
-    {  // the map's records are not needed past the graph (a city's take ~100 MB)
+    {  // the map's records are not needed past the graph (a city's map holds ~150 MB)
       const nuscenes::MapExpansion map = nuscenes::load_map_expansion(config.dataroot, location);
       st.graph = graph::build_lane_graph(map, config.graph, &defects);
       st.plan.map_version = map.version();
