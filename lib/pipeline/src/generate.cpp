@@ -425,7 +425,10 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
     }
     camera_stage_done();
     summary.seconds.camera_s += seconds_since(t0);
-    log_memory(location + ": cameras done");
+    log_memory(location + ": cameras done" +
+               strprintf(" (%zu points indexed, colour layer %s over %zu blocks)", color.stats().points,
+                         human_bytes(static_cast<double>(color.cells().memory_bytes())).c_str(),
+                         color.cells().block_count()));
 
     t0 = std::chrono::steady_clock::now();
     const tiling::LocationRasters layers{&st.layers.lidar, cameras ? &color : nullptr, &st.layers.vehicles, &st.graph,

@@ -28,8 +28,16 @@ constexpr uint64_t kCellsPerBlock = static_cast<uint64_t>(raster::kBlockCells) *
 // on the synthetic city (2.2 × 1.7 km), 0.69 on the demo world whose map edge is near its
 // roads. Real cities are built up to the range limit, like the synthetic city.
 constexpr double kReachedBlockFraction = 0.8;
-// Covered cells per allocated LiDAR block (0.31 of 4 096 on the city, 0.53 on the demo).
-constexpr double kCoveredCellFraction = 0.35;
+// Covered cells per allocated LiDAR block: 1 − exp(−μ · sweeps per block · (points per
+// sweep / 8 000)^κ). Coverage grows with the sweeps' distinct positions more than with
+// their points (denser sweeps mostly hit the same near cells again). Fitted on the three
+// synthetic worlds: city 2.4 sweeps per block of 8 000 points → 0.31, demo 5.0 → 0.53,
+// bench 2.5 of 34 720 points (the real sensor's count) → 0.39.
+constexpr double kCoverageRatePerSweep = 0.15;      // μ
+constexpr double kCoveragePointsExponent = 0.16;    // κ
+constexpr double kCoverageReferencePoints = 8000.0;
+// Sweeps whose file size is looked at for the points per sweep (evenly spread).
+constexpr size_t kSweepSizeSamples = 256;
 // A packed block's bookkeeping besides its cells: occupancy bitmap, row counts, vector
 // headers and its node in the block map.
 constexpr uint64_t kPackedBlockBytes = 750;
@@ -38,6 +46,9 @@ constexpr uint64_t kPackedBlockBytes = 750;
 constexpr double kMapReadBytesPerFileByte = 3.75;
 // Per camera point: its index entry (raster::Target, 32 B) and best view (8 B).
 constexpr uint64_t kCameraBytesPerPoint = 40;
+// The tiles' share of a location's covered area (0.73 of the covered cells on the demo
+// world: random train crops, test crops on a grid, buffers between the regions).
+constexpr double kTileShare = 0.75;
 // JPEGs decoded at half size in flight per chunk of images (16 × 800 × 450 × 3 B).
 constexpr uint64_t kCameraImageBytes = 16ull * 800 * 450 * 3;
 // The lidarseg layer's dense scratch before a fold (256 blocks of 64 KB).
@@ -66,8 +77,37 @@ struct LocationFootprint {
   size_t vehicle_blocks = 0;
   double vehicle_cells = 0.0;   // box footprints, a box seen again in the same place counted once
   size_t images = 0;
+  size_t sweeps = 0;
+  size_t key_sweeps = 0;  // key frames: what lidarseg labels
+  double points_per_sweep = kCoverageReferencePoints;  // from a sample of the sweep files' sizes
   uint64_t map_file_bytes = 0;
 };
+
+// The mean point count of the `sweeps` (sample_data rows; .pcd.bin holds 5 float32 per
+// point) from the file sizes of up to kSweepSizeSamples of them, evenly spread; the
+// reference count when none can be read (the LiDAR stage reports missing files by name).
+double mean_points_per_sweep(const nuscenes::Database& db, const std::vector<nuscenes::Index>& sweeps) {
+  const size_t step = std::max<size_t>(1, sweeps.size() / kSweepSizeSamples);
+  double points = 0.0;
+  size_t read = 0;
+  for (size_t i = 0; i < sweeps.size(); i += step) {
+    std::error_code ec;
+    const uintmax_t bytes = fs::file_size(db.file_path(db.sample_data[sweeps[i]]), ec);
+    if (ec) continue;
+    points += static_cast<double>(bytes) / (5 * sizeof(float));
+    ++read;
+  }
+  return read > 0 && points > 0.0 ? points / static_cast<double>(read) : kCoverageReferencePoints;
+}
+
+// Covered fraction of the cells of a location's reached blocks by `sweeps` of its sweeps
+// (see kCoverageRatePerSweep).
+double covered_cell_fraction(const LocationFootprint& f, double reached_blocks, size_t sweeps) {
+  if (reached_blocks <= 0.0) return 0.0;
+  const double sweeps_per_block = static_cast<double>(sweeps) / reached_blocks;
+  const double density = std::pow(f.points_per_sweep / kCoverageReferencePoints, kCoveragePointsExponent);
+  return 1.0 - std::exp(-kCoverageRatePerSweep * sweeps_per_block * density);
+}
 
 // Vehicle boxes of the scenes: the blocks their footprints reach, and the cells they cover
 // (a parked car annotated in every key frame fills the same cells each time).
@@ -95,11 +135,15 @@ LocationFootprint footprint(const nuscenes::Database& db, const std::vector<nusc
   std::vector<std::set<Block>> per_scene(scenes.size());
   std::vector<std::pair<double, double>> last(scenes.size(), {1e300, 1e300});
   LocationFootprint f;
-  for (const nuscenes::SampleData& sd : db.sample_data) {
+  std::vector<nuscenes::Index> sweeps;  // sample_data rows
+  for (nuscenes::Index i = 0; i < static_cast<nuscenes::Index>(db.sample_data.size()); ++i) {
+    const nuscenes::SampleData& sd = db.sample_data[i];
     const int k = slot[static_cast<size_t>(db.sample[sd.sample].scene)];
     if (k < 0) continue;
     if (sd.modality == nuscenes::Modality::kCamera && sd.is_key_frame) ++f.images;
     if (sd.modality != nuscenes::Modality::kLidar || db.channel(sd) != config.raster.lidar_channel) continue;
+    sweeps.push_back(i);
+    f.key_sweeps += sd.is_key_frame;
     const auto& t = db.ego_pose[sd.ego_pose].translation;
     auto& [lx, ly] = last[static_cast<size_t>(k)];
     if (std::hypot(t[0] - lx, t[1] - ly) < 0.25 * block_m) continue;  // nearby poses mark the same blocks
@@ -112,6 +156,8 @@ LocationFootprint footprint(const nuscenes::Database& db, const std::vector<nusc
     all.insert(s.begin(), s.end());
   }
   f.lidar_blocks = all.size();
+  f.sweeps = sweeps.size();
+  f.points_per_sweep = mean_points_per_sweep(db, sweeps);
   add_vehicle_footprint(db, slot, block_m, config.resolution_m, f);
   std::error_code ec;  // a missing map fails later with its own message
   const uintmax_t map_size = fs::file_size(fs::path(config.dataroot) / "maps" / "expansion" / (location + ".json"), ec);
@@ -126,26 +172,33 @@ MemoryEstimate location_estimate(const LocationFootprint& f, size_t lanes, size_
     return static_cast<uint64_t>(blocks * kCellsPerBlock * cell_bytes);
   };
   const double reached = kReachedBlockFraction * static_cast<double>(f.lidar_blocks);
+  const double fill = covered_cell_fraction(f, reached, f.sweeps);
   e.map_bytes = static_cast<uint64_t>(kMapReadBytesPerFileByte * static_cast<double>(f.map_file_bytes));
   e.lidar_blocks = static_cast<uint64_t>(reached);
   // The finished layers are packed: the covered cells and a little per block.
-  e.lidar_bytes = static_cast<uint64_t>(reached * (kCoveredCellFraction * kCellsPerBlock * sizeof(raster::LidarCell) +
+  e.lidar_bytes = static_cast<uint64_t>(reached * (fill * kCellsPerBlock * sizeof(raster::LidarCell) +
                                                    kPackedBlockBytes));
   e.vehicle_bytes = static_cast<uint64_t>(f.vehicle_cells * sizeof(raster::VehicleCell)) +
                     f.vehicle_blocks * kPackedBlockBytes;
   // Each lane holds one scene's dense LiDAR and vehicle blocks while it accumulates.
   e.scenes_bytes = lanes * blocks_of(kReachedBlockFraction * static_cast<double>(f.max_scene_blocks),
                                      sizeof(raster::LidarCell) + sizeof(raster::VehicleCell) / 4);
-  if (cameras && f.images > 0)
-    e.camera_bytes = blocks_of(reached, sizeof(raster::ColorCell)) +
-                     static_cast<uint64_t>(reached * kCellsPerBlock * kCoveredCellFraction) * kCameraBytesPerPoint +
-                     kCameraImageBytes;
-  // The lidarseg layer (packed, key frames only: at most the LiDAR layer's cells) and the
-  // dense blocks it folds from.
-  if (cameras && lidarseg)
-    e.camera_bytes += static_cast<uint64_t>(reached * kCellsPerBlock * kCoveredCellFraction) *
-                          sizeof(raster::LidarsegCell) +
-                      kLidarsegScratchBytes;
+  // The camera stage indexes the covered cells inside the tiles (not known before the
+  // crops are planned: kTileShare of them) and writes a dense colour layer over their
+  // blocks; the lidarseg layer (packed, key-frame points only) comes after the index is
+  // freed, beside the colour layer.
+  if (cameras && f.images > 0) {
+    const double tile_blocks = kTileShare * reached;
+    const uint64_t colour = blocks_of(tile_blocks, sizeof(raster::ColorCell));
+    const uint64_t index =
+        static_cast<uint64_t>(tile_blocks * kCellsPerBlock * fill) * kCameraBytesPerPoint + kCameraImageBytes;
+    uint64_t labels = 0;
+    if (lidarseg)
+      labels = static_cast<uint64_t>(reached * kCellsPerBlock * covered_cell_fraction(f, reached, f.key_sweeps)) *
+                   sizeof(raster::LidarsegCell) +
+               kLidarsegScratchBytes;
+    e.camera_bytes = colour + std::max(index, labels);
+  }
   e.working_bytes = kWorkingBytes + threads * kWorkingBytesPerThread;
   return e;
 }

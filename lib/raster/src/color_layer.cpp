@@ -66,13 +66,14 @@ std::vector<CellRect> rects_over_block(const std::vector<CellRect>& regions, int
   return out;
 }
 
-TargetIndex collect_targets(const LidarLayer& lidar, const std::vector<CellRect>& regions) {
-  TargetIndex index;
-  index.resolution_m = lidar.resolution_m();
+// Visits the covered cells of `lidar` inside `regions` (empty = all) block by block:
+// on_cell(CellIndex, const LidarCell&) for each, then on_block(bx, by).
+template <typename OnCell, typename OnBlock>
+void visit_targets(const LidarLayer& lidar, const std::vector<CellRect>& regions, OnCell&& on_cell,
+                   OnBlock&& on_block) {
   lidar.cells().for_each_block([&](int64_t bx, int64_t by, const LidarCell* cells) {
     const std::vector<CellRect> rects = regions.empty() ? regions : rects_over_block(regions, bx, by);
     if (!regions.empty() && rects.empty()) return;
-    const size_t begin = index.targets.size();
     for (int r = 0; r < kBlockCells; ++r) {
       for (int c = 0; c < kBlockCells; ++c) {
         const LidarCell& cell = cells[r * kBlockCells + c];
@@ -80,11 +81,28 @@ TargetIndex collect_targets(const LidarLayer& lidar, const std::vector<CellRect>
         if (!cell.has_data()) continue;
         if (!rects.empty() && std::none_of(rects.begin(), rects.end(), [&](const CellRect& x) { return x.contains(ci); }))
           continue;
-        index.targets.push_back({cell.x, cell.y, cell.z, ci});
+        on_cell(ci, cell);
       }
     }
-    if (index.targets.size() > begin) index.blocks[{by, bx}] = {begin, index.targets.size()};
+    on_block(bx, by);
   });
+}
+
+TargetIndex collect_targets(const LidarLayer& lidar, const std::vector<CellRect>& regions) {
+  TargetIndex index;
+  index.resolution_m = lidar.resolution_m();
+  // Counted first so the index is allocated once at its size: growing it by doubling held
+  // up to 1.5× its final size at a reallocation (issue 22: the camera stage's peak).
+  size_t count = 0;
+  visit_targets(lidar, regions, [&](CellIndex, const LidarCell&) { ++count; }, [](int64_t, int64_t) {});
+  index.targets.reserve(count);
+  size_t begin = 0;
+  visit_targets(
+      lidar, regions, [&](CellIndex ci, const LidarCell& cell) { index.targets.push_back({cell.x, cell.y, cell.z, ci}); },
+      [&](int64_t bx, int64_t by) {
+        if (index.targets.size() > begin) index.blocks[{by, bx}] = {begin, index.targets.size()};
+        begin = index.targets.size();
+      });
   return index;
 }
 
