@@ -3,16 +3,9 @@
 # one model per modality set, trained on the train split and scored on the test split.
 # Writes demo-out/ablation/{ablation.json,ablation.md} and prints the Markdown table.
 set -euo pipefail
-build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
-exe="$root/$build/tools/nsgraph/nsgraph"
-out="$root/demo-out"
-dir="$out/ablation"
-py=/usr/bin/python3
-mkdir -p "$dir"
-
 # shellcheck source=scripts/model_runs.sh
-source "$root/scripts/model_runs.sh"
+source "$root/scripts/model_runs.sh" "${1:-build}" ablation
 ensure_demo_dataset
 rows=("lidar" "lidar,rgb" "lidar,semantic" "lidar,vehicle" "all")
 for m in "${rows[@]}"; do

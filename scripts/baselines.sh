@@ -5,16 +5,9 @@
 # seed and scored on the test split. Writes demo-out/baselines/{baselines.json,baselines.md}
 # and prints the Markdown table.
 set -euo pipefail
-build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
-exe="$root/$build/tools/nsgraph/nsgraph"
-out="$root/demo-out"
-dir="$out/baselines"
-py=/usr/bin/python3
-mkdir -p "$dir"
-
 # shellcheck source=scripts/model_runs.sh
-source "$root/scripts/model_runs.sh"
+source "$root/scripts/model_runs.sh" "${1:-build}" baselines
 ensure_demo_dataset
 rows=("b1" "b2" "graph")
 for v in "${rows[@]}"; do

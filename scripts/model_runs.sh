@@ -1,5 +1,12 @@
-# Sourced by scripts/ablation.sh and scripts/baselines.sh (which set `exe`, `root` and
-# `out`): the demo dataset, and one model's train → predict → score run with its timings.
+# Sourced by scripts/ablation.sh and scripts/baselines.sh (which set `root`) with the build
+# folder and the run's name: sets `exe`, `out` (demo-out), `dir` (demo-out/NAME, created)
+# and `py`; gives the demo dataset, and one model's train → predict → score run with its
+# timings.
+exe="$root/$1/tools/nsgraph/nsgraph"
+out="$root/demo-out"
+dir="$out/$2"
+py=/usr/bin/python3
+mkdir -p "$dir"
 
 # The demo release and dataset (as `make demo` builds them) unless they are there and up to
 # date with samples/synth/demo.json and samples/generate-demo.json.

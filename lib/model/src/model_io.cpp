@@ -21,6 +21,49 @@ T value_or(const cv::FileNode& n, T fallback) {
   return n.empty() ? fallback : static_cast<T>(static_cast<double>(n));
 }
 
+// The named number fields of the option groups, in file order: one list each for the
+// writer and the reader, so the two cannot drift apart. f(key, field) per field.
+constexpr auto kExtractionFields = [](auto& e, auto&& f) {
+  f("threshold", e.threshold);
+  f("min_component_px", e.min_component_px);
+  f("min_spur_px", e.min_spur_px);
+  f("simplify_tolerance_px", e.simplify_tolerance_px);
+  f("anchor_spacing_px", e.anchor_spacing_px);
+  f("min_node_score", e.min_node_score);
+  f("min_edge_score", e.min_edge_score);
+  f("max_edge_fraction", e.max_edge_fraction);
+  f("smooth_sigma_px", e.smooth_sigma_px);
+  f("min_piece_length_px", e.min_piece_length_px);
+  f("max_direction_angle_deg", e.max_direction_angle_deg);
+};
+constexpr auto kAnchorFields = [](auto& a, auto&& f) {
+  f("target_sigma_px", a.target_sigma_px);
+  f("smooth_sigma_px", a.smooth_sigma_px);
+  f("min_score", a.min_score);
+  f("nms_radius_px", a.nms_radius_px);
+  f("neighbours", a.neighbours);
+};
+constexpr auto kPairFields = [](auto& p, auto&& f) {
+  f("radius_px", p.radius_px);
+  f("min_connection_score", p.min_connection_score);
+  f("label_max_distance_px", p.label_max_distance_px);
+  f("label_max_follow_px", p.label_max_follow_px);
+  f("train_tile_every", p.train_tile_every);
+};
+
+// `name: { key: value, ... }` from a field list.
+template <typename Options, typename Fields>
+void write_fields(cv::FileStorage& fs, const char* name, const Options& options, Fields fields) {
+  fs << name << "{";
+  fields(options, [&](const char* key, const auto& value) { fs << key << value; });
+  fs << "}";
+}
+// The fields of node `n` into `options`, each keeping its value when absent.
+template <typename Options, typename Fields>
+void read_fields(const cv::FileNode& n, Options& options, Fields fields) {
+  fields(options, [&](const char* key, auto& value) { value = value_or(n[key], value); });
+}
+
 void write_forest_options(cv::FileStorage& fs, const std::string& name, const ForestOptions& f) {
   fs << name << "{" << "trees" << f.trees << "max_depth" << f.max_depth << "min_samples" << f.min_samples << "}";
 }
@@ -48,15 +91,10 @@ cv::Ptr<cv::ml::RTrees> read_forest(const cv::FileStorage& fs, const std::string
 void write_variant_options(cv::FileStorage& fs, const ModelOptions& o) {
   if (o.variant == Variant::kB1) return;
   write_forest_options(fs, "anchor_forest", o.anchor);
-  const AnchorOptions& a = o.anchors;
-  fs << "anchors" << "{" << "target_sigma_px" << a.target_sigma_px << "smooth_sigma_px" << a.smooth_sigma_px
-     << "min_score" << a.min_score << "nms_radius_px" << a.nms_radius_px << "neighbours" << a.neighbours << "}";
+  write_fields(fs, "anchors", o.anchors, kAnchorFields);
   if (o.variant != Variant::kGraph) return;
   write_forest_options(fs, "connection_forest", o.connection);
-  const PairOptions& p = o.pairs;
-  fs << "pairs" << "{" << "radius_px" << p.radius_px << "min_connection_score" << p.min_connection_score
-     << "label_max_distance_px" << p.label_max_distance_px << "label_max_follow_px" << p.label_max_follow_px
-     << "train_tile_every" << p.train_tile_every << "}";
+  write_fields(fs, "pairs", o.pairs, kPairFields);
   fs << "pair_features" << "[";
   for (const auto& n : pair_feature_names()) fs << n;
   fs << "]";
@@ -65,20 +103,10 @@ void write_variant_options(cv::FileStorage& fs, const ModelOptions& o) {
 void read_variant_options(const cv::FileStorage& fs, ModelOptions& o, const std::string& file) {
   if (o.variant == Variant::kB1) return;
   o.anchor = read_forest_options(fs["anchor_forest"]);
-  const cv::FileNode a = fs["anchors"];
-  o.anchors.target_sigma_px = value_or(a["target_sigma_px"], o.anchors.target_sigma_px);
-  o.anchors.smooth_sigma_px = value_or(a["smooth_sigma_px"], o.anchors.smooth_sigma_px);
-  o.anchors.min_score = value_or(a["min_score"], o.anchors.min_score);
-  o.anchors.nms_radius_px = value_or(a["nms_radius_px"], o.anchors.nms_radius_px);
-  o.anchors.neighbours = value_or(a["neighbours"], o.anchors.neighbours);
+  read_fields(fs["anchors"], o.anchors, kAnchorFields);
   if (o.variant != Variant::kGraph) return;
   o.connection = read_forest_options(fs["connection_forest"]);
-  const cv::FileNode p = fs["pairs"];
-  o.pairs.radius_px = value_or(p["radius_px"], o.pairs.radius_px);
-  o.pairs.min_connection_score = value_or(p["min_connection_score"], o.pairs.min_connection_score);
-  o.pairs.label_max_distance_px = value_or(p["label_max_distance_px"], o.pairs.label_max_distance_px);
-  o.pairs.label_max_follow_px = value_or(p["label_max_follow_px"], o.pairs.label_max_follow_px);
-  o.pairs.train_tile_every = value_or(p["train_tile_every"], o.pairs.train_tile_every);
+  read_fields(fs["pairs"], o.pairs, kPairFields);
   std::vector<std::string> names;
   for (const auto& n : fs["pair_features"]) names.push_back(static_cast<std::string>(n));
   NSG_CHECK(names == pair_feature_names(), ParseError, file, "pair_features",
@@ -103,13 +131,7 @@ void LaneModel::save(const std::filesystem::path& path) const {
   fs << "sigma_px" << m.options.sigma_px << "seed" << std::to_string(m.options.seed);
   write_forest_options(fs, "centre_forest", m.options.centre);
   write_forest_options(fs, "direction_forest", m.options.direction);
-  const ExtractionOptions& e = m.options.extraction;
-  fs << "extraction" << "{" << "threshold" << e.threshold << "min_component_px" << e.min_component_px
-     << "min_spur_px" << e.min_spur_px << "simplify_tolerance_px" << e.simplify_tolerance_px
-     << "anchor_spacing_px" << e.anchor_spacing_px << "min_node_score" << e.min_node_score
-     << "min_edge_score" << e.min_edge_score << "max_edge_fraction" << e.max_edge_fraction
-     << "smooth_sigma_px" << e.smooth_sigma_px << "min_piece_length_px" << e.min_piece_length_px
-     << "max_direction_angle_deg" << e.max_direction_angle_deg << "}";
+  write_fields(fs, "extraction", m.options.extraction, kExtractionFields);
   write_variant_options(fs, m.options);
   // Numbers in the map (OpenCV's YAML writer mangles strings that look like JSON); the
   // split's name, a plain word, beside it.
@@ -156,19 +178,7 @@ LaneModel LaneModel::load(const std::filesystem::path& path) {
               "an unsigned integer as text");
     m.options.centre = read_forest_options(fs["centre_forest"]);
     m.options.direction = read_forest_options(fs["direction_forest"]);
-    const cv::FileNode e = fs["extraction"];
-    ExtractionOptions& x = m.options.extraction;
-    x.threshold = value_or(e["threshold"], x.threshold);
-    x.min_component_px = value_or(e["min_component_px"], x.min_component_px);
-    x.min_spur_px = value_or(e["min_spur_px"], x.min_spur_px);
-    x.simplify_tolerance_px = value_or(e["simplify_tolerance_px"], x.simplify_tolerance_px);
-    x.anchor_spacing_px = value_or(e["anchor_spacing_px"], x.anchor_spacing_px);
-    x.min_node_score = value_or(e["min_node_score"], x.min_node_score);
-    x.min_edge_score = value_or(e["min_edge_score"], x.min_edge_score);
-    x.max_edge_fraction = value_or(e["max_edge_fraction"], x.max_edge_fraction);
-    x.smooth_sigma_px = value_or(e["smooth_sigma_px"], x.smooth_sigma_px);
-    x.min_piece_length_px = value_or(e["min_piece_length_px"], x.min_piece_length_px);
-    x.max_direction_angle_deg = value_or(e["max_direction_angle_deg"], x.max_direction_angle_deg);
+    read_fields(fs["extraction"], m.options.extraction, kExtractionFields);
     read_variant_options(fs, m.options, file);
     m.report = nlohmann::json::object();
     for (const auto& n : fs["training_report"]) m.report[n.name()] = static_cast<double>(n);

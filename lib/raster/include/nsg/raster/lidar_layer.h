@@ -23,8 +23,16 @@ struct LidarOptions {
   void validate() const;
 };
 
-// The kept point of a cell. Ordering for "lowest": z, then the source (sweep, point) ids,
-// so equal heights resolve the same way in every reduction order.
+// "Lowest" between two cells' kept points: z, then the source (sweep, point) ids, so equal
+// heights resolve the same way in every reduction order (LidarCell, LidarsegCell).
+template <typename Cell>
+bool lower_point(const Cell& a, const Cell& b) {
+  if (a.z != b.z) return a.z < b.z;
+  if (a.sweep != b.sweep) return a.sweep < b.sweep;
+  return a.point < b.point;
+}
+
+// The kept point of a cell; "lowest" as lower_point.
 struct LidarCell {
   float z = std::numeric_limits<float>::infinity();  // +inf = no data
   float x = 0.0f, y = 0.0f;  // global position of the kept point
@@ -33,11 +41,7 @@ struct LidarCell {
   int32_t point = -1;        // index of the point in its sweep file
 
   bool has_data() const { return sweep >= 0; }
-  bool lower_than(const LidarCell& o) const {
-    if (z != o.z) return z < o.z;
-    if (sweep != o.sweep) return sweep < o.sweep;
-    return point < o.point;
-  }
+  bool lower_than(const LidarCell& o) const { return lower_point(*this, o); }
 };
 
 class LidarLayer {

@@ -31,11 +31,7 @@ struct LidarsegCell {
   int32_t sweep = -1, point = -1;
   uint8_t cls = 255;
   bool has_data() const { return sweep >= 0; }
-  bool lower_than(const LidarsegCell& o) const {
-    if (z != o.z) return z < o.z;
-    if (sweep != o.sweep) return sweep < o.sweep;
-    return point < o.point;
-  }
+  bool lower_than(const LidarsegCell& o) const { return lower_point(*this, o); }
 };
 
 struct LidarsegStats {
