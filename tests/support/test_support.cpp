@@ -22,7 +22,7 @@ std::atomic<int> g_counter{0};
 }  // namespace
 
 fs::path source_dir() { return env_or("NSG_SOURCE_DIR", NSG_SOURCE_DIR_DEFAULT); }
-fs::path shared_dir() { return source_dir().parent_path() / "shared"; }
+fs::path data_dir() { return source_dir() / "tests" / "data"; }
 fs::path nsgraph_exe() { return env_or("NSG_EXE", NSG_EXE_DEFAULT); }
 
 TempDir::TempDir(const std::string& name) {

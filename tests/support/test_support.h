@@ -7,9 +7,10 @@
 
 namespace nsg::test {
 
-// Repository root (for samples/, schemas/) and ../shared (golden files).
+// Repository root (for samples/, schemas/) and the tests' data folder (tests/data: golden
+// values, the real key frame, fixtures).
 std::filesystem::path source_dir();
-std::filesystem::path shared_dir();
+std::filesystem::path data_dir();
 // Path of the built nsgraph binary.
 std::filesystem::path nsgraph_exe();
 

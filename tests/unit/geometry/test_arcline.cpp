@@ -40,8 +40,8 @@ ArclinePath straight_path(double length_m) {
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 TEST(Arcline, GoldenDevkitCasesAreBitIdentical) {
-  std::ifstream in(nsg::test::shared_dir() / "golden" / "arcline-discretize.json");
-  ASSERT_TRUE(in.good()) << "missing ../shared/golden/arcline-discretize.json";
+  std::ifstream in(nsg::test::data_dir() / "golden" / "arcline-discretize.json");
+  ASSERT_TRUE(in.good()) << "missing tests/data/golden/arcline-discretize.json";
   const nlohmann::json golden = nlohmann::json::parse(in);
   const auto& cases = golden.at("cases");
   ASSERT_GE(cases.size(), 100u);

@@ -10,7 +10,7 @@ namespace {
 namespace fs = std::filesystem;
 using nsg::test::run_nsgraph;
 
-const fs::path kGolden = nsg::test::shared_dir() / "golden" / "metrics";
+const fs::path kGolden = nsg::test::data_dir() / "golden" / "metrics";
 const std::string kSchemas = (nsg::test::source_dir() / "schemas").string();
 
 std::vector<std::string> score_args(const fs::path& submission) {

@@ -1,4 +1,4 @@
-// Reproduces every value of ../shared/golden/metrics/expected.json (per tile and
+// Reproduces every value of tests/data/golden/metrics/expected.json (per tile and
 // aggregate) from gt.json and pred.json to 1e-9; null stays null.
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 namespace nsg::metrics {
 namespace {
 
-const std::filesystem::path kGolden = nsg::test::shared_dir() / "golden" / "metrics";
+const std::filesystem::path kGolden = nsg::test::data_dir() / "golden" / "metrics";
 
 void expect_close(const nlohmann::json& want, const nlohmann::json& got, const std::string& where) {
   if (want.is_null()) {

@@ -1,5 +1,5 @@
 #pragma once
-// Every map-expansion defect that /work/shared/real-data.md lists for the real v1.3 maps,
+// Every map-expansion defect that docs/nuscenes-input.md lists for the real v1.3 maps,
 // added as JSON edits to a clean map (tests/data/map/small-map.json or a synthetic one), so
 // that the tests know exactly what was added: null tokens, "" links, dangling connectivity,
 // an isolated lane → lane → connector → connector chain with a 3 mm gap and a 4.4e-5 m

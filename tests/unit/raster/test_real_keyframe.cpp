@@ -1,4 +1,4 @@
-// The real key frame (../shared/real/scene-0061-keyframe: v1.0-mini scene-0061's first
+// The real key frame (tests/data/real/scene-0061-keyframe: v1.0-mini scene-0061's first
 // sample, real LIDAR_TOP sweep, six real JPEGs, real calibrations; issue 19). The LiDAR and
 // RGB layers are checked against the devkit chain written out here independently: every
 // kept point projected into each camera as `map_pointcloud_to_image` does (lidar → ego →
@@ -33,7 +33,7 @@ using nuscenes::Index;
 
 constexpr double kNearM = 38.0;  // the issue's radius around the ego
 
-std::filesystem::path real_root() { return test::shared_dir() / "real/scene-0061-keyframe"; }
+std::filesystem::path real_root() { return test::data_dir() / "real/scene-0061-keyframe"; }
 
 // One camera as the devkit sees it: global → camera-ego → camera, then K.
 struct DevkitCamera {

@@ -1,6 +1,6 @@
 // `nsgraph segment` through the real binary: masks in generate's layout, the same bytes at
 // any thread count and share count, resumable, and bad inputs refused with exit 2 naming
-// the file. Also runs on the real key frame (../shared/real/scene-0061-keyframe).
+// the file. Also runs on the real key frame (tests/data/real/scene-0061-keyframe).
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -147,8 +147,8 @@ TEST(SegmentRun, AnImageOfTheWrongSizeNamesIt) {
 }
 
 TEST(SegmentRun, RunsOnTheRealKeyFrame) {
-  const fs::path real = shared_dir() / "real" / "scene-0061-keyframe";
-  if (!fs::exists(real)) GTEST_SKIP() << "no " << real;
+  const fs::path real = data_dir() / "real" / "scene-0061-keyframe";
+  ASSERT_TRUE(fs::exists(real)) << "missing test data " << real;
   TempDir dir("segment_real");
   const CommandResult r = run_nsgraph(segment_args(real, dir.path(), {"--threads", "2"}));
   ASSERT_EQ(r.exit_code, 0) << r.err;
