@@ -1,5 +1,5 @@
 #pragma once
-// nuScenes-lidarseg (../shared/real-data.md): `<version>/lidarseg.json` ({token,
+// nuScenes-lidarseg (docs/nuscenes-input.md): `<version>/lidarseg.json` ({token,
 // sample_data_token, filename} per labelled key-frame LIDAR_TOP sweep; the devkit looks a
 // record up by the sweep's sample_data token) and `lidarseg/<version>/<sd_token>_lidarseg.bin`,
 // one uint8 label per point of the sweep, in the sweep's point order. Labels are the

@@ -41,7 +41,7 @@ struct ExcludedScene {
   std::string reason;  // why, for the manifest and the log
 };
 // The real release's known-bad boston-seaport scenes (devkit README, map_api blacklist;
-// ../shared/real-data.md): 499, 515, 517 fit the map badly, 501, 502 lie outside it.
+// docs/nuscenes-input.md): 499, 515, 517 fit the map badly, 501, 502 lie outside it.
 std::vector<ExcludedScene> default_excluded_scenes();
 
 struct GenerateConfig {
