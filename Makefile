@@ -18,8 +18,10 @@ configure: $(BUILD)/CMakeCache.txt
 build: deps configure
 	cmake --build $(BUILD) -j $(JOBS)
 
+# After ctest: only an optional tool may skip a test (tests/repo/check_skips.py).
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+	/usr/bin/python3 tests/repo/check_skips.py $(BUILD)/Testing/Temporary/LastTest.log
 
 demo: build
 	@bash scripts/demo.sh $(BUILD)

@@ -224,7 +224,7 @@ double proj_param(const std::string& proj4, const std::string& key) {
 }
 
 TEST(GeoTiff, GdalinfoReportsAeqdCrsAndCorners) {
-  if (!have_program("gdalinfo")) GTEST_SKIP() << "gdalinfo not installed";
+  if (!have_program("gdalinfo")) GTEST_SKIP() << "optional tool gdalinfo not installed";
   nsg::test::TempDir dir("io-gdal");
   const auto path = write_tile(dir, kBoston);
   const auto text = nsg::test::run_program({"gdalinfo", "-proj4", path.string()});
@@ -254,7 +254,7 @@ TEST(GeoTiff, GdalinfoReportsAeqdCrsAndCorners) {
 
 // GDAL's lon/lat of the pixel corners (on the file's own sphere) equal the devkit formula.
 TEST(GeoTiff, GdalLonLatCornersMatchDevkitFormula) {
-  if (!have_program("gdaltransform")) GTEST_SKIP() << "gdaltransform not installed";
+  if (!have_program("gdaltransform")) GTEST_SKIP() << "optional tool gdaltransform not installed";
   nsg::test::TempDir dir("io-gdal-ll");
   for (const GeoRef& g : {kBoston, GeoRef{"singapore-onenorth", 800.0, 1500.2, 0.2}}) {
     const auto path = write_tile(dir, g);

@@ -125,7 +125,7 @@ TEST(Generate, GraphNodesLieInsideTheirTiles) {
 }
 
 TEST(Generate, PythonReadsAShardAndDecodesEveryLayer) {
-  if (!fs::exists("/usr/bin/python3")) GTEST_SKIP() << "Debian python3 absent";
+  if (!fs::exists("/usr/bin/python3")) GTEST_SKIP() << "optional tool /usr/bin/python3 (Debian's) not installed";
   const fs::path dataset = e2e_dataset();
   const json manifest = read_json(dataset / "manifest.json");
   const fs::path shard = dataset / manifest["shards"][0]["file"].get<std::string>();

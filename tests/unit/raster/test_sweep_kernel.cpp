@@ -122,7 +122,7 @@ void expect_same_cell(const LidarCell& got, const LidarCell& want, CellIndex c) 
 }
 
 TEST(SweepKernel, FusedEqualsPortableFieldByField) {
-  if (!LidarLayer::fused_kernel_available()) GTEST_SKIP() << "no AVX2 on this CPU";
+  if (!LidarLayer::fused_kernel_available()) GTEST_SKIP() << "optional hardware: no AVX2 on this CPU";
   for (uint64_t seed : {1u, 2u, 3u}) {
     const std::vector<Sweep> sweeps = random_sweeps(seed);
     std::vector<size_t> kept_portable;
