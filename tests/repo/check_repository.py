@@ -4,7 +4,9 @@
    clone, or an absolute path on a developer's machine (a user who clones only this
    repository has neither).
 2. Code comments say what and why, not which tracker issue asked for it.
-3. The README's Layout block names every module under lib/ and every top-level folder,
+3. Every Markdown document a file names (`docs/metrics.md`, `README.md`, ...) exists in the
+   repository: a reader must be able to open what the code cites.
+4. The README's Layout block names every module under lib/ and every top-level folder,
    and every folder it names exists.
 
 Run from anywhere: python3 tests/repo/check_repository.py [REPO_ROOT]. Exit 0 clean, 1 with
@@ -18,6 +20,9 @@ import sys
 # Spelled in pieces so that this file does not match its own patterns.
 WORKBENCH = re.compile(re.escape("../" + "shared") + r"\b")
 MACHINE_PATH = re.compile(r"(?<![\w.~-])/(?:" + "|".join(["work", "root", "home", "Users"]) + r")/")
+MARKDOWN_NAME = re.compile(r"(?<![\w/.-])((?:[\w.-]+/)*[\w-]+\.md)\b")
+# Reports the project writes (make bench, make ablation, make baselines), not documents.
+GENERATED_MD = {"bench.md", "ablation.md", "baselines.md"}
 ISSUE_NUMBER = re.compile(r"\b[Ii]ssues? #?\d+|\b[Ii]ssues \d+ and \d+")
 CODE_SUFFIXES = (".cpp", ".h", ".hpp", ".py", ".sh", ".cmake", ".txt", ".toml", ".in")
 CODE_NAMES = ("Makefile", "CMakeLists.txt", "run")
@@ -60,6 +65,7 @@ def is_code(rel):
 
 def check_paths_and_comments(root, files):
     findings = []
+    names = {os.path.basename(f) for f in files}
     for rel in files:
         text = read_text(os.path.join(root, rel))
         if text is None:
@@ -70,6 +76,9 @@ def check_paths_and_comments(root, files):
                 findings.append(f"{rel}:{number}: refers to a folder outside the repository")
             if MACHINE_PATH.search(line):
                 findings.append(f"{rel}:{number}: absolute path on a developer's machine")
+            for doc in MARKDOWN_NAME.findall(line):
+                if os.path.basename(doc) not in names | GENERATED_MD:
+                    findings.append(f"{rel}:{number}: names {doc}, which is not in the repository")
             if code and ISSUE_NUMBER.search(line):
                 findings.append(f"{rel}:{number}: cites a tracker issue number (say what and why)")
     return findings
