@@ -70,7 +70,7 @@ def score(ground_truth, submission, split=None, threads=1, **params):
 
     ground_truth: a dataset folder (its ``split``, default "test"), a ground-truth file in
     the submission format, or in memory {key: graph} / a submission-format dict.
-    submission: a submission file, or in memory likewise. params: METRICS.md parameters
+    submission: a submission file, or in memory likewise. params: docs/metrics.md parameters
     (resolution_m, snap_m, ...). Raises SubmissionError (with .issues) when the submission
     has problems (the CLI's exit 1), nsgraph.errors.* for bad input (exit 2).
     """

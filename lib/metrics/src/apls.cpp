@@ -1,5 +1,5 @@
 // APLS as the SpaceNet reference computes it, with its snapping defect fixed
-// (METRICS.md "APLS"): A's nodes snap onto B's nearest segment, which is split at the
+// (docs/metrics.md "APLS"): A's nodes snap onto B's nearest segment, which is split at the
 // projections, and path lengths between control-point pairs are compared.
 #include <algorithm>
 #include <cmath>

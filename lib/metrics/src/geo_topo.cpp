@@ -1,5 +1,5 @@
-// GEO and TOPO precision/recall/F1 exactly as METRICS.md "Precise choices for GEO/TOPO"
-// (rule numbers below refer to that section).
+// GEO and TOPO precision/recall/F1 exactly as docs/metrics.md "GEO and TOPO" (rule
+// numbers below refer to that section).
 #include <algorithm>
 #include <array>
 #include <bit>

@@ -1,5 +1,5 @@
 #pragma once
-// The metric families, each a plain function of two cleaned graphs (METRICS.md).
+// The metric families, each a plain function of two cleaned graphs (docs/metrics.md).
 #include <cstdint>
 #include <optional>
 

@@ -130,7 +130,7 @@ std::string report_to_csv(const ScoreReport& r) {
   for (int c = 0; c < kCountCount; ++c) out << ',' << count_name(c);
   out << '\n';
   for (const TileMeasurement& t : r.tiles) {
-    out << t.key;  // keys have no commas or quotes (DESIGN.md §5)
+    out << t.key;  // keys have no commas or quotes (docs/dataset-format.md)
     for (int m = 0; m < kMetricCount; ++m) out << ',' << (t.values[m] ? format_double(*t.values[m]) : "");
     for (int c = 0; c < kCountCount; ++c) out << ',' << t.counts[c];
     out << '\n';

@@ -1,4 +1,4 @@
-// Direction accuracy, Dice/F1 + IoU masks and Chamfer distance (METRICS.md).
+// Direction accuracy, Dice/F1 + IoU masks and Chamfer distance (docs/metrics.md).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,7 +9,7 @@
 
 namespace nsg::metrics::detail {
 namespace {
-// Tolerances that are part of the v1 definitions (METRICS.md "Details").
+// Tolerances that are part of the v1 definitions (docs/metrics.md "Parameters").
 constexpr double kDirectionTiePx = 1e-9;
 constexpr double kCapsulePx = 1e-9;
 }  // namespace

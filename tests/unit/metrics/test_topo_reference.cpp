@@ -1,5 +1,5 @@
-// The fast paths of measure() against straightforward references written from METRICS.md
-// on small random graphs. GEO/TOPO ("Precise choices"): explicit sample graph, plain
+// The fast paths of measure() against straightforward references written from
+// docs/metrics.md on small random graphs. GEO/TOPO (its numbered rules): explicit sample graph, plain
 // Dijkstra from every seed, restricted candidate list re-scanned greedily. APLS: all
 // pairs by Floyd-Warshall on A and on the split B', every ordered pair visited.
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 #pragma once
 // Lane graphs as the scorer sees them: nodes in pixel coordinates of a 256 x 256 tile
-// (integer = pixel centre) and directed edges between node indices (METRICS.md).
+// (integer = pixel centre) and directed edges between node indices (docs/metrics.md).
 #include <array>
 #include <cstdint>
 #include <map>
@@ -24,8 +24,8 @@ struct Graph {
 // Tile key -> graph, sorted by key (the order of every reduction).
 using GraphSet = std::map<std::string, Graph>;
 
-// A graph after dropping self-loops and duplicate directed edges (METRICS.md
-// "Conventions"), with how many of each were dropped.
+// A graph after dropping self-loops and duplicate directed edges (docs/metrics.md
+// "Cleaning"), with how many of each were dropped.
 struct CleanGraph {
   std::vector<Point> nodes;
   std::vector<std::array<int32_t, 2>> edges;  // first occurrence order kept
@@ -36,7 +36,7 @@ struct CleanGraph {
 // Throws DataError if an edge index is out of range (submissions are validated first).
 CleanGraph clean_graph(const Graph& graph);
 
-// Undirected segment {i, j} (i < j) with the directions present (METRICS.md GEO/TOPO
+// Undirected segment {i, j} (i < j) with the directions present (docs/metrics.md GEO/TOPO
 // rule 1), sorted by (i, j).
 struct Segment {
   int32_t i = 0;

@@ -1,7 +1,7 @@
 #pragma once
 // Per-tile measurements (values + the integer counts that explain them), a mergeable
-// aggregate (sums and defined/undefined counts) and its finalization (METRICS.md
-// "Aggregation"). Undefined values are std::nullopt, never 0.
+// aggregate (sums and defined/undefined counts) and its finalization (docs/metrics.md
+// "Aggregation over a split"). Undefined values are std::nullopt, never 0.
 #include <array>
 #include <cstdint>
 #include <optional>

@@ -1,5 +1,5 @@
 #pragma once
-// Parameters of the v1 metrics (METRICS.md). Defaults are the benchmark's; a report
+// Parameters of the v1 metrics (docs/metrics.md). Defaults are the benchmark's; a report
 // records the values it used. Numerical tolerances are part of the definitions, not
 // parameters (see the constants in the sources).
 #include <nlohmann/json.hpp>

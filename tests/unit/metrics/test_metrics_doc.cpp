@@ -1,0 +1,159 @@
+// The worked examples of docs/metrics.md, read from the document itself: every fenced
+// ```json block whose object has an "example" member is scored and compared with the
+// values it states, so the document and the scorer cannot drift apart.
+//
+// Block shapes (graphs in the submission shape {"nodes": [[u, v], ...], "edges": [[i, j], ...]}):
+//   one tile:   {"example": name, "gt": graph, "pred": graph | null (missing), "expect": {...}}
+//               "expect" is a subset of the tile's report row (metric names, "counts").
+//   a split:    {"example": name, "gt_tiles": {key: graph}, "pred_tiles": {key: graph},
+//                "expect_report": {...}}   a subset of the whole JSON report.
+// Numbers are printed to 6 decimals (or exactly): a value passes within 5e-7; integers
+// (counts) and null (undefined) must match exactly.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "nsg/metrics/io.h"
+#include "nsg/metrics/measure.h"
+#include "nsg/metrics/params.h"
+#include "nsg/metrics/score.h"
+#include "test_support.h"
+
+namespace nsg::metrics {
+namespace {
+
+constexpr double kPrintedTolerance = 5e-7;  // values are printed to 6 decimals
+
+const std::filesystem::path kDoc = nsg::test::source_dir() / "docs" / "metrics.md";
+
+// Every ```json ... ``` block of a Markdown text, with the line it starts on.
+struct Block {
+  int line = 0;
+  std::string text;
+};
+
+std::vector<Block> json_blocks(const std::string& markdown) {
+  std::vector<Block> blocks;
+  std::istringstream in(markdown);
+  std::string line;
+  int number = 0;
+  Block* open = nullptr;
+  while (std::getline(in, line)) {
+    ++number;
+    if (open == nullptr) {
+      if (line.rfind("```json", 0) == 0) {
+        blocks.push_back({number + 1, ""});
+        open = &blocks.back();
+      }
+    } else if (line.rfind("```", 0) == 0) {
+      open = nullptr;
+    } else {
+      open->text += line + "\n";
+    }
+  }
+  return blocks;
+}
+
+struct Example {
+  std::string name;
+  int line = 0;
+  nlohmann::json doc;
+};
+
+std::vector<Example> examples() {
+  std::vector<Example> out;
+  for (const Block& b : json_blocks(nsg::test::read_text(kDoc))) {
+    nlohmann::json j = nlohmann::json::parse(b.text, nullptr, /*allow_exceptions=*/false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("example")) continue;
+    out.push_back({j["example"].get<std::string>(), b.line, std::move(j)});
+  }
+  return out;
+}
+
+Graph graph_of(const nlohmann::json& g) {
+  const nlohmann::json doc = {{"schema_version", "1"}, {"tiles", {{"t", g}}}};
+  return graphs_from_submission(doc, "docs/metrics.md").at("t");
+}
+
+GraphSet graphs_of(const nlohmann::json& tiles) {
+  const nlohmann::json doc = {{"schema_version", "1"}, {"tiles", tiles}};
+  return graphs_from_submission(doc, "docs/metrics.md");
+}
+
+// `want` must be contained in `got`: objects member by member, arrays element by element,
+// numbers within the printed precision (exactly for integers), everything else equal.
+void expect_subset(const nlohmann::json& want, const nlohmann::json& got, const std::string& where) {
+  if (want.is_object()) {
+    ASSERT_TRUE(got.is_object()) << where << ": expected an object, got " << got.dump();
+    for (const auto& [name, value] : want.items()) {
+      ASSERT_TRUE(got.contains(name)) << where << "." << name << ": not in the report";
+      expect_subset(value, got[name], where + "." + name);
+    }
+  } else if (want.is_array()) {
+    ASSERT_TRUE(got.is_array()) << where << ": expected an array, got " << got.dump();
+    ASSERT_EQ(want.size(), got.size()) << where << ": expected " << want.dump() << ", got " << got.dump();
+    for (size_t k = 0; k < want.size(); ++k) expect_subset(want[k], got[k], where + "[" + std::to_string(k) + "]");
+  } else if (want.is_number_integer() && got.is_number_integer()) {
+    EXPECT_EQ(want.get<int64_t>(), got.get<int64_t>()) << where;
+  } else if (want.is_number()) {
+    ASSERT_TRUE(got.is_number()) << where << ": expected " << want.dump() << ", got " << got.dump();
+    EXPECT_LE(std::abs(want.get<double>() - got.get<double>()), kPrintedTolerance)
+        << where << ": the doc says " << want.dump() << ", the scorer gives " << got.dump();
+  } else {
+    EXPECT_EQ(want, got) << where;
+  }
+}
+
+void check_example(const Example& e) {
+  const std::string where = "docs/metrics.md:" + std::to_string(e.line) + " " + e.name;
+  const MetricParams params;  // the examples use the benchmark's defaults
+  if (e.doc.contains("gt")) {
+    ASSERT_TRUE(e.doc.contains("pred") && e.doc.contains("expect")) << where << ": needs pred and expect";
+    const Graph gt = graph_of(e.doc["gt"]);
+    const bool missing = e.doc["pred"].is_null();
+    const Graph pred = missing ? Graph{} : graph_of(e.doc["pred"]);
+    const TileMeasurement t = measure(e.name, gt, missing ? nullptr : &pred, params);
+    expect_subset(e.doc["expect"], measurement_to_json(t), where);
+  } else {
+    ASSERT_TRUE(e.doc.contains("gt_tiles") && e.doc.contains("pred_tiles") && e.doc.contains("expect_report"))
+        << where << ": needs gt_tiles, pred_tiles and expect_report";
+    ScoreOptions options;
+    options.params = params;
+    const ScoreReport report = score(graphs_of(e.doc["gt_tiles"]), graphs_of(e.doc["pred_tiles"]), options);
+    expect_subset(e.doc["expect_report"], report_to_json(report), where);
+  }
+}
+
+TEST(MetricsDoc, StatesTheVersionTheScorerReports) {
+  const std::string doc = nsg::test::read_text(kDoc);
+  EXPECT_NE(doc.find("metrics_version: \"" + std::string(kMetricsVersion) + "\""), std::string::npos)
+      << "docs/metrics.md must name the metrics_version the scorer writes";
+}
+
+TEST(MetricsDoc, HasAWorkedExampleForEveryRule) {
+  std::set<std::string> names;
+  for (const Example& e : examples()) {
+    EXPECT_TRUE(names.insert(e.name).second) << "example name used twice: " << e.name;
+  }
+  for (const char* rule : {"cleaning", "zero-length-edge", "apls-gap", "apls-detour", "apls-offset",
+                           "apls-directed", "direction", "direction-two-way", "f1-iou", "chamfer",
+                           "geo-topo", "empty-both", "missing-prediction", "hallucination",
+                           "aggregation"})
+    EXPECT_EQ(names.count(rule), 1u) << "docs/metrics.md has no worked example '" << rule << "'";
+}
+
+TEST(MetricsDoc, EveryWorkedExampleScoresAsStated) {
+  const std::vector<Example> all = examples();
+  ASSERT_FALSE(all.empty()) << "no worked examples found in " << kDoc;
+  for (const Example& e : all) {
+    SCOPED_TRACE(e.name);
+    check_example(e);
+  }
+}
+
+}  // namespace
+}  // namespace nsg::metrics
