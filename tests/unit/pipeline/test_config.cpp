@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <map>
 #include <set>
 
 #include "generate_fixture.h"
@@ -146,40 +147,69 @@ TEST(GenerateConfig, CheckOfACodeBuiltConfigUsesTheDeclarations) {
   EXPECT_THROW(cam.validate(), ConfigError);
 }
 
-// `inspect layers` runs generate's chain: over a tile's bounds it gives the tile's layers.
-TEST(InspectLayers, EqualsTheTilesGenerateCutsFromTheSameConfig) {
-  const fs::path dataset = e2e_dataset();
+// Runs `inspect layers` over the bounds of the first tile of each split of `dataset` with
+// the config `extra` added to e2e.json, and compares every raster member with the tile's.
+// Returns the number of members compared.
+size_t compare_inspect_with_tiles(const fs::path& dataset, const std::vector<std::string>& extra) {
   size_t compared = 0;
+  const io::Dataset ds = io::Dataset::open(dataset);
   for (const char* split : {"train", "test"}) {
-    const io::Dataset ds = io::Dataset::open(dataset);
-    bool done = false;
     ds.for_each_tile(split, [&](const io::DatasetTile& t) {
       const json meta = t.json("meta.json");
       const json& b = meta["bounds_m"];
+      const std::string location = meta["location"].get<std::string>();
       TempDir dir("inspect-vs-generate");
-      const CommandResult r = run_nsgraph(
-          {"inspect", "layers", "--quiet", "--config", (source_dir() / "tests/data/generate/e2e.json").string(),
-           "--dataroot", e2e_release().string(), "--location", meta["location"].get<std::string>(), "--out",
-           dir.path().string(), "--bbox",
-           b[0].dump() + "," + b[1].dump() + "," + b[2].dump() + "," + b[3].dump()});
+      std::vector<std::string> args = {"inspect", "layers", "--quiet", "--config",
+                                       (source_dir() / "tests/data/generate/e2e.json").string(), "--dataroot",
+                                       e2e_release().string(), "--location", location, "--out", dir.path().string(),
+                                       "--bbox", b[0].dump() + "," + b[1].dump() + "," + b[2].dump() + "," + b[3].dump()};
+      args.insert(args.end(), extra.begin(), extra.end());
+      const CommandResult r = run_nsgraph(args);
       EXPECT_EQ(r.exit_code, 0) << r.err;
       if (r.exit_code != 0) return false;
       for (const io::TileMember* m : io::raster_members()) {
         const io::Raster tile = t.raster(m->file);
-        const std::string bytes = read_file(dir / (meta["location"].get<std::string>() + "." + m->file));
-        const io::Raster window = io::decode_geotiff(
-            std::span(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()), m->file);
+        const std::string bytes = read_file(dir / (location + "." + m->file));
+        const io::Raster window =
+            io::decode_geotiff(std::span(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()), m->file);
         EXPECT_EQ(window.width, tile.width) << t.key << " " << m->file;
         EXPECT_EQ(window.bands, tile.bands) << t.key << " " << m->file;
         EXPECT_TRUE(window.data == tile.data) << t.key << " " << m->file;
         ++compared;
       }
-      done = true;
       return false;  // one tile per split
     });
-    EXPECT_TRUE(done) << split;
   }
-  EXPECT_EQ(compared, 2 * io::raster_members().size());
+  return compared;
+}
+
+// `inspect layers` runs generate's chain: over a tile's bounds it gives the tile's layers.
+TEST(InspectLayers, EqualsTheTilesGenerateCutsFromTheSameConfig) {
+  EXPECT_EQ(compare_inspect_with_tiles(e2e_dataset(), {}), 2 * io::raster_members().size());
+}
+
+// The same with semantics from nuScenes-lidarseg (the source `inspect layers` once lacked).
+TEST(InspectLayers, HonoursTheLidarsegSemanticSource) {
+  TempDir dir("gen-lidarseg");
+  std::vector<std::string> args = e2e_generate_args(dir.path());
+  args.insert(args.end(), {"--set", "camera.semantic_source=lidarseg"});
+  const CommandResult r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(compare_inspect_with_tiles(dir.path(), {"--set", "camera.semantic_source=lidarseg"}),
+            2 * io::raster_members().size());
+  // The option took effect: some tile's semantics differ from the masks' dataset.
+  bool differs = false;
+  const io::Dataset masks = io::Dataset::open(e2e_dataset()), lidarseg = io::Dataset::open(dir.path());
+  std::map<std::string, std::vector<uint8_t>> by_key;
+  masks.for_each_tile("", [&](const io::DatasetTile& t) {
+    by_key[t.key] = t.raster("semantic.tif").data;
+    return true;
+  });
+  lidarseg.for_each_tile("", [&](const io::DatasetTile& t) {
+    differs = differs || by_key[t.key] != t.raster("semantic.tif").data;
+    return true;
+  });
+  EXPECT_TRUE(differs);
 }
 
 }  // namespace
