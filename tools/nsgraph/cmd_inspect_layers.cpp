@@ -3,7 +3,9 @@
 // (pipeline/location_layers.h) for a generate config, so they equal generate's tiles.
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cmath>
+#include <optional>
 #include <iostream>
 
 #include "bbox_arg.h"
@@ -18,9 +20,6 @@
 #include "nsg/pipeline/location_layers.h"
 #include "nsg/pipeline/tile_files.h"
 #include "nsg/preview/preview.h"
-#include "nsg/raster/accumulate.h"
-#include "nsg/raster/color_layer.h"
-#include "nsg/tiling/regions.h"
 #include "nsg/tiling/tile.h"
 
 namespace nsg::cli {
@@ -36,21 +35,6 @@ struct InspectLayersOptions {
 };
 
 // The window in cells: the bbox, or the extent of the LiDAR cells holding data.
-// A bbox edge within 1e-9 cell of the grid is on it (a tile's bounds_m, k × 0.2 m, often
-// divide back to k ± 1e-15).
-tiling::CellWindow window(const InspectLayersOptions& o, const std::string& dataroot, const raster::LidarLayer& lidar) {
-  if (o.bbox_text.empty()) {
-    const tiling::CellWindow w = tiling::covered_window(lidar);
-    if (w.empty()) throw DataError(dataroot, "location " + o.location, "LiDAR points at the location");
-    return w;
-  }
-  const graph::TileBounds b = parse_bbox(o.bbox_text);
-  const double res = lidar.resolution_m();
-  const auto lo = [res](double m) { return static_cast<int64_t>(std::floor(m / res + 1e-9)); };
-  const auto hi = [res](double m) { return static_cast<int64_t>(std::ceil(m / res - 1e-9)); };
-  return {lo(b.x_west_m), lo(b.y_south_m), hi(b.x_east_m), hi(b.y_north_m)};
-}
-
 void write_tif(const std::string& path, const io::Raster& r, const io::GeoRef& geo, std::optional<double> nodata) {
   io::GeoTiffOptions opt;
   opt.nodata = nodata;
@@ -75,26 +59,19 @@ int run(const InspectLayersOptions& o) {
   pipeline::GenerateConfig config = o.config->resolve(&origins);
   if (!origins.count("version")) config.version = "v1.0-mini";  // inspect's default release
   if (config.dataroot.empty()) throw ConfigError("", "--dataroot", "the nuScenes dataroot");
-  if (!o.bbox_text.empty()) parse_bbox(o.bbox_text);
+  std::optional<std::array<double, 4>> bbox;
+  if (!o.bbox_text.empty()) {
+    const graph::TileBounds b = parse_bbox(o.bbox_text);
+    bbox = std::array<double, 4>{b.x_west_m, b.y_south_m, b.x_east_m, b.y_north_m};
+  }
   const nuscenes::Database db = nuscenes::Database::load(config.dataroot, config.version);
-  const std::vector<nuscenes::Index> scenes = pipeline::location_scenes(db, config, o.location);
-  const pipeline::CameraSetup cameras = pipeline::prepare_cameras(db, config);
-  const raster::LocationLayers layers = pipeline::accumulate_layers(db, config, scenes, o.threads);
-  const tiling::CellWindow win = window(o, config.dataroot, layers.lidar);
-  const int64_t c0 = win.col0, r0 = win.row0, c1 = win.col1, r1 = win.row1;
-  if ((c1 - c0) * (r1 - r0) > kMaxPixels)
-    throw ConfigError("", "--bbox", strprintf("a window of at most %lld pixels (this one has %lld; pass a smaller --bbox)",
-                                              static_cast<long long>(kMaxPixels),
-                                              static_cast<long long>((c1 - c0) * (r1 - r0))));
-  const raster::ColorLayer color =
-      pipeline::camera_layers(db, config, cameras, scenes, layers.lidar, {{c0, r0, c1, r1}}, o.threads, o.location);
-  const tiling::LocationRasters source{&layers.lidar, cameras.cameras ? &color : nullptr, &layers.vehicles, nullptr,
-                                       nullptr};
+  const pipeline::WindowLayers layers =
+      pipeline::window_layers(db, config, o.location, bbox, kMaxPixels, "--bbox", o.threads);
+  const tiling::TileRasters& r = layers.rasters;
+  const tiling::RasterCounts& counts = layers.counts;
+  const int64_t c0 = layers.window.col0, r0 = layers.window.row0, c1 = layers.window.col1, r1 = layers.window.row1;
   const int w = static_cast<int>(c1 - c0), h = static_cast<int>(r1 - r0);
-  tiling::RasterCounts counts;
-  const tiling::TileRasters r = tiling::extract_rasters(source, c0, r0, w, h, &counts);
-
-  const double res = layers.lidar.resolution_m();
+  const double res = layers.resolution_m;
   const io::GeoRef geo{o.location, static_cast<double>(c0) * res, static_cast<double>(r1) * res, res};
   const std::string base = o.out_dir + "/" + o.location;
   nlohmann::ordered_json files = nlohmann::ordered_json::array();
@@ -116,7 +93,7 @@ int run(const InspectLayersOptions& o) {
       {"coverage",
        {{"lidar", counts.lidar / px}, {"rgb", counts.rgb / px}, {"semantic", counts.semantic / px}}},
       {"lidar_blocks", layers.stats.lidar_blocks},
-      {"lidar_layer_bytes", layers.lidar.cells().memory_bytes()},
+      {"lidar_layer_bytes", layers.lidar_layer_bytes},
       {"files", files}};
   if (!o.png.empty()) out["files"].push_back(o.png);
   std::cout << out.dump(2) << "\n";

@@ -1,7 +1,9 @@
 #include "nsg/pipeline/location_layers.h"
 
+#include <cmath>
 #include <set>
 
+#include "nsg/core/error.h"
 #include "nsg/core/log.h"
 #include "nsg/core/strings.h"
 #include "nsg/nuscenes/database.h"
@@ -57,6 +59,40 @@ raster::ColorLayer camera_layers(const nuscenes::Database& db, const GenerateCon
     raster::overlay_semantics(color, labels, rects);
   }
   return color;
+}
+
+WindowLayers window_layers(const nuscenes::Database& db, const GenerateConfig& config, const std::string& location,
+                           const std::optional<std::array<double, 4>>& bbox_m, int64_t max_pixels,
+                           const std::string& bbox_record, int threads) {
+  const std::vector<nuscenes::Index> scenes = location_scenes(db, config, location);
+  const CameraSetup cameras = prepare_cameras(db, config);
+  const raster::LocationLayers layers = accumulate_layers(db, config, scenes, threads);
+  WindowLayers out;
+  out.resolution_m = layers.lidar.resolution_m();
+  out.stats = layers.stats;
+  out.lidar_layer_bytes = layers.lidar.cells().memory_bytes();
+  if (bbox_m) {
+    const double res = out.resolution_m;
+    const auto lo = [res](double m) { return static_cast<int64_t>(std::floor(m / res + 1e-9)); };
+    const auto hi = [res](double m) { return static_cast<int64_t>(std::ceil(m / res - 1e-9)); };
+    const std::array<double, 4>& b = *bbox_m;
+    out.window = {lo(b[0]), lo(b[1]), hi(b[2]), hi(b[3])};
+  } else {
+    out.window = tiling::covered_window(layers.lidar);
+    if (out.window.empty()) throw DataError(config.dataroot, "location " + location, "LiDAR points at the location");
+  }
+  const tiling::CellWindow& w = out.window;
+  const int64_t pixels = (w.col1 - w.col0) * (w.row1 - w.row0);
+  if (pixels > max_pixels)
+    throw ConfigError("", bbox_record, strprintf("a window of at most %lld pixels (this one has %lld; pass a smaller one)",
+                                                 static_cast<long long>(max_pixels), static_cast<long long>(pixels)));
+  const raster::ColorLayer color =
+      camera_layers(db, config, cameras, scenes, layers.lidar, {{w.col0, w.row0, w.col1, w.row1}}, threads, location);
+  const tiling::LocationRasters source{&layers.lidar, cameras.cameras ? &color : nullptr, &layers.vehicles, nullptr,
+                                       nullptr};
+  out.rasters = tiling::extract_rasters(source, w.col0, w.row0, static_cast<int>(w.col1 - w.col0),
+                                        static_cast<int>(w.row1 - w.row0), &out.counts);
+  return out;
 }
 
 }  // namespace nsg::pipeline
