@@ -2,7 +2,7 @@
 nsgraph.torch), score submissions, build the paper's adaptive ground truth. Everything
 runs in the C++ library of the nsgraph toolkit (the _nsgraph extension)."""
 from . import _nsgraph
-from .dataset import MODALITIES, Dataset
+from .dataset import LAYERS, MODALITIES, TILE_MEMBERS, Dataset
 from .errors import ConfigError, DataError, Error, InternalError, IoError, ParseError, SubmissionError
 from .groundtruth import adaptive_ground_truth
 from .scoring import check_submission, graph_arrays, score, score_tile, write_submission
@@ -10,7 +10,7 @@ from .scoring import check_submission, graph_arrays, score, score_tile, write_su
 __version__ = _nsgraph.__version__
 
 __all__ = [
-    "Dataset", "MODALITIES", "score", "score_tile", "write_submission", "check_submission",
+    "Dataset", "MODALITIES", "LAYERS", "TILE_MEMBERS", "score", "score_tile", "write_submission", "check_submission",
     "adaptive_ground_truth", "graph_arrays", "Error", "ParseError", "DataError", "ConfigError", "IoError",
     "InternalError", "SubmissionError",
 ]

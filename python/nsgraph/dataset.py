@@ -4,7 +4,12 @@ import os
 
 from . import _nsgraph
 
-MODALITIES = ("lidar", "rgb", "semantic", "vehicle")
+# A tile's members as the C++ library declares them (io/tile_members.h): name, file,
+# raster, dtype, bands, unit, nodata, coverage_bit, description.
+TILE_MEMBERS = _nsgraph.TILE_MEMBERS
+LAYERS = {m["name"]: m for m in TILE_MEMBERS if m["raster"]}
+# The input layers (every raster but the coverage flags, which are always read).
+MODALITIES = tuple(name for name in LAYERS if name != "coverage")
 
 
 class Dataset(collections.abc.Sequence):

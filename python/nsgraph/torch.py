@@ -13,10 +13,10 @@ A sample::
 import numpy as np
 import torch
 
-from .dataset import MODALITIES, Dataset
+from .dataset import LAYERS, MODALITIES, Dataset
 
-NO_DATA = {"lidar": 0, "rgb": 0, "semantic": 255, "vehicle": -1.0}
-COVERAGE_BIT = {"lidar": 1, "rgb": 2, "semantic": 4}
+NO_DATA = {name: m["nodata"] for name, m in LAYERS.items() if m["nodata"] is not None}
+COVERAGE_BIT = {name: m["coverage_bit"] for name, m in LAYERS.items() if m["coverage_bit"]}
 
 
 class Augment:
@@ -85,7 +85,7 @@ _HEADING = {"flip_u": lambda h: (1.0 - h) % 1.0, "flip_v": lambda h: (0.5 - h) %
 
 
 def _transform(tile, op):
-    for m in ("lidar", "rgb", "semantic", "vehicle", "coverage"):
+    for m in LAYERS:
         if m not in tile:
             continue
         a = tile[m]
@@ -147,11 +147,10 @@ class TorchDataset(torch.utils.data.Dataset):
 
 def to_tensors(tile):
     sample = {"key": tile["key"]}
-    for m in ("lidar", "semantic", "vehicle", "coverage"):
-        if m in tile:
-            sample[m] = torch.from_numpy(np.ascontiguousarray(tile[m]))
-    if "rgb" in tile:
-        sample["rgb"] = torch.from_numpy(np.ascontiguousarray(tile["rgb"].transpose(2, 0, 1)))
+    for m, layer in LAYERS.items():
+        if m in tile:  # bands first, like torchvision
+            a = tile[m].transpose(2, 0, 1) if layer["bands"] > 1 else tile[m]
+            sample[m] = torch.from_numpy(np.ascontiguousarray(a))
     if "graph" in tile:
         sample["nodes"] = torch.from_numpy(tile["graph"]["nodes_px"].astype(np.float32))
         sample["nodes_m"] = torch.from_numpy(np.asarray(_nodes_m(tile), dtype=np.float64))
@@ -168,7 +167,7 @@ def collate(samples):
     (ΣN,) the sample of each node, num_nodes / num_edges (B,); keys, lane_tokens and meta
     as lists."""
     batch = {"key": [s["key"] for s in samples]}
-    for m in ("lidar", "rgb", "semantic", "vehicle", "coverage"):
+    for m in LAYERS:
         if m in samples[0]:
             batch[m] = torch.stack([s[m] for s in samples])
     if "nodes" in samples[0]:

@@ -7,13 +7,42 @@
 #include "bindings.h"
 #include "convert.h"
 #include "nsg/core/error.h"
+#include "nsg/core/strings.h"
 #include "nsg/io/tile_graph.h"
+#include "nsg/io/tile_members.h"
 #include "nsg/io/tile_index.h"
 
 namespace nsg::py_bind {
 namespace {
 
-const std::vector<std::string> kRasterNames = {"lidar", "rgb", "semantic", "vehicle", "coverage"};
+// The raster layers a tile holds (io/tile_members.h).
+const std::vector<std::string>& raster_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const io::TileMember* m : io::raster_members()) out.push_back(m->name);
+    return out;
+  }();
+  return names;
+}
+
+// nsgraph.TILE_MEMBERS: every member of a tile as io declares it, for the Python side.
+py::tuple tile_members_to_py() {
+  py::list out;
+  for (const io::TileMember& t : io::tile_members()) {
+    py::dict d;
+    d["name"] = t.name;
+    d["file"] = t.file;
+    d["raster"] = t.raster;
+    d["dtype"] = t.raster ? py::object(py::str(io::dtype_name(t.dtype))) : py::object(py::none());
+    d["bands"] = t.bands;
+    d["unit"] = t.unit;
+    d["nodata"] = t.nodata ? py::object(py::float_(*t.nodata)) : py::object(py::none());
+    d["coverage_bit"] = t.coverage_bit;
+    d["description"] = t.description;
+    out.append(d);
+  }
+  return py::tuple(out);
+}
 
 // One tile decoded in C++ (no Python objects: built without the GIL).
 struct DecodedTile {
@@ -74,6 +103,7 @@ py::dict to_py(DecodedTile&& t) {
 }  // namespace
 
 void bind_dataset(py::module_& m) {
+  m.attr("TILE_MEMBERS") = tile_members_to_py();
   py::class_<io::SplitIndex>(m, "SplitIndex",
                              "Random access to the tiles of one split (tar shards indexed once per process).")
       .def(py::init([](const std::string& root, const std::string& split) {
@@ -90,8 +120,8 @@ void bind_dataset(py::module_& m) {
           "read",
           [](const io::SplitIndex& index, size_t i, const std::vector<std::string>& layers, bool graph, bool meta) {
             for (const std::string& l : layers)
-              NSG_CHECK(std::find(kRasterNames.begin(), kRasterNames.end(), l) != kRasterNames.end(), ConfigError,
-                        "", "layer '" + l + "'", "one of lidar, rgb, semantic, vehicle, coverage");
+              NSG_CHECK(std::find(raster_names().begin(), raster_names().end(), l) != raster_names().end(),
+                        ConfigError, "", "layer '" + l + "'", "one of " + join(raster_names(), ", "));
             DecodedTile t;
             {
               py::gil_scoped_release release;

@@ -74,6 +74,24 @@ class DatasetTest(unittest.TestCase):
                 self.assertEqual(tile["graph"]["lane_tokens"], [e["lane_token"] for e in graph["edges"]])
                 self.assertEqual(tile["meta"], json.loads(member["meta.json"]))
 
+    def test_the_layer_declaration_comes_from_the_library_and_matches_the_files(self):
+        # nsgraph.LAYERS is io::tile_members() of the C++ library: names in member order,
+        # dtype and bands of the decoded arrays, the GeoTIFFs' no-data tags, coverage bits.
+        self.assertEqual(tuple(nsgraph.LAYERS), LAYERS)
+        self.assertEqual([m["file"] for m in nsgraph.TILE_MEMBERS],
+                         [layer + ".tif" for layer in LAYERS] + ["graph.json", "meta.json"])
+        self.assertEqual(nsgraph.MODALITIES, ("lidar", "rgb", "semantic", "vehicle"))
+        keys, files = tar_tiles(self.root, "test")
+        tile = nsgraph.Dataset(self.root, "test")[0]
+        for name, layer in nsgraph.LAYERS.items():
+            self.assertEqual(tile[name].dtype, np.dtype(layer["dtype"]), name)
+            self.assertEqual(tile[name].shape[2] if tile[name].ndim == 3 else 1, layer["bands"], name)
+            tag = Image.open(io.BytesIO(files[keys[0]][layer["file"]])).tag_v2.get(42113)  # GDAL_NODATA
+            self.assertEqual(None if tag is None else float(tag.strip("\x00")), layer["nodata"], name)
+            if layer["coverage_bit"]:
+                nodata = np.all(tile[name] == layer["nodata"], axis=-1) if layer["bands"] > 1 else tile[name] == layer["nodata"]
+                np.testing.assert_array_equal((tile["coverage"] & layer["coverage_bit"]) != 0, ~nodata, err_msg=name)
+
     def test_the_graph_nodes_lie_on_their_pixels(self):
         # u = (x − x_west) / 0.2 − 0.5: the two coordinate sets agree through meta's bounds
         tile = nsgraph.Dataset(self.root, "test")[0]

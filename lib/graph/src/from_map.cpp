@@ -32,7 +32,6 @@ LaneGraph build_lane_graph(const nuscenes::MapExpansion& map, const LaneGraphOpt
   // The map's load defects (null tokens, "" links, degenerate geometry) come first: every
   // caller that reports graph defects (inspect graph, generate) then reports them too, and
   // --strict treats them like the graph's own.
-  options.validate();
   if (options.strict) throw_if_defects(map.issues().items(), map.file().string());
   if (issues) issues->append(map.issues());
   return build_lane_graph(lane_sources(map), options, issues, map.file().string());

@@ -7,6 +7,7 @@
 #include <unordered_set>
 
 #include "nsg/core/error.h"
+#include "nsg/core/options.h"
 #include "nsg/core/strings.h"
 
 namespace nsg::graph {
@@ -108,14 +109,28 @@ void split_long_edges(Lane& lane, std::vector<Node>& nodes, double max_spacing_m
 
 }  // namespace
 
-void LaneGraphOptions::validate() const {
-  if (!(max_spacing_m > 0.0) || !std::isfinite(max_spacing_m))
-    throw ConfigError("", "graph.max_spacing_m", "expected a positive number of metres");
-  if (!(source_resolution_m > 0.0) || !std::isfinite(source_resolution_m))
-    throw ConfigError("", "graph.source_resolution_m", "expected a positive number of metres");
-  if (!(join_tolerance_m >= 0.0) || !std::isfinite(join_tolerance_m))
-    throw ConfigError("", "graph.join_tolerance_m", "expected a non-negative number of metres");
+const options::Table<LaneGraphOptions>& lane_graph_option_table() {
+  static const options::Table<LaneGraphOptions> table = [] {
+    options::Table<LaneGraphOptions> t;
+    t.number("graph.max_spacing_m", &LaneGraphOptions::max_spacing_m)
+        .unit("m")
+        .range(options::above(0))
+        .help("Longest distance between consecutive nodes (lanes are resampled evenly to it)");
+    t.number("graph.source_resolution_m", &LaneGraphOptions::source_resolution_m)
+        .unit("m")
+        .range(options::above(0))
+        .help("Step of the devkit's arcline discretization before resampling");
+    t.number("graph.join_tolerance_m", &LaneGraphOptions::join_tolerance_m)
+        .unit("m")
+        .range(options::at_least(0))
+        .help("Lane ends closer than this become one node");
+    t.boolean("graph.strict", &LaneGraphOptions::strict).help("Map defects are errors instead of reported issues");
+    return t;
+  }();
+  return table;
 }
+
+void LaneGraphOptions::validate() const { lane_graph_option_table().check(*this); }
 
 double LaneGraph::edge_length_m(const Edge& e) const { return distance(nodes[e.source], nodes[e.target]); }
 
@@ -180,7 +195,7 @@ std::vector<Node> resample_polyline(const std::vector<Node>& polyline, double ma
 
 LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGraphOptions& options,
                            Issues* issues, const std::string& map_label) {
-  options.validate();
+  // `options` were checked where they were read (the config reader, or validate()).
   DefectLog log;
   std::unordered_map<std::string, int32_t> index;
   for (size_t i = 0; i < sources.size(); ++i) {

@@ -27,12 +27,10 @@
 #include "nsg/io/tar.h"
 #include "nsg/nuscenes/database.h"
 #include "nsg/nuscenes/map_expansion.h"
+#include "nsg/pipeline/location_layers.h"
 #include "nsg/pipeline/tile_files.h"
 #include "nsg/raster/accumulate.h"
 #include "nsg/raster/color_layer.h"
-#include "nsg/raster/lidarseg_layer.h"
-#include "nsg/segment/labels.h"
-#include "nsg/nuscenes/lidarseg.h"
 #include "nsg/tiling/tile.h"
 #include "memory_plan.h"
 #include "outputs.h"
@@ -254,23 +252,16 @@ void assign_keys_and_shards(LocationPlan& plan, int64_t per_shard, std::map<std:
 }  // namespace
 
 GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
-  config.validate();
+  // The values were checked where they were read (the config's declarations); a run needs
+  // its inputs too.
+  config.check_inputs();
   run.share.validate();
   GenerateSummary summary;
   auto t0 = std::chrono::steady_clock::now();
   const nuscenes::Database db = nuscenes::Database::load(config.dataroot, config.version);
   summary.seconds.load_s = seconds_since(t0);
   summary.locations = resolve_locations(config, db);
-  // Semantics from nuScenes-lidarseg: its table and the label mapping are checked before
-  // any work (a missing lidarseg.json or a bad labels file is a setup question).
-  const raster::CameraOptions& camera = config.raster.camera;
-  const bool lidarseg = camera.semantic && camera.semantic_source == raster::SemanticSource::kLidarseg;
-  raster::LidarsegClassTable lidarseg_classes{};
-  if (lidarseg) {
-    lidarseg_classes = camera.lidarseg_labels.empty() ? segment::builtin_lidarseg_labels().table()
-                                                      : segment::load_labels(camera.lidarseg_labels).table();
-    (void)nuscenes::LidarsegIndex::load(db);
-  }
+  const CameraSetup camera_setup = prepare_cameras(db, config);
   std::vector<char> excluded;
   const auto excluded_list = find_excluded_scenes(config, db, summary.locations, excluded);
   if (!excluded_list.empty()) {
@@ -293,7 +284,7 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
   // tiles are known only once its LiDAR is accumulated and planned). Stages interleave
   // per location; each line is finished when its stage's last location is done.
   const StageTotals totals = count_stage_work(db, summary.locations, config.raster.lidar_channel, excluded);
-  const bool cameras = config.raster.camera.rgb || config.raster.camera.semantic;
+  const bool cameras = camera_setup.cameras;
   Progress lidar_progress("lidar sweeps", totals.all_sweeps, run.progress);
   std::optional<Progress> camera_progress;
   if (cameras) camera_progress.emplace("camera images", totals.all_images, run.progress);
@@ -320,25 +311,18 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
     log_memory(location + ": lane graph built");
 
     // The location's scenes less the excluded ones.
-    std::vector<nuscenes::Index> scenes;
-    for (nuscenes::Index s : raster::scenes_at(db, location)) {
-      if (!excluded[static_cast<size_t>(s)]) {
-        scenes.push_back(s);
-        continue;
-      }
-      for (const auto& [index, e] : excluded_list)
-        if (index == s) st.plan.excluded_scenes.push_back({db.scene[s].name, e->reason});
-    }
+    const std::vector<nuscenes::Index> scenes = location_scenes(db, config, location);
+    for (const auto& [index, e] : excluded_list)
+      if (db.log[db.scene[index].log].location == location)
+        st.plan.excluded_scenes.push_back({db.scene[index].name, e->reason});
     st.plan.scenes_used = scenes.size();
 
     t0 = std::chrono::steady_clock::now();
-    if (scenes.empty()) {
+    if (scenes.empty())
       log::warn("generate: " + location + ": every scene is excluded (scenes.exclude): no LiDAR, no tiles");
-      st.layers = raster::LocationLayers{raster::LidarLayer(config.resolution_m), raster::VehicleLayer(config.resolution_m), {}};
-    } else {
+    else
       log::info(strprintf("generate: %s: accumulating LiDAR of %zu scene(s)", location.c_str(), scenes.size()));
-      st.layers = raster::accumulate_scenes(db, scenes, config.raster, run.threads);
-    }
+    st.layers = accumulate_layers(db, config, scenes, run.threads);
     summary.sweeps += st.layers.stats.sweeps;
     summary.seconds.lidar_s += seconds_since(t0);
     log_memory(location + ": LiDAR accumulated: " +
@@ -397,7 +381,6 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
 
     // Camera colours only for the cells of this share's tiles.
     t0 = std::chrono::steady_clock::now();
-    raster::ColorLayer color(config.resolution_m);
     std::vector<raster::CellRect> rects;
     for (const WorkItem& item : mine) {
       if (item.kind != ItemKind::kShard) continue;
@@ -407,22 +390,12 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
         rects.push_back({c.col0, c.row0, c.col0 + config.crops.size_px, c.row0 + config.crops.size_px});
       }
     }
-    if (cameras && !rects.empty() && !scenes.empty()) {
+    if (cameras && !rects.empty() && !scenes.empty())
       log::info(strprintf("generate: %s: colouring %zu tiles from the cameras", location.c_str(), rects.size()));
-      if (camera.rgb || camera.semantic_masks()) {
-        color = raster::colorize_scenes(db, scenes, st.layers.lidar, rects, camera, run.threads);
-        summary.images += color.stats().images_used;
-        images_decoded += color.stats().images_used;
-      }
-      if (lidarseg) {
-        const raster::LidarsegLayer labels = raster::accumulate_lidarseg(
-            db, scenes, config.raster.lidar, config.raster.lidar_channel, lidarseg_classes, run.threads);
-        if (labels.stats.sweeps_without_labels > 0)
-          log::warn(strprintf("generate: %s: %zu of %zu key-frame sweeps have no lidarseg labels (their points give no "
-                              "class)", location.c_str(), labels.stats.sweeps_without_labels, labels.stats.sweeps));
-        raster::overlay_semantics(color, labels, rects);
-      }
-    }
+    const raster::ColorLayer color =
+        camera_layers(db, config, camera_setup, scenes, st.layers.lidar, rects, run.threads, location);
+    summary.images += color.stats().images_used;
+    images_decoded += color.stats().images_used;
     camera_stage_done();
     summary.seconds.camera_s += seconds_since(t0);
     log_memory(location + ": cameras done" +

@@ -4,37 +4,48 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nsg/core/error.h"
 #include "nsg/io/raster.h"
+#include "nsg/io/tile_members.h"
 
 namespace nsg::pipeline {
 
 using nlohmann::ordered_json;
 
 const std::vector<std::string>& tile_file_suffixes() {
-  static const std::vector<std::string> kSuffixes = {"lidar.tif",    "rgb.tif",    "semantic.tif", "vehicle.tif",
-                                                     "coverage.tif", "graph.json", "meta.json"};
+  static const std::vector<std::string> kSuffixes = [] {
+    std::vector<std::string> out;
+    for (const io::TileMember& m : io::tile_members()) out.push_back(m.file);
+    return out;
+  }();
   return kSuffixes;
 }
 
+io::Raster layer_raster(const tiling::TileRasters& r, const io::TileMember& member) {
+  io::Raster out;
+  out.width = r.width_px > 0 ? r.width_px : r.size_px;
+  out.height = r.height_px > 0 ? r.height_px : r.size_px;
+  out.bands = member.bands;
+  out.type = member.dtype;
+  if (member.name == "vehicle") {
+    out.data.resize(r.vehicle.size() * sizeof(float));
+    std::memcpy(out.data.data(), r.vehicle.data(), out.data.size());
+  } else if (member.name == "lidar") {
+    out.data = r.lidar;
+  } else if (member.name == "rgb") {
+    out.data = r.rgb;
+  } else if (member.name == "semantic") {
+    out.data = r.semantic;
+  } else if (member.name == "coverage") {
+    out.data = r.coverage;
+  } else {
+    throw InternalError("", member.file, "a raster member of io::tile_members()");
+  }
+  out.validate();
+  return out;
+}
+
 namespace {
-
-io::Raster raster_u8(const std::vector<uint8_t>& data, int size, int bands) {
-  io::Raster r;
-  r.width = r.height = size;
-  r.bands = bands;
-  r.type = io::SampleType::kUInt8;
-  r.data = data;
-  return r;
-}
-
-io::Raster raster_f32(const std::vector<float>& data, int size) {
-  io::Raster r;
-  r.width = r.height = size;
-  r.type = io::SampleType::kFloat32;
-  r.data.resize(data.size() * sizeof(float));
-  std::memcpy(r.data.data(), data.data(), r.data.size());
-  return r;
-}
 
 std::vector<uint8_t> bytes_of(const std::string& text) { return {text.begin(), text.end()}; }
 
@@ -68,22 +79,24 @@ std::string meta_json(const tiling::Tile& t, const std::vector<std::string>& sce
 }  // namespace
 
 std::vector<TileFile> encode_tile_files(const tiling::Tile& t, const TileFileOptions& options) {
-  const int size = t.rasters.size_px;
   const io::GeoRef geo{t.location, t.bounds.x_west_m, t.bounds.y_north_m, t.resolution_m};
-  const auto tif = [&](const io::Raster& r, std::optional<double> nodata) {
-    io::GeoTiffOptions o;
-    o.deflate_level = options.deflate_level;
-    o.nodata = nodata;
-    return io::encode_geotiff(r, geo, o);
-  };
   std::vector<TileFile> files;
-  files.push_back({t.key + ".lidar.tif", tif(raster_u8(t.rasters.lidar, size, 1), 0.0)});
-  files.push_back({t.key + ".rgb.tif", tif(raster_u8(t.rasters.rgb, size, 3), 0.0)});
-  files.push_back({t.key + ".semantic.tif", tif(raster_u8(t.rasters.semantic, size, 1), 255.0)});
-  files.push_back({t.key + ".vehicle.tif", tif(raster_f32(t.rasters.vehicle, size), -1.0)});
-  files.push_back({t.key + ".coverage.tif", tif(raster_u8(t.rasters.coverage, size, 1), std::nullopt)});
-  files.push_back({t.key + ".graph.json", bytes_of(graph_json(t))});
-  files.push_back({t.key + ".meta.json", bytes_of(meta_json(t, options.scenes))});
+  for (const io::TileMember& m : io::tile_members()) {
+    std::vector<uint8_t> bytes;
+    if (m.raster) {
+      io::GeoTiffOptions o;
+      o.deflate_level = options.deflate_level;
+      o.nodata = m.nodata;
+      bytes = io::encode_geotiff(layer_raster(t.rasters, m), geo, o);
+    } else if (m.name == "graph") {
+      bytes = bytes_of(graph_json(t));
+    } else if (m.name == "meta") {
+      bytes = bytes_of(meta_json(t, options.scenes));
+    } else {
+      throw InternalError("", m.file, "a member the tile writer knows");
+    }
+    files.push_back({t.key + "." + m.file, std::move(bytes)});
+  }
   return files;
 }
 

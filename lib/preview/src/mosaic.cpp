@@ -8,6 +8,7 @@
 #include "draw.h"
 #include "nsg/core/error.h"
 #include "nsg/core/strings.h"
+#include "nsg/io/tile_members.h"
 #include "nsg/metrics/io.h"
 
 namespace nsg::preview {
@@ -41,11 +42,14 @@ std::vector<std::pair<std::string, Rgb>> legend_items(bool submission) {
   return items;
 }
 
-// Tile rasters are validated here: a wrong band count or type is a malformed member.
-io::Raster layer_raster(const io::DatasetTile& tile, const std::string& suffix, int bands, io::SampleType type) {
+// Tile rasters are validated here against their io declaration (io/tile_members.h): a
+// wrong band count or type is a malformed member.
+io::Raster layer_raster(const io::DatasetTile& tile, const std::string& suffix) {
+  const io::TileMember* member = io::find_tile_member(suffix);
+  NSG_CHECK(member != nullptr && member->raster, InternalError, suffix, "", "a raster member of io::tile_members()");
   io::Raster r = tile.raster(suffix);
-  NSG_CHECK(r.bands == bands && r.type == type, ParseError, tile.key + "." + suffix, "raster",
-            strprintf("%d band(s) of %s", bands, type == io::SampleType::kUInt8 ? "uint8" : "float32"));
+  NSG_CHECK(r.bands == member->bands && r.type == member->dtype, ParseError, tile.key + "." + suffix, "raster",
+            strprintf("%d band(s) of %s", member->bands, io::dtype_name(member->dtype)));
   return r;
 }
 
@@ -66,7 +70,7 @@ cv::Mat layer_mat(const io::DatasetTile& tile, int layer, int size_px) {
   const int n = size_px * size_px;
   if (layer == kLidar || layer == kVehicle) {
     if (!tile.has("lidar.tif")) return m;
-    const io::Raster lidar = layer_raster(tile, "lidar.tif", 1, io::SampleType::kUInt8);
+    const io::Raster lidar = layer_raster(tile, "lidar.tif");
     check(lidar, "lidar.tif");
     for (int i = 0; i < n; ++i) {
       Rgb g = lidar_grey(lidar.data[i]);
@@ -74,14 +78,14 @@ cv::Mat layer_mat(const io::DatasetTile& tile, int layer, int size_px) {
       set(i, g);
     }
     if (layer == kLidar || !tile.has("vehicle.tif")) return m;
-    const io::Raster vehicle = layer_raster(tile, "vehicle.tif", 1, io::SampleType::kFloat32);
+    const io::Raster vehicle = layer_raster(tile, "vehicle.tif");
     check(vehicle, "vehicle.tif");
     const auto* h = reinterpret_cast<const float*>(vehicle.data.data());
     for (int i = 0; i < n; ++i)
       if (h[i] >= 0.0f) set(i, heading_color(h[i]));  // −1 = no vehicle: LiDAR shows through
   } else if (layer == kRgb) {
     if (!tile.has("rgb.tif")) return m;
-    const io::Raster rgb = layer_raster(tile, "rgb.tif", 3, io::SampleType::kUInt8);
+    const io::Raster rgb = layer_raster(tile, "rgb.tif");
     check(rgb, "rgb.tif");
     for (int i = 0; i < n; ++i) {
       const Rgb c{rgb.data[3 * i], rgb.data[3 * i + 1], rgb.data[3 * i + 2]};
@@ -89,7 +93,7 @@ cv::Mat layer_mat(const io::DatasetTile& tile, int layer, int size_px) {
     }
   } else {
     if (!tile.has("semantic.tif")) return m;
-    const io::Raster sem = layer_raster(tile, "semantic.tif", 1, io::SampleType::kUInt8);
+    const io::Raster sem = layer_raster(tile, "semantic.tif");
     check(sem, "semantic.tif");
     for (int i = 0; i < n; ++i) set(i, semantic_color(sem.data[i]));
   }

@@ -15,6 +15,7 @@
 #include "nsg/nuscenes/database.h"
 #include "nsg/nuscenes/detections.h"
 #include "nsg/nuscenes/lidar.h"
+#include "nsg/raster/raster_options.h"
 
 namespace nsg::raster {
 
@@ -22,11 +23,8 @@ using nuscenes::Database;
 using nuscenes::Index;
 
 void RasterOptions::validate() const {
+  raster_option_table().check(*this);
   lidar.validate();
-  camera.validate();
-  if (!(detection_score_threshold >= 0.0 && detection_score_threshold <= 1.0))
-    throw ConfigError("", "raster.detection_score_threshold", "expected a score in [0, 1]");
-  if (lidar_channel.empty()) throw ConfigError("", "raster.lidar_channel", "expected a channel name (LIDAR_TOP)");
 }
 
 namespace {
@@ -193,7 +191,7 @@ LocationLayers accumulate_location(const Database& db, const std::string& locati
 
 LocationLayers accumulate_scenes(const Database& db, const std::vector<Index>& scenes, const RasterOptions& options,
                                  int threads) {
-  options.validate();
+  // `options` were checked where they were read (config reader, or accumulate_location).
   check_scene_list(db, scenes);
   const std::vector<SceneWork> work = plan_scenes(db, scenes, options.lidar_channel);
   nuscenes::DetectionResults detections;

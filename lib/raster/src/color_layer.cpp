@@ -10,6 +10,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/parallel.h"
 #include "nsg/raster/accumulate.h"
+#include "nsg/raster/raster_options.h"
 #include "nsg/geometry/transform.h"
 #include "nsg/nuscenes/camera.h"
 #include "nsg/nuscenes/database.h"
@@ -22,20 +23,7 @@ namespace fs = std::filesystem;
 using nuscenes::Database;
 using nuscenes::Index;
 
-void CameraOptions::validate() const {
-  if (!(view_radius_m > 0.0)) throw ConfigError("", "camera.view_radius_m", "expected > 0 m");
-  if (!(min_depth_m >= 0.0)) throw ConfigError("", "camera.min_depth_m", "expected ≥ 0 m");
-  if (occlusion_window_px < 0 || occlusion_window_px > 512)
-    throw ConfigError("", "camera.occlusion_window_px", "expected 0..512 px");
-  if (occlusion_side_px < 0 || occlusion_side_px > 512)
-    throw ConfigError("", "camera.occlusion_side_px", "expected 0..512 px");
-  if (!(occlusion_height_m >= 0.0 && occlusion_height_m <= 10.0))
-    throw ConfigError("", "camera.occlusion_height_m", "expected 0..10 m");
-  if (!(occlusion_margin_m >= 0.0)) throw ConfigError("", "camera.occlusion_margin_m", "expected ≥ 0 m");
-  if (jpeg_scale_denom != 1 && jpeg_scale_denom != 2 && jpeg_scale_denom != 4)
-    throw ConfigError("", "camera.jpeg_scale_denom", "expected 1, 2 or 4");
-  if (lidar_channel.empty()) throw ConfigError("", "camera.lidar_channel", "expected a channel name (LIDAR_TOP)");
-}
+void CameraOptions::validate() const { camera_option_table().check(*this); }
 
 namespace {
 
@@ -349,7 +337,7 @@ ColorLayer colorize_location(const Database& db, const std::string& location, co
 
 ColorLayer colorize_scenes(const Database& db, const std::vector<Index>& scenes, const LidarLayer& lidar,
                            const std::vector<CellRect>& regions, const CameraOptions& options, int threads) {
-  options.validate();
+  // `options` were checked where they were read (config reader, or colorize_location).
   // Both off is a valid generate config (no camera layers) but nothing to colour here.
   if (!options.rgb && !options.semantic_masks())
     throw ConfigError("", "camera.rgb / camera.semantic", "at least one of them enabled (semantics from masks) to colour points");

@@ -7,14 +7,15 @@
 
 #include "nsg/core/error.h"
 #include "nsg/geometry/transform.h"
+#include "nsg/raster/raster_options.h"
 #include "sweep_kernel.h"
 
 namespace nsg::raster {
 
 void LidarOptions::validate() const {
-  if (!(resolution_m > 0.0)) throw ConfigError("", "lidar.resolution_m", "expected > 0 m");
-  if (!(roof_half_size_m >= 0.0)) throw ConfigError("", "lidar.roof_half_size_m", "expected ≥ 0 m");
-  if (!(max_range_m > 0.0)) throw ConfigError("", "lidar.max_range_m", "expected > 0 m");
+  lidar_option_table().check(*this);
+  // Not a key of its own: generate's resolution_m sets it.
+  if (!(resolution_m > 0.0)) throw ConfigError("", "resolution_m", "metres per pixel > 0");
 }
 
 std::vector<int32_t> select_sweep_points(const float* points, size_t count, size_t stride,

@@ -76,8 +76,7 @@ SweepResult label_sweep(const Database& db, const nuscenes::LidarsegIndex& index
 
 LidarsegLayer accumulate_lidarseg(const Database& db, const std::vector<Index>& scenes, const LidarOptions& lidar,
                                   const std::string& lidar_channel, const LidarsegClassTable& classes, int threads) {
-  lidar.validate();
-  check_scene_list(db, scenes);
+  check_scene_list(db, scenes);  // `lidar` was checked where it was read
   const nuscenes::LidarsegIndex index = nuscenes::LidarsegIndex::load(db);
   const std::vector<Index> sweeps = key_frame_sweeps(db, scenes, lidar_channel);
   LidarsegLayer layer;

@@ -5,28 +5,43 @@
 #include <map>
 
 #include "nsg/core/error.h"
+#include "nsg/core/options.h"
 #include "nsg/core/rng.h"
 #include "nsg/raster/lidar_layer.h"
 
 namespace nsg::tiling {
 
-Placement parse_placement(const std::string& text, const std::string& field) {
-  if (text == "random") return Placement::kRandom;
-  if (text == "grid") return Placement::kGrid;
-  throw ConfigError("", field, "'random' or 'grid' (got '" + text + "')");
+const options::Table<CropOptions>& crop_option_table() {
+  static const options::Table<CropOptions> table = [] {
+    options::Table<CropOptions> t;
+    const std::vector<std::pair<std::string, Placement>> placements = {{"random", Placement::kRandom},
+                                                                       {"grid", Placement::kGrid}};
+    t.integer("crops.size_px", &CropOptions::size_px)
+        .unit("px")
+        .range(options::between(8, 4096))
+        .help("Edge of a square crop (tile)");
+    t.number("crops.min_lidar_coverage", &CropOptions::min_lidar_coverage)
+        .range(options::between(0, 1))
+        .help("Keep a crop only when at least this fraction of its cells hold LiDAR");
+    t.choice("crops.placement.train", &CropOptions::train, placements).help("Where train crops go");
+    t.choice("crops.placement.val", &CropOptions::val, placements).help("Where val crops go");
+    t.choice("crops.placement.test", &CropOptions::test, placements).help("Where test crops go");
+    t.number("crops.random_per_km2", &CropOptions::random_per_km2)
+        .unit("1/km²")
+        .range(options::between(0, 1e6))
+        .help("Random placement: crops wanted per km² of a region's LiDAR-covered area");
+    t.integer("crops.random_total", &CropOptions::random_total)
+        .range(options::at_least(0))
+        .help("Random placement: crops wanted per split in total, spread by covered area (0 = use random_per_km2)");
+    t.integer("crops.attempts_per_crop", &CropOptions::attempts_per_crop)
+        .range(options::at_least(1))
+        .help("Random placement: draws per wanted crop before giving up");
+    return t;
+  }();
+  return table;
 }
 
-const char* placement_name(Placement p) { return p == Placement::kRandom ? "random" : "grid"; }
-
-void CropOptions::validate() const {
-  if (size_px < 8 || size_px > 4096) throw ConfigError("", "crops.size_px", "a crop edge of 8 to 4096 pixels");
-  if (!(min_lidar_coverage >= 0.0 && min_lidar_coverage <= 1.0))
-    throw ConfigError("", "crops.min_lidar_coverage", "a fraction in [0, 1]");
-  if (!(random_per_km2 >= 0.0 && random_per_km2 <= 1e6))
-    throw ConfigError("", "crops.random_per_km2", "a density in [0, 1e6] crops per km²");
-  if (random_total < 0) throw ConfigError("", "crops.random_total", "a count ≥ 0 (0 = use random_per_km2)");
-  if (attempts_per_crop < 1) throw ConfigError("", "crops.attempts_per_crop", "at least 1");
-}
+void CropOptions::validate() const { crop_option_table().check(*this); }
 
 RectM Crop::bounds(double resolution_m, int size_px) const {
   return {static_cast<double>(col0) * resolution_m, static_cast<double>(row0) * resolution_m,
@@ -141,7 +156,7 @@ int64_t covered_cells_in(const raster::LidarLayer& lidar, const RectM& rect) {
 
 std::vector<Crop> plan_crops(const raster::LidarLayer& lidar, const std::vector<Region>& regions,
                              const CropOptions& options, uint64_t seed, CropStats* stats) {
-  options.validate();
+  // `options` were checked where they were read (the config reader, or validate()).
   CropStats local;
   CropStats& st = stats != nullptr ? *stats : local;
   st = {};

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "nsg/core/error.h"
+#include "nsg/core/options.h"
 #include "nsg/core/rng.h"
 #include "nsg/raster/lidar_layer.h"
 #include "nsg/tiling/crops.h"
@@ -34,7 +35,38 @@ double RectM::distance_to(const RectM& o) const {
   return std::hypot(dx, dy);
 }
 
+const options::Table<SplitOptions>& split_option_table() {
+  static const options::Table<SplitOptions> table = [] {
+    options::Table<SplitRatios> ratios;
+    for (auto [name, field] : {std::pair{"train", &SplitRatios::train}, std::pair{"val", &SplitRatios::val},
+                               std::pair{"test", &SplitRatios::test}})
+      ratios.number(std::string("splits.ratios.") + name, field)
+          .range(options::between(0, 1))
+          .help(std::string("Automatic blocks: share of the blocks assigned to ") + name + " (the three sum to 1)");
+    options::Table<SplitOptions> t;
+    t.include(&SplitOptions::ratios, ratios);
+    t.number("splits.buffer_m", &SplitOptions::buffer_m)
+        .unit("m")
+        .range(options::at_least(0))
+        .help("Gap between regions of different splits (at least one crop)");
+    t.number("splits.block_size_m", &SplitOptions::block_size_m)
+        .unit("m")
+        .range(options::at_least(0))
+        .help("Automatic blocks: edge length (0 = from the covered extent; else at least one crop plus the buffer)");
+    t.number("splits.min_block_coverage", &SplitOptions::min_block_coverage)
+        .range(options::between(0, 1))
+        .help("Automatic blocks: a block takes part only when at least this fraction of its cells hold LiDAR");
+    return t;
+  }();
+  return table;
+}
+
 void SplitOptions::validate(double crop_size_m) const {
+  split_option_table().check(*this);
+  check_relations(crop_size_m);
+}
+
+void SplitOptions::check_relations(double crop_size_m) const {
   const auto bad = [](const std::string& field, const std::string& expected) {
     throw ConfigError("", "splits." + field, expected);
   };
@@ -42,10 +74,7 @@ void SplitOptions::validate(double crop_size_m) const {
     bad("buffer_m", "a buffer of at least one crop (" + std::to_string(crop_size_m) + " m)");
   if (!(block_size_m == 0.0 || block_size_m >= crop_size_m + buffer_m))
     bad("block_size_m", "0 (automatic) or at least one crop plus the buffer");
-  for (double r : {ratios.train, ratios.val, ratios.test})
-    if (!(r >= 0.0 && r <= 1.0)) bad("ratios", "ratios in [0, 1]");
   if (std::abs(ratios.train + ratios.val + ratios.test - 1.0) > 1e-6) bad("ratios", "train + val + test = 1");
-  if (!(min_block_coverage >= 0.0 && min_block_coverage <= 1.0)) bad("min_block_coverage", "a fraction in [0, 1]");
   std::set<std::string> names;
   for (const Region& r : regions) {
     if (r.name.empty() || r.name.find('.') != std::string::npos)
@@ -108,7 +137,7 @@ struct Block {
 
 std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOptions& options, double crop_size_m,
                                  uint64_t seed, RegionStats* stats) {
-  options.validate(crop_size_m);
+  // `options` were checked where they were read (the config reader, or validate()).
   RegionStats local;
   RegionStats& st = stats != nullptr ? *stats : local;
   st = {};

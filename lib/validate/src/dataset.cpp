@@ -15,6 +15,7 @@
 #include "nsg/core/strings.h"
 #include "nsg/io/dataset.h"
 #include "nsg/io/raster.h"
+#include "nsg/io/tile_members.h"
 #include "nsg/validate/schema.h"
 
 namespace fs = std::filesystem;
@@ -104,15 +105,19 @@ struct TileRecord {
 };
 
 struct RasterSpec {
-  const char* suffix;
+  std::string suffix;
   io::SampleType type;
   int bands;
 };
-constexpr RasterSpec kRasters[] = {{"lidar.tif", io::SampleType::kUInt8, 1},
-                                   {"rgb.tif", io::SampleType::kUInt8, 3},
-                                   {"semantic.tif", io::SampleType::kUInt8, 1},
-                                   {"vehicle.tif", io::SampleType::kFloat32, 1},
-                                   {"coverage.tif", io::SampleType::kUInt8, 1}};
+// The raster members as io declares them (io/tile_members.h).
+const std::vector<RasterSpec>& raster_specs() {
+  static const std::vector<RasterSpec> specs = [] {
+    std::vector<RasterSpec> out;
+    for (const io::TileMember* m : io::raster_members()) out.push_back({m->file, m->dtype, m->bands});
+    return out;
+  }();
+  return specs;
+}
 
 class DatasetChecker {
  public:
@@ -126,7 +131,7 @@ class DatasetChecker {
       for (const json& f : m_["tile_format"]["files"])
         if (f.is_string()) files_.insert(f.get<std::string>());
     if (files_.empty())
-      files_ = {"lidar.tif", "rgb.tif", "semantic.tif", "vehicle.tif", "coverage.tif", "graph.json", "meta.json"};
+      for (const io::TileMember& m : io::tile_members()) files_.insert(m.file);
     if (on("meta.schema")) meta_schema_.emplace(schemas / "v1" / "tile-meta.schema.json");
     if (on("graph.schema")) graph_schema_.emplace(schemas / "v1" / "tile-graph.schema.json");
   }
@@ -386,7 +391,7 @@ class DatasetChecker {
 
   void check_rasters(const io::DatasetTile& t, const std::optional<json>& meta, const std::optional<Rect>& bounds) {
     std::map<std::string, io::Raster> rasters;
-    for (const RasterSpec& spec : kRasters) {
+    for (const RasterSpec& spec : raster_specs()) {
       if (!t.has(spec.suffix)) continue;
       if (std::optional<io::Raster> r = decode(t, spec, meta, bounds)) rasters.emplace(spec.suffix, std::move(*r));
     }

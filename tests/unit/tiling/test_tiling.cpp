@@ -104,11 +104,11 @@ TEST(Regions, ExplicitRegionsAreCheckedForTheBuffer) {
   const raster::LidarLayer layer = filled(0, 0, 10, 10);
   SplitOptions o;
   o.regions = {{"a", "train", {0, 0, 100, 100}}, {"b", "test", {120, 0, 220, 100}}};
-  EXPECT_THROW(plan_regions(layer, o, 51.2, 1), ConfigError);  // 20 m apart < 51.2 m
+  EXPECT_THROW(o.validate(51.2), ConfigError);  // 20 m apart < 51.2 m
   o.regions[1].bounds = {151.2, 0, 251.2, 100};
   EXPECT_EQ(plan_regions(layer, o, 51.2, 1).size(), 2u);
   o.regions[1].split = "holdout";
-  EXPECT_THROW(plan_regions(layer, o, 51.2, 1), ConfigError);
+  EXPECT_THROW(o.validate(51.2), ConfigError);
 }
 
 // The planners count what each filter took (generate's empty-dataset message reads them).

@@ -10,6 +10,11 @@
 #include "nsg/core/issues.h"
 #include "nsg/geometry/arcline.h"
 
+namespace nsg::options {
+template <typename Owner>
+class Table;  // nsg/core/options.h
+}
+
 namespace nsg::graph {
 
 // One lane or lane connector as the map gives it (reader-independent, so tests can build
@@ -28,8 +33,10 @@ struct LaneGraphOptions {
   double source_resolution_m = 0.5;   // devkit discretization before resampling
   double join_tolerance_m = 0.05;     // lane ends closer than this become one node
   bool strict = false;                // map defects become errors
-  void validate() const;              // throws ConfigError naming the field
+  void validate() const;              // the declared checks; ConfigError naming the key
 };
+// The config keys graph.* (nsg/core/options.h).
+const options::Table<LaneGraphOptions>& lane_graph_option_table();
 
 struct Node {
   double x_m = 0.0;

@@ -1,8 +1,10 @@
 #pragma once
-// The configuration of `generate` (issue 6): one JSON document (samples/generate.json is
-// the default; schemas/v1/generate-config.schema.json describes it), every value also
-// settable from the command line, printed resolved by --print-config and recorded in
-// the manifest.
+// The configuration of `generate`: one JSON document whose keys are declared once, in the
+// options tables of the stages (nsg/core/options.h) and below for the run's own keys.
+// From that declaration come the reader of a config file, --set and the flags, the range
+// errors (naming the key and the file or flag), the resolved config (--print-config, the
+// manifest), --list-options, schemas/v1/generate-config.schema.json and
+// samples/generate.json (tests check both equal what the declaration gives).
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -11,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nsg/core/options.h"
 #include "nsg/graph/lane_graph.h"
 #include "nsg/raster/accumulate.h"
 #include "nsg/raster/color_layer.h"
@@ -31,7 +34,6 @@ struct OutputOptions {
   double estimated_tile_kb = 400.0;
   int deflate_level = 1;
   int64_t resolved_tiles_per_shard() const;
-  void validate() const;
 };
 
 // A scene left out of the run (config `scenes.exclude`): its sweeps, camera images and
@@ -60,18 +62,48 @@ struct GenerateConfig {
 
   double crop_size_m() const { return resolution_m * crops.size_px; }
   tiling::SplitOptions split_options_for(const std::string& location) const;
-  // ConfigError naming the field; inputs (dataroot, version) only when `require_inputs`.
+  // What one key cannot say alone (splits against the crop size, explicit regions);
+  // ConfigError naming the key and, from `origins`, where its value came from.
+  void check_relations(const options::Origins& origins = {}) const;
+  // The inputs a run needs (dataroot, version); ConfigError naming the flag.
+  void check_inputs() const;
+  // For a config built in code: every declared check, the relations and (when
+  // `require_inputs`) the inputs. A config read through the declarations is checked already.
   void validate(bool require_inputs = true) const;
 };
 
-// Reads a config document over the defaults. Unknown keys and wrong types are errors
-// naming the file and the key path (a typo must not silently fall back to a default).
+// Every key of the generate config, in the order of the resolved document.
+const options::Table<GenerateConfig>& generate_option_table();
+
+// Applies a config document over `config` (its keys only; unknown keys and bad values are
+// ConfigErrors naming `source` and the key). Records the source of each key in `origins`.
+void apply_config_json(GenerateConfig& config, const nlohmann::json& doc, const std::string& source,
+                       options::Origins* origins = nullptr);
+// Reads a config document over `base` and checks the relations.
 GenerateConfig config_from_json(const nlohmann::json& doc, const std::string& file_label,
                                 GenerateConfig base = {});
+// Parses a config file (ParseError naming it) and applies it.
+void apply_config_file(GenerateConfig& config, const std::filesystem::path& file, options::Origins* origins = nullptr);
 GenerateConfig load_generate_config(const std::filesystem::path& file);
-// Sets one value by dotted path ("crops.min_lidar_coverage=0.4"), as from --set.
-void apply_setting(GenerateConfig& config, const std::string& assignment);
-// The resolved config as written to the manifest and by --print-config (stable key order).
+// Sets one key from text, as from --set ("crops.min_lidar_coverage=0.4") or a flag
+// (`source` = "--min-coverage"): JSON when the text parses as JSON (numbers, booleans,
+// arrays), else the text as a string; a flag's text for a string key is that string.
+void apply_setting(GenerateConfig& config, const std::string& assignment, options::Origins* origins = nullptr);
+void apply_value(GenerateConfig& config, const std::string& key, const std::string& text, const std::string& source,
+                 options::Origins* origins = nullptr);
+// A value given on the command line: `--set key=value`, or a flag standing for a key.
+struct ConfigAssignment {
+  std::string source;  // "--set" (text holds "key=value"), or a flag such as "--min-coverage"
+  std::string key;     // a flag's key
+  std::string text;
+};
+// The config of a command line: the defaults, the config file (when given), then the
+// assignments in order; the relations are checked last, naming the source of the key.
+GenerateConfig resolve_generate_config(const std::filesystem::path& file, const std::vector<ConfigAssignment>& values,
+                                       options::Origins* origins = nullptr);
+// The resolved config as written to the manifest and by --print-config (declaration order).
 nlohmann::ordered_json config_to_json(const GenerateConfig& config);
+// The JSON Schema of the config (schemas/v1/generate-config.schema.json).
+nlohmann::ordered_json generate_config_schema();
 
 }  // namespace nsg::pipeline

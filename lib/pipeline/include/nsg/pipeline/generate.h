@@ -71,6 +71,7 @@ struct GenerateRun {
 };
 
 // Splits that end with no tile while others have tiles are reported with log::warn.
+// `config` as read through its declarations (or checked with GenerateConfig::validate).
 GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run);
 
 // Verifies every share's done-record and output file under `out` and writes manifest.json.

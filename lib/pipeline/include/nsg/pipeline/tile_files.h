@@ -1,10 +1,13 @@
 #pragma once
-// The files of one tile (DESIGN.md §5), in member order: lidar, rgb, semantic, vehicle,
-// coverage GeoTIFFs, then graph.json and meta.json — all sharing the tile key.
+// The files of one tile (DESIGN.md §5), in the member order of io::tile_members(): lidar,
+// rgb, semantic, vehicle, coverage GeoTIFFs, then graph.json and meta.json — all sharing
+// the tile key.
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "nsg/io/raster.h"
+#include "nsg/io/tile_members.h"
 #include "nsg/tiling/tile.h"
 
 namespace nsg::pipeline {
@@ -23,5 +26,9 @@ std::vector<TileFile> encode_tile_files(const tiling::Tile& tile, const TileFile
 
 // The suffixes of a complete tile, in member order.
 const std::vector<std::string>& tile_file_suffixes();
+
+// A raster member's layer of `rasters` (a tile, or a window of any size) as an io::Raster
+// of the member's dtype and bands.
+io::Raster layer_raster(const tiling::TileRasters& rasters, const io::TileMember& member);
 
 }  // namespace nsg::pipeline

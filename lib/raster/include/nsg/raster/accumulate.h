@@ -32,7 +32,8 @@ struct RasterOptions {
   // Camera colouring runs separately (colorize_location), so a cluster share colours only
   // the cells of its own tiles; kept here so one options struct configures the stage.
   CameraOptions camera;
-  void validate() const;  // ConfigError naming the bad field
+  // The declared checks (raster_options.h) for options built in code; ConfigError naming the key.
+  void validate() const;
 };
 
 struct AccumulateStats {
@@ -60,7 +61,8 @@ LocationLayers accumulate_location(const nuscenes::Database& db, const std::stri
 
 // The scenes (scene-table rows, in table order) of `location`; DataError if it has none.
 std::vector<nuscenes::Index> scenes_at(const nuscenes::Database& db, const std::string& location);
-// accumulate_location over a subset of a location's scenes (export-cloud: one scene).
+// accumulate_location over a subset of a location's scenes (export-cloud: one scene), with
+// `options` already checked (read through the declarations, or validate()).
 // InternalError if `scenes` is empty or spans locations (one map frame per layer): the
 // check, check_scene_list, is shared with colorize_scenes.
 void check_scene_list(const nuscenes::Database& db, const std::vector<nuscenes::Index>& scenes);

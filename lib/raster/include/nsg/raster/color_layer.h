@@ -63,8 +63,10 @@ struct CameraOptions {
   double occlusion_height_m = 0.05;
   double occlusion_margin_m = 0.15;
   int jpeg_scale_denom = 2;  // 1, 2 or 4 (turbojpeg scaled decode)
-  std::string lidar_channel = "LIDAR_TOP";  // the key-frame sweep used for occlusion
-  void validate() const;  // ConfigError naming the bad field (both rgb and semantic off is valid)
+  std::string lidar_channel = "LIDAR_TOP";  // the key-frame sweep used for occlusion (set by lidar.channel)
+  // The declared checks (raster_options.h) for options built in code; ConfigError naming the
+  // key (both rgb and semantic off is valid).
+  void validate() const;
   // True when the semantic layer comes from the camera masks (read by the colouring).
   bool semantic_masks() const { return semantic && semantic_source == SemanticSource::kMasks; }
 };
@@ -108,7 +110,7 @@ class ColorLayer {
 ColorLayer colorize_location(const nuscenes::Database& db, const std::string& location, const LidarLayer& lidar,
                              const std::vector<CellRect>& regions, const CameraOptions& options, int threads);
 // The same over a subset of a location's scenes (scene-table rows; `lidar` from
-// accumulate_scenes of the same scenes). InternalError as accumulate_scenes.
+// accumulate_scenes of the same scenes), with `options` already checked. InternalError as accumulate_scenes.
 ColorLayer colorize_scenes(const nuscenes::Database& db, const std::vector<int32_t>& scenes, const LidarLayer& lidar,
                            const std::vector<CellRect>& regions, const CameraOptions& options, int threads);
 

@@ -20,7 +20,7 @@ struct LidarOptions {
   double resolution_m = 0.2;
   double roof_half_size_m = 1.0;  // drop |x| < this and |y| < this in the sensor frame (devkit remove_close)
   double max_range_m = 60.0;      // drop points farther (in the sensor's xy plane)
-  void validate() const;
+  void validate() const;  // the declared checks (raster_options.h); ConfigError naming the key
 };
 
 // "Lowest" between two cells' kept points: z, then the source (sweep, point) ids, so equal

@@ -17,8 +17,6 @@ class LidarLayer;
 namespace nsg::tiling {
 
 enum class Placement { kRandom, kGrid };
-Placement parse_placement(const std::string& text, const std::string& field);  // ConfigError
-const char* placement_name(Placement p);
 
 struct CropOptions {
   int size_px = 256;
@@ -31,8 +29,10 @@ struct CropOptions {
   double random_per_km2 = 1500.0;
   int64_t random_total = 0;
   int attempts_per_crop = 20;  // random draws per wanted crop before giving up
-  void validate() const;
+  void validate() const;  // the declared checks; ConfigError naming the key
 };
+// The config keys crops.* (nsg/core/options.h).
+const options::Table<CropOptions>& crop_option_table();
 
 struct Crop {
   std::string region;   // Region::name

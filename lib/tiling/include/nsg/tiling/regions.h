@@ -14,6 +14,11 @@ namespace nsg::raster {
 class LidarLayer;
 }
 
+namespace nsg::options {
+template <typename Owner>
+class Table;  // nsg/core/options.h
+}
+
 namespace nsg::tiling {
 
 inline constexpr std::array<std::string_view, 3> kSplitNames = {"train", "val", "test"};
@@ -56,8 +61,14 @@ struct SplitOptions {
   double buffer_m = 51.2;
   // A block takes part only if at least this fraction of its cells hold LiDAR.
   double min_block_coverage = 0.05;
-  void validate(double crop_size_m) const;  // ConfigError naming the field
+  // The declared checks and check_relations; ConfigError naming the key.
+  void validate(double crop_size_m) const;
+  // What one key cannot say alone: the buffer holds a crop, blocks hold a crop and the
+  // buffer, the ratios sum to 1, explicit regions are sound and far enough apart.
+  void check_relations(double crop_size_m) const;
 };
+// The config keys splits.* but splits.regions (nsg/core/options.h).
+const options::Table<SplitOptions>& split_option_table();
 
 // A half-open window of cells [col0, col1) × [row0, row1).
 struct CellWindow {
