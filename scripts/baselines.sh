@@ -13,6 +13,7 @@ rows=("b1" "b2" "graph")
 for v in "${rows[@]}"; do
   run_model "$dir" "$v" --variant "$v"
 done
+if [ "${NSG_SKIP_NET:-0}" != 1 ]; then bash "$root/scripts/net_baseline.sh" "${1:-build}"; rows+=("net"); fi
 
 "$py" - "$dir" "${rows[@]}" <<'PY'
 import json, sys

@@ -7,5 +7,6 @@ namespace nsg::py_bind {
 void bind_dataset(pybind11::module_& m);
 void bind_metrics(pybind11::module_& m);
 void bind_graph(pybind11::module_& m);
+void bind_net(pybind11::module_& m);
 
 }  // namespace nsg::py_bind

@@ -14,5 +14,6 @@ PYBIND11_MODULE(_nsgraph, m) {
   nsg::py_bind::bind_dataset(m);
   nsg::py_bind::bind_metrics(m);
   nsg::py_bind::bind_graph(m);
+  nsg::py_bind::bind_net(m);
   m.attr("__version__") = nsg::kVersion;
 }

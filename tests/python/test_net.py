@@ -1,0 +1,113 @@
+"""LaneGraphNet smoke run on the e2e dataset: train a few steps (seeded: twice the same
+weights; a stopped run resumed gives them too) → export to ONNX → `nsgraph predict` through
+OpenCV dnn → the same graphs as the Python predictor → scored. Plus the PyTorch pair
+pooling against the C++ one the predictors use."""
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+import torch
+
+import fixtures
+import nsgraph
+from nsgraph import _nsgraph
+from nsgraph.models import labels, lanegraphnet, predict
+
+
+def run_module(module, *args):
+    r = subprocess.run([sys.executable, "-m", module, *map(str, args)], capture_output=True, text=True, timeout=240)
+    if r.returncode != 0:
+        raise AssertionError(f"python -m {module} exited {r.returncode}:\n{r.stdout}{r.stderr}")
+    return r
+
+
+TRAIN = ("--split", "train", "--epochs", "2", "--max-tiles", "4", "--batch-size", "2", "--threads", "1",
+         "--own-anchors-from", "0", "--quiet")
+
+
+def same_weights(a, b):
+    sa, sb = torch.load(a), torch.load(b)
+    return all(torch.equal(sa[part][k], sb[part][k]) for part in ("net", "head") for k in sa[part])
+
+
+class NetTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.root = fixtures.e2e_dataset("tar")
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.run_a = os.path.join(cls.tmp.name, "a")
+        run_module("nsgraph.models.train", "--dataset", cls.root, "--out", cls.run_a, *TRAIN)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_seeded_and_resumable(self):
+        run_b = os.path.join(self.tmp.name, "b")
+        r = run_module("nsgraph.models.train", "--dataset", self.root, "--out", run_b, *TRAIN[:-1], "--stop-after", "1")
+        self.assertIn("resume", r.stdout)
+        self.assertFalse(os.path.exists(os.path.join(run_b, "model.pt")))
+        run_module("nsgraph.models.train", "--dataset", self.root, "--out", run_b, *TRAIN, "--resume")
+        self.assertTrue(same_weights(os.path.join(self.run_a, "model.pt"), os.path.join(run_b, "model.pt")))
+
+    def test_pair_pooling_matches_cpp(self):
+        rng = np.random.default_rng(3)
+        feats = rng.normal(size=(lanegraphnet.PAIR_FEATURES, 32, 32)).astype(np.float32)
+        points = rng.uniform(-2.0, 129.0, size=(9, 2))
+        pairs = labels.candidate_pairs(points, 60.0)
+        self.assertGreater(len(pairs), 5)
+        cpp = _nsgraph.net_pair_inputs(feats, points, pairs)
+        py = lanegraphnet.pair_inputs(torch.from_numpy(feats), points, pairs,
+                                      _nsgraph.net_graph_options()["pair_radius_px"]).numpy()
+        np.testing.assert_allclose(py, cpp, atol=1e-5)
+
+    def test_labels(self):
+        ds = nsgraph.Dataset(self.root, "train")
+        g = max((ds[i]["graph"] for i in range(len(ds))), key=lambda g: len(g["edges"]))
+        heat, offset, mask = labels.anchor_targets(g["nodes_px"], 128)
+        self.assertEqual(heat.shape, (32, 32))
+        self.assertEqual(int(mask.sum()), len({tuple(np.floor((p + 0.5) / 4).astype(int)) for p in g["nodes_px"]
+                                               if (p > -0.5).all() and (p < 127.5).all()}))
+        d = labels.direction_targets(g, 128)
+        self.assertTrue((d < labels.BACKGROUND).any() and (d == labels.BACKGROUND).any())
+        # the ground-truth nodes themselves as anchors: every GT edge (≤ 10 px) is a connection
+        pairs = labels.candidate_pairs(g["nodes_px"], 30.0)
+        y = labels.connection_labels(g, g["nodes_px"], pairs)
+        self.assertGreater(y.sum(), 0)
+        self.assertLess(y.sum(), len(y))
+
+    def test_onnx_cpp_predict_equals_python(self):
+        # A model whose heads fire (after a few steps they barely do): anchor prior and pair
+        # bias raised, so the comparison runs on real graphs.
+        state = torch.load(os.path.join(self.run_a, "model.pt"))
+        state["net"]["anchor.1.bias"][0] += 1.5
+        state["head"]["mlp.4.bias"] += 4.0
+        model = os.path.join(self.tmp.name, "fired.pt")
+        torch.save(state, model)
+        onnx = os.path.join(self.tmp.name, "net.onnx")
+        run_module("nsgraph.models.export", "--model", model, "--out", onnx)
+        self.assertTrue(os.path.exists(os.path.join(self.tmp.name, "net.pairs.onnx")))
+        cpp_out = os.path.join(self.tmp.name, "cpp.json")
+        fixtures.run_nsgraph("predict", "--quiet", "--model", onnx, "--dataset", self.root, "--split", "test",
+                             "--out", cpp_out, "--threads", "1")
+        cpp = fixtures.read_json(cpp_out)["tiles"]
+        py = predict.predict_split(model, self.root, "test", threads=1)
+        self.assertEqual(sorted(cpp), sorted(py))
+        edges = 0
+        for key, g in py.items():
+            c = cpp[key]
+            self.assertEqual(len(c["nodes"]), len(g["nodes"]), key)
+            np.testing.assert_allclose(np.asarray(c["nodes"], float).reshape(-1, 2), g["nodes"], atol=1.01e-3,
+                                       err_msg=key)
+            self.assertEqual([list(e) for e in c["edges"]], g["edges"].tolist(), key)
+            edges += len(g["edges"])
+        self.assertGreater(edges, 10)
+        report = nsgraph.score(self.root, cpp_out, split="test")
+        self.assertEqual(report["aggregate"]["n_tiles"], len(cpp))
+
+
+if __name__ == "__main__":
+    unittest.main()
