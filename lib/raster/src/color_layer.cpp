@@ -176,32 +176,6 @@ ViewGeometry view_geometry(const Database& db, Index camera) {
   return g;
 }
 
-// The key-frame sweep an image's occlusion test reads, loaded once for the six cameras of
-// its sample: the points in the global frame without the ego's own roof returns (devkit
-// remove_close: not obstacles), and the sweep's column count (rings × columns points).
-struct OcclusionSweep {
-  std::vector<nuscenes::LidarPoint> points;
-  double columns = 1.0;
-};
-
-// Rings = the largest ring index + 1; a sweep without plausible ring indices counts as 32
-// beams (the nuScenes HDL-32E).
-double sweep_columns(const std::vector<nuscenes::LidarPoint>& sweep) {
-  float max_ring = 0.0f;
-  for (const nuscenes::LidarPoint& p : sweep) max_ring = std::max(max_ring, p.ring);
-  const double rings = max_ring >= 1.0f && max_ring < 128.0f ? std::floor(max_ring) + 1.0 : 32.0;
-  return std::max(1.0, static_cast<double>(sweep.size()) / rings);
-}
-
-OcclusionSweep load_occlusion_sweep(const Database& db, Index lidar) {
-  OcclusionSweep s;
-  nuscenes::read_lidar_points(db.file_path(db.sample_data[lidar]), s.points);
-  s.columns = sweep_columns(s.points);
-  std::erase_if(s.points, [](const nuscenes::LidarPoint& p) { return std::abs(p.x) < 1.0f && std::abs(p.y) < 1.0f; });
-  nuscenes::sensor_to_global(db, lidar, s.points);
-  return s;
-}
-
 // The occlusion test as a depth buffer looked up at the point's own pixel. Each LiDAR
 // return Q of the key frame casts a "shadow": the image rectangle it may hide, ± side_px
 // sideways, from the row where the line of sight passes height_m below Q down to window_px
@@ -220,9 +194,13 @@ class ShadowBuffer {
         height_px_m_(view.k(1, 1) * options.occlusion_height_m),
         depth_(static_cast<size_t>(cols_) * rows_, std::numeric_limits<float>::infinity()) {}
 
-  void add_sweep(const OcclusionSweep& sweep, const ViewGeometry& view) {
-    if (side_px_ == 0.0) side_px_ = column_spacing_px(sweep.columns, view);
-    for (const nuscenes::LidarPoint& p : sweep.points) {
+  void add_sweep(const Database& db, Index lidar, const ViewGeometry& view, std::vector<nuscenes::LidarPoint>& buf) {
+    nuscenes::read_lidar_points(db.file_path(db.sample_data[lidar]), buf);
+    if (side_px_ == 0.0) side_px_ = column_spacing_px(buf, view);
+    // The ego's own roof returns (devkit remove_close) are not obstacles.
+    std::erase_if(buf, [](const nuscenes::LidarPoint& p) { return std::abs(p.x) < 1.0f && std::abs(p.y) < 1.0f; });
+    nuscenes::sensor_to_global(db, lidar, buf);
+    for (const nuscenes::LidarPoint& p : buf) {
       double depth, u, v;
       if (!view.project(p.x, p.y, p.z, depth, u, v) || !(depth > 0.0)) continue;
       cast(u, v + height_px_m_ / depth, static_cast<float>(depth));
@@ -239,8 +217,13 @@ class ShadowBuffer {
   // The image width of one step between the sweep's columns (a spinning LiDAR returns
   // rings × columns points; 2π / columns in azimuth, f_x px per radian): a shadow as wide
   // closes the gaps between columns on an object, and no wider, so a raised kerb or a
-  // pole beside a point does not hide it.
-  static double column_spacing_px(double columns, const ViewGeometry& view) {
+  // pole beside a point does not hide it. Rings = the largest ring index + 1; a sweep
+  // without plausible ring indices counts as 32 beams (the nuScenes HDL-32E).
+  static double column_spacing_px(const std::vector<nuscenes::LidarPoint>& sweep, const ViewGeometry& view) {
+    float max_ring = 0.0f;
+    for (const nuscenes::LidarPoint& p : sweep) max_ring = std::max(max_ring, p.ring);
+    const double rings = max_ring >= 1.0f && max_ring < 128.0f ? std::floor(max_ring) + 1.0 : 32.0;
+    const double columns = std::max(1.0, static_cast<double>(sweep.size()) / rings);
     return std::min(512.0, view.k(0, 0) * 2.0 * std::numbers::pi / columns);
   }
 
@@ -309,12 +292,13 @@ int mask_scale_denom(const nuscenes::GrayImage& mask, const ViewGeometry& view) 
   return 0;
 }
 
-ImageResult process_image(const Database& db, const ImageJob& job, const OcclusionSweep* sweep,
-                          const TargetIndex& index, const std::vector<Best>& best, const CameraOptions& options) {
+ImageResult process_image(const Database& db, const ImageJob& job, const TargetIndex& index,
+                          const std::vector<Best>& best, const CameraOptions& options) {
   ImageResult out;
   const ViewGeometry view = view_geometry(db, job.camera);
   ShadowBuffer shadows(view, options);
-  if (sweep != nullptr) shadows.add_sweep(*sweep, view);
+  std::vector<nuscenes::LidarPoint> buf;
+  if (job.lidar != nuscenes::kNoIndex) shadows.add_sweep(db, job.lidar, view, buf);
 
   const double r = options.view_radius_m, r2 = r * r;
   const auto visit_block = [&](size_t begin, size_t end) {
@@ -401,22 +385,7 @@ ColorLayer colorize_scenes(const Database& db, const std::vector<Index>& scenes,
   for (size_t first = 0; first < jobs.size(); first += kChunkImages) {
     const size_t n = std::min(kChunkImages, jobs.size() - first);
     results.assign(n, {});
-    // The chunk's key-frame sweeps, each read and transformed once for all its cameras.
-    std::map<Index, size_t> sweep_of;
-    for (size_t k = 0; k < n; ++k)
-      if (jobs[first + k].lidar != nuscenes::kNoIndex) sweep_of.emplace(jobs[first + k].lidar, 0);
-    std::vector<Index> lidars;
-    for (auto& [lidar, slot] : sweep_of) {
-      slot = lidars.size();
-      lidars.push_back(lidar);
-    }
-    std::vector<OcclusionSweep> sweeps(lidars.size());
-    parallel_for(lidars.size(), threads, [&](size_t s) { sweeps[s] = load_occlusion_sweep(db, lidars[s]); });
-    parallel_for(n, threads, [&](size_t k) {
-      const ImageJob& job = jobs[first + k];
-      const OcclusionSweep* sweep = job.lidar == nuscenes::kNoIndex ? nullptr : &sweeps[sweep_of.at(job.lidar)];
-      results[k] = process_image(db, job, sweep, index, best, options);
-    });
+    parallel_for(n, threads, [&](size_t k) { results[k] = process_image(db, jobs[first + k], index, best, options); });
     // Apply in image order; a strictly closer view replaces, so ties keep the earlier
     // image and the result depends neither on the chunking nor on the thread count.
     for (const ImageResult& res : results) {
