@@ -146,6 +146,7 @@ if "$exe" generate --help >/dev/null 2>&1 && [ -f "$root/samples/synth/bench.jso
     --nsgraph "$exe" --nsgraph-summary "$out/generate-bench.json" --repeat 3 --out "$out/lidar_python.json" \
     | "$py" -c 'import json,sys; r=json.load(sys.stdin); print({k: r[k] for k in ("sweeps","wall_s","sweeps_per_s","covered_cells")}, "agree:", r["check"]["agree"])'
   ran=$((ran + 2))
+  bash "$root/bench/camera.sh" "$exe" "$out" "$release" "$root/$build/bench/raster/camera_floor" || failed+=("camera floor")
 
   # Reading the dataset from Python (issue 21): nsgraph.Dataset vs tarfile + PIL on one shard
   # of the dataset just generated, one core, arrays checked equal.

@@ -52,6 +52,10 @@ void add_segment_command(CLI::App& root, Context& ctx) {
   cmd->add_option("--channels", o->run.channels, "Camera channels (default: every camera)")->delimiter(',');
   cmd->add_option("--threads", o->run.threads, "Images in parallel, one model each (0 = all cores)")
       ->check(CLI::Range(0, 1024));
+  cmd->add_option("--mask-scale", o->run.mask_scale_denom,
+                  "Write masks at 1/N of the image's size (default 2: the scale generate samples at, "
+                  "camera.jpeg_scale_denom; 1 = full size)")
+      ->check(CLI::Range(1, 8));
   cmd->add_option("--shard-index", o->shard_index, "This process's share of the images (with --num-shards)");
   cmd->add_option("--num-shards", o->num_shards, "Number of processes sharing the images");
   cmd->add_option("--schemas", o->schemas, "Folder of the published schemas (default: found next to the binary)");

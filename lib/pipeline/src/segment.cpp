@@ -29,6 +29,7 @@ void SegmentOptions::validate() const {
   if (labels.empty()) throw ConfigError("", "--labels", "a labels file (samples/semantic-labels/*.json)");
   if (out.empty()) throw ConfigError("", "--out", "the mask folder to write");
   if (threads < 0) throw ConfigError("", "--threads", "0 (all cores) or more");
+  if (mask_scale_denom < 1 || mask_scale_denom > 8) throw ConfigError("", "--mask-scale", "an integer in 1..8");
   share.validate();
 }
 
@@ -58,13 +59,13 @@ std::vector<ImageItem> plan_items(const Database& db, const SegmentOptions& o) {
   return items;
 }
 
-// A mask a previous run finished: readable, the image's size, only our class ids or void.
-bool valid_mask(const fs::path& file, int width, int height) {
+// A mask a previous run finished: readable, the image's size at `denom`, only our class ids or void.
+bool valid_mask(const fs::path& file, int width, int height, int denom) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) return false;
   try {
     const nuscenes::GrayImage m = nuscenes::read_semantic_mask(file);
-    if (m.width != width || m.height != height) return false;
+    if (m.width != (width + denom - 1) / denom || m.height != (height + denom - 1) / denom) return false;
     const auto classes = static_cast<uint8_t>(segment::class_names().size());
     return std::all_of(m.pixels.begin(), m.pixels.end(), [&](uint8_t v) { return v < classes || v == segment::kVoid; });
   } catch (const Error&) {
@@ -73,7 +74,7 @@ bool valid_mask(const fs::path& file, int width, int height) {
 }
 
 void segment_image(const Database& db, const ImageItem& item, segment::SegmentationModel& model,
-                   nuscenes::JpegDecoder& decoder) {
+                   nuscenes::JpegDecoder& decoder, int mask_scale_denom) {
   const nuscenes::SampleData& sd = db.sample_data[item.sample_data];
   nuscenes::RgbImage image;
   decoder.decode_file(item.jpeg, nuscenes::JpegScale::kFull, image);
@@ -82,7 +83,7 @@ void segment_image(const Database& db, const ImageItem& item, segment::Segmentat
                     strprintf("an image of the sample_data's size %d×%d (got %d×%d)", sd.width, sd.height, image.width,
                               image.height));
   nuscenes::GrayImage mask;
-  model.segment(image, mask);
+  model.segment(image, mask, mask_scale_denom);
   const std::vector<uint8_t> png = segment::encode_mask_png(mask);
   write_file_atomic(item.mask, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
@@ -103,7 +104,7 @@ SegmentSummary segment_cameras(const SegmentOptions& o) {
     if (j % static_cast<size_t>(o.share.count) != static_cast<size_t>(o.share.index)) continue;
     ++summary.mine;
     const nuscenes::SampleData& sd = db.sample_data[items[j].sample_data];
-    if (valid_mask(items[j].mask, sd.width, sd.height)) {
+    if (valid_mask(items[j].mask, sd.width, sd.height, o.mask_scale_denom)) {
       ++summary.skipped;
       continue;
     }
@@ -126,7 +127,7 @@ SegmentSummary segment_cameras(const SegmentOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   try {
     parallel_for_lanes(todo.size(), o.threads, [&](size_t lane, size_t i) {
-      segment_image(db, *todo[i], models[lane], decoders[lane]);
+      segment_image(db, *todo[i], models[lane], decoders[lane], o.mask_scale_denom);
       progress.advance();
     });
   } catch (...) {

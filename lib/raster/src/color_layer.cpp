@@ -270,6 +270,16 @@ void sample_rgb(const nuscenes::RgbImage& img, int denom, Candidate& c) {
   }
 }
 
+// A mask may be stored at 1/n of its image's size (sides rounded up, as a scaled JPEG
+// decode gives): `segment` writes them at the scale the camera stage samples, so no pixel
+// is decoded for nothing. Returns n, or 0 when the mask's size is no such fraction.
+constexpr int kMaxMaskScaleDenom = 8;
+int mask_scale_denom(const nuscenes::GrayImage& mask, const ViewGeometry& view) {
+  for (int n = 1; n <= kMaxMaskScaleDenom; ++n)
+    if (mask.width == (view.width + n - 1) / n && mask.height == (view.height + n - 1) / n) return n;
+  return 0;
+}
+
 ImageResult process_image(const Database& db, const ImageJob& job, const TargetIndex& index,
                           const std::vector<Best>& best, const CameraOptions& options) {
   ImageResult out;
@@ -319,10 +329,18 @@ ImageResult process_image(const Database& db, const ImageJob& job, const TargetI
   }
   if (options.semantic_masks()) {
     const nuscenes::GrayImage mask = nuscenes::read_semantic_mask(job.mask);
-    if (mask.width != view.width || mask.height != view.height)
+    const int denom = mask_scale_denom(mask, view);
+    if (denom == 0)
       throw DataError(job.mask.string(), "", "a mask of the image's size " + std::to_string(view.width) + "×" +
-                                                 std::to_string(view.height));
-    for (Candidate& c : out.candidates) c.cls = mask.at(static_cast<int>(std::lround(c.u)), static_cast<int>(std::lround(c.v)));
+                                                 std::to_string(view.height) + " or of 1/n of it (n = 2…" +
+                                                 std::to_string(kMaxMaskScaleDenom) + ", sides rounded up; got " +
+                                                 std::to_string(mask.width) + "×" + std::to_string(mask.height) + ")");
+    // The class of the nearest full-size pixel, read from the mask pixel that covers it
+    // (mask pixel k covers full pixels [k·n, k·n + n − 1]); n = 1 is the full-size lookup.
+    for (Candidate& c : out.candidates) {
+      const int x = static_cast<int>(std::lround(c.u)) / denom, y = static_cast<int>(std::lround(c.v)) / denom;
+      c.cls = mask.at(std::min(x, mask.width - 1), std::min(y, mask.height - 1));
+    }
   }
   return out;
 }

@@ -91,7 +91,7 @@ SegmentationModel& SegmentationModel::operator=(SegmentationModel&&) noexcept = 
 int SegmentationModel::channels() const { return impl_->channels; }
 std::pair<int, int> SegmentationModel::output_size() const { return {impl_->out_w, impl_->out_h}; }
 
-void SegmentationModel::segment(const nuscenes::RgbImage& image, nuscenes::GrayImage& mask) {
+void SegmentationModel::segment(const nuscenes::RgbImage& image, nuscenes::GrayImage& mask, int scale_denom) {
   Impl& m = *impl_;
   const cv::Mat rgb(image.height, image.width, CV_8UC3, const_cast<uint8_t*>(image.pixels.data()));
   m.make_blob(rgb);
@@ -109,10 +109,11 @@ void SegmentationModel::segment(const nuscenes::RgbImage& image, nuscenes::GrayI
     }
     m.small.data[i] = m.class_of_channel[static_cast<size_t>(best)];
   }
-  mask.width = image.width;
-  mask.height = image.height;
-  mask.pixels.resize(static_cast<size_t>(image.width) * image.height);
-  cv::Mat full(image.height, image.width, CV_8U, mask.pixels.data());
+  if (scale_denom < 1) throw InternalError("", "segment", "a mask scale denominator >= 1");
+  mask.width = (image.width + scale_denom - 1) / scale_denom;
+  mask.height = (image.height + scale_denom - 1) / scale_denom;
+  mask.pixels.resize(static_cast<size_t>(mask.width) * mask.height);
+  cv::Mat full(mask.height, mask.width, CV_8U, mask.pixels.data());
   // Pixel-centre nearest neighbour (INTER_NEAREST has a half-pixel shift).
   cv::resize(m.small, full, full.size(), 0, 0, cv::INTER_NEAREST_EXACT);
 }

@@ -144,6 +144,7 @@ void CameraConfig::validate() const {
   require(height_px >= 16 && height_px <= 4096, "camera.height_px", "an integer in [16, 4096]");
   require(jpeg_quality >= 1 && jpeg_quality <= 100, "camera.jpeg_quality", "an integer in [1, 100]");
   require(label_noise_rate >= 0.0 && label_noise_rate <= 1.0, "camera.label_noise_rate", "a fraction in [0, 1]");
+  require(mask_scale_denom >= 1 && mask_scale_denom <= 8, "camera.mask_scale_denom", "an integer in [1, 8]");
 }
 
 void DetectionsConfig::validate() const {
@@ -246,6 +247,7 @@ SynthConfig SynthConfig::from_json_text(const std::string& text, const std::stri
     s.get("height_px", c.camera.height_px);
     s.get("jpeg_quality", c.camera.jpeg_quality);
     s.get("label_noise_rate", c.camera.label_noise_rate);
+    s.get("mask_scale_denom", c.camera.mask_scale_denom);
     s.finish();
   }
   if (const json* j = r.child("detections")) {
@@ -295,7 +297,7 @@ std::string SynthConfig::to_json() const {
                 {"range_noise_m", lidar.range_noise_m}, {"lidarseg", lidar.lidarseg}};
   j["camera"] = {{"rate_hz", camera.rate_hz}, {"channels", camera.channels}, {"width_px", camera.width_px},
                  {"height_px", camera.height_px}, {"jpeg_quality", camera.jpeg_quality},
-                 {"label_noise_rate", camera.label_noise_rate}};
+                 {"label_noise_rate", camera.label_noise_rate}, {"mask_scale_denom", camera.mask_scale_denom}};
   j["detections"] = {{"name", detections.name}, {"position_noise_m", detections.position_noise_m},
                      {"yaw_noise_rad", detections.yaw_noise_rad}, {"miss_rate", detections.miss_rate},
                      {"false_positives_per_sample", detections.false_positives_per_sample},

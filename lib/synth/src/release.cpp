@@ -485,8 +485,19 @@ class ReleaseWriter {
       const CameraImage img = render_camera(caster, global_from_sensor, intrinsic_for(sp, cfg_.camera), co, rng);
       put(f.filename, encode_jpeg(img, cfg_.camera.jpeg_quality));
       const std::string base = fs::path(f.filename).filename().replace_extension("").string();
-      put("semantic/" + f.channel + "/" + base + ".png", encode_png_gray8_from(img));
+      put("semantic/" + f.channel + "/" + base + ".png", encode_mask(img, cfg_.camera.mask_scale_denom));
     }
+  }
+
+  // The class mask at 1/n of the image's size: pixel k is the class at full pixel k·n.
+  static std::vector<uint8_t> encode_mask(const CameraImage& img, int n) {
+    if (n == 1) return encode_png_gray8_from(img);
+    const int w = (img.width_px + n - 1) / n, h = (img.height_px + n - 1) / n;
+    std::vector<uint8_t> small(static_cast<size_t>(w) * h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        small[static_cast<size_t>(y) * w + x] = img.classes[static_cast<size_t>(y) * n * img.width_px + x * n];
+    return encode_png_gray8(small.data(), w, h);
   }
 
   // ---- tables -----------------------------------------------------------------------------

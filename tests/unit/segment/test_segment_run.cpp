@@ -34,8 +34,9 @@ TEST(SegmentRun, WritesOneMaskPerKeyFrameImageWhereGenerateReadsIt) {
     ++images;
     const fs::path mask = masks / db.channel(sd) / (fs::path(sd.filename).stem().string() + ".png");
     const nuscenes::GrayImage m = nuscenes::read_semantic_mask(mask);
-    EXPECT_EQ(m.width, sd.width);
-    EXPECT_EQ(m.height, sd.height);
+    // At the scale generate samples at by default (1/2, sides rounded up).
+    EXPECT_EQ(m.width, (sd.width + 1) / 2);
+    EXPECT_EQ(m.height, (sd.height + 1) / 2);
   }
   EXPECT_EQ(images, 16u);
   EXPECT_EQ(count_files(masks), images);  // no temp files left behind
@@ -158,8 +159,8 @@ TEST(SegmentRun, RunsOnTheRealKeyFrame) {
     if (sd.modality != nuscenes::Modality::kCamera || !sd.is_key_frame) continue;
     const nuscenes::GrayImage m =
         nuscenes::read_semantic_mask(dir.path() / db.channel(sd) / (fs::path(sd.filename).stem().string() + ".png"));
-    EXPECT_EQ(m.width, 1600);
-    EXPECT_EQ(m.height, 900);
+    EXPECT_EQ(m.width, 800);  // 1/2 of 1600 × 900 by default
+    EXPECT_EQ(m.height, 450);
     ++masks;
   }
   EXPECT_EQ(masks, 6u);

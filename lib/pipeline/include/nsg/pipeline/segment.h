@@ -7,7 +7,7 @@
 //
 // Images are work items in sample_data order; a share (ShareSpec, as generate) does the
 // items j with j % count == index. A mask that exists and reads back as a valid mask of
-// the image's size is skipped, so a rerun resumes; masks are written to a temp name and
+// the image's size at mask_scale_denom is skipped, so a rerun resumes; masks are written to a temp name and
 // renamed. The bytes of a mask depend only on the image, the model and the labels file:
 // not on --threads (one image per thread, OpenCV itself single-threaded) nor on shares.
 #include <cstddef>
@@ -29,6 +29,10 @@ struct SegmentOptions {
   std::filesystem::path schemas_dir;  // empty = validate::find_schemas_dir()
   ShareSpec share;
   int threads = 0;  // 0 = all cores
+  // Masks are written at 1/n of the image's size (sides rounded up): by default the scale
+  // generate samples at (camera.jpeg_scale_denom 2), so its decode reads no pixel for
+  // nothing; 1 = full size. generate reads any n (raster/color_layer.h).
+  int mask_scale_denom = 2;
   bool progress = true;
   void validate() const;  // ConfigError naming the option
 };

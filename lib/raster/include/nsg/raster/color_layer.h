@@ -3,7 +3,8 @@
 // location is coloured from the key-frame camera images near it. A view is usable when the
 // point projects inside the image (devkit bounds 1 < u < W−1, 1 < v < H−1) with depth >
 // min_depth_m and no LiDAR return of that key frame hides it; the closest usable view
-// wins, RGB bilinear from the (scaled-decoded) JPEG, class nearest from the full-size mask.
+// wins, RGB bilinear from the (scaled-decoded) JPEG, class of the nearest full-size pixel
+// from the mask (stored full size or at 1/n of it: the mask pixel covering that pixel).
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -43,7 +44,8 @@ struct CameraOptions {
   bool rgb = true;
   bool semantic = true;
   SemanticSource semantic_source = SemanticSource::kMasks;
-  std::filesystem::path semantic_root;  // empty = <dataroot>/semantic; masks at <root>/<CHANNEL>/<basename>.png
+  std::filesystem::path semantic_root;  // empty = <dataroot>/semantic; masks at <root>/<CHANNEL>/<basename>.png,
+                                        // the image's size or 1/n of it (n ≤ 8, sides rounded up)
   // lidarseg label → our class (a labels file, schemas/v1/segment-labels.schema.json);
   // empty = the built-in copy of samples/semantic-labels/nuscenes-lidarseg.json.
   std::filesystem::path lidarseg_labels;

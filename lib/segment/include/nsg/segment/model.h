@@ -28,8 +28,9 @@ class SegmentationModel {
 
   int channels() const;                       // C
   std::pair<int, int> output_size() const;    // (w, h) of the output
-  // The class-id mask of `image` (interleaved RGB), same size as the image.
-  void segment(const nuscenes::RgbImage& image, nuscenes::GrayImage& mask);
+  // The class-id mask of `image` (interleaved RGB) at 1/scale_denom of its size (sides
+  // rounded up; 1 = the image's size), nearest from the model's output.
+  void segment(const nuscenes::RgbImage& image, nuscenes::GrayImage& mask, int scale_denom = 1);
 
  private:
   struct Impl;

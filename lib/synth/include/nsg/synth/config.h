@@ -63,6 +63,9 @@ struct CameraConfig {
   int height_px = 900;
   int jpeg_quality = 80;
   double label_noise_rate = 0.0;
+  // Class masks at 1/n of the image's size (sides rounded up; pixel k = the class at full
+  // pixel k·n): 2 is what `segment` writes by default and what generate samples at.
+  int mask_scale_denom = 1;
   void validate() const;
 };
 

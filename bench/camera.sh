@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# The camera and LiDAR stages against the floor of their inputs, in the same run:
+#   bench/camera.sh NSGRAPH OUT_DIR RELEASE CAMERA_FLOOR
+# Each round runs, in turn, camera_floor (decode only: key-frame JPEGs at the stage's scale
+# with libturbojpeg, their masks as stored with libpng, the .pcd.bin sweeps read from the page
+# cache) and `generate --threads 1` on RELEASE with and without semantics; each ratio is taken
+# within a round (so a machine that slows down between rounds moves both sides), and the
+# median over the rounds is reported in OUT_DIR/camera.json and camera.txt.
+# Targets (exit 1 when one is missed; BENCH_REPORT_ONLY=1 only reports):
+#   RGB only:        camera stage ≥ 0.75 × the JPEG decode-only rate
+#   RGB + semantics: camera stage ≥ 250 images/s per core
+#   LiDAR:           LiDAR stage ≥ 0.50 × the page-cache read rate of the same sweeps
+#   NSG_BENCH_CAMERA_ROUNDS  rounds (default 3)
+set -euo pipefail
+exe=$1 out=$2 release=$3 floor=$4
+py=/usr/bin/python3
+rounds=${NSG_BENCH_CAMERA_ROUNDS:-3}
+version=$(basename "$(ls -d "$release"/v1.0-* | head -1)")
+work="$out/camera"
+rm -rf "$work"
+mkdir -p "$work"
+scale=2  # camera.jpeg_scale_denom of the default config: the scale the stage decodes at
+
+printf '\n== camera and LiDAR stages vs decoding their inputs alone (%s rounds, one core)\n' "$rounds"
+for i in $(seq "$rounds"); do
+  "$floor" "$release" "$scale" 3 >"$work/floor-$i.json"
+  for mode in rgb sem; do
+    flags=()
+    [ "$mode" = rgb ] && flags=(--no-semantic)
+    rm -rf "$work/generate"
+    "$exe" generate --dataroot "$release" --version "$version" --out "$work/generate" --threads 1 \
+      --set crops.min_lidar_coverage=0.2 "${flags[@]}" 2>&1 | grep -v '^tiles ' >"$work/generate-$mode-$i.txt"
+  done
+done
+rm -rf "$work/generate"
+
+"$py" - "$work" "$rounds" "$out/camera.json" <<'PY' | tee "$out/camera.txt"
+import json, os, re, statistics, sys
+work, rounds, out = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+
+def summary(path):
+  text = open(path).read()
+  m = re.search(r"(\d+) sweeps, (\d+) images; [\d.]+ s \(load [\d.]+, graph [\d.]+, lidar ([\d.]+), plan [\d.]+, "
+                r"camera ([\d.]+)", text)
+  if not m:
+    sys.exit(f"bench camera: {path}: no generate summary line")
+  sweeps, images, lidar_s, camera_s = map(float, m.groups())
+  return {"sweeps_per_s": sweeps / max(lidar_s, 1e-9), "images_per_s": images / max(camera_s, 1e-9),
+          "images": images, "camera_s": camera_s, "lidar_s": lidar_s}
+
+per_round = []
+for i in range(1, rounds + 1):
+  floor = json.load(open(os.path.join(work, f"floor-{i}.json")))
+  rgb = summary(os.path.join(work, f"generate-rgb-{i}.txt"))
+  sem = summary(os.path.join(work, f"generate-sem-{i}.txt"))
+  per_round.append({
+      "floor": floor, "rgb": rgb, "sem": sem,
+      "rgb_ratio": rgb["images_per_s"] / floor["jpeg_per_s"],
+      "sem_ratio": sem["images_per_s"] / floor["images_per_s"] if floor["images_per_s"] else None,
+      "lidar_ratio": statistics.median([rgb["sweeps_per_s"], sem["sweeps_per_s"]]) / floor["sweeps_per_s"],
+  })
+med = lambda key, f=lambda r, k: r[k]: statistics.median(f(r, key) for r in per_round)
+result = {
+    "rounds": per_round,
+    "jpeg_decode_per_s": med("jpeg_per_s", lambda r, k: r["floor"][k]),
+    "jpeg_mask_decode_per_s": med("images_per_s", lambda r, k: r["floor"][k]),
+    "jpeg_ms": med("jpeg_ms", lambda r, k: r["floor"][k]),
+    "mask_ms": med("mask_ms", lambda r, k: r["floor"][k]),
+    "mask_width_px": per_round[0]["floor"]["mask_width_px"],
+    "sweep_read_per_s": med("sweeps_per_s", lambda r, k: r["floor"][k]),
+    "camera_rgb_per_s": med("images_per_s", lambda r, k: r["rgb"][k]),
+    "camera_sem_per_s": med("images_per_s", lambda r, k: r["sem"][k]),
+    "lidar_sweeps_per_s": med("sweeps_per_s", lambda r, k: r["rgb"][k]),
+    "rgb_ratio": med("rgb_ratio"),
+    "sem_ratio": med("sem_ratio") if all(r["sem_ratio"] for r in per_round) else None,
+    "lidar_ratio": med("lidar_ratio"),
+}
+targets = [("RGB only: camera stage / JPEG decode", result["rgb_ratio"], 0.75, ""),
+           ("RGB + semantics: camera stage images/s", result["camera_sem_per_s"], 250.0, ""),
+           ("LiDAR: stage / page-cache read", result["lidar_ratio"], 0.50, "")]
+result["pass"] = {name: value >= target for name, value, target, _ in targets}
+json.dump(result, open(out, "w"), indent=1)
+r = result
+print(f"decode only:  JPEG 1/2 {r['jpeg_ms']:.2f} ms ({r['jpeg_decode_per_s']:.0f}/s), mask {r['mask_ms']:.2f} ms "
+      f"({r['mask_width_px']} px wide), JPEG + mask {r['jpeg_mask_decode_per_s']:.0f} images/s; "
+      f"sweeps read {r['sweep_read_per_s']:.0f}/s")
+print(f"camera stage: RGB only {r['camera_rgb_per_s']:.0f} images/s = {r['rgb_ratio']:.2f} of decode; "
+      f"RGB + semantics {r['camera_sem_per_s']:.0f} images/s = "
+      + (f"{r['sem_ratio']:.2f} of decode" if r["sem_ratio"] else "no masks"))
+print(f"LiDAR stage:  {r['lidar_sweeps_per_s']:.0f} sweeps/s = {r['lidar_ratio']:.2f} of the page-cache read rate")
+for name, value, target, _ in targets:
+  print(f"{'PASS' if value >= target else 'FAIL'} {name}: {value:.2f} (target ≥ {target:g})")
+PY
+if [ "${BENCH_REPORT_ONLY:-}" != 1 ] && grep -q '^FAIL ' "$out/camera.txt"; then
+  exit 1
+fi

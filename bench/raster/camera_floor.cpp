@@ -1,0 +1,121 @@
+// The floor under generate's camera and LiDAR stages: the same files, read and decoded
+// and nothing else, one core. bench/camera.sh divides each stage's rate by these.
+//   camera_floor DATAROOT [SCALE_DENOM [PASSES]]
+// Key-frame images are DATAROOT/samples/CAM_*/*.jpg (decoded with libturbojpeg at 1/SCALE,
+// as the stage does), their masks DATAROOT/semantic/CAM_*/<basename>.png decoded as stored
+// (libpng), sweeps DATAROOT/{samples,sweeps}/LIDAR_TOP/*.pcd.bin read whole from the page
+// cache. One untimed pass warms the cache; the printed figure is the median of PASSES.
+// Prints one JSON object: jpeg_per_s, mask_per_s, images_per_s (JPEG + mask), sweeps_per_s,
+// sweep_mb_per_s and the counts.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "nsg/core/error.h"
+#include "nsg/core/files.h"
+#include "nsg/nuscenes/camera.h"
+#include "nsg/nuscenes/semantic_mask.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Files under root/<dir matching prefix>/ ending in suffix, sorted (a fixed order).
+std::vector<fs::path> list_files(const fs::path& root, const std::string& prefix, const std::string& suffix) {
+  std::vector<fs::path> out;
+  if (!fs::is_directory(root)) return out;
+  for (const auto& dir : fs::directory_iterator(root)) {
+    if (!dir.is_directory() || dir.path().filename().string().rfind(prefix, 0) != 0) continue;
+    for (const auto& f : fs::directory_iterator(dir.path())) {
+      const std::string name = f.path().filename().string();
+      if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+        out.push_back(f.path());
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Median seconds of `passes` timed runs of `work`, after one untimed run.
+double median_seconds(int passes, const std::function<void()>& work) {
+  work();
+  std::vector<double> s;
+  for (int i = 0; i < passes; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    work();
+    s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  std::sort(s.begin(), s.end());
+  return s[s.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: camera_floor DATAROOT [SCALE_DENOM [PASSES]]\n");
+    return 2;
+  }
+  const fs::path root = argv[1];
+  const int denom = argc > 2 ? std::atoi(argv[2]) : 2;
+  const int passes = argc > 3 ? std::max(1, std::atoi(argv[3])) : 3;
+  if (denom != 1 && denom != 2 && denom != 4) {
+    std::fprintf(stderr, "camera_floor: SCALE_DENOM: expected 1, 2 or 4 (got %s)\n", argv[2]);
+    return 2;
+  }
+  try {
+    const std::vector<fs::path> jpegs = list_files(root / "samples", "CAM_", ".jpg");
+    std::vector<fs::path> masks;
+    for (const fs::path& j : jpegs) {
+      const fs::path m = root / "semantic" / j.parent_path().filename() / (j.stem().string() + ".png");
+      if (fs::exists(m)) masks.push_back(m);
+    }
+    std::vector<fs::path> sweeps = list_files(root / "samples", "LIDAR_TOP", ".pcd.bin");
+    const std::vector<fs::path> more = list_files(root / "sweeps", "LIDAR_TOP", ".pcd.bin");
+    sweeps.insert(sweeps.end(), more.begin(), more.end());
+    if (jpegs.empty()) throw nsg::IoError((root / "samples").string(), "", "key-frame images in samples/CAM_*/");
+
+    nsg::nuscenes::JpegDecoder decoder;
+    nsg::nuscenes::RgbImage img;
+    size_t sink = 0;
+    const double jpeg_s = median_seconds(passes, [&] {
+      for (const fs::path& f : jpegs) {
+        decoder.decode_file(f, static_cast<nsg::nuscenes::JpegScale>(denom), img);
+        sink += img.pixels[0];
+      }
+    });
+    int mask_w = 0;
+    const double mask_s = masks.empty() ? 0.0 : median_seconds(passes, [&] {
+      for (const fs::path& f : masks) {
+        const nsg::nuscenes::GrayImage m = nsg::nuscenes::read_semantic_mask(f);
+        mask_w = m.width;
+        sink += m.pixels[0];
+      }
+    });
+    size_t sweep_bytes = 0;
+    const double sweep_s = sweeps.empty() ? 0.0 : median_seconds(passes, [&] {
+      sweep_bytes = 0;
+      for (const fs::path& f : sweeps) sweep_bytes += nsg::read_file(f).size();
+    });
+    const double n = static_cast<double>(jpegs.size());
+    std::printf(
+        "{\"images\": %zu, \"masks\": %zu, \"mask_width_px\": %d, \"sweeps\": %zu, \"scale_denom\": %d, \"passes\": %d,\n"
+        " \"jpeg_ms\": %.3f, \"mask_ms\": %.3f, \"jpeg_per_s\": %.1f, \"mask_per_s\": %.1f,\n"
+        " \"images_per_s\": %.1f, \"sweeps_per_s\": %.1f, \"sweep_mb_per_s\": %.1f, \"sink\": %zu}\n",
+        jpegs.size(), masks.size(), mask_w, sweeps.size(), denom, passes, 1e3 * jpeg_s / n,
+        masks.empty() ? 0.0 : 1e3 * mask_s / static_cast<double>(masks.size()), n / jpeg_s,
+        masks.empty() ? 0.0 : static_cast<double>(masks.size()) / mask_s,
+        masks.size() == jpegs.size() ? n / (jpeg_s + mask_s) : 0.0,
+        sweeps.empty() ? 0.0 : static_cast<double>(sweeps.size()) / sweep_s,
+        sweeps.empty() ? 0.0 : static_cast<double>(sweep_bytes) / 1e6 / sweep_s, sink % 2);
+  } catch (const nsg::Error& e) {
+    std::fprintf(stderr, "camera_floor: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
