@@ -326,7 +326,7 @@
       svg.append(g);
       main.append(el('h2', { text: loc.name + ' — ' + idx.length + ' tile(s)' }), svg);
       const z = zoomable(svg, box, (upp) => {
-        g.querySelectorAll('rect.tile').forEach((r) => r.setAttribute('stroke-width', upp));
+        tiles.setAttribute('stroke-width', upp);  // inherited by every footprint
         g.querySelectorAll('rect.region').forEach((r) => r.setAttribute('stroke-width', 3 * upp));
         g.querySelectorAll('rect.buffer').forEach((r) => { r.setAttribute('stroke-width', 1.5 * upp); r.setAttribute('stroke-dasharray', 6 * upp + ' ' + 4 * upp); });
         g.querySelectorAll('text.label').forEach((t) => { t.setAttribute('font-size', 12 * upp); t.setAttribute('dy', 14 * upp); t.setAttribute('dx', 4 * upp); });
@@ -480,6 +480,9 @@
     window.addEventListener('hashchange', render);
     render();
     S.marks.firstRender = performance.now() - S.t0;
+    // Milliseconds since navigation, readable from a DOM dump without the self-test.
+    document.documentElement.dataset.firstRenderMs = Math.round(performance.now());
+    needTiles().then(() => { document.documentElement.dataset.tilesLoadedMs = Math.round(performance.now()); });
     if (params().selftest) selftest(params().selftest);
   }
 

@@ -54,7 +54,7 @@ std::vector<std::string> table_columns(bool submission, bool baseline);
 // data/summary.js's document: mode, summary table, locations with regions and buffers,
 // legends, the main metrics.
 nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::string& split,
-                                        const ReportOptions& options, const metrics::ScoreReport* scores,
+                                        const metrics::ScoreReport* scores,
                                         const metrics::ScoreReport* baseline);
 // data/tiles.js's document: columns of the per-tile table.
 nlohmann::ordered_json tiles_document(const std::vector<TileRow>& rows, const std::vector<std::string>& columns);

@@ -119,7 +119,7 @@ ReportResult write_report(const fs::path& dataset_root, const fs::path& out, con
   NSG_CHECK(!pass.rows.empty(), DataError, (dataset_root / "manifest.json").string(),
             split.empty() ? "shards" : split, "at least one tile to report");
 
-  nlohmann::ordered_json summary = detail::summary_document(dataset, split, options, scored ? &sub.report : nullptr,
+  nlohmann::ordered_json summary = detail::summary_document(dataset, split, scored ? &sub.report : nullptr,
                                                             with_baseline ? &base.report : nullptr);
   const nlohmann::ordered_json overviews =
       detail::write_overviews(dataset, split, pass.rows, tmp.path, options.overview_max_px);

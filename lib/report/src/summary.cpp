@@ -145,7 +145,7 @@ std::string data_script(const std::string& name, const std::string& json_text) {
 }
 
 nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::string& split,
-                                        const ReportOptions& options, const metrics::ScoreReport* scores,
+                                        const metrics::ScoreReport* scores,
                                         const metrics::ScoreReport* baseline) {
   const std::string manifest = (dataset.root() / "manifest.json").string();
   nlohmann::ordered_json doc;
@@ -186,7 +186,6 @@ nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::s
                          {"buffer_m", buffer_m}});
   }
   doc["locations"] = std::move(locations);
-  (void)options;
   return doc;
 }
 
