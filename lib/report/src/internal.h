@@ -70,7 +70,7 @@ struct Asset {
 };
 const std::vector<Asset>& assets();
 
-// `NSG.receive("<name>", <json>);` — how the page loads data from file://.
+// `NSG.receive("<name>", JSON.parse('<json>'));` — how the page loads data from file://.
 std::string data_script(const std::string& name, const std::string& json_text);
 // A value rounded to 6 decimals for the page (null when undefined).
 nlohmann::json rounded(const std::optional<double>& v);

