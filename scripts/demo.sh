@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # `make demo`: the main job on the bundled synthetic sample, as far as the pipeline exists:
-# synth → generate → validate → preview → train → predict → score. Stages whose command is
+# synth → generate → validate → preview → train → predict → score → report. Stages whose command is
 # not in this build are listed as "next" instead of failing the demo.
 set -euo pipefail
 build=${1:-build}
@@ -115,6 +115,15 @@ if have score && [ -f "$out/submission.json" ]; then
     --out "$out/score.json"
 else
   next+=("score")
+fi
+
+step "report: the scored submission as HTML (open $out/report/index.html; no network needed)"
+if have report && [ -f "$out/submission.json" ]; then
+  /usr/bin/time -f 'report: %e s wall, %M KiB peak RSS' \
+    "$exe" report --dataset "$out/dataset" --submission "$out/submission.json" --out "$out/report"
+  du -sh "$out/report" | sed 's/^/report size: /'
+else
+  next+=("report")
 fi
 
 if [ ${#next[@]} -gt 0 ]; then

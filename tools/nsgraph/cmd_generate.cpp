@@ -1,4 +1,4 @@
-// `nsgraph generate` and `nsgraph merge`: a release in, NuScenesGraph out.
+// `nsgraph generate`: a release in, NuScenesGraph out (`merge` joins a distributed run's shares).
 #include <chrono>
 #include <iostream>
 #include <optional>
@@ -12,7 +12,6 @@
 #include "nsg/core/strings.h"
 #include "nsg/pipeline/config.h"
 #include "nsg/pipeline/generate.h"
-#include "nsg/pipeline/stats.h"
 
 namespace nsg::cli {
 namespace {
@@ -93,40 +92,6 @@ void add_generate_command(CLI::App& root, Context& ctx) {
   cmd->add_flag("--allow-empty", o->allow_empty,
                 "Write the dataset even when no crop passes the filters (else: exit 1 naming the filters)");
   cmd->callback([o, &ctx] { ctx.run = [o, &ctx] { return run_generate(*o, ctx); }; });
-}
-
-void add_merge_command(CLI::App& root, Context& ctx) {
-  auto out = std::make_shared<std::string>();
-  CLI::App* cmd = root.add_subcommand("merge", "Check the shares of a distributed generate run and write manifest.json");
-  cmd->add_option("--out", *out, "The dataset folder all shares wrote to")->required();
-  cmd->callback([out, &ctx] {
-    ctx.run = [out] {
-      pipeline::merge(*out);
-      log::info("merge: " + *out + "/manifest.json written");
-      return kExitOk;
-    };
-  });
-}
-
-void add_stats_command(CLI::App& root, Context& ctx) {
-  struct StatsOptions {
-    std::string dataset;
-    bool json = false;
-  };
-  auto o = std::make_shared<StatsOptions>();
-  CLI::App* cmd = root.add_subcommand("stats", "A dataset's key figures per split (the paper's Table I fields)");
-  cmd->add_option("dataset", o->dataset, "Dataset folder (holds manifest.json)")->required();
-  cmd->add_flag("--json", o->json, "JSON instead of a text table");
-  cmd->callback([o, &ctx] {
-    ctx.run = [o] {
-      const pipeline::DatasetStats stats = pipeline::compute_stats(o->dataset);
-      if (o->json)
-        std::cout << pipeline::stats_json(stats).dump(2) << "\n";
-      else
-        std::cout << pipeline::stats_text(stats);
-      return kExitOk;
-    };
-  });
 }
 
 }  // namespace nsg::cli

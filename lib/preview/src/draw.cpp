@@ -79,14 +79,14 @@ Rgb heading_color(double heading) {
   }
 }
 
-std::vector<uint8_t> encode_png(const Image& image) {
+std::vector<uint8_t> encode_png(const Image& image, int compression_level) {
   NSG_CHECK(image.width > 0 && image.height > 0 && image.rgb.size() == static_cast<size_t>(image.width) * image.height * 3,
             DataError, "", "image", "a non-empty RGB buffer");
   const cv::Mat rgb(image.height, image.width, CV_8UC3, const_cast<uint8_t*>(image.rgb.data()));
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
   std::vector<uint8_t> bytes;
-  NSG_CHECK(cv::imencode(".png", bgr, bytes, {cv::IMWRITE_PNG_COMPRESSION, 6}), InternalError, "", "png",
+  NSG_CHECK(cv::imencode(".png", bgr, bytes, {cv::IMWRITE_PNG_COMPRESSION, std::clamp(compression_level, 0, 9)}), InternalError, "", "png",
             "OpenCV to encode the image");
   return bytes;
 }

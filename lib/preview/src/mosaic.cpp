@@ -100,6 +100,22 @@ cv::Mat layer_mat(const io::DatasetTile& tile, int layer, int size_px) {
   return m;
 }
 
+// Coverage bit flags (1 LiDAR, 2 RGB, 4 semantics) as colour channels; 0 = no data.
+cv::Mat coverage_mat(const io::DatasetTile& tile, int size_px) {
+  cv::Mat m(size_px, size_px, CV_8UC3, detail::scalar(kNoData));
+  if (!tile.has("coverage.tif")) return m;
+  const io::Raster cov = layer_raster(tile, "coverage.tif", 1, io::SampleType::kUInt8);
+  NSG_CHECK(cov.width == size_px && cov.height == size_px, ParseError, tile.key + ".coverage.tif", "size",
+            strprintf("%d x %d like the LiDAR layer", size_px, size_px));
+  for (int i = 0; i < size_px * size_px; ++i) {
+    const uint8_t f = cov.data[i];
+    if (f == 0) continue;
+    m.at<cv::Vec3b>(i / size_px, i % size_px) =
+        cv::Vec3b(f & 1 ? 230 : 40, f & 2 ? 230 : 40, f & 4 ? 230 : 40);
+  }
+  return m;
+}
+
 std::string show(const std::optional<double>& v) { return v ? strprintf("%.3f", *v) : std::string("n/a"); }
 
 std::vector<std::string> caption_of(const CardInput& in, const nlohmann::json& meta, const metrics::Graph& gt) {
@@ -154,6 +170,22 @@ void draw_card(cv::Mat& canvas, const CardInput& in, Card& card) {
 }  // namespace
 
 void MosaicOptions::validate() const { MosaicOptionsCheck(*this); }
+
+Image render_tile_layer(const io::DatasetTile& tile, const std::string& layer) {
+  const int size_px = tile.raster("lidar.tif").width;
+  NSG_CHECK(size_px > 0, ParseError, tile.key + ".lidar.tif", "size", "a positive width");
+  cv::Mat m;
+  if (layer == "lidar") m = layer_mat(tile, kLidar, size_px);
+  else if (layer == "rgb") m = layer_mat(tile, kRgb, size_px);
+  else if (layer == "semantic") m = layer_mat(tile, kSemantic, size_px);
+  else if (layer == "vehicle") m = layer_mat(tile, kVehicle, size_px);
+  else if (layer == "coverage") m = coverage_mat(tile, size_px);
+  else throw ConfigError("", "layer", "lidar, rgb, semantic, vehicle or coverage, got '" + layer + "'");
+  Image image = detail::blank_image(size_px, size_px, kNoData);
+  m.copyTo(detail::wrap(image));
+  return image;
+}
+
 
 Mosaic render_mosaic(const std::string& name, const std::vector<CardInput>& inputs, const MosaicOptions& options) {
   options.validate();

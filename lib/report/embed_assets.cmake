@@ -1,0 +1,21 @@
+# Writes OUTPUT: a C++ source holding the files ASSETS (names relative to ASSET_DIR) as
+# byte arrays, so the installed nsgraph carries the report's page without data files.
+# Run by the build (cmake -P) whenever an asset changes. ASSETS is comma-separated.
+string(REPLACE "," ";" ASSETS "${ASSETS}")
+set(body "// Generated from lib/report/assets by embed_assets.cmake; do not edit.\n#include \"internal.h\"\n\nnamespace nsg::report::detail {\nnamespace {\n")
+set(table "")
+set(i 0)
+foreach(name IN LISTS ASSETS)
+  file(READ "${ASSET_DIR}/${name}" hex HEX)
+  string(LENGTH "${hex}" hex_len)
+  math(EXPR n "${hex_len} / 2")
+  string(REGEX REPLACE "([0-9a-f][0-9a-f])" "0x\\1," bytes "${hex}")
+  string(REGEX REPLACE "(0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,)" "\\1\n" bytes "${bytes}")
+  string(APPEND body "const unsigned char kAsset${i}[] = {\n${bytes}0};\n")
+  string(APPEND table "      {\"${name}\", std::string_view(reinterpret_cast<const char*>(kAsset${i}), ${n})},\n")
+  math(EXPR i "${i} + 1")
+endforeach()
+string(APPEND body "}  // namespace\n\nconst std::vector<Asset>& assets() {\n  static const std::vector<Asset> list = {\n${table}  };\n  return list;\n}\n\n}  // namespace nsg::report::detail\n")
+file(WRITE "${OUTPUT}.tmp" "${body}")
+file(COPY_FILE "${OUTPUT}.tmp" "${OUTPUT}" ONLY_IF_DIFFERENT)
+file(REMOVE "${OUTPUT}.tmp")

@@ -1,0 +1,78 @@
+#pragma once
+// Pieces of the report builder (private to lib/report).
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "nsg/core/issues.h"
+#include "nsg/io/dataset.h"
+#include "nsg/metrics/graph.h"
+#include "nsg/metrics/score.h"
+#include "nsg/report/report.h"
+
+namespace nsg::report::detail {
+
+// --- scoring.cpp: what `nsgraph score` does, in one call (so it can be swapped for a
+// library entry point without touching the report).
+struct ScoredSubmission {
+  Issues issues;               // non-empty: the submission was refused, nothing scored
+  metrics::GraphSet graphs;    // the submission's tiles
+  metrics::ScoreReport report;
+};
+ScoredSubmission score_submission(const std::filesystem::path& dataset, const std::string& split,
+                                  const std::filesystem::path& submission, const std::filesystem::path& schemas,
+                                  int threads);
+
+// --- tile_pages.cpp: one pass over the tiles of the report.
+struct TileInputs {
+  const metrics::GraphSet* prediction = nullptr;  // null = dataset report
+  const metrics::ScoreReport* scores = nullptr;
+  const metrics::ScoreReport* baseline = nullptr;
+};
+struct TileRow {
+  std::string key, location, split;
+  std::vector<double> bounds_m;           // x_west, y_south, x_east, y_north
+  std::map<std::string, std::optional<double>> values;  // the per-tile table's columns
+};
+struct TilePass {
+  std::vector<TileRow> rows;  // manifest order
+  int64_t images = 0;
+};
+// Writes img/<key>.<layer>.png and data/tile/<key>.js under `dir` for every tile of
+// `split` ("" = all); returns the table rows.
+TilePass write_tile_pages(const io::Dataset& dataset, const std::string& split, const TileInputs& inputs,
+                          const std::filesystem::path& dir, int threads);
+// The per-tile table's columns in display order (metrics first, then diagnostics).
+std::vector<std::string> table_columns(bool submission, bool baseline);
+
+// --- summary.cpp
+// data/summary.js's document: mode, summary table, locations with regions and buffers,
+// legends, the main metrics.
+nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::string& split,
+                                        const metrics::ScoreReport* scores,
+                                        const metrics::ScoreReport* baseline);
+// data/tiles.js's document: columns of the per-tile table.
+nlohmann::ordered_json tiles_document(const std::vector<TileRow>& rows, const std::vector<std::string>& columns);
+// Writes img/overview-<location>.png per location with tiles; returns {location: georef}.
+nlohmann::ordered_json write_overviews(const io::Dataset& dataset, const std::string& split,
+                                       const std::vector<TileRow>& rows, const std::filesystem::path& dir,
+                                       int max_px);
+
+// --- assets (generated from lib/report/assets at build time)
+struct Asset {
+  const char* name;
+  std::string_view bytes;
+};
+const std::vector<Asset>& assets();
+
+// `NSG.receive("<name>", JSON.parse('<json>'));` — how the page loads data from file://.
+std::string data_script(const std::string& name, const std::string& json_text);
+// A value rounded to 6 decimals for the page (null when undefined).
+nlohmann::json rounded(const std::optional<double>& v);
+
+}  // namespace nsg::report::detail

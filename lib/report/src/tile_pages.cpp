@@ -1,0 +1,223 @@
+// The tiles of a report: five layer PNGs and one data file per tile, and the rows of the
+// per-tile table. Shards are read one at a time; the tiles of a shard are rendered in
+// parallel, each into its own files, so the output does not depend on the thread count.
+#include <cmath>
+#include <fstream>
+
+#include "internal.h"
+#include "nsg/core/error.h"
+#include "nsg/core/parallel.h"
+#include "nsg/core/strings.h"
+#include "nsg/metrics/edge_marks.h"
+#include "nsg/metrics/io.h"
+#include "nsg/preview/preview.h"
+
+namespace nsg::report::detail {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Plain write: the whole report folder is renamed into place at the end.
+void write_bytes(const fs::path& path, const void* data, size_t size) {
+  std::ofstream f(path, std::ios::binary);
+  f.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
+  f.close();
+  NSG_CHECK(f.good(), IoError, path.string(), "", "a writable file (disk full?)");
+}
+
+// zlib level of the layer PNGs: most of the report's time is their compression; level 1
+// is about 3× faster than 6 for files about a third larger.
+constexpr int kPngLevel = 1;
+
+const char* kMarkNames[] = {"correct", "wrong_direction", "unmatched", "zero_length"};
+
+double round_to(double v, double step) { return std::round(v / step) * step; }
+
+nlohmann::json graph_json(const metrics::CleanGraph& g) {
+  nlohmann::json nodes = nlohmann::json::array(), edges = nlohmann::json::array();
+  for (const metrics::Point& p : g.nodes) nodes.push_back({round_to(p.u, 0.01), round_to(p.v, 0.01)});
+  for (const auto& e : g.edges) edges.push_back({e[0], e[1]});
+  return {{"nodes", std::move(nodes)}, {"edges", std::move(edges)}};
+}
+
+double lane_length_m(const metrics::Graph& g, double resolution_m) {
+  double px = 0.0;
+  for (const auto& e : g.edges) px += std::hypot(g.nodes[e[1]].u - g.nodes[e[0]].u, g.nodes[e[1]].v - g.nodes[e[0]].v);
+  return px * resolution_m;
+}
+
+struct Meta {
+  std::string location, split;
+  std::vector<double> bounds_m;
+  double resolution_m = 0.2;
+  double coverage[3] = {0, 0, 0};
+  int64_t vehicle_px = 0;
+  nlohmann::json scenes = nlohmann::json::array();
+};
+
+Meta read_meta(const io::DatasetTile& tile) {
+  const std::string file = tile.key + ".meta.json";
+  const nlohmann::json j = tile.json("meta.json");
+  try {
+    Meta m;
+    m.location = j.at("location").get<std::string>();
+    m.split = j.at("split").get<std::string>();
+    m.bounds_m = j.at("bounds_m").get<std::vector<double>>();
+    NSG_CHECK(m.bounds_m.size() == 4, ParseError, file, "bounds_m", "[x_west, y_south, x_east, y_north]");
+    m.resolution_m = j.value("resolution_m", 0.2);
+    const nlohmann::json cov = j.value("coverage", nlohmann::json::object());
+    const char* names[] = {"lidar", "rgb", "semantic"};
+    for (int i = 0; i < 3; ++i) m.coverage[i] = cov.value(names[i], 0.0);
+    m.vehicle_px = j.value("counts", nlohmann::json::object()).value("vehicle_px", int64_t{0});
+    m.scenes = j.value("scenes", nlohmann::json::array());
+    return m;
+  } catch (const nlohmann::json::exception& e) {
+    throw ParseError(file, "fields", std::string("location, split, bounds_m of the documented types (") + e.what() +
+                                         ")");
+  }
+}
+
+metrics::Graph read_graph(const io::DatasetTile& tile) {
+  const std::string name = tile.key + ".graph.json";
+  NSG_CHECK(tile.has("graph.json"), ParseError, name, "file", "a graph.json member");
+  const auto& bytes = tile.files.at("graph.json");
+  return metrics::graph_from_dataset_json(std::string(bytes.begin(), bytes.end()), name);
+}
+
+// One tile: its images, its data file, its table row.
+TileRow render_tile(const io::DatasetTile& tile, const TileInputs& in,
+                    const std::map<std::string, const metrics::TileMeasurement*>& scores,
+                    const std::map<std::string, const metrics::TileMeasurement*>& baseline, const fs::path& dir) {
+  const Meta meta = read_meta(tile);
+  for (const char* layer : preview::kTileLayerNames) {
+    const std::vector<uint8_t> png = preview::encode_png(preview::render_tile_layer(tile, layer), kPngLevel);
+    write_bytes(dir / "img" / (tile.key + "." + layer + ".png"), png.data(), png.size());
+  }
+  const metrics::Graph gt = read_graph(tile);
+  TileRow row{tile.key, meta.location, meta.split, meta.bounds_m, {}};
+  nlohmann::ordered_json doc = {{"key", tile.key},
+                                {"location", meta.location},
+                                {"split", meta.split},
+                                {"bounds_m", meta.bounds_m},
+                                {"size_px", tile.raster("lidar.tif").width},
+                                {"resolution_m", meta.resolution_m},
+                                {"scenes", meta.scenes}};
+  auto set = [&](const std::string& column, std::optional<double> v) { row.values[column] = v; };
+  set("coverage_lidar", meta.coverage[0]);
+  set("coverage_rgb", meta.coverage[1]);
+  set("coverage_semantic", meta.coverage[2]);
+  set("vehicle_px", static_cast<double>(meta.vehicle_px));
+  set("gt_nodes", static_cast<double>(gt.nodes.size()));
+  set("gt_edges", static_cast<double>(gt.edges.size()));
+  set("lane_length_m", round_to(lane_length_m(gt, meta.resolution_m), 0.01));
+
+  if (in.prediction) {
+    const auto p = in.prediction->find(tile.key);
+    const metrics::Graph* pred = p == in.prediction->end() ? nullptr : &p->second;
+    const metrics::EdgeMarks marks = metrics::mark_edges(gt, pred, in.scores->params);
+    int64_t n_mark[4] = {0, 0, 0, 0}, missed = 0;
+    nlohmann::json pred_marks = nlohmann::json::array(), gt_missed = nlohmann::json::array();
+    for (metrics::PredEdgeMark m : marks.pred_marks) {
+      ++n_mark[static_cast<int>(m)];
+      pred_marks.push_back(static_cast<int>(m));
+    }
+    for (bool b : marks.gt_missed) {
+      missed += b;
+      gt_missed.push_back(b ? 1 : 0);
+    }
+    nlohmann::json g = graph_json(marks.gt);
+    g["missed"] = std::move(gt_missed);
+    doc["gt"] = std::move(g);
+    if (pred) {
+      nlohmann::json pj = graph_json(marks.pred);
+      pj["marks"] = std::move(pred_marks);
+      doc["pred"] = std::move(pj);
+    } else {
+      doc["pred"] = nullptr;
+    }
+    nlohmann::ordered_json counts;
+    for (int k = 0; k < 3; ++k) counts[kMarkNames[k]] = n_mark[k];
+    counts["missed_gt"] = missed;
+    doc["marks"] = counts;
+    set("missing_prediction", pred ? 0.0 : 1.0);
+    set("pred_edges", static_cast<double>(marks.pred.edges.size()));
+    set("wrong_direction_edges", static_cast<double>(n_mark[1]));
+    set("unmatched_edges", static_cast<double>(n_mark[2]));
+    set("missed_gt_edges", static_cast<double>(missed));
+
+    const auto s = scores.find(tile.key);
+    NSG_CHECK(s != scores.end(), InternalError, "", tile.key, "a score for every tile of the split");
+    nlohmann::ordered_json values, tile_counts;
+    for (int m = 0; m < metrics::kMetricCount; ++m) {
+      values[metrics::metric_name(m)] = rounded(s->second->values[m]);
+      set(metrics::metric_name(m), s->second->values[m]);
+    }
+    for (int c = 0; c < metrics::kCountCount; ++c) tile_counts[metrics::count_name(c)] = s->second->counts[c];
+    doc["metrics"] = std::move(values);
+    doc["counts"] = std::move(tile_counts);
+    if (in.baseline) {
+      const auto b = baseline.find(tile.key);
+      NSG_CHECK(b != baseline.end(), InternalError, "", tile.key, "a baseline score for every tile of the split");
+      nlohmann::ordered_json base;
+      for (int m = 0; m < metrics::kMetricCount; ++m) {
+        base[metrics::metric_name(m)] = rounded(b->second->values[m]);
+        set(std::string("baseline.") + metrics::metric_name(m), b->second->values[m]);
+      }
+      doc["baseline"] = std::move(base);
+    }
+  } else {
+    nlohmann::json g = graph_json(metrics::clean_graph(gt));
+    doc["gt"] = std::move(g);
+  }
+  nlohmann::ordered_json figures;
+  for (const auto& [k, v] : row.values) figures[k] = rounded(v);
+  doc["figures"] = std::move(figures);
+  const std::string script = data_script("tile:" + tile.key, doc.dump());
+  write_bytes(dir / "data" / "tile" / (tile.key + ".js"), script.data(), script.size());
+  return row;
+}
+
+std::map<std::string, const metrics::TileMeasurement*> by_key(const metrics::ScoreReport* r) {
+  std::map<std::string, const metrics::TileMeasurement*> out;
+  if (r)
+    for (const auto& t : r->tiles) out[t.key] = &t;
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::string> table_columns(bool submission, bool baseline) {
+  std::vector<std::string> cols;
+  if (submission) {
+    for (int m = 0; m < metrics::kMetricCount; ++m) cols.push_back(metrics::metric_name(m));
+    if (baseline)
+      for (int m = 0; m < metrics::kMetricCount; ++m) cols.push_back(std::string("baseline.") + metrics::metric_name(m));
+    for (const char* c : {"missing_prediction", "pred_edges", "wrong_direction_edges", "unmatched_edges",
+                          "missed_gt_edges"})
+      cols.push_back(c);
+  }
+  for (const char* c : {"gt_nodes", "gt_edges", "lane_length_m", "coverage_lidar", "coverage_rgb", "coverage_semantic",
+                        "vehicle_px"})
+    cols.push_back(c);
+  return cols;
+}
+
+TilePass write_tile_pages(const io::Dataset& dataset, const std::string& split, const TileInputs& inputs,
+                          const fs::path& dir, int threads) {
+  fs::create_directories(dir / "img");
+  fs::create_directories(dir / "data" / "tile");
+  const auto scores = by_key(inputs.scores);
+  const auto baseline = by_key(inputs.baseline);
+  TilePass pass;
+  for (const nlohmann::json& shard : dataset.shards(split)) {
+    const std::vector<io::DatasetTile> tiles = dataset.read_shard(shard);
+    std::vector<TileRow> rows(tiles.size());
+    parallel_for(tiles.size(), threads,
+                 [&](size_t i) { rows[i] = render_tile(tiles[i], inputs, scores, baseline, dir); });
+    for (TileRow& r : rows) pass.rows.push_back(std::move(r));
+    pass.images += static_cast<int64_t>(tiles.size() * std::size(preview::kTileLayerNames));
+  }
+  return pass;
+}
+
+}  // namespace nsg::report::detail

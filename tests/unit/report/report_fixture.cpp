@@ -1,0 +1,82 @@
+#include "report_fixture.h"
+
+#include <gtest/gtest.h>
+
+#include "generate_fixture.h"
+#include "nsg/core/files.h"
+#include "nsg/io/dataset.h"
+#include "nsg/metrics/io.h"
+#include "test_support.h"
+
+namespace nsg::test {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+nlohmann::json submission_of(const metrics::Graph& g, bool reverse) {
+  nlohmann::json nodes = nlohmann::json::array(), edges = nlohmann::json::array();
+  for (const auto& n : g.nodes) nodes.push_back({n.u, n.v});
+  for (const auto& e : g.edges) edges.push_back(reverse ? nlohmann::json{e[1], e[0]} : nlohmann::json{e[0], e[1]});
+  return {{"nodes", nodes}, {"edges", edges}};
+}
+
+template <class F>
+nlohmann::json test_tiles(F&& per_tile) {
+  nlohmann::json sub = {{"schema_version", "1"}, {"tiles", nlohmann::json::object()}};
+  const io::Dataset d = io::Dataset::open(e2e_dataset());
+  d.for_each_tile("test", [&](const io::DatasetTile& t) {
+    const auto& b = t.files.at("graph.json");
+    const metrics::Graph g = metrics::graph_from_dataset_json(std::string(b.begin(), b.end()), t.key);
+    per_tile(t.key, g, sub["tiles"]);
+    return true;
+  });
+  return sub;
+}
+
+}  // namespace
+
+PerturbedSubmission perturbed_submission(const fs::path& dir) {
+  PerturbedSubmission p;
+  const nlohmann::json sub = test_tiles([&](const std::string& key, const metrics::Graph& g, nlohmann::json& tiles) {
+    if (p.dropped.empty() && !g.edges.empty()) {
+      p.dropped = key;
+      return;
+    }
+    const bool reverse = p.reversed.empty() && g.edges.size() >= 3;
+    if (reverse) {
+      p.reversed = key;
+      p.reversed_edges = static_cast<int>(g.edges.size());
+    }
+    tiles[key] = submission_of(g, reverse);
+  });
+  EXPECT_FALSE(p.dropped.empty());
+  EXPECT_FALSE(p.reversed.empty());
+  p.file = dir / "perturbed.json";
+  write_text(p.file, sub.dump());
+  return p;
+}
+
+fs::path exact_submission(const fs::path& dir) {
+  const nlohmann::json sub = test_tiles([](const std::string& key, const metrics::Graph& g, nlohmann::json& tiles) {
+    tiles[key] = submission_of(g, false);
+  });
+  write_text(dir / "exact.json", sub.dump());
+  return dir / "exact.json";
+}
+
+nlohmann::json read_data_script(const fs::path& file) {
+  const std::string text = read_file(file);
+  const size_t open = text.find(", JSON.parse('");
+  const size_t close = text.rfind("'));");
+  EXPECT_EQ(text.rfind("NSG.receive(", 0), 0u) << file;
+  if (open == std::string::npos || close == std::string::npos) return nullptr;
+  std::string json;  // the string literal's content: \\ and \' are its only escapes
+  for (size_t i = open + 14; i < close; ++i) {
+    if (text[i] == '\\') ++i;
+    json += text[i];
+  }
+  return nlohmann::json::parse(json);
+}
+
+}  // namespace nsg::test

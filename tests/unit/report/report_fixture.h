@@ -1,0 +1,25 @@
+#pragma once
+// Inputs of the report tests: the e2e dataset and submissions made from its ground truth
+// with known defects, and reading the report's data files back.
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace nsg::test {
+
+// What the perturbed submission did to which tile.
+struct PerturbedSubmission {
+  std::filesystem::path file;
+  std::string dropped;   // a test tile with edges left out (missing prediction)
+  std::string reversed;  // a test tile whose every edge points the other way
+  int reversed_edges = 0;
+};
+// The test split's ground truth as a submission, except one tile dropped and one reversed.
+PerturbedSubmission perturbed_submission(const std::filesystem::path& dir);
+// The ground truth of the test split as a submission (a perfect score).
+std::filesystem::path exact_submission(const std::filesystem::path& dir);
+// The JSON inside a data file `NSG.receive("name", {...});`.
+nlohmann::json read_data_script(const std::filesystem::path& file);
+
+}  // namespace nsg::test

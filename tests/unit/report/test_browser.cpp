@@ -1,0 +1,160 @@
+// The report in a real browser: Debian's chromium, headless, from file:// with no
+// network. The page's self-test (#selftest=sort:<column>) sorts the per-tile table, opens
+// a tile and the overview, and writes what it saw into <pre id="selftest">, which
+// --dump-dom returns: rows in order, overlays present, errors caught by the page.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "generate_fixture.h"
+#include "nsg/core/files.h"
+#include "report_fixture.h"
+#include "test_support.h"
+
+namespace nsg::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool have_chromium() { return run_program({"sh", "-c", "command -v chromium"}).exit_code == 0; }
+
+// chromium headless on `url` with a fresh profile and nothing that reaches the network.
+CommandResult chromium(const fs::path& profile, const std::vector<std::string>& args, const std::string& url) {
+  std::vector<std::string> argv{"timeout", "120", "chromium", "--headless", "--no-sandbox", "--disable-gpu",
+                                "--disable-quic", "--no-first-run", "--disable-background-networking",
+                                "--disable-component-update", "--disable-sync", "--disable-extensions",
+                                "--user-data-dir=" + profile.string(), "--virtual-time-budget=10000"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  argv.push_back(url);
+  return run_program(argv);
+}
+
+// The self-test's JSON from the dumped DOM (text content: only & < > are escaped).
+nlohmann::json selftest_of(const std::string& dom) {
+  const size_t tag = dom.find("id=\"selftest\"");
+  if (tag == std::string::npos) return nullptr;
+  const size_t open = dom.find('>', tag) + 1, close = dom.find("</pre>", open);
+  std::string text = dom.substr(open, close - open);
+  for (const auto& [esc, ch] : std::vector<std::pair<std::string, std::string>>{{"&lt;", "<"}, {"&gt;", ">"}, {"&amp;", "&"}})
+    for (size_t p; (p = text.find(esc)) != std::string::npos;) text.replace(p, esc.size(), ch);
+  if (text.empty()) return nullptr;
+  return nlohmann::json::parse(text);
+}
+
+// Keys sorted by a column of data/tiles.js as the page must: ascending, undefined last,
+// ties by key.
+std::vector<std::string> expected_order(const nlohmann::json& tiles, const std::string& column) {
+  std::vector<size_t> idx(tiles["keys"].size());
+  for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+  const nlohmann::json& v = tiles["values"][column];
+  std::stable_sort(idx.begin(), idx.end(), [&](size_t a, size_t b) {
+    const std::string ka = tiles["keys"][a], kb = tiles["keys"][b];
+    if (v[a].is_null() || v[b].is_null()) return v[a].is_null() == v[b].is_null() ? ka < kb : v[b].is_null();
+    if (v[a].get<double>() != v[b].get<double>()) return v[a].get<double>() < v[b].get<double>();
+    return ka < kb;
+  });
+  std::vector<std::string> keys;
+  for (size_t i : idx) keys.push_back(tiles["keys"][i]);
+  return keys;
+}
+
+TEST(Browser, ReportLoadsSortsAndDrawsOverlays) {
+  if (!have_chromium()) GTEST_SKIP() << "optional tool chromium not installed (apt-get install chromium)";
+  TempDir dir("report_browser");
+  const PerturbedSubmission sub = perturbed_submission(dir.path());
+  const fs::path out = dir / "report";
+  CommandResult r = run_nsgraph({"report", "--quiet", "--dataset", e2e_dataset().string(), "--submission",
+                                 sub.file.string(), "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string url = "file://" + fs::absolute(out / "index.html").string();
+  const nlohmann::json tiles = read_data_script(out / "data/tiles.js");
+
+  r = chromium(dir / "profile1", {"--dump-dom"}, url + "#selftest=sort:apls");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json st = selftest_of(r.out);
+  ASSERT_TRUE(st.is_object()) << "no self-test result in the DOM:\n" << r.out.substr(0, 2000) << "\n" << r.err;
+  EXPECT_EQ(st["errors"], nlohmann::json::array()) << st.dump(1);
+  EXPECT_EQ(st["rows"].get<std::vector<std::string>>(), expected_order(tiles, "apls"));
+  EXPECT_EQ(st["summary_rows"], 26);  // one row per metric
+  EXPECT_GT(st["tile"]["gt_paths"].get<int>(), 0) << st.dump(1);
+  EXPECT_GT(st["tile"]["pred_paths"].get<int>(), 0) << st.dump(1);
+  EXPECT_EQ(st["tile"]["layers"], 5);
+  EXPECT_EQ(st["overview_tiles"], tiles["keys"].size());
+  EXPECT_EQ(st["overview_regions"], 2);
+  EXPECT_EQ(st["overview_buffers"], 2);
+
+  // The tile view as a picture: not blank (many colours: the LiDAR layer and the graphs).
+  const std::string key = st["tile"]["key"];
+  const fs::path png = dir / "tile.png";
+  r = chromium(dir / "profile2", {"--screenshot=" + png.string(), "--window-size=1200,800", "--hide-scrollbars"},
+               url + "#view=tile&key=" + key);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(fs::is_regular_file(png)) << r.err;
+  r = run_program({"/usr/bin/python3", "-c",
+                   "import sys; from PIL import Image; im = Image.open(sys.argv[1]).convert('RGB'); "
+                   "print(len(im.getcolors(1 << 24)))",
+                   png.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_GT(std::stoi(r.out), 50) << "distinct colours in the screenshot";
+}
+
+
+// 20 000 tiles: data/tiles.js of the e2e report repeated under new keys (the table and the
+// summary need no per-tile files). The first page of the table holds 100 rows in order and
+// the summary paints within 2 s.
+TEST(Browser, TwentyThousandTilesStayUsable) {
+  if (!have_chromium()) GTEST_SKIP() << "optional tool chromium not installed (apt-get install chromium)";
+  TempDir dir("report_scale");
+  const PerturbedSubmission sub = perturbed_submission(dir.path());
+  const fs::path out = dir / "report";
+  CommandResult r = run_nsgraph({"report", "--quiet", "--dataset", e2e_dataset().string(), "--submission",
+                                 sub.file.string(), "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json small = read_data_script(out / "data/tiles.js");
+  constexpr size_t kTiles = 20000;
+  const size_t n = small["keys"].size();
+  nlohmann::json big = {{"keys", nlohmann::json::array()}, {"location", nlohmann::json::array()},
+                        {"split", nlohmann::json::array()}, {"bounds_m", nlohmann::json::array()},
+                        {"values", nlohmann::json::object()}};
+  for (size_t i = 0; i < kTiles; ++i) {
+    const size_t k = i % n;
+    char key[64];
+    std::snprintf(key, sizeof key, "boston-seaport-test-%06zu", i);
+    big["keys"].push_back(key);
+    big["location"].push_back(small["location"][k]);
+    big["split"].push_back("test");
+    const double x = 2000.0 + 60.0 * static_cast<double>(i % 150), y = 2000.0 + 60.0 * static_cast<double>(i / 150);
+    big["bounds_m"].push_back({x, y, x + 51.2, y + 51.2});
+    for (const auto& [col, vals] : small["values"].items()) big["values"][col].push_back(vals[k]);
+  }
+  // Written as the report writes its data (no quote or backslash in this text to escape).
+  write_text(out / "data/tiles.js", "NSG.receive(\"tiles\", JSON.parse('" + big.dump() + "'));\n");
+  nlohmann::json summary = read_data_script(out / "data/summary.js");
+  summary["n_tiles"] = kTiles;
+  write_text(out / "data/summary.js", "NSG.receive(\"summary\", " + summary.dump() + ");\n");  // an object literal works too
+
+  r = chromium(dir / "profile", {"--dump-dom"},
+               "file://" + fs::absolute(out / "index.html").string() + "#selftest=table:apls:desc");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json st = selftest_of(r.out);
+  ASSERT_TRUE(st.is_object()) << r.out.substr(0, 2000) << "\n" << r.err;
+  EXPECT_EQ(st["errors"], nlohmann::json::array()) << st.dump(1);
+  ASSERT_EQ(st["rows"].size(), 100u) << "one page of the table";
+  // Descending APLS: the first rows carry the largest value.
+  const nlohmann::json& apls = big["values"]["apls"];
+  double best = -1.0;
+  for (const auto& v : apls)
+    if (!v.is_null()) best = std::max(best, v.get<double>());
+  const auto first = std::find(big["keys"].begin(), big["keys"].end(), st["rows"][0]);
+  ASSERT_NE(first, big["keys"].end());
+  EXPECT_EQ(apls[first - big["keys"].begin()].get<double>(), best);
+  ASSERT_FALSE(st["first_contentful_paint_ms"].is_null()) << st.dump(1);
+  std::printf("20000 tiles: first contentful paint %.0f ms, first render %.0f ms, tiles loaded %.0f ms, table %.0f ms\n",
+              st["first_contentful_paint_ms"].get<double>(), st["first_render_ms"].get<double>(),
+              st["tiles_loaded_ms"].get<double>(), st["table_ms"].get<double>());
+  EXPECT_LT(st["first_contentful_paint_ms"].get<double>(), 2000.0) << st.dump(1);
+}
+
+}  // namespace
+}  // namespace nsg::test

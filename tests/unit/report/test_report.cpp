@@ -1,0 +1,213 @@
+// `nsgraph report` end to end on the e2e dataset: the files written, the scores equal to
+// `nsgraph score`'s, the marks on tiles with known defects, the baseline's paired
+// differences, the dataset-only mode, bad inputs, determinism.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "generate_fixture.h"
+#include "nsg/core/files.h"
+#include "nsg/report/report.h"
+#include "report_fixture.h"
+#include "test_support.h"
+
+namespace nsg::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(PairedDifference, KnownValues) {
+  // Differences 1, 2, 3 (the undefined pair is skipped): mean 2, sd 1, SE 1/√3.
+  const report::PairedDifference d =
+      report::paired_difference({3.0, 5.0, std::nullopt, 7.0}, {2.0, 3.0, 1.0, 4.0});
+  EXPECT_EQ(d.n, 3);
+  EXPECT_DOUBLE_EQ(*d.mean, 2.0);
+  EXPECT_NEAR(*d.standard_error, 1.0 / std::sqrt(3.0), 1e-15);
+  const report::PairedDifference one = report::paired_difference({1.0}, {0.5});
+  EXPECT_EQ(one.n, 1);
+  EXPECT_DOUBLE_EQ(*one.mean, 0.5);
+  EXPECT_FALSE(one.standard_error.has_value());
+  EXPECT_FALSE(report::paired_difference({std::nullopt}, {1.0}).mean.has_value());
+}
+
+TEST(Report, SubmissionReportMatchesScoreAndMarksDefects) {
+  TempDir dir("report_sub");
+  const fs::path ds = e2e_dataset();
+  const PerturbedSubmission sub = perturbed_submission(dir.path());
+  const fs::path out = dir / "report";
+  CommandResult r = run_nsgraph({"report", "--quiet", "--dataset", ds.string(), "--submission", sub.file.string(),
+                                 "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* f : {"index.html", "report.js", "report.css", "report.json", "data/summary.js", "data/tiles.js"})
+    EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
+  EXPECT_NE(read_file(out / "index.html").find("report.js"), std::string::npos);
+  EXPECT_EQ(read_file(out / "index.html").find("http"), std::string::npos) << "no network address in the page";
+
+  // The scores are score's.
+  r = run_nsgraph({"score", "--quiet", "--ground-truth", ds.string(), "--submission", sub.file.string(), "--out",
+                   (dir / "score.json").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json score = read_json(dir / "score.json");
+  const nlohmann::json summary = read_data_script(out / "data/summary.js");
+  EXPECT_EQ(summary, read_json(out / "report.json"));
+  EXPECT_EQ(summary["mode"], "submission");
+  EXPECT_EQ(summary["split"], "test");
+  EXPECT_EQ(summary["score"]["n_missing_predictions"], 1);
+  for (const auto& row : summary["summary"]) {
+    const nlohmann::json& mean = score["aggregate"]["mean"][row["metric"].get<std::string>()];
+    if (mean.is_null()) EXPECT_TRUE(row["mean"].is_null()) << row;
+    else EXPECT_NEAR(row["mean"].get<double>(), mean.get<double>(), 1e-6) << row;
+  }
+
+  // One table row per test tile, in key order, with score's per-tile APLS.
+  const nlohmann::json tiles = read_data_script(out / "data/tiles.js");
+  ASSERT_EQ(tiles["keys"].size(), score["tiles"].size());
+  size_t i = 0;
+  for (const auto& [key, t] : score["tiles"].items()) {
+    EXPECT_EQ(tiles["keys"][i], key);
+    const nlohmann::json& apls = tiles["values"]["apls"][i];
+    if (t["apls"].is_null()) EXPECT_TRUE(apls.is_null());
+    else EXPECT_NEAR(apls.get<double>(), t["apls"].get<double>(), 1e-6);
+    for (const char* layer : {"lidar", "rgb", "semantic", "vehicle", "coverage"})
+      EXPECT_TRUE(fs::is_regular_file(out / "img" / (key + "." + layer + ".png"))) << key << " " << layer;
+    EXPECT_TRUE(fs::is_regular_file(out / "data/tile" / (key + ".js"))) << key;
+    ++i;
+  }
+  EXPECT_TRUE(fs::is_regular_file(out / "img/overview-boston-seaport.png"));
+  ASSERT_EQ(summary["locations"].size(), 1u);
+  EXPECT_EQ(summary["locations"][0]["regions"].size(), 2u);
+  EXPECT_DOUBLE_EQ(summary["locations"][0]["buffer_m"].get<double>(), 25.6);
+
+  // The reversed tile: every predicted edge matched with the wrong direction, nothing missed.
+  const nlohmann::json rev = read_data_script(out / "data/tile" / (sub.reversed + ".js"));
+  EXPECT_EQ(rev["marks"]["wrong_direction"], sub.reversed_edges);
+  EXPECT_EQ(rev["marks"]["correct"], 0);
+  EXPECT_EQ(rev["marks"]["missed_gt"], 0);
+  EXPECT_EQ(rev["pred"]["edges"].size(), static_cast<size_t>(sub.reversed_edges));
+  // The dropped tile: no prediction, every GT edge missed.
+  const nlohmann::json drop = read_data_script(out / "data/tile" / (sub.dropped + ".js"));
+  EXPECT_TRUE(drop["pred"].is_null());
+  EXPECT_EQ(drop["marks"]["missed_gt"], drop["gt"]["edges"].size());
+  EXPECT_EQ(drop["figures"]["missing_prediction"], 1.0);
+}
+
+TEST(Report, BaselineGivesPairedDifferences) {
+  TempDir dir("report_base");
+  const fs::path ds = e2e_dataset();
+  const PerturbedSubmission sub = perturbed_submission(dir.path());
+  const fs::path exact = exact_submission(dir.path());
+  const fs::path out = dir / "report";
+  const CommandResult r = run_nsgraph({"report", "--quiet", "--dataset", ds.string(), "--submission", exact.string(),
+                                       "--baseline", sub.file.string(), "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json summary = read_json(out / "report.json");
+  const nlohmann::json tiles = read_data_script(out / "data/tiles.js");
+  for (const auto& row : summary["summary"]) {
+    if (row["metric"] != "apls") continue;
+    // The exact submission scores 1 wherever APLS is defined; the paired difference is
+    // the mean of 1 − baseline over the tiles where both are defined.
+    const auto& a = tiles["values"]["apls"];
+    const auto& b = tiles["values"]["baseline.apls"];
+    double sum = 0.0;
+    int n = 0;
+    for (size_t i = 0; i < a.size(); ++i)
+      if (!a[i].is_null() && !b[i].is_null()) {
+        EXPECT_DOUBLE_EQ(a[i].get<double>(), 1.0);
+        sum += a[i].get<double>() - b[i].get<double>();
+        ++n;
+      }
+    ASSERT_GT(n, 1);
+    EXPECT_EQ(row["paired_n"], n);
+    EXPECT_NEAR(row["paired_mean"].get<double>(), sum / n, 1e-6);
+    EXPECT_GT(row["paired_mean"].get<double>(), 0.0);  // the baseline lost the dropped tile
+    EXPECT_GT(row["paired_se"].get<double>(), 0.0);
+    EXPECT_NEAR(row["difference"].get<double>(), row["mean"].get<double>() - row["baseline_mean"].get<double>(), 2e-6);
+  }
+}
+
+TEST(Report, DatasetOnlyHasStatsAndEveryTile) {
+  TempDir dir("report_ds");
+  const fs::path ds = e2e_dataset();
+  const fs::path out = dir / "report";
+  const CommandResult r = run_nsgraph({"report", "--quiet", "--dataset", ds.string(), "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json summary = read_json(out / "report.json");
+  EXPECT_EQ(summary["mode"], "dataset");
+  EXPECT_FALSE(summary.contains("score"));
+  const nlohmann::json manifest = read_json(ds / "manifest.json");
+  const int64_t all = manifest["counts"]["train"]["tiles"].get<int64_t>() +
+                      manifest["counts"]["val"]["tiles"].get<int64_t>() +
+                      manifest["counts"]["test"]["tiles"].get<int64_t>();
+  EXPECT_EQ(summary["n_tiles"], all);
+  EXPECT_EQ(summary["stats"]["test"]["tiles"], manifest["counts"]["test"]["tiles"]);
+  const nlohmann::json tiles = read_data_script(out / "data/tiles.js");
+  EXPECT_EQ(tiles["keys"].size(), static_cast<size_t>(all));
+  EXPECT_FALSE(tiles["values"].contains("apls"));
+  EXPECT_TRUE(tiles["values"].contains("coverage_lidar"));
+}
+
+TEST(Report, SameBytesAtAnyThreadCountAndRerunReplaces) {
+  TempDir dir("report_det");
+  const fs::path ds = e2e_dataset();
+  const PerturbedSubmission sub = perturbed_submission(dir.path());
+  for (const char* t : {"1", "2"}) {
+    const CommandResult r = run_nsgraph({"report", "--quiet", "--dataset", ds.string(), "--submission",
+                                         sub.file.string(), "--out", (dir / t).string(), "--threads", t});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  EXPECT_EQ(tree_hashes(dir / "1"), tree_hashes(dir / "2"));
+  // A second run over an earlier report replaces it whole.
+  write_text(dir / "1" / "stale.txt", "x");
+  const CommandResult r = run_nsgraph({"report", "--quiet", "--dataset", ds.string(), "--submission",
+                                       sub.file.string(), "--out", (dir / "1").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "1" / "stale.txt"));
+  EXPECT_EQ(tree_hashes(dir / "1"), tree_hashes(dir / "2"));
+}
+
+TEST(Report, BadInputsFailLikeScoreAndWriteNothing) {
+  TempDir dir("report_bad");
+  const fs::path ds = e2e_dataset();
+  const fs::path out = dir / "report";
+  // A submission with an edge to a node that does not exist: validate's problem, exit 1.
+  write_text(dir / "bad.json",
+             R"({"schema_version": "1", "tiles": {"boston-seaport-test-000000": {"nodes": [[1, 2]], "edges": [[0, 5]]}}})");
+  CommandResult r = run_nsgraph({"report", "--dataset", ds.string(), "--submission", (dir / "bad.json").string(),
+                                 "--out", out.string()});
+  const CommandResult s = run_nsgraph({"score", "--ground-truth", ds.string(), "--submission",
+                                       (dir / "bad.json").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(s.exit_code, 1) << s.err;
+  const std::string first_issue = s.err.substr(0, s.err.find('\n'));
+  EXPECT_NE(r.err.find(first_issue), std::string::npos) << "report:\n" << r.err << "score:\n" << s.err;
+  EXPECT_FALSE(fs::exists(out));
+
+  // A dataset whose shard is gone: exit 2 naming the shard, nothing written.
+  const fs::path broken = dir / "broken";
+  fs::create_directories(broken);
+  for (const auto& e : fs::directory_iterator(ds))
+    fs::create_directory_symlink(e.path(), broken / e.path().filename());
+  fs::remove(broken / "shards");
+  fs::create_directories(broken / "shards");
+  for (const auto& e : fs::directory_iterator(ds / "shards"))
+    if (e.path().filename() != "test-000001.tar") fs::create_symlink(e.path(), broken / "shards" / e.path().filename());
+  const PerturbedSubmission sub = perturbed_submission(dir.path());
+  r = run_nsgraph({"report", "--dataset", broken.string(), "--submission", sub.file.string(), "--out", out.string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("test-000001.tar"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  for (const auto& e : fs::directory_iterator(dir.path()))
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+
+  // A folder of other files is not overwritten; --baseline needs --submission.
+  write_text(dir / "mine" / "notes.txt", "keep");
+  r = run_nsgraph({"report", "--dataset", ds.string(), "--out", (dir / "mine").string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(read_file(dir / "mine" / "notes.txt"), "keep");
+  r = run_nsgraph({"report", "--dataset", ds.string(), "--baseline", sub.file.string(), "--out", out.string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--baseline"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace nsg::test

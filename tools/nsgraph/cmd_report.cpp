@@ -1,0 +1,52 @@
+// `nsgraph report`: an HTML folder to browse a dataset or a scored submission (lib/report).
+// A submission (or baseline) that fails validate's checks exits 1 with the same problem
+// list as `score`; unreadable inputs exit 2.
+#include <cstdio>
+#include <memory>
+
+#include "commands.h"
+#include "nsg/core/error.h"
+#include "nsg/core/log.h"
+#include "nsg/core/strings.h"
+#include "nsg/report/report.h"
+
+namespace nsg::cli {
+namespace {
+
+struct ReportCliOptions {
+  std::string dataset;
+  std::string out;
+  report::ReportOptions lib;
+};
+
+int run_report(const ReportCliOptions& o) {
+  const report::ReportResult r = report::write_report(o.dataset, o.out, o.lib);
+  if (!r.issues.empty()) {
+    std::fputs(r.issues.format().c_str(), stderr);
+    log::error(strprintf("%zu problem(s) in submission %s; no report written", r.issues.size(), r.rejected.c_str()));
+    return kExitProblems;
+  }
+  log::info(strprintf("report: %lld tiles, %lld images, %s in %s/index.html", static_cast<long long>(r.tiles),
+                      static_cast<long long>(r.images), human_bytes(static_cast<double>(r.bytes)).c_str(),
+                      o.out.c_str()));
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_report_command(CLI::App& parent, Context& ctx) {
+  auto opts = std::make_shared<ReportCliOptions>();
+  CLI::App* cmd = parent.add_subcommand("report", "An HTML report (opens from file://) of a dataset or a submission");
+  cmd->add_option("--dataset", opts->dataset, "Dataset folder (manifest.json)")->required();
+  cmd->add_option("--out", opts->out, "Report folder (new, empty or an earlier report, which is replaced)")
+      ->required();
+  cmd->add_option("--submission", opts->lib.submission, "Submission JSON: scores per tile against the dataset");
+  cmd->add_option("--baseline", opts->lib.baseline, "A second submission: both scores and their paired difference");
+  cmd->add_option("--split", opts->lib.split, "Split to report (default: test with a submission, else all)");
+  cmd->add_option("--threads", opts->lib.threads, "Worker threads (0 = all cores); output does not depend on it")
+      ->capture_default_str();
+  cmd->add_option("--schemas", opts->lib.schemas, "Folder of the published schemas (default: installed/source)");
+  cmd->callback([opts, &ctx]() { ctx.run = [opts]() { return run_report(*opts); }; });
+}
+
+}  // namespace nsg::cli

@@ -1,0 +1,32 @@
+// `nsgraph stats`: a dataset's key figures per split (labeled area, lane km, vehicle area,
+// semantic classes, coverage), as a text table or JSON.
+#include <iostream>
+
+#include "commands.h"
+#include "nsg/core/error.h"
+#include "nsg/pipeline/stats.h"
+
+namespace nsg::cli {
+
+void add_stats_command(CLI::App& root, Context& ctx) {
+  struct StatsOptions {
+    std::string dataset;
+    bool json = false;
+  };
+  auto o = std::make_shared<StatsOptions>();
+  CLI::App* cmd = root.add_subcommand("stats", "A dataset's key figures per split (the paper's Table I fields)");
+  cmd->add_option("dataset", o->dataset, "Dataset folder (holds manifest.json)")->required();
+  cmd->add_flag("--json", o->json, "JSON instead of a text table");
+  cmd->callback([o, &ctx] {
+    ctx.run = [o] {
+      const pipeline::DatasetStats stats = pipeline::compute_stats(o->dataset);
+      if (o->json)
+        std::cout << pipeline::stats_json(stats).dump(2) << "\n";
+      else
+        std::cout << pipeline::stats_text(stats);
+      return kExitOk;
+    };
+  });
+}
+
+}  // namespace nsg::cli
