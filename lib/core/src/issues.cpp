@@ -14,11 +14,30 @@ const char* severity_name(Severity s) {
 }
 
 void Issues::add(Severity severity, std::string check, std::string subject, std::string message) {
-  items_.push_back({severity, std::move(check), std::move(subject), std::move(message)});
+  if (limit_per_check_ == 0) {
+    items_.push_back({severity, std::move(check), std::move(subject), std::move(message)});
+    return;
+  }
+  Overflow& o = per_check_[check];
+  if (o.listed < limit_per_check_) {
+    ++o.listed;
+    items_.push_back({severity, std::move(check), std::move(subject), std::move(message)});
+    return;
+  }
+  if (o.more++ == 0) {
+    o.summary = items_.size();
+    items_.push_back({severity, check, std::move(subject), ""});
+  }
+  items_[o.summary].message = "and " + std::to_string(o.more) + " more " + check + " issue(s) not listed (the first " +
+                              std::to_string(limit_per_check_) + " are)";
 }
 
 void Issues::append(const Issues& other) {
-  items_.insert(items_.end(), other.items_.begin(), other.items_.end());
+  if (limit_per_check_ == 0) {
+    items_.insert(items_.end(), other.items_.begin(), other.items_.end());
+    return;
+  }
+  for (const Issue& i : other.items_) add(i.severity, i.check, i.subject, i.message);
 }
 
 size_t Issues::count(Severity s) const {
