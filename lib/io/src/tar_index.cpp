@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <optional>
 #include <set>
@@ -75,9 +76,13 @@ void apply_pax(const std::string& text, std::string* path, std::optional<uint64_
       if (key == "size") {
         // Decimal digits only, without overflow: strtoull would saturate a hostile value.
         uint64_t v = 0;
-        bool ok = !value.empty() && value.size() <= 19;
-        for (char ch : value) ok = ok && ch >= '0' && ch <= '9' && (v = v * 10 + static_cast<uint64_t>(ch - '0'), true);
-        NSG_CHECK(ok, ParseError, file, where, "a pax size of at most 19 decimal digits, got '" + value + "'");
+        bool ok = !value.empty();
+        for (char ch : value) {
+          const auto digit = static_cast<uint64_t>(ch - '0');
+          ok = ok && ch >= '0' && ch <= '9' && v <= (UINT64_MAX - digit) / 10;
+          if (ok) v = v * 10 + digit;
+        }
+        NSG_CHECK(ok, ParseError, file, where, "a pax size in decimal digits below 2^64, got '" + value + "'");
         *size = v;
       }
     }
