@@ -95,10 +95,12 @@ void add_score_command(CLI::App& parent, Context& ctx) {
   cmd->footer(strprintf(
       "Limits (a submission beyond them is refused, exit 1, before scoring): a file or stream (--submission may be a\n"
       "pipe, e.g. /dev/stdin) of at most %lld MiB; per tile at most %lld nodes, %lld edges and %.0f px of total edge\n"
-      "length. They bound the scoring time: an adversarial tile at the limits scores in about 2 s on one core\n"
-      "(docs/scoring-limits.md). Real 256-px tiles hold 100-1500 nodes.",
+      "length, and a shortest-path work (per connected piece: nodes x (nodes + 2 x edges)) of at most %lld, i.e.\n"
+      "about 1 800 nodes in one connected piece. They bound the scoring time: an adversarial tile at the limits\n"
+      "scores in under 2 s on one core (docs/scoring-limits.md). Real 256-px tiles hold 100-1500 nodes.",
       static_cast<long long>(limits.max_file_bytes >> 20), static_cast<long long>(limits.max_nodes_per_tile),
-      static_cast<long long>(limits.max_edges_per_tile), limits.max_edge_length_px_per_tile));
+      static_cast<long long>(limits.max_edges_per_tile), limits.max_edge_length_px_per_tile,
+      static_cast<long long>(limits.max_path_work_per_tile)));
   cmd->callback([opts, &ctx]() { ctx.run = [opts]() { return run_score(*opts); }; });
 }
 

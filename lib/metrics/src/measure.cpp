@@ -41,7 +41,11 @@ void check_limits(const Graph& g, const std::string& subject) {
     if (i >= 0 && i < n && j >= 0 && j < n)
       length_px += std::hypot(g.nodes[j].u - g.nodes[i].u, g.nodes[j].v - g.nodes[i].v);
   Issues issues;
-  validate::check_tile_limits(n, static_cast<int64_t>(g.edges.size()), length_px, subject, {}, issues);
+  const validate::SubmissionLimits limits;
+  // Beyond the node / edge limits the work is not computed (it could be large itself).
+  const bool counted = n <= limits.max_nodes_per_tile && static_cast<int64_t>(g.edges.size()) <= limits.max_edges_per_tile;
+  validate::check_tile_limits(n, static_cast<int64_t>(g.edges.size()), length_px,
+                              counted ? validate::path_search_work(n, g.edges) : 0, subject, limits, issues);
   if (!issues.empty()) throw DataError("", issues.items().front().subject, issues.items().front().message);
 }
 

@@ -47,9 +47,15 @@ void check_tile(const std::string& key, const nlohmann::json& tile, const std::s
   if (!tile.is_object()) return;  // the schema reports it
   const nlohmann::json* nodes = tile.contains("nodes") && tile["nodes"].is_array() ? &tile["nodes"] : nullptr;
   const nlohmann::json* edges = tile.contains("edges") && tile["edges"].is_array() ? &tile["edges"] : nullptr;
-  check_tile_limits(nodes != nullptr ? static_cast<int64_t>(nodes->size()) : 0,
-                    edges != nullptr ? static_cast<int64_t>(edges->size()) : 0, edge_length_px(nodes, edges), base,
-                    limits, issues);
+  const int64_t n_nodes_all = nodes != nullptr ? static_cast<int64_t>(nodes->size()) : 0;
+  std::vector<std::array<int64_t, 2>> pairs;
+  if (edges != nullptr && static_cast<int64_t>(edges->size()) <= limits.max_edges_per_tile)
+    for (const nlohmann::json& e : *edges)
+      if (e.is_array() && e.size() == 2 && e[0].is_number_unsigned() && e[1].is_number_unsigned() &&
+          e[0].get<uint64_t>() < static_cast<uint64_t>(n_nodes_all) && e[1].get<uint64_t>() < static_cast<uint64_t>(n_nodes_all))
+        pairs.push_back({e[0].get<int64_t>(), e[1].get<int64_t>()});
+  check_tile_limits(n_nodes_all, edges != nullptr ? static_cast<int64_t>(edges->size()) : 0, edge_length_px(nodes, edges),
+                    path_search_work(n_nodes_all, pairs), base, limits, issues);
   if (nodes != nullptr) {
     for (size_t k = 0; k < nodes->size(); ++k) {
       const nlohmann::json& n = (*nodes)[k];
@@ -107,8 +113,26 @@ Issues check_submission_structure(const nlohmann::json& doc, const std::string& 
   return issues;
 }
 
-void check_tile_limits(int64_t nodes, int64_t edges, double edge_length_px, const std::string& subject,
-                       const SubmissionLimits& limits, Issues& issues) {
+int64_t path_search_work(int64_t nodes, const std::vector<std::array<int64_t, 2>>& edges) {
+  std::vector<int64_t> parent(static_cast<size_t>(std::max<int64_t>(nodes, 0)));
+  for (size_t k = 0; k < parent.size(); ++k) parent[k] = static_cast<int64_t>(k);
+  const auto root = [&](int64_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& [i, j] : edges)
+    if (i >= 0 && i < nodes && j >= 0 && j < nodes) parent[root(i)] = root(j);
+  std::vector<int64_t> size(parent.size(), 0), arcs(parent.size(), 0);
+  for (int64_t k = 0; k < nodes; ++k) ++size[root(k)];
+  for (const auto& [i, j] : edges)
+    if (i >= 0 && i < nodes && j >= 0 && j < nodes) arcs[root(i)] += 2;
+  int64_t work = 0;
+  for (size_t c = 0; c < size.size(); ++c) work += size[c] * (size[c] + arcs[c]);
+  return work;
+}
+
+void check_tile_limits(int64_t nodes, int64_t edges, double edge_length_px, int64_t path_work,
+                       const std::string& subject, const SubmissionLimits& limits, Issues& issues) {
   const std::string why = " (the scoring limits: score --help)";
   if (nodes > limits.max_nodes_per_tile)
     issues.error("submission.size", subject + "/nodes",
@@ -120,6 +144,12 @@ void check_tile_limits(int64_t nodes, int64_t edges, double edge_length_px, cons
     issues.error("submission.size", subject + "/edges",
                  strprintf("a total edge length of %.0f px; at most %.0f px per tile", edge_length_px,
                            limits.max_edge_length_px_per_tile) + why);
+  if (nodes <= limits.max_nodes_per_tile && edges <= limits.max_edges_per_tile && path_work > limits.max_path_work_per_tile)
+    issues.error("submission.size", subject + "/edges",
+                 strprintf("a shortest-path work of %lld (per connected piece: nodes x (nodes + 2 x edges)); at most %lld "
+                           "per tile, about %lld nodes in one connected piece",
+                           static_cast<long long>(path_work), static_cast<long long>(limits.max_path_work_per_tile),
+                           static_cast<long long>(std::sqrt(static_cast<double>(limits.max_path_work_per_tile) / 3.0))) + why);
 }
 
 std::string json_pointer_token(const std::string& key) {
@@ -140,7 +170,8 @@ std::string json_pointer_token(const std::string& key) {
 namespace nsg::validate {
 
 void SubmissionLimits::validate() const {
-  NSG_CHECK(max_nodes_per_tile > 0 && max_edges_per_tile > 0 && max_edge_length_px_per_tile > 0, ConfigError, "",
+  NSG_CHECK(max_nodes_per_tile > 0 && max_edges_per_tile > 0 && max_edge_length_px_per_tile > 0 &&
+                max_path_work_per_tile > 0, ConfigError, "",
             "limits", "positive per-tile limits");
   NSG_CHECK(max_file_bytes > 0 && max_json_values > 0 && max_depth > 0, ConfigError, "", "limits",
             "positive file limits");

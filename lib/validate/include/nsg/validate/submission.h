@@ -2,6 +2,7 @@
 // Structural checks of a submission beyond its schema (issue 7): node indices in range,
 // finite coordinates, score arrays as long as what they score, size limits that protect
 // the scorer. Each problem names the tile key and the JSON path.
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -21,6 +22,10 @@ struct SubmissionLimits {
   int64_t max_nodes_per_tile = 5000;
   int64_t max_edges_per_tile = 10000;
   double max_edge_length_px_per_tile = 100000;  // sum of edge lengths; 400 tile widths
+  // APLS searches shortest paths from every node over its connected piece: the sum over
+  // connected pieces of nodes x (nodes + 2 x edges). 10 M = one connected lane graph of
+  // ~1 800 nodes (the busiest plausible junction tile: 7.4 M); <= 2 s per tile on one core.
+  int64_t max_path_work_per_tile = 10'000'000;
   // Checked before parsing, so a huge or hostile file costs neither memory nor time.
   int64_t max_file_bytes = int64_t{128} << 20;
   int64_t max_json_values = 10'000'000;  // numbers, strings, arrays, … in the whole file
@@ -38,8 +43,11 @@ Issues check_submission_structure(const nlohmann::json& doc, const std::string& 
 // The scoring limits on one tile's graph (submission.size issues naming `subject`): the
 // one check behind `score`, check_submission, score_tile and the Python score.
 // `edge_length_px` is the sum of the edge lengths (edges with valid indices).
-void check_tile_limits(int64_t nodes, int64_t edges, double edge_length_px, const std::string& subject,
-                       const SubmissionLimits& limits, Issues& issues);
+void check_tile_limits(int64_t nodes, int64_t edges, double edge_length_px, int64_t path_work,
+                       const std::string& subject, const SubmissionLimits& limits, Issues& issues);
+// The APLS shortest-path work of a graph (see max_path_work_per_tile); edges with an index
+// outside [0, nodes) are ignored.
+int64_t path_search_work(int64_t nodes, const std::vector<std::array<int64_t, 2>>& edges);
 
 // Reads a submission within the limits: file size first, then a streaming pass counting
 // values and depth, then the parse. Returns nullopt with the problem in `issues`
