@@ -86,6 +86,64 @@ def submissions(out):
     put(out, "submission", "empty", '{"schema_version": "1", "tiles": {}}')
 
 
+def tars(out):
+    import io
+    import tarfile
+    for fmt in ("PAX_FORMAT", "GNU_FORMAT", "USTAR_FORMAT"):
+        buf = io.BytesIO()
+        with tarfile.open(fileobj=buf, mode="w", format=getattr(tarfile, fmt)) as t:
+            for name, data in (("k-test-000000.meta.json", b"{}"), ("k-test-000000.graph.json", b"[]" * 300)):
+                info = tarfile.TarInfo(name)
+                info.size = len(data)
+                t.addfile(info, io.BytesIO(data))
+        put(out, "tar_index", fmt, buf.getvalue())
+
+
+def tile_jsons(out):
+    graph = {"schema_version": "1", "key": "k", "nodes": [{"id": 0, "u": 1.5, "v": 2.0, "x": 0.3, "y": 0.4},
+                                                         {"id": 1, "u": 9.0, "v": 2.0, "x": 1.8, "y": 0.4}],
+             "edges": [{"source": 0, "target": 1, "lane_token": "t"}]}
+    put(out, "tile_json", "graph", json.dumps(graph))
+    put(out, "tile_json", "meta", json.dumps({"key": "k", "bounds_m": [0, 0, 51.2, 51.2], "counts": {"nodes": 2}}))
+    put(out, "tile_json", "nested", "[" * 70 + "]" * 70)
+
+
+def honest_tiff(width, height):
+    """An uncompressed one-strip uint8 TIFF of width x height pixels."""
+    import struct
+    entries = [(256, 4, width), (257, 4, height), (258, 3, 8), (259, 3, 1), (262, 3, 1), (273, 4, None),
+               (277, 3, 1), (278, 4, height), (279, 4, width * height)]
+    data_at = 8 + 2 + 12 * len(entries) + 4
+    tiff = b"II*\x00" + struct.pack("<I", 8) + struct.pack("<H", len(entries))
+    for tag, typ, value in entries:
+        value = data_at if value is None else value
+        tiff += struct.pack("<HHI", tag, typ, 1) + (struct.pack("<HH", value, 0) if typ == 3 else struct.pack("<I", value))
+    return tiff + struct.pack("<I", 0) + bytes(range(256))[: width * height]
+
+
+def images(release, out):
+    put(out, "images", "tiff-16x16", b"\x00" + honest_tiff(16, 16))
+    folder = os.path.join(release, "samples/CAM_FRONT")
+    if os.path.isdir(folder):
+        jpeg = open(os.path.join(folder, sorted(os.listdir(folder))[0]), "rb").read()
+        if len(jpeg) < 65536:
+            put(out, "images", "jpeg", b"\x01" + jpeg)
+    for root, _, files in os.walk(release):
+        pngs = sorted(f for f in files if f.endswith(".png"))
+        if pngs:
+            data = open(os.path.join(root, pngs[0]), "rb").read()
+            if len(data) < 65536:
+                put(out, "images", "png", b"\x02" + data)
+            break
+
+
+def scores(out):
+    import random
+    rng = random.Random(7)
+    for n in (16, 256, 2048):
+        put(out, "score", f"random-{n}", bytes(rng.randrange(256) for _ in range(n)))
+
+
 def main():
     release, out = sys.argv[1], sys.argv[2]
     tables(release, out)
@@ -93,6 +151,10 @@ def main():
     pcds(release, out)
     detections(release, out)
     submissions(out)
+    tars(out)
+    tile_jsons(out)
+    images(release, out)
+    scores(out)
 
 
 if __name__ == "__main__":

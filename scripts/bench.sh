@@ -187,6 +187,15 @@ if "$exe" generate --help >/dev/null 2>&1 && [ -f "$root/samples/synth/city.json
   ran=$((ran + 1))
 fi
 
+# Bounded scoring (docs/scoring-limits.md): an adversarial submission at the per-tile
+# limits must score within 2 s per tile and 1 GB on one core.
+if [ -x "$exe" ]; then
+  printf '\n== adversarial score at the submission limits (one core)\n'
+  bash "$root/bench/adversarial/score.sh" "$build" "$out/adversarial" || failed+=("adversarial score")
+  cp "$out/adversarial/adversarial_score.json" "$out/" 2>/dev/null || true
+  ran=$((ran + 1))
+fi
+
 cat /proc/loadavg >"$out/loadavg-end.txt"
 printf '\n== report\n'
 "$py" "$root/bench/python/report.py" --dir "$out"

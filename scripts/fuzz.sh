@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 FUZZ_BUILD=${1:-build-fuzz}
 FUZZ_SECONDS=${FUZZ_SECONDS:-60}
-FUZZ_TARGETS=${FUZZ_TARGETS:-"table map pcd detections submission"}
+FUZZ_TARGETS=${FUZZ_TARGETS:-"table map pcd detections submission tar_index tile_json images score"}
 JOBS=${JOBS:-2}
 RELEASE_BUILD=${BUILD:-build}
 
@@ -61,10 +61,13 @@ for t in $FUZZ_TARGETS; do
   log=$FUZZ_BUILD/fuzz-logs/$t.log
   mkdir -p "$corpus" "$artifacts" "$(dirname "$log")"
   result=ok
+  # -timeout: seconds per input; the scorer's inputs are whole tiles, held to 5 s.
+  timeout=10
+  [[ $t == score ]] && timeout=5
   # -rss_limit_mb: the readers must stay bounded on hostile input too.
   if ! ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
        "$FUZZ_BUILD/fuzz/fuzz_$t" "$corpus" "$seeds/$t" -max_total_time="$FUZZ_SECONDS" -max_len=65536 \
-       -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$artifacts/" >"$log" 2>&1; then
+       -timeout="$timeout" -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$artifacts/" >"$log" 2>&1; then
     result="CRASH (see $log, $artifacts)"
     status=1
   fi

@@ -163,6 +163,7 @@ def collect(d):
         "memory_vs_canvas": memory,
         "city": read_json(os.path.join(d, "city.json")),
         "dataset_read": read_json(os.path.join(d, "dataset_read.json")),
+        "adversarial_score": read_json(os.path.join(d, "adversarial_score.json")),
         "google_benchmarks": {m: google_benchmarks(os.path.join(d, f"bench_{m}.json"))
                               for m in ("metrics", "synth", "raster")
                               if os.path.exists(os.path.join(d, f"bench_{m}.json"))},

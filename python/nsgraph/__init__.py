@@ -5,12 +5,14 @@ from . import _nsgraph
 from .dataset import LAYERS, MODALITIES, TILE_MEMBERS, Dataset
 from .errors import ConfigError, DataError, Error, InternalError, IoError, ParseError, SubmissionError
 from .groundtruth import adaptive_ground_truth
+from .hosting import evaluate
 from .scoring import check_submission, graph_arrays, score, score_tile, write_submission
 
 __version__ = _nsgraph.__version__
 
 __all__ = [
-    "Dataset", "MODALITIES", "LAYERS", "TILE_MEMBERS", "score", "score_tile", "write_submission", "check_submission",
+    "Dataset", "MODALITIES", "LAYERS", "TILE_MEMBERS", "score", "evaluate", "score_tile", "write_submission",
+    "check_submission",
     "adaptive_ground_truth", "graph_arrays", "Error", "ParseError", "DataError", "ConfigError", "IoError",
     "InternalError", "SubmissionError",
 ]

@@ -44,6 +44,23 @@ py::tuple tile_members_to_py() {
   return py::tuple(out);
 }
 
+// Bands and sample type of a layer (DESIGN.md §5); its size is the manifest's size_px.
+io::RasterHeader expected_raster(const std::string& layer, int size_px) {
+  const bool rgb = layer == "rgb", vehicle = layer == "vehicle";
+  return {size_px, size_px, rgb ? 3 : 1, vehicle ? io::SampleType::kFloat32 : io::SampleType::kUInt8};
+}
+
+// Checked against the header before decoding: a small hostile file claiming a huge image
+// (or a deflate bomb) allocates nothing, and a layer of the wrong shape or type is named.
+io::Raster decode_layer(const io::DatasetTile& tile, const std::string& layer, int size_px) {
+  const std::string suffix = layer + ".tif", name = tile.key + "." + suffix;
+  const auto it = tile.files.find(suffix);
+  if (it == tile.files.end()) return tile.raster(suffix);  // its "missing" error
+  io::check_raster_header(io::read_geotiff_header(it->second, name), expected_raster(layer, size_px), name,
+                          "shard " + tile.shard);
+  return tile.raster(suffix);
+}
+
 // One tile decoded in C++ (no Python objects: built without the GIL).
 struct DecodedTile {
   std::string key, shard;
@@ -61,7 +78,7 @@ DecodedTile decode(const io::SplitIndex& index, size_t i, const std::vector<std:
   if (meta) suffixes.push_back("meta.json");
   const io::DatasetTile tile = index.read(i, suffixes);
   DecodedTile out{tile.key, tile.shard, {}, {}, graph, {}};
-  for (const std::string& l : layers) out.rasters.emplace_back(l, tile.raster(l + ".tif"));
+  for (const std::string& l : layers) out.rasters.emplace_back(l, decode_layer(tile, l, index.size_px()));
   if (graph) out.graph = io::tile_graph_from_json(tile.json("graph.json"), tile.key + ".graph.json");
   if (meta) out.meta = tile.json("meta.json");
   return out;

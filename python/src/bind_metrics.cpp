@@ -6,6 +6,7 @@
 #include "bindings.h"
 #include "convert.h"
 #include "nsg/core/error.h"
+#include "nsg/core/json.h"
 #include "nsg/metrics/io.h"
 #include "nsg/metrics/score.h"
 #include "nsg/metrics/submission_input.h"
@@ -22,8 +23,8 @@ py::list issues_to_py(const Issues& issues) {
     py::dict d;
     d["severity"] = severity_name(i.severity);
     d["check"] = i.check;
-    d["subject"] = i.subject;
-    d["message"] = i.message;
+    d["subject"] = printable_utf8(i.subject);  // may quote hostile bytes
+    d["message"] = printable_utf8(i.message);
     out.append(d);
   }
   return out;
@@ -34,7 +35,7 @@ py::list issues_to_py(const Issues& issues) {
 metrics::CheckedSubmission checked_submission(const std::string& source, bool is_path, const std::string& label,
                                               const std::string& schemas_dir) {
   if (is_path) return metrics::check_submission_file(source, schemas_dir);
-  return metrics::check_submission_document(parse_json(source, label), label, schemas_dir);
+  return metrics::check_submission_text(source, label, schemas_dir);
 }
 
 // The ground truth as `nsgraph score --ground-truth` takes it (a dataset folder and its
@@ -85,7 +86,7 @@ py::tuple score(const std::string& gt, bool gt_is_path, const std::string& sub, 
       report.split = split;
     }
   }
-  if (!issues.empty()) return py::make_tuple(py::none(), issues_to_py(issues), issues.format());
+  if (!issues.empty()) return py::make_tuple(py::none(), issues_to_py(issues), printable_utf8(issues.format()));
   return py::make_tuple(json_to_py(metrics::report_to_json(report)), py::list(), "");
 }
 
@@ -124,7 +125,7 @@ py::tuple write_submission(const std::string& path, const std::vector<std::strin
     issues = metrics::check_submission_file(path, schemas_dir).issues;
     if (!issues.empty()) fs::remove(path);
   }
-  return py::make_tuple(issues_to_py(issues), issues.format());
+  return py::make_tuple(issues_to_py(issues), printable_utf8(issues.format()));
 }
 
 py::tuple check_submission(const std::string& source, bool is_path, const std::string& label,
@@ -134,7 +135,7 @@ py::tuple check_submission(const std::string& source, bool is_path, const std::s
     py::gil_scoped_release release;
     issues = checked_submission(source, is_path, label, schemas_dir).issues;
   }
-  return py::make_tuple(issues_to_py(issues), issues.format());
+  return py::make_tuple(issues_to_py(issues), printable_utf8(issues.format()));
 }
 
 }  // namespace

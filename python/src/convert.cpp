@@ -4,19 +4,25 @@
 #include <memory>
 
 #include "nsg/core/error.h"
+#include "nsg/core/json.h"
 
 namespace nsg::py_bind {
 
-py::object json_to_py(const nlohmann::json& j) {
+namespace {
+py::object json_to_py(const nlohmann::json& j, int depth) {
+  // Documents from outside were parsed with parse_json_strict (nesting <= kMaxJsonDepth);
+  // the check keeps this recursion bounded whatever the caller passes.
+  NSG_CHECK(depth <= kMaxJsonDepth, ParseError, "", "nesting depth " + std::to_string(depth),
+            "arrays and objects nested at most " + std::to_string(kMaxJsonDepth) + " deep");
   switch (j.type()) {
     case nlohmann::json::value_t::object: {
       py::dict d;
-      for (const auto& [k, v] : j.items()) d[py::str(k)] = json_to_py(v);
+      for (const auto& [k, v] : j.items()) d[py::str(k)] = json_to_py(v, depth + 1);
       return d;
     }
     case nlohmann::json::value_t::array: {
       py::list l(j.size());
-      for (size_t i = 0; i < j.size(); ++i) l[i] = json_to_py(j[i]);
+      for (size_t i = 0; i < j.size(); ++i) l[i] = json_to_py(j[i], depth + 1);
       return l;
     }
     case nlohmann::json::value_t::string: return py::str(j.get_ref<const std::string&>());
@@ -27,13 +33,12 @@ py::object json_to_py(const nlohmann::json& j) {
     default: return py::none();
   }
 }
+}  // namespace
+
+py::object json_to_py(const nlohmann::json& j) { return json_to_py(j, 0); }
 
 nlohmann::json parse_json(const std::string& text, const std::string& label) {
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ParseError(label, "byte " + std::to_string(e.byte), std::string("valid JSON: ") + e.what());
-  }
+  return parse_json_strict(text, label);
 }
 
 py::array raster_to_numpy(io::Raster&& raster) {
@@ -89,10 +94,11 @@ void raise(const char* name, const Error& e) {
   // Looked up at raise time: the classes live in Python (nsgraph/errors.py) so they can
   // derive from both nsgraph.Error and ValueError / OSError.
   py::object cls = py::module_::import("nsgraph.errors").attr(name);
-  py::object exc = cls(e.what());
-  exc.attr("file") = e.file();
-  exc.attr("record") = e.record();
-  exc.attr("expected") = e.expected();
+  // Messages may quote hostile bytes: escaped, so they always convert to str.
+  py::object exc = cls(printable_utf8(e.what()));
+  exc.attr("file") = printable_utf8(e.file());
+  exc.attr("record") = printable_utf8(e.record());
+  exc.attr("expected") = printable_utf8(e.expected());
   PyErr_SetObject(cls.ptr(), exc.ptr());
 }
 }  // namespace

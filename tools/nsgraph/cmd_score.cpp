@@ -81,7 +81,8 @@ void add_score_command(CLI::App& parent, Context& ctx) {
   cmd->add_option("--ground-truth", opts->ground_truth,
                   "Dataset folder (its tiles of --split) or a file in the submission format")
       ->required();
-  cmd->add_option("--submission", opts->submission, "Submission JSON (schemas/v1/submission.schema.json)")
+  cmd->add_option("--submission", opts->submission,
+                  "Submission JSON (schemas/v1/submission.schema.json): a file, or a pipe / /dev/stdin")
       ->required();
   cmd->add_option("--split", opts->split, "Split of a dataset ground truth")->capture_default_str();
   cmd->add_option("--out", opts->out, "Write the JSON report here (atomically)");
@@ -90,6 +91,16 @@ void add_score_command(CLI::App& parent, Context& ctx) {
   cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores); output does not depend on it")
       ->capture_default_str();
   cmd->add_option("--schemas", opts->schemas, "Folder of the published schemas (default: installed/source)");
+  const validate::SubmissionLimits limits;
+  cmd->footer(strprintf(
+      "Limits (a submission beyond them is refused, exit 1, before scoring): a file or stream (--submission may be a\n"
+      "pipe, e.g. /dev/stdin) of at most %lld MiB; per tile at most %lld nodes, %lld edges and %.0f px of total edge\n"
+      "length, and a shortest-path work (per connected piece: nodes x (nodes + 2 x edges)) of at most %lld, i.e.\n"
+      "about 1 800 nodes in one connected piece. They bound the scoring time: an adversarial tile at the limits\n"
+      "scores in under 2 s on one core (docs/scoring-limits.md). Real 256-px tiles hold 100-1500 nodes.",
+      static_cast<long long>(limits.max_file_bytes >> 20), static_cast<long long>(limits.max_nodes_per_tile),
+      static_cast<long long>(limits.max_edges_per_tile), limits.max_edge_length_px_per_tile,
+      static_cast<long long>(limits.max_path_work_per_tile)));
   cmd->callback([opts, &ctx]() { ctx.run = [opts]() { return run_score(*opts); }; });
 }
 

@@ -4,6 +4,7 @@
 
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
+#include "nsg/core/json.h"
 #include "nsg/io/tar.h"
 
 namespace nsg::io {
@@ -19,23 +20,25 @@ Raster DatasetTile::raster(const std::string& suffix) const {
 nlohmann::json DatasetTile::json(const std::string& suffix) const {
   auto it = files.find(suffix);
   if (it == files.end()) throw ParseError(key + "." + suffix, shard, "the tile's " + suffix + " (missing)");
-  try {
-    return nlohmann::json::parse(it->second.begin(), it->second.end());
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ParseError(key + "." + suffix, "byte " + std::to_string(e.byte), "valid JSON");
-  }
+  const std::vector<uint8_t>& bytes = it->second;
+  return parse_json_strict(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
+                           key + "." + suffix);
+}
+
+fs::path path_in_dataset(const fs::path& root, const std::string& relative, const std::string& record) {
+  const fs::path rel(relative);
+  bool inside = !relative.empty() && rel.is_relative() && !rel.has_root_name();
+  for (const auto& part : rel) inside = inside && part != "..";
+  NSG_CHECK(inside, ParseError, (root / "manifest.json").string(), record,
+            "a relative path inside the dataset folder, got '" + relative + "'");
+  return root / rel;
 }
 
 Dataset Dataset::open(const fs::path& root) {
   Dataset d;
   d.root_ = root;
   const fs::path path = root / "manifest.json";
-  const std::string text = read_file(path);
-  try {
-    d.manifest_ = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ParseError(path.string(), "byte " + std::to_string(e.byte), "valid JSON (the dataset manifest)");
-  }
+  d.manifest_ = parse_json_strict(read_file(path), path.string(), "the dataset manifest");
   if (!d.manifest_.is_object() || !d.manifest_.contains("shards") || !d.manifest_["shards"].is_array())
     throw ParseError(path.string(), "shards", "a manifest with a \"shards\" array");
   d.tar_ = d.manifest_.value("layout", "tar") == "tar";
@@ -70,14 +73,14 @@ std::vector<DatasetTile> Dataset::read_shard(const nlohmann::json& shard) const 
     tiles.back().files[suffix] = std::move(bytes);
   };
   if (tar_) {
-    const fs::path file = root_ / shard.value("file", "");
+    const fs::path file = path_in_dataset(root_, shard.value("file", ""), "shard '" + name + "' file");
     TarReader reader(file);
     TarMember m;
     while (reader.next(m)) add(m.name, std::move(m.bytes), file.string());
     return tiles;
   }
   // Folder layout: tiles/<split>/<key>/<key>.<suffix>, keys from first_key to last_key.
-  const fs::path folder = root_ / shard.value("folder", "");
+  const fs::path folder = path_in_dataset(root_, shard.value("folder", ""), "shard '" + name + "' folder");
   const std::string first = shard.value("first_key", ""), last = shard.value("last_key", "");
   std::vector<fs::path> dirs;
   if (fs::is_directory(folder))

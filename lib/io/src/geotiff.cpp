@@ -22,8 +22,9 @@ namespace nsg::io {
 namespace {
 
 constexpr uint32_t kRowsPerStrip = 256;
-// A corrupt header must not make us allocate without bound; real tiles are 256 KiB.
-constexpr uint64_t kMaxDecodedBytes = uint64_t{1} << 30;
+// A corrupt header must not make us allocate without bound: tiles are 256 x 256, so a
+// header claiming more than 4096 x 4096 pixels is refused before any buffer is made.
+constexpr uint32_t kMaxSidePx = 4096;
 
 // ---- libtiff client I/O over memory -------------------------------------------------------
 
@@ -318,6 +319,28 @@ std::vector<uint8_t> encode_geotiff(const Raster& raster, const GeoRef& georef,
   return out;
 }
 
+RasterHeader read_geotiff_header(std::span<const uint8_t> bytes, const std::string& name) {
+  MemFile mem;
+  mem.in = bytes;
+  TiffPtr tif = open_tiff(name, "r", mem);
+  NSG_CHECK(tif != nullptr, ParseError, name, "TIFF header",
+            "a TIFF file" + (mem.error.empty() ? std::string() : " (libtiff: " + mem.error + ")"));
+  const Layout l = read_layout(tif.get(), name);
+  return {static_cast<int>(l.width), static_cast<int>(l.height), l.bands,
+          l.bits == 32 ? SampleType::kFloat32 : SampleType::kUInt8};
+}
+
+std::string describe(const RasterHeader& h) {
+  return std::to_string(h.width) + " x " + std::to_string(h.height) + " " +
+         (h.type == SampleType::kFloat32 ? "float32" : "uint8") + " x " + std::to_string(h.bands);
+}
+
+void check_raster_header(const RasterHeader& got, const RasterHeader& want, const std::string& name,
+                         const std::string& record) {
+  NSG_CHECK(got.width == want.width && got.height == want.height && got.bands == want.bands && got.type == want.type,
+            DataError, name, record, "a raster of " + describe(want) + " (the manifest's tile format), got " + describe(got));
+}
+
 Raster decode_geotiff(std::span<const uint8_t> bytes, const std::string& name, GeoRef* georef) {
   MemFile mem;
   mem.in = bytes;
@@ -325,15 +348,15 @@ Raster decode_geotiff(std::span<const uint8_t> bytes, const std::string& name, G
   NSG_CHECK(tif != nullptr, ParseError, name, "TIFF header",
             "a TIFF file" + (mem.error.empty() ? std::string() : " (libtiff: " + mem.error + ")"));
   const Layout l = read_layout(tif.get(), name);
+  NSG_CHECK(l.width <= kMaxSidePx && l.height <= kMaxSidePx, ParseError, name, "ImageWidth/ImageLength",
+            "an image of at most " + std::to_string(kMaxSidePx) + " x " + std::to_string(kMaxSidePx) + " pixels, got " +
+                std::to_string(l.width) + " x " + std::to_string(l.height));
   Raster r;
   r.width = static_cast<int>(l.width);
   r.height = static_cast<int>(l.height);
   r.bands = l.bands;
   r.type = l.bits == 32 ? SampleType::kFloat32 : SampleType::kUInt8;
-  const uint64_t total = uint64_t{l.width} * l.height * l.bands * (l.bits / 8);
-  NSG_CHECK(l.width <= 1u << 20 && l.height <= 1u << 20 && total <= kMaxDecodedBytes, ParseError,
-            name, "ImageWidth/ImageLength", "an image of at most 1 GiB decoded");
-  r.data.resize(total);
+  r.data.resize(uint64_t{l.width} * l.height * l.bands * (l.bits / 8));
   read_strips(tif.get(), r, name, mem);
   if (georef != nullptr) *georef = read_georef(tif.get(), name);
   return r;

@@ -12,6 +12,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/sha256.h"
 #include "nsg/io/tar.h"
+#include "nsg/io/tar_index.h"
 
 namespace fs = std::filesystem;
 
@@ -138,6 +139,7 @@ struct TarReader::Impl {
   fs::path path;
   std::unique_ptr<archive, ArchiveReadFree> ar;
   std::string last_member;
+  std::set<std::string> names;  // members read so far: each name once
   bool at_end = false;
 
   // libarchive accepts a tar cut off exactly between members as complete (some writers
@@ -195,7 +197,15 @@ bool TarReader::next(TarMember& out) {
     const char* pathname = archive_entry_pathname(e);
     const std::string name = pathname != nullptr ? pathname : "";
     r.last_member = name;
-    if (archive_entry_filetype(e) != AE_IFREG) continue;  // directories, links: not samples
+    // The same members index_tar accepts: regular files with safe, unique names; folders
+    // are skipped; links and special files refused.
+    const auto type = archive_entry_filetype(e);
+    if (type == AE_IFDIR) continue;
+    check_tar_member_type(r.path.string(), name, type == AE_IFREG ? '0' : type == AE_IFLNK ? '2' : '3');
+    if (archive_entry_hardlink(e) != nullptr) check_tar_member_type(r.path.string(), name, '1');
+    check_tar_member_name(r.path.string(), name);
+    NSG_CHECK(r.names.insert(name).second, ParseError, r.path.string(), "member '" + name + "'",
+              "each member name once");
     const la_int64_t size = archive_entry_size(e);
     std::error_code ec;
     const auto file_size = fs::file_size(r.path, ec);

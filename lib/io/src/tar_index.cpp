@@ -8,8 +8,10 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <optional>
+#include <set>
 
 #include "nsg/core/error.h"
 
@@ -71,13 +73,40 @@ void apply_pax(const std::string& text, std::string* path, std::optional<uint64_
     if (eq != std::string::npos) {
       const std::string key = record.substr(0, eq), value = record.substr(eq + 1);
       if (key == "path") *path = value;
-      if (key == "size") *size = std::strtoull(value.c_str(), nullptr, 10);
+      if (key == "size") {
+        // Decimal digits only, without overflow: strtoull would saturate a hostile value.
+        uint64_t v = 0;
+        bool ok = !value.empty();
+        for (char ch : value) {
+          const auto digit = static_cast<uint64_t>(ch - '0');
+          ok = ok && ch >= '0' && ch <= '9' && v <= (UINT64_MAX - digit) / 10;
+          if (ok) v = v * 10 + digit;
+        }
+        NSG_CHECK(ok, ParseError, file, where, "a pax size in decimal digits below 2^64, got '" + value + "'");
+        *size = v;
+      }
     }
     at += len;
   }
 }
 
 }  // namespace
+
+void check_tar_member_name(const std::string& file, const std::string& name) {
+  NSG_CHECK(!name.empty() && name.front() != '/', ParseError, file, "member '" + name + "'",
+            "a relative member name (not absolute)");
+  NSG_CHECK(name.find('\0') == std::string::npos, ParseError, file, "member", "a name without NUL bytes");
+  for (const auto& part : fs::path(name))
+    NSG_CHECK(part != "..", ParseError, file, "member '" + name + "'", "a name without '..' components");
+}
+
+void check_tar_member_type(const std::string& file, const std::string& name, char type) {
+  const bool regular = type == '0' || type == '\0' || type == '7';
+  NSG_CHECK(regular || type == '5', ParseError, file, "member '" + name + "'",
+            std::string("regular files (and folders) only, not a ") +
+                (type == '1' ? "hard link" : type == '2' ? "symbolic link" : "special file") +
+                " (type '" + std::string(1, type) + "')");
+}
 
 void read_at(int fd, uint64_t offset, void* out, size_t size, const std::string& file_label,
              const std::string& record) {
@@ -103,6 +132,7 @@ std::vector<TarIndexEntry> index_tar(const fs::path& path) {
   NSG_CHECK(!ec, IoError, file, "", "a readable tar file: " + ec.message());
 
   std::vector<TarIndexEntry> out;
+  std::set<std::string> names;
   std::string long_name;             // from a pax 'x' or GNU 'L' header, for the next member
   std::optional<uint64_t> pax_size;  // from a pax 'x' header
   uint64_t at = 0;
@@ -124,11 +154,13 @@ std::vector<TarIndexEntry> index_tar(const fs::path& path) {
     if (std::memcmp(c + 257, "ustar", 5) == 0 && c[345] != '\0') name = field_string(c + 345, 155) + "/" + name;
     const uint64_t data = at + kBlock;
     if (type == 'g') {  // a global pax header: nothing we use
+      NSG_CHECK(size <= file_size - data, ParseError, file, where, "a global header within the file");
       at = data + padded(size);
       continue;
     }
     if (type == 'x' || type == 'L') {
-      NSG_CHECK(size < (1u << 20) && data + size <= file_size, ParseError, file, where, "an extended header of < 1 MiB within the file");
+      NSG_CHECK(size < (1u << 20) && size <= file_size - data, ParseError, file, where,
+                "an extended header of < 1 MiB within the file");
       std::string text(size, '\0');
       read_at(f.fd, data, text.data(), size, file, where);
       if (type == 'x') apply_pax(text, &long_name, &pax_size, file, where);
@@ -138,10 +170,16 @@ std::vector<TarIndexEntry> index_tar(const fs::path& path) {
     }
     if (pax_size) size = *pax_size;  // pax size overrides the octal field
     if (!long_name.empty()) name = long_name;
-    NSG_CHECK(data + size <= file_size, ParseError, file, "member '" + name + "'",
+    // `data <= file_size` holds (checked above): compare without forming data + size, which
+    // a hostile size would wrap around to an earlier offset.
+    NSG_CHECK(size <= file_size - data, ParseError, file, "member '" + name + "'",
               std::to_string(size) + " bytes of data within the archive");
-    if (type == '0' || type == '\0' || type == '7') out.push_back({name, data, size});
-    // directories, links, global pax headers: not samples
+    check_tar_member_type(file, name, type);
+    if (type != '5') {  // folders: not samples
+      check_tar_member_name(file, name);
+      NSG_CHECK(names.insert(name).second, ParseError, file, "member '" + name + "'", "each member name once");
+      out.push_back({name, data, size});
+    }
     long_name.clear();
     pax_size.reset();
     at = data + padded(size);

@@ -68,6 +68,13 @@ int open_read(const fs::path& path, const std::string& record) {
 SplitIndex::SplitIndex(const fs::path& root, const std::string& split) : root_(root), split_(split) {
   const Dataset ds = Dataset::open(root);
   tar_ = ds.tar_layout();
+  const nlohmann::json::json_pointer size_ptr("/tile_format/size_px");
+  if (ds.manifest().contains(size_ptr) && ds.manifest()[size_ptr].is_number_integer()) {
+    const int64_t size = ds.manifest()[size_ptr].get<int64_t>();
+    NSG_CHECK(size > 0 && size <= 4096, ParseError, (root / "manifest.json").string(), "/tile_format/size_px",
+              "a tile size in [1, 4096] pixels, got " + std::to_string(size));
+    size_px_ = static_cast<int>(size);
+  }
   const std::vector<nlohmann::json> entries = ds.shards(split);
   if (entries.empty()) {
     std::set<std::string> present;
@@ -90,7 +97,8 @@ SplitIndex::SplitIndex(const fs::path& root, const std::string& split) : root_(r
 
 void SplitIndex::index_tar_shard(const nlohmann::json& entry) {
   const auto shard = static_cast<uint32_t>(shards_.size());
-  shards_.push_back({entry.value("name", ""), root_ / entry.value("file", "")});
+  const std::string name = entry.value("name", "");
+  shards_.push_back({name, path_in_dataset(root_, entry.value("file", ""), "shard '" + name + "' file")});
   const fs::path& file = shards_.back().path;
   for (const TarIndexEntry& e : *cached_tar_index(file)) {
     auto [key, suffix] = split_member(e.name, file.string());
@@ -103,7 +111,8 @@ void SplitIndex::index_tar_shard(const nlohmann::json& entry) {
 void SplitIndex::index_folder_shard(const nlohmann::json& entry) {
   // Folder layout: <folder>/<key>/<key>.<suffix>, keys from first_key to last_key.
   const auto shard = static_cast<uint32_t>(shards_.size());
-  shards_.push_back({entry.value("name", ""), root_ / entry.value("folder", "")});
+  const std::string name = entry.value("name", "");
+  shards_.push_back({name, path_in_dataset(root_, entry.value("folder", ""), "shard '" + name + "' folder")});
   const fs::path& folder = shards_.back().path;
   const std::string first = entry.value("first_key", ""), last = entry.value("last_key", "");
   NSG_CHECK(fs::is_directory(folder), IoError, folder.string(), "shard '" + shards_.back().name + "'",

@@ -10,6 +10,7 @@
 
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
+#include "nsg/core/json.h"
 #include "nsg/core/strings.h"
 #include "nsg/validate/submission.h"
 
@@ -122,12 +123,7 @@ void load_tar(const fs::path& tar, GraphSet& out) {
 }  // namespace
 
 nlohmann::json read_json_file(const fs::path& path) {
-  const std::string text = read_file(path);
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ParseError(path.string(), "byte " + std::to_string(e.byte), std::string("valid JSON: ") + e.what());
-  }
+  return parse_json_strict(read_file(path), path.string());
 }
 
 std::optional<nlohmann::json> read_submission_file(const fs::path& path,
@@ -149,12 +145,7 @@ GraphSet graphs_from_submission(const nlohmann::json& doc, const std::string& fi
 }
 
 Graph graph_from_dataset_json(const std::string& text, const std::string& file) {
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ParseError(file, "byte " + std::to_string(e.byte), std::string("valid JSON: ") + e.what());
-  }
+  const nlohmann::json doc = parse_json_strict(text, file);
   NSG_CHECK(doc.is_object() && doc.contains("nodes") && doc["nodes"].is_array() &&
                 doc.contains("edges") && doc["edges"].is_array(),
             DataError, file, "", "a graph object with arrays nodes and edges");

@@ -17,6 +17,15 @@ CheckedSubmission check_submission_document(const nlohmann::json& doc, const std
   return out;
 }
 
+CheckedSubmission check_submission_text(const std::string& text, const std::string& label,
+                                        const std::filesystem::path& schemas_dir,
+                                        const validate::SubmissionLimits& limits) {
+  CheckedSubmission out;
+  const std::optional<nlohmann::json> doc = validate::parse_submission_text(text, label, limits, out.issues);
+  if (!doc) return out;
+  return check_submission_document(*doc, label, schemas_dir, limits);
+}
+
 CheckedSubmission check_submission_file(const std::filesystem::path& file,
                                         const std::filesystem::path& schemas_dir,
                                         const validate::SubmissionLimits& limits) {

@@ -6,6 +6,11 @@
 #include "nsg/core/files.h"
 
 namespace nsg::nuscenes {
+namespace {
+// nuScenes cameras are 1600 x 900; the header is checked before any pixel buffer is
+// allocated, so a small file claiming a huge image costs nothing.
+constexpr int kMaxJpegSidePx = 4096;
+}  // namespace
 
 struct JpegDecoder::Impl {
   tjhandle handle = nullptr;
@@ -31,6 +36,10 @@ std::pair<int, int> JpegDecoder::read_size(const std::uint8_t* data, size_t size
                                        &subsampling, &colorspace) != 0) {
     throw ParseError(name, "", std::string("a JPEG image (header: ") + tjGetErrorStr2(impl_->handle) + ")");
   }
+  NSG_CHECK(width > 0 && height > 0 && width <= kMaxJpegSidePx && height <= kMaxJpegSidePx, ParseError, name,
+            "JPEG header", "a camera image of at most " + std::to_string(kMaxJpegSidePx) + " x " +
+                               std::to_string(kMaxJpegSidePx) + " pixels, got " + std::to_string(width) + " x " +
+                               std::to_string(height));
   return {width, height};
 }
 

@@ -13,6 +13,8 @@ namespace nsg::nuscenes {
 
 namespace {
 
+constexpr png_uint_32 kMaxMaskSidePx = 4096;
+
 // libpng reports errors by longjmp; the message is kept here and turned into a
 // ParseError once we are back in C++ (no exceptions through C frames).
 struct PngErrorState {
@@ -39,6 +41,7 @@ std::string read_gray8(std::FILE* f, GrayImage& out, std::vector<png_bytep>& row
     return "cannot create a PNG reader";
   }
   const char* problem = nullptr;
+  bool problem_size = false;
   if (setjmp(png_jmpbuf(png))) {
     png_destroy_read_struct(&png, &info, nullptr);
     return state.message[0] ? state.message : "a valid PNG";
@@ -49,8 +52,10 @@ std::string read_gray8(std::FILE* f, GrayImage& out, std::vector<png_bytep>& row
   const int bit_depth = png_get_bit_depth(png, info), color_type = png_get_color_type(png, info);
   if (bit_depth != 8 || color_type != PNG_COLOR_TYPE_GRAY) {
     problem = "an 8-bit single-channel grayscale PNG";
-  } else if (width == 0 || height == 0 || width > 100000 || height > 100000) {
-    problem = "a PNG between 1 and 100000 pixels per side";
+  } else if (width == 0 || height == 0 || width > kMaxMaskSidePx || height > kMaxMaskSidePx) {
+    // Checked on the header, before the pixel buffer: masks are camera-sized (1600 x 900).
+    problem = "a mask of at most 4096 x 4096 pixels";
+    problem_size = true;
   } else {
     png_set_interlace_handling(png);
     png_read_update_info(png, info);
@@ -65,7 +70,8 @@ std::string read_gray8(std::FILE* f, GrayImage& out, std::vector<png_bytep>& row
   png_destroy_read_struct(&png, &info, nullptr);
   if (problem == nullptr) return "";
   std::string reason = problem;
-  reason += " (got bit depth " + std::to_string(bit_depth) + ", color type " + std::to_string(color_type) + ")";
+  reason += problem_size ? " (got " + std::to_string(width) + " x " + std::to_string(height) + ")"
+                         : " (got bit depth " + std::to_string(bit_depth) + ", color type " + std::to_string(color_type) + ")";
   return reason;
 }
 

@@ -104,7 +104,7 @@ cv::Mat layer_mat(const io::DatasetTile& tile, int layer, int size_px) {
 cv::Mat coverage_mat(const io::DatasetTile& tile, int size_px) {
   cv::Mat m(size_px, size_px, CV_8UC3, detail::scalar(kNoData));
   if (!tile.has("coverage.tif")) return m;
-  const io::Raster cov = layer_raster(tile, "coverage.tif", 1, io::SampleType::kUInt8);
+  const io::Raster cov = layer_raster(tile, "coverage.tif");
   NSG_CHECK(cov.width == size_px && cov.height == size_px, ParseError, tile.key + ".coverage.tif", "size",
             strprintf("%d x %d like the LiDAR layer", size_px, size_px));
   for (int i = 0; i < size_px * size_px; ++i) {

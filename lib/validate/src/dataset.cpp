@@ -204,6 +204,15 @@ class DatasetChecker {
     const std::string name = str_of(shard, "name");
     const std::string split = str_of(shard, "split");
     found_per_shard_[name] += 0;
+    // A path outside the dataset (absolute, '..') is never read; an empty one is "missing" below.
+    if (const std::string rel = str_of(shard, ds_.tar_layout() ? "file" : "folder"); !rel.empty()) {
+      try {
+        io::path_in_dataset(ds_.root(), rel, "shard '" + name + "'");
+      } catch (const Error& e) {
+        error("shard.present", name, e.what());
+        return;
+      }
+    }
     if (ds_.tar_layout()) {
       const fs::path path = ds_.root() / str_of(shard, "file");
       if (str_of(shard, "file").empty() || !fs::is_regular_file(path)) {
@@ -364,7 +373,17 @@ class DatasetChecker {
     io::GeoRef georef;
     io::Raster r;
     try {
-      r = io::decode_geotiff(t.files.at(spec.suffix), subject, &georef);
+      // The header first: a raster of the wrong size or type is reported without decoding
+      // it, so a small file claiming a huge image allocates nothing.
+      const io::RasterHeader h = io::read_geotiff_header(t.files.at(spec.suffix), subject);
+      if (h.width != size_px_ || h.height != size_px_ || h.type != spec.type || h.bands != spec.bands) {
+        r.width = h.width;
+        r.height = h.height;
+        r.bands = h.bands;
+        r.type = h.type;
+      } else {
+        r = io::decode_geotiff(t.files.at(spec.suffix), subject, &georef);
+      }
     } catch (const Error& e) {
       error("raster.readable", subject, e.what());
       return std::nullopt;
@@ -375,7 +394,7 @@ class DatasetChecker {
     if (r.type != spec.type || r.bands != spec.bands)
       error("raster.dtype", subject, strprintf("%s x %d, got %s x %d", spec.type == io::SampleType::kUInt8 ? "uint8" : "float32",
                                                spec.bands, r.type == io::SampleType::kUInt8 ? "uint8" : "float32", r.bands));
-    if (meta && bounds) {
+    if (meta && bounds && !r.data.empty()) {  // decoded: its georeference was read
       if (georef.location != str_of(*meta, "location"))
         error("raster.georef", subject, "the CRS of location '" + str_of(*meta, "location") + "', got '" + georef.location + "'");
       if (!near(georef.x_west_m, bounds->x_west) || !near(georef.y_north_m, bounds->y_north))

@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <fstream>
 #include <set>
 
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
+#include "nsg/core/json.h"
 #include "nsg/core/strings.h"
 #include "nsg/io/dataset.h"
 #include "nsg/validate/schema.h"
@@ -17,18 +20,42 @@ bool finite_number(const nlohmann::json& j) {
   return j.is_number() && std::isfinite(j.get<double>());
 }
 
+// Sum of the lengths of the edges whose ends are valid [u, v] nodes (others are reported
+// by the schema and index checks).
+double edge_length_px(const nlohmann::json* nodes, const nlohmann::json* edges) {
+  if (nodes == nullptr || edges == nullptr) return 0.0;
+  const auto point = [&](const nlohmann::json& i, double* u, double* v) {
+    if (!i.is_number_unsigned() || i.get<uint64_t>() >= nodes->size()) return false;
+    const nlohmann::json& n = (*nodes)[i.get<size_t>()];
+    if (!n.is_array() || n.size() != 2 || !n[0].is_number() || !n[1].is_number()) return false;
+    *u = n[0].get<double>();
+    *v = n[1].get<double>();
+    return true;
+  };
+  double total = 0.0;
+  for (const nlohmann::json& e : *edges) {
+    double u0, v0, u1, v1;
+    if (e.is_array() && e.size() == 2 && point(e[0], &u0, &v0) && point(e[1], &u1, &v1))
+      total += std::hypot(u1 - u0, v1 - v0);
+  }
+  return total;
+}
+
 void check_tile(const std::string& key, const nlohmann::json& tile, const std::string& file,
                 const SubmissionLimits& limits, Issues& issues) {
   const std::string base = file + ":/tiles/" + json_pointer_token(key);
   if (!tile.is_object()) return;  // the schema reports it
   const nlohmann::json* nodes = tile.contains("nodes") && tile["nodes"].is_array() ? &tile["nodes"] : nullptr;
   const nlohmann::json* edges = tile.contains("edges") && tile["edges"].is_array() ? &tile["edges"] : nullptr;
-  if (nodes != nullptr && static_cast<int64_t>(nodes->size()) > limits.max_nodes_per_tile)
-    issues.error("submission.size", base + "/nodes",
-                 std::to_string(nodes->size()) + " nodes; at most " + std::to_string(limits.max_nodes_per_tile));
-  if (edges != nullptr && static_cast<int64_t>(edges->size()) > limits.max_edges_per_tile)
-    issues.error("submission.size", base + "/edges",
-                 std::to_string(edges->size()) + " edges; at most " + std::to_string(limits.max_edges_per_tile));
+  const int64_t n_nodes_all = nodes != nullptr ? static_cast<int64_t>(nodes->size()) : 0;
+  std::vector<std::array<int64_t, 2>> pairs;
+  if (edges != nullptr && static_cast<int64_t>(edges->size()) <= limits.max_edges_per_tile)
+    for (const nlohmann::json& e : *edges)
+      if (e.is_array() && e.size() == 2 && e[0].is_number_unsigned() && e[1].is_number_unsigned() &&
+          e[0].get<uint64_t>() < static_cast<uint64_t>(n_nodes_all) && e[1].get<uint64_t>() < static_cast<uint64_t>(n_nodes_all))
+        pairs.push_back({e[0].get<int64_t>(), e[1].get<int64_t>()});
+  check_tile_limits(n_nodes_all, edges != nullptr ? static_cast<int64_t>(edges->size()) : 0, edge_length_px(nodes, edges),
+                    path_search_work(n_nodes_all, pairs), base, limits, issues);
   if (nodes != nullptr) {
     for (size_t k = 0; k < nodes->size(); ++k) {
       const nlohmann::json& n = (*nodes)[k];
@@ -46,10 +73,17 @@ void check_tile(const std::string& key, const nlohmann::json& tile, const std::s
       if (!e.is_array()) continue;
       for (size_t s = 0; s < e.size(); ++s) {
         if (!e[s].is_number_integer()) continue;
-        const int64_t idx = e[s].get<int64_t>();
-        if (idx < 0 || idx >= n_nodes)
-          issues.error("submission.indices", base + "/edges/" + std::to_string(k) + "/" + std::to_string(s),
-                       "node index " + std::to_string(idx) + " out of range [0, " + std::to_string(n_nodes) + ")");
+        // Unsigned values above 2^63 stay unsigned: 18446744073709551615 is not "-1".
+        const bool huge = e[s].is_number_unsigned() && e[s].get<uint64_t>() > uint64_t{INT64_MAX};
+        const int64_t idx = huge ? -1 : e[s].get<int64_t>();
+        if (!huge && idx >= 0 && idx < n_nodes) continue;
+        if (!issues.lists("submission.indices")) {  // counted only: no message to build
+          issues.error("submission.indices", base, "");
+          continue;
+        }
+        const std::string shown = huge ? std::to_string(e[s].get<uint64_t>()) : std::to_string(idx);
+        issues.error("submission.indices", base + "/edges/" + std::to_string(k) + "/" + std::to_string(s),
+                     "node index " + shown + " out of range [0, " + std::to_string(n_nodes) + ")");
       }
     }
   }
@@ -73,9 +107,49 @@ void check_tile(const std::string& key, const nlohmann::json& tile, const std::s
 Issues check_submission_structure(const nlohmann::json& doc, const std::string& file_label,
                                   const SubmissionLimits& limits) {
   Issues issues;
+  issues.limit_per_check(kMaxListedIssues);
   if (!doc.is_object() || !doc.contains("tiles") || !doc["tiles"].is_object()) return issues;
   for (const auto& [key, tile] : doc["tiles"].items()) check_tile(key, tile, file_label, limits, issues);
   return issues;
+}
+
+int64_t path_search_work(int64_t nodes, const std::vector<std::array<int64_t, 2>>& edges) {
+  std::vector<int64_t> parent(static_cast<size_t>(std::max<int64_t>(nodes, 0)));
+  for (size_t k = 0; k < parent.size(); ++k) parent[k] = static_cast<int64_t>(k);
+  const auto root = [&](int64_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& [i, j] : edges)
+    if (i >= 0 && i < nodes && j >= 0 && j < nodes) parent[root(i)] = root(j);
+  std::vector<int64_t> size(parent.size(), 0), arcs(parent.size(), 0);
+  for (int64_t k = 0; k < nodes; ++k) ++size[root(k)];
+  for (const auto& [i, j] : edges)
+    if (i >= 0 && i < nodes && j >= 0 && j < nodes) arcs[root(i)] += 2;
+  int64_t work = 0;
+  for (size_t c = 0; c < size.size(); ++c) work += size[c] * (size[c] + arcs[c]);
+  return work;
+}
+
+void check_tile_limits(int64_t nodes, int64_t edges, double edge_length_px, int64_t path_work,
+                       const std::string& subject, const SubmissionLimits& limits, Issues& issues) {
+  const std::string why = " (the scoring limits: score --help)";
+  if (nodes > limits.max_nodes_per_tile)
+    issues.error("submission.size", subject + "/nodes",
+                 std::to_string(nodes) + " nodes; at most " + std::to_string(limits.max_nodes_per_tile) + " per tile" + why);
+  if (edges > limits.max_edges_per_tile)
+    issues.error("submission.size", subject + "/edges",
+                 std::to_string(edges) + " edges; at most " + std::to_string(limits.max_edges_per_tile) + " per tile" + why);
+  if (!(edge_length_px <= limits.max_edge_length_px_per_tile))  // NaN and inf included
+    issues.error("submission.size", subject + "/edges",
+                 strprintf("a total edge length of %.0f px; at most %.0f px per tile", edge_length_px,
+                           limits.max_edge_length_px_per_tile) + why);
+  if (nodes <= limits.max_nodes_per_tile && edges <= limits.max_edges_per_tile && path_work > limits.max_path_work_per_tile)
+    issues.error("submission.size", subject + "/edges",
+                 strprintf("a shortest-path work of %lld (per connected piece: nodes x (nodes + 2 x edges)); at most %lld "
+                           "per tile, about %lld nodes in one connected piece",
+                           static_cast<long long>(path_work), static_cast<long long>(limits.max_path_work_per_tile),
+                           static_cast<long long>(std::sqrt(static_cast<double>(limits.max_path_work_per_tile) / 3.0))) + why);
 }
 
 std::string json_pointer_token(const std::string& key) {
@@ -96,7 +170,9 @@ std::string json_pointer_token(const std::string& key) {
 namespace nsg::validate {
 
 void SubmissionLimits::validate() const {
-  NSG_CHECK(max_nodes_per_tile > 0 && max_edges_per_tile > 0, ConfigError, "", "limits", "positive per-tile limits");
+  NSG_CHECK(max_nodes_per_tile > 0 && max_edges_per_tile > 0 && max_edge_length_px_per_tile > 0 &&
+                max_path_work_per_tile > 0, ConfigError, "",
+            "limits", "positive per-tile limits");
   NSG_CHECK(max_file_bytes > 0 && max_json_values > 0 && max_depth > 0, ConfigError, "", "limits",
             "positive file limits");
 }
@@ -128,7 +204,7 @@ class CountingSax : public nlohmann::json_sax<nlohmann::json> {
   bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception& ex) override {
     problem_check = "submission.json";
     problem = "valid JSON (NaN and Infinity are not JSON; numbers must fit a double) at byte " +
-              std::to_string(position) + ": " + ex.what();
+              std::to_string(position) + ": " + printable_utf8(ex.what());
     return false;
   }
 
@@ -159,25 +235,73 @@ class CountingSax : public nlohmann::json_sax<nlohmann::json> {
 
 }  // namespace
 
+namespace {
+
+std::string size_problem(int64_t limit_bytes, const std::string& got) {
+  return strprintf("a file of at most %.0f MiB, got ", static_cast<double>(limit_bytes) / (1 << 20)) + got;
+}
+
+// The file's text, or nullopt with a submission.size issue beyond `limit_bytes`. A regular
+// file is measured before it is read; a pipe (`<(…)`, /dev/stdin) has no size up front and
+// is read up to one byte past the limit.
+std::optional<std::string> read_bounded(const std::filesystem::path& file, int64_t limit_bytes, Issues& issues) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(file, ec);
+  if (ec || !std::filesystem::exists(status) || std::filesystem::is_directory(status))
+    throw IoError(file.string(), "", "a readable submission file");
+  if (std::filesystem::is_regular_file(status)) {
+    const auto bytes = std::filesystem::file_size(file, ec);
+    if (ec) throw IoError(file.string(), "", "a readable submission file: " + ec.message());
+    if (static_cast<int64_t>(bytes) > limit_bytes) {
+      issues.error("submission.size", file.string(),
+                   size_problem(limit_bytes, strprintf("%.1f MiB", static_cast<double>(bytes) / (1 << 20))));
+      return std::nullopt;
+    }
+    return read_file(file);
+  }
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw IoError(file.string(), "", "a readable submission file or stream");
+  std::string text;
+  char buf[1 << 16];
+  while (in.read(buf, sizeof buf) || in.gcount() > 0) {
+    text.append(buf, static_cast<size_t>(in.gcount()));
+    if (static_cast<int64_t>(text.size()) > limit_bytes) {
+      issues.error("submission.size", file.string(), size_problem(limit_bytes, "a longer stream"));
+      return std::nullopt;
+    }
+  }
+  if (in.bad()) throw IoError(file.string(), "", "a readable submission stream");
+  return text;
+}
+
+}  // namespace
+
 std::optional<nlohmann::json> read_submission(const std::filesystem::path& file, const SubmissionLimits& limits,
                                               Issues& issues) {
-  std::error_code ec;
-  const auto bytes = std::filesystem::file_size(file, ec);
-  if (ec || !std::filesystem::is_regular_file(file)) throw IoError(file.string(), "", "a readable submission file");
-  if (static_cast<int64_t>(bytes) > limits.max_file_bytes) {
-    issues.error("submission.size", file.string(),
-                 strprintf("a file of at most %.0f MiB (--max-file-mb), got %.1f MiB",
-                           static_cast<double>(limits.max_file_bytes) / (1 << 20), static_cast<double>(bytes) / (1 << 20)));
+  const std::optional<std::string> text = read_bounded(file, limits.max_file_bytes, issues);
+  if (!text) return std::nullopt;
+  return parse_submission_text(*text, file.string(), limits, issues);
+}
+
+std::optional<nlohmann::json> parse_submission_text(const std::string& text, const std::string& label,
+                                                    const SubmissionLimits& limits, Issues& issues) {
+  if (static_cast<int64_t>(text.size()) > limits.max_file_bytes) {
+    issues.error("submission.size", label,
+                 size_problem(limits.max_file_bytes, strprintf("%.1f MiB", static_cast<double>(text.size()) / (1 << 20))));
     return std::nullopt;
   }
-  const std::string text = read_file(file);
   CountingSax sax(limits);
   nlohmann::json::sax_parse(text, &sax);
   if (!sax.problem.empty()) {
-    issues.error(sax.problem_check, file.string(), sax.problem);
+    issues.error(sax.problem_check, label, sax.problem);
     return std::nullopt;
   }
-  return nlohmann::json::parse(text);
+  try {
+    return parse_json_strict(text, label, "", limits.max_depth);
+  } catch (const ParseError& e) {  // a key repeated in one object
+    issues.error("submission.json", label + (e.record().empty() ? "" : ": " + e.record()), e.expected());
+    return std::nullopt;
+  }
 }
 
 std::vector<std::string> dataset_split_keys(const std::filesystem::path& dataset, const std::string& split) {
@@ -211,6 +335,7 @@ std::vector<std::string> dataset_split_keys(const std::filesystem::path& dataset
 SubmissionReport validate_submission(const SubmissionValidateOptions& o) {
   o.validate();
   SubmissionReport report;
+  report.issues.limit_per_check(kMaxListedIssues);
   const std::filesystem::path schemas = find_schemas_dir(o.schemas_dir);
   const std::optional<nlohmann::json> doc = read_submission(o.submission, o.limits, report.issues);
   if (!doc) return report;

@@ -122,4 +122,44 @@ TEST(CliScore, OversizedGroundTruthFileExits2) {
   EXPECT_NE(r.err.find("submission limits"), std::string::npos) << r.err;
 }
 
+// A pipe has no size to check up front: it is read within the same byte limit.
+TEST(CliScore, SubmissionFromAPipeOrStdin) {
+  const std::string exe = nsg::test::nsgraph_exe().string();
+  const std::string common = exe + " score -q --ground-truth '" + (kGolden / "gt.json").string() + "' --schemas '" +
+                             kSchemas + "' --format csv --submission ";
+  const std::string pred = "'" + (kGolden / "pred.json").string() + "'";
+  const auto file = run_nsgraph({"score", "-q", "--ground-truth", (kGolden / "gt.json").string(), "--submission",
+                                 (kGolden / "pred.json").string(), "--schemas", kSchemas, "--format", "csv"});
+  ASSERT_EQ(file.exit_code, 0) << file.err;
+  const auto piped = nsg::test::run_program({"/bin/bash", "-c", common + "<(cat " + pred + ")"});
+  EXPECT_EQ(piped.exit_code, 0) << piped.err;
+  EXPECT_EQ(piped.out, file.out);
+  const auto stdin_run = nsg::test::run_program({"/bin/bash", "-c", common + "/dev/stdin < " + pred});
+  EXPECT_EQ(stdin_run.exit_code, 0) << stdin_run.err;
+  EXPECT_EQ(stdin_run.out, file.out);
+  // 129 MiB of spaces after the document: refused once the limit is passed, exit 1.
+  const auto big = nsg::test::run_program(
+      {"/bin/bash", "-c", common + "<(cat " + pred + "; head -c 135266304 /dev/zero | tr '\\0' ' ')"});
+  EXPECT_EQ(big.exit_code, 1) << big.err;
+  EXPECT_NE(big.err.find("at most 128 MiB, got a longer stream"), std::string::npos) << big.err;
+  EXPECT_EQ(big.err.find("--max-file-mb"), std::string::npos) << big.err;  // not an option of score
+}
+
+// JSON leaves a repeated key open; keeping the last would let a duplicate swing a score.
+TEST(CliScore, DuplicateKeysExit1) {
+  nsg::test::TempDir dir("score-cli");
+  const fs::path dup = dir / "dup.json";
+  nsg::test::write_text(dup, R"({"schema_version":"2","schema_version":"1","tiles":{}})");
+  const auto r = run_nsgraph(score_args(dup));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find(dup.string() + ": key \"schema_version\""), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("each key once"), std::string::npos) << r.err;
+}
+
+TEST(CliScore, HelpStatesTheLimits) {
+  const auto r = run_nsgraph({"score", "--help"});
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("per tile at most 5000 nodes, 10000 edges and 100000 px"), std::string::npos) << r.out;
+}
+
 }  // namespace

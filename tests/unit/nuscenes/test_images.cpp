@@ -134,5 +134,46 @@ TEST(SemanticMask, RejectsRgbAndNonPng) {
   test::expect_error<ParseError>([&] { read_semantic_mask(dir / "cut.png"); }, "cut.png", {});
 }
 
+
+// Big-endian bytes of v at s[at..at+n).
+void put_be(std::string& s, size_t at, uint32_t v, int n) {
+  for (int k = 0; k < n; ++k) s[at + k] = static_cast<char>((v >> (8 * (n - 1 - k))) & 0xff);
+}
+
+uint32_t crc32_of(const std::string& s, size_t at, size_t n) {
+  uint32_t c = 0xffffffffu;
+  for (size_t i = at; i < at + n; ++i) {
+    c ^= static_cast<unsigned char>(s[i]);
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+  }
+  return c ^ 0xffffffffu;
+}
+
+TEST(Jpeg, HeaderClaimingAHugeImageIsRefusedBeforeDecoding) {
+  test::TempDir dir("jpeg-huge");
+  std::string jpeg = encode_test_jpeg(16, 16);
+  const size_t sof = jpeg.find("\xff\xc0");
+  ASSERT_NE(sof, std::string::npos);
+  put_be(jpeg, sof + 5, 65000, 2);  // height
+  put_be(jpeg, sof + 7, 65000, 2);  // width
+  test::write_text(dir / "huge.jpg", jpeg);
+  JpegDecoder decoder;
+  test::expect_error<ParseError>([&] { decoder.decode_file(dir / "huge.jpg", JpegScale::kFull); }, "huge.jpg",
+                                 {"at most 4096 x 4096", "65000 x 65000"});
+}
+
+TEST(SemanticMask, HeaderClaimingAHugeMaskIsRefusedBeforeReading) {
+  test::TempDir dir("png-huge");
+  write_png(dir / "mask.png", 2, 2, PNG_FORMAT_GRAY, {0, 1, 2, 3});
+  std::string png = test::read_text(dir / "mask.png");
+  // IHDR: length (8), "IHDR" (12), width (16), height (20), ..., CRC over type + data (29).
+  put_be(png, 16, 100000, 4);
+  put_be(png, 20, 100000, 4);
+  put_be(png, 29, crc32_of(png, 12, 17), 4);
+  test::write_text(dir / "huge.png", png);
+  test::expect_error<ParseError>([&] { read_semantic_mask(dir / "huge.png"); }, "huge.png",
+                                 {"at most", "100000 x 100000"});
+}
+
 }  // namespace
 }  // namespace nsg::nuscenes

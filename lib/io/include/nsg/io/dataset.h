@@ -25,6 +25,12 @@ struct DatasetTile {
   nlohmann::json json(const std::string& suffix) const;
 };
 
+// <root>/<relative> for a path the manifest gives (a shard's file or folder). ParseError
+// naming <root>/manifest.json and `record` when it is empty, absolute or has '..'
+// components: a manifest may not point outside its dataset.
+std::filesystem::path path_in_dataset(const std::filesystem::path& root, const std::string& relative,
+                                      const std::string& record);
+
 class Dataset {
  public:
   // Reads <root>/manifest.json; IoError / ParseError naming it.

@@ -54,7 +54,21 @@ std::vector<uint8_t> encode_geotiff(const Raster& raster, const GeoRef& georef,
 // `georef` is given the file must carry ModelTiepoint and ModelPixelScale with square
 // pixels; georef->location is the known location whose origin matches the file's
 // ProjCenterLat/Long keys, or "" if none does.
+// Images larger than 4096 x 4096 pixels are refused from the header, before allocating.
 Raster decode_geotiff(std::span<const uint8_t> bytes, const std::string& name,
                       GeoRef* georef = nullptr);
+
+// What a GeoTIFF's header says, read without decoding a pixel (ParseError as above), so a
+// reader can check it against the expected tile format before allocating anything.
+struct RasterHeader {
+  int width = 0;
+  int height = 0;
+  int bands = 1;
+  SampleType type = SampleType::kUInt8;
+};
+RasterHeader read_geotiff_header(std::span<const uint8_t> bytes, const std::string& name);
+// DataError naming `name` and `record` when `got` differs from `want` in size, bands or type.
+void check_raster_header(const RasterHeader& got, const RasterHeader& want, const std::string& name,
+                         const std::string& record);
 
 }  // namespace nsg::io

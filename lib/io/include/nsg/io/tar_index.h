@@ -23,6 +23,13 @@ struct TarIndexEntry {
 // marker (two zero blocks) — the same archives TarReader refuses.
 std::vector<TarIndexEntry> index_tar(const std::filesystem::path& path);
 
+// A shard member is a regular file with a relative name free of '..' components, each name
+// once; links and special files are refused (ParseError naming the file and the member).
+// Shared by index_tar and TarReader so both refuse the same archives.
+void check_tar_member_name(const std::string& file, const std::string& name);
+// `type` is the ustar type flag ('0' regular, '5' folder, '1'/'2' links, ...).
+void check_tar_member_type(const std::string& file, const std::string& name, char type);
+
 // Reads [offset, offset + size) of an open file descriptor, looping over short reads.
 // Throws IoError naming `file_label` and `record` on an error or a short file.
 void read_at(int fd, uint64_t offset, void* out, size_t size, const std::string& file_label,

@@ -26,6 +26,8 @@ class SplitIndex {
   const std::filesystem::path& root() const { return root_; }
   const std::string& split() const { return split_; }
   bool tar_layout() const { return tar_; }
+  // The manifest's tile_format.size_px (256 when absent): rasters must have this size.
+  int size_px() const { return size_px_; }
   // Suffixes ("lidar.tif", "graph.json", …) the tile has, in archive / name order.
   std::vector<std::string> suffixes(size_t i) const;
 
@@ -56,6 +58,7 @@ class SplitIndex {
   std::filesystem::path root_;
   std::string split_;
   bool tar_ = true;
+  int size_px_ = 256;
   std::vector<Shard> shards_;
   std::vector<Tile> tiles_;
 };

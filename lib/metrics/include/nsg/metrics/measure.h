@@ -49,7 +49,8 @@ struct TileMeasurement {
 };
 
 // Scores one tile. `pred` == nullptr means the tile is missing from the submission: it is
-// scored as an empty prediction and counted (missing_prediction = 1).
+// scored as an empty prediction and counted (missing_prediction = 1). Throws DataError
+// naming the key when either graph exceeds the scoring limits (validate::SubmissionLimits).
 TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pred,
                         const MetricParams& params);
 

@@ -23,6 +23,11 @@ struct CheckedSubmission {
 CheckedSubmission check_submission_file(const std::filesystem::path& file,
                                         const std::filesystem::path& schemas_dir = {},
                                         const validate::SubmissionLimits& limits = {});
+// The same checks on submission text in memory (not JSON, NaN, a repeated key: issues,
+// never exceptions); `label` names it in the issues.
+CheckedSubmission check_submission_text(const std::string& text, const std::string& label,
+                                        const std::filesystem::path& schemas_dir = {},
+                                        const validate::SubmissionLimits& limits = {});
 // The same checks on a document already in memory; `label` names it in the issues.
 CheckedSubmission check_submission_document(const nlohmann::json& doc, const std::string& label,
                                             const std::filesystem::path& schemas_dir = {},

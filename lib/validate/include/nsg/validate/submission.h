@@ -2,6 +2,7 @@
 // Structural checks of a submission beyond its schema (issue 7): node indices in range,
 // finite coordinates, score arrays as long as what they score, size limits that protect
 // the scorer. Each problem names the tile key and the JSON path.
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -14,9 +15,17 @@
 
 namespace nsg::validate {
 
+// Scoring costs O(nodes x edges) per tile (APLS runs shortest paths from every node), so
+// the per-tile limits bound its time: docs/scoring-limits.md derives them and measures an
+// adversarial tile at the limits. A real 256-px tile holds 100-1 500 nodes at 2 m spacing.
 struct SubmissionLimits {
-  int64_t max_nodes_per_tile = 100000;
-  int64_t max_edges_per_tile = 400000;
+  int64_t max_nodes_per_tile = 5000;
+  int64_t max_edges_per_tile = 10000;
+  double max_edge_length_px_per_tile = 100000;  // sum of edge lengths; 400 tile widths
+  // APLS searches shortest paths from every node over its connected piece: the sum over
+  // connected pieces of nodes x (nodes + 2 x edges). 10 M = one connected lane graph of
+  // ~1 800 nodes (the busiest plausible junction tile: 7.4 M); <= 2 s per tile on one core.
+  int64_t max_path_work_per_tile = 10'000'000;
   // Checked before parsing, so a huge or hostile file costs neither memory nor time.
   int64_t max_file_bytes = int64_t{128} << 20;
   int64_t max_json_values = 10'000'000;  // numbers, strings, arrays, … in the whole file
@@ -31,12 +40,27 @@ std::string json_pointer_token(const std::string& key);
 Issues check_submission_structure(const nlohmann::json& doc, const std::string& file_label,
                                   const SubmissionLimits& limits = {});
 
+// The scoring limits on one tile's graph (submission.size issues naming `subject`): the
+// one check behind `score`, check_submission, score_tile and the Python score.
+// `edge_length_px` is the sum of the edge lengths (edges with valid indices).
+void check_tile_limits(int64_t nodes, int64_t edges, double edge_length_px, int64_t path_work,
+                       const std::string& subject, const SubmissionLimits& limits, Issues& issues);
+// The APLS shortest-path work of a graph (see max_path_work_per_tile); edges with an index
+// outside [0, nodes) are ignored.
+int64_t path_search_work(int64_t nodes, const std::vector<std::array<int64_t, 2>>& edges);
+
 // Reads a submission within the limits: file size first, then a streaming pass counting
 // values and depth, then the parse. Returns nullopt with the problem in `issues`
 // (submission.size, or submission.json for invalid JSON such as NaN); throws IoError
 // if the file cannot be read.
+// A pipe or /dev/stdin is read up to the byte limit (it has no size to check up front).
+// A key repeated within one object is a submission.json problem (JSON leaves its meaning
+// open; keeping the last could swing a score).
 std::optional<nlohmann::json> read_submission(const std::filesystem::path& file, const SubmissionLimits& limits,
                                               Issues& issues);
+// The same checks on submission text already in memory; `label` names it in the issues.
+std::optional<nlohmann::json> parse_submission_text(const std::string& text, const std::string& label,
+                                                    const SubmissionLimits& limits, Issues& issues);
 
 // Tile keys of one split of a dataset, sorted. Taken from the manifest's shard key ranges
 // when they are contiguous, else by reading the shards.

@@ -1,0 +1,165 @@
+#!/usr/bin/python3
+"""An adversarial scoring case at the per-tile limits of `nsgraph score` (see
+docs/scoring-limits.md): a dense ground truth (a busy junction: 30 lanes each way across a
+256-px tile, nodes every 2 m = 10 px, 1 560 nodes) and, per tile, a prediction that uses
+every limit in the way that costs the scorer most:
+
+  mesh     one connected grid with diagonals over the whole tile, as large as the
+           shortest-path work limit allows (~1 400 nodes, ~2 900 edges): every APLS search
+           reaches every node, every node snaps onto the GT
+  random   5 000 random nodes (the node limit); long random edges across the tile and short
+           ones among 1 000 of them up to the length and work limits
+  lanes    the GT's own lanes resampled every 0.5 px up to the node limit (densest
+           plausible prediction; GEO/TOPO sample it all)
+
+and, in refused.json, the mesh at the node and edge limits (5 000 nodes, 10 000 edges),
+which the work limit refuses.
+
+usage: make_submission.py OUT_DIR [--nodes N --edges E --length-px L --work W]
+writes OUT_DIR/gt.json, OUT_DIR/submission.json and OUT_DIR/refused.json.
+"""
+import argparse
+import json
+import math
+import os
+import random
+
+SIZE = 256.0
+
+
+def gt_junction(lanes=30, spacing_px=10.0):
+    nodes, edges = [], []
+    steps = int(SIZE // spacing_px) + 1
+    for k in range(lanes):
+        offset = (k + 0.5) * SIZE / lanes
+        for horizontal in (True, False):
+            first = len(nodes)
+            for s in range(steps):
+                t = min(s * spacing_px, SIZE - 0.5)
+                nodes.append([t, offset] if horizontal else [offset, t])
+            forward = k % 2 == 0
+            for s in range(steps - 1):
+                a, b = first + s, first + s + 1
+                edges.append([a, b] if forward else [b, a])
+    return {"nodes": nodes, "edges": edges}
+
+
+def path_work(n_nodes, edges):
+    """validate::path_search_work: per connected piece nodes x (nodes + 2 x edges)."""
+    parent = list(range(n_nodes))
+
+    def root(x):
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+    for i, j in edges:
+        parent[root(i)] = root(j)
+    size, arcs = {}, {}
+    for k in range(n_nodes):
+        size[root(k)] = size.get(root(k), 0) + 1
+    for i, _ in edges:
+        arcs[root(i)] = arcs.get(root(i), 0) + 2
+    return sum(n * (n + arcs.get(r, 0)) for r, n in size.items())
+
+
+def mesh_within(n_nodes, n_edges, length_px, work):
+    """The largest square mesh (plus diagonals) whose path work is within `work`."""
+    side = int(math.sqrt(n_nodes))
+    while side * side * (side * side + 4 * side * (side - 1)) > work:
+        side -= 1
+    max_edges = min(n_edges, (work // (side * side) - side * side) // 2)
+    return mesh(side * side, max_edges, length_px)
+
+
+def mesh(n_nodes, n_edges, length_px):
+    side = int(math.sqrt(n_nodes))
+    step = (SIZE - 1) / (side - 1)
+    nodes = [[i * step, j * step] for j in range(side) for i in range(side)]
+    edges = []
+    for j in range(side):
+        for i in range(side):
+            k = j * side + i
+            if i + 1 < side:
+                edges.append([k, k + 1])
+            if j + 1 < side:
+                edges.append([k, k + side])
+    rng = random.Random(1)
+    while len(edges) < n_edges:  # diagonals up to the edge limit
+        i, j = rng.randrange(side - 1), rng.randrange(side - 1)
+        edges.append([j * side + i, (j + 1) * side + i + 1])
+    assert len(edges) * step * math.sqrt(2) <= length_px
+    return {"nodes": nodes, "edges": edges[:n_edges]}
+
+
+def random_graph(n_nodes, n_edges, length_px, work, seed=2, linked=1000):
+    """n_nodes random nodes; among the first `linked`, long random edges across the tile for
+    half the length budget, then short edges within 16-px cells, up to the work limit."""
+    rng = random.Random(seed)
+    nodes = [[rng.uniform(0, SIZE), rng.uniform(0, SIZE)] for _ in range(n_nodes)]
+    cells = {}
+    for k in range(linked):
+        u, v = nodes[k]
+        cells.setdefault((int(u // 16), int(v // 16)), []).append(k)
+    max_edges = min(n_edges, ((work - (n_nodes - linked)) // linked - linked) // 2)
+    edges, total = [], 0.0
+    while total < length_px / 2 and len(edges) < max_edges // 2:
+        a, b = rng.randrange(linked), rng.randrange(linked)
+        edges.append([a, b])
+        total += math.dist(nodes[a], nodes[b])
+    while len(edges) < max_edges:
+        a = rng.randrange(linked)
+        b = rng.choice(cells[(int(nodes[a][0] // 16), int(nodes[a][1] // 16))])
+        d = math.dist(nodes[a], nodes[b])
+        if total + d > length_px * 0.999:
+            break
+        edges.append([a, b])
+        total += d
+    return {"nodes": nodes, "edges": edges}
+
+
+def dense_lanes(gt, n_nodes, n_edges, length_px, step_px=0.5):
+    nodes, edges, total = [], [], 0.0
+    for a, b in gt["edges"]:
+        pa, pb = gt["nodes"][a], gt["nodes"][b]
+        d = math.dist(pa, pb)
+        pieces = max(1, int(d / step_px))
+        if len(nodes) + pieces + 1 > n_nodes or len(edges) + pieces > n_edges or total + d > length_px:
+            break
+        first = len(nodes)
+        for s in range(pieces + 1):
+            t = s / pieces
+            nodes.append([pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1])])
+        edges += [[first + s, first + s + 1] for s in range(pieces)]
+        total += d
+    return {"nodes": nodes, "edges": edges}
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("out")
+    ap.add_argument("--nodes", type=int, default=5000)
+    ap.add_argument("--edges", type=int, default=10000)
+    ap.add_argument("--length-px", type=float, default=100000.0)
+    ap.add_argument("--work", type=int, default=10_000_000)
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    gt = gt_junction()
+    preds = {"mesh": mesh_within(a.nodes, a.edges, a.length_px, a.work),
+             "random": random_graph(a.nodes, a.edges, a.length_px, a.work),
+             "lanes": dense_lanes(gt, a.nodes, a.edges, a.length_px)}
+    with open(os.path.join(a.out, "gt.json"), "w") as f:
+        json.dump({"schema_version": "1", "tiles": {k: gt for k in preds}}, f)
+    with open(os.path.join(a.out, "submission.json"), "w") as f:
+        json.dump({"schema_version": "1", "tiles": preds}, f)
+    with open(os.path.join(a.out, "refused.json"), "w") as f:
+        json.dump({"schema_version": "1", "tiles": {"mesh": mesh(a.nodes, a.edges, a.length_px)}}, f)
+    for k, p in preds.items():
+        length = sum(math.dist(p["nodes"][i], p["nodes"][j]) for i, j in p["edges"])
+        w = path_work(len(p["nodes"]), p["edges"])
+        assert w <= a.work and length <= a.length_px, k
+        print(f"{k}: {len(p['nodes'])} nodes, {len(p['edges'])} edges, {length:.0f} px, path work {w}")
+
+
+if __name__ == "__main__":
+    main()

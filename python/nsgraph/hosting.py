@@ -1,0 +1,34 @@
+"""Hosting a leaderboard: ``nsgraph.evaluate`` in the form EvalAI-style challenge servers
+call an evaluation script (``evaluate(test_annotation_file, user_submission_file,
+phase_codename, **kwargs)``). Scoring is ``nsgraph.score``: the same checks and limits as
+``nsgraph score``."""
+from .scoring import score
+
+# The leaderboard columns: the report's per-tile means (METRICS.md), by their report names.
+LEADERBOARD_METRICS = (
+    "apls", "apls_directed", "apls_strict", "direction_accuracy", "f1", "iou", "chamfer_mean_m",
+    "geo_precision", "geo_recall", "geo_f1", "topo_precision", "topo_recall", "topo_f1",
+)
+
+
+def evaluate(test_annotation_file, user_submission_file, phase_codename, **kwargs):
+    """Scores ``user_submission_file`` against ``test_annotation_file`` (what ``nsgraph
+    score --ground-truth`` takes: a dataset folder or a ground-truth file in the submission
+    format) and returns ``{"result": [{split: {metric: value}}], "submission_result":
+    {metric: value}}`` as EvalAI expects; an undefined mean is None.
+
+    kwargs: ``split`` (the dataset split scored, default "test"), ``split_codename`` (the
+    key in ``result``, default the split), ``metrics`` (names of the report's means, default
+    LEADERBOARD_METRICS); others (``submission_metadata``, …) are ignored. Raises
+    SubmissionError (with .issues) for a submission ``nsgraph score`` refuses.
+    """
+    split = kwargs.get("split") or "test"
+    codename = kwargs.get("split_codename") or split
+    names = kwargs.get("metrics") or LEADERBOARD_METRICS
+    report = score(test_annotation_file, user_submission_file, split=split)
+    mean = report["aggregate"]["mean"]
+    values = {name: mean.get(name) for name in names}
+    values["n_tiles"] = report["aggregate"]["n_tiles"]
+    values["n_missing_predictions"] = report["aggregate"]["n_missing_predictions"]
+    del phase_codename  # one benchmark: every phase scores the same way
+    return {"result": [{codename: values}], "submission_result": values}
