@@ -32,12 +32,12 @@ std::vector<std::string> train_args(const fs::path& model, const std::string& th
 }
 
 // model-t1 / model-t2: all modalities with 1 and 2 threads (the default variant, graph);
-// model-lidar: LiDAR only; model-b1 / model-b2-t1 / model-b2-t2: the baselines;
-// train-t1.log: what the first training printed on stderr.
+// model-lidar: LiDAR only; model-no-lidar: every input but LiDAR; model-b1 / model-b2-t1 /
+// model-b2-t2: the baselines; train-t1.log: what the first training printed on stderr.
 fs::path trained_models() {
   const fs::path dataset = nsg::test::e2e_dataset();
   return nsg::test::cached_folder(
-      "model_e2e", nsg::test::nsgraph_build_key() + "-" + dataset.filename().string() + "-t6v", [&](const fs::path& dir) {
+      "model_e2e", nsg::test::nsgraph_build_key() + "-" + dataset.filename().string() + "-t6v2", [&](const fs::path& dir) {
         auto train = [&](const std::string& name, const std::string& threads, const std::string& modalities,
                          const std::string& variant = "") {
           const CommandResult r = run_nsgraph(train_args(dir / (name + ".yml.gz"), threads, modalities, variant));
@@ -47,6 +47,7 @@ fs::path trained_models() {
         nsg::test::write_text(dir / "train-t1.log", train("model-t1", "1", "all").err);
         train("model-t2", "2", "all");
         train("model-lidar", "2", "lidar");
+        train("model-no-lidar", "2", "rgb,semantic,vehicle");
         train("model-b1", "2", "all", "b1");
         train("model-b2-t1", "1", "all", "b2");
         train("model-b2-t2", "2", "all", "b2");

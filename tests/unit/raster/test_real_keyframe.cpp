@@ -187,7 +187,7 @@ TEST_F(RealKeyFrame, InspectLayersOnTheRealKeyFrame) {
   EXPECT_EQ(j["sweeps"], 1);
   EXPECT_EQ(j["cells"]["lidar"], layers_->stats.covered_cells);  // 8 975: the devkit chain's cells
   EXPECT_EQ(j["cells"]["rgb"], colors_->rgb_cells());
-  EXPECT_GT(j["cells"]["rgb"].get<size_t>(), 6000u);  // 3 283 before the occlusion fix (issue 19)
+  EXPECT_GT(j["cells"]["rgb"].get<size_t>(), 6000u);  // 3 283 before the occlusion test was rebuilt
   EXPECT_EQ(j["cells"]["semantic"], 0);
   for (const char* layer : {"lidar", "rgb", "semantic", "vehicle", "coverage"})
     EXPECT_TRUE(std::filesystem::exists(out.path() / (std::string("singapore-onenorth.") + layer + ".tif"))) << layer;
