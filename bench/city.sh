@@ -5,7 +5,8 @@
 # reused with NSG_BENCH_REUSE=1), then `generate -v` runs on each at 1 and 2 threads under
 # /usr/bin/time; bench/python/city_report.py writes city.json: LiDAR sweeps/s, peak RSS per
 # thread count, bytes of peak RSS per covered LiDAR cell, the memory estimate against the
-# measured peak on both worlds.
+# measured peak on both worlds, and on the demo world with `camera.semantic_source: lidarseg`
+# (2 threads). city_report.py exits 1 when a target is missed (BENCH_REPORT_ONLY=1: never).
 #   usage: bench/city.sh NSGRAPH_EXE OUT_DIR DATA_DIR
 set -euo pipefail
 exe=$1 out=$2 data=$3
@@ -25,16 +26,17 @@ synth_world() {
   fi
 }
 
-# generate_world NAME [generate options...]: runs at 1 and 2 threads into generate-NAME-T.txt.
+# generate_world LABEL WORLD "THREADS" [generate options...]: runs generate on the release of
+# WORLD at each thread count into generate-LABEL-T.txt.
 generate_world() {
-  local name=$1 release="$data/synth-$1"
-  shift
+  local name=$1 release="$data/synth-$2" thread_counts=$3
+  shift 3
   local version
   version=$(basename "$(ls -d "$release"/v1.0-* | head -1)")
   # Both thread counts read the sweeps from the page cache: the first run would otherwise
   # time the disk (a cold city read is 5× slower than a warm one).
   find "$release/sweeps" -type f -exec cat {} + >/dev/null
-  for threads in 1 2; do
+  for threads in $thread_counts; do
     printf '\n== generate on the %s world, %s thread(s)\n' "$name" "$threads"
     rm -rf "$data/generate-$name"
     /usr/bin/time -f 'generate: %e s wall, %M KiB peak RSS' \
@@ -45,7 +47,9 @@ generate_world() {
 }
 
 synth_world city "$root/samples/synth/city.json"
-generate_world city
+generate_world city city "1 2"
 synth_world demo "$root/samples/synth/demo.json"
-generate_world demo --config "$root/samples/generate-demo.json"
+generate_world demo demo "1 2" --config "$root/samples/generate-demo.json"
+generate_world demo-lidarseg demo "2" --config "$root/samples/generate-demo.json" \
+  --set camera.semantic_source=lidarseg
 /usr/bin/python3 "$root/bench/python/city_report.py" --dir "$out"

@@ -9,6 +9,9 @@
 #                      table larger than the real trainval one, made at run time in bench-out/data
 #                      and deleted afterwards; FAIL (and exit 1 at the end) on a wrong record count
 #                      or peak RSS above 1x the file
+#   BENCH_REPORT_ONLY=1 report the verdicts but exit 0 when a target is missed (by default
+#                      `make bench` exits 1; bench.md lists each verdict and whether it is a
+#                      same-run ratio, an absolute rate or a memory size)
 set -euo pipefail
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -181,9 +184,9 @@ PY
 fi
 
 # The city and demo worlds (issue 22): memory at 1 and 2 threads, bytes per covered cell, the
-# memory estimate; FAIL lines in city.json's "pass" are reported, not fatal.
+# memory estimate; a missed target there (city.json's "pass") fails the run at the end.
 if "$exe" generate --help >/dev/null 2>&1 && [ -f "$root/samples/synth/city.json" ] && [ "${NSG_BENCH_CITY:-1}" != 0 ]; then
-  bash "$root/bench/city.sh" "$exe" "$out" "$NSG_BENCH_DIR"
+  bash "$root/bench/city.sh" "$exe" "$out" "$NSG_BENCH_DIR" || failed+=("city world")
   ran=$((ran + 1))
 fi
 
@@ -198,10 +201,11 @@ fi
 
 cat /proc/loadavg >"$out/loadavg-end.txt"
 printf '\n== report\n'
-"$py" "$root/bench/python/report.py" --dir "$out"
+BENCH_REPORT_ONLY=0 "$py" "$root/bench/python/report.py" --dir "$out" || failed+=("targets (bench.md's verdicts)")
 echo
 echo "$ran benchmark(s) run; results in $out (bench.json, bench.md)"
 if [ ${#failed[@]} -gt 0 ]; then
   echo "FAIL: ${failed[*]}"
+  [ "${BENCH_REPORT_ONLY:-}" = 1 ] && echo "(BENCH_REPORT_ONLY=1: not failing the run)" && exit 0
   exit 1
 fi

@@ -2,6 +2,14 @@
 """Collects the per-benchmark files of a `make bench` run (bench-out/) into bench.json
 (the machine and every figure, with units in the key names) and bench.md (the table the
 README shows). Missing pieces are reported as missing, never guessed.
+
+Every target gets a verdict (bench.json's "verdicts"); the exit status is 1 when one is
+missed, unless --report-only or BENCH_REPORT_ONLY=1. A verdict's kind says how robust it is
+on a shared machine: "ratio" compares two measurements of the same run (nsgraph against the
+Python way on the same data, one peak against another, an estimate against its measured
+peak), so machine load affects both sides; "absolute" compares a rate with a fixed number and
+depends on the machine and its load; "memory" compares bytes with a fixed number (the
+machine's speed does not matter).
 """
 import argparse
 import datetime
@@ -9,10 +17,13 @@ import json
 import os
 import platform
 import re
+import sys
 
 LIDAR_TARGET = 10.0   # nsgraph / Python, issue 11
 TABLE_TARGET = 4.0
 CANVAS_LIMIT = 1.1    # peak RSS 4x canvas / 1x canvas
+TABLE_RSS_LIMIT = 2.0  # table load peak RSS / file size
+SWEEPS_TARGET = 3000   # LiDAR stage of `generate --threads 1` on bench.json, sweeps/s
 
 
 def read_json(path):
@@ -170,6 +181,59 @@ def collect(d):
     }
 
 
+def verdicts(r):
+    """Each target of the report: name, kind (ratio / absolute / memory), value, target, ok (None: not run)."""
+    out = []
+
+    def add(name, kind, value, target, ok):
+        out.append({"name": name, "kind": kind, "value": value, "target": target, "ok": ok})
+
+    li, lp = r["lidar"], r["lidar"]["python"] or {}
+    lr = li["ratio_nsgraph_over_python"]
+    agree = (lp.get("check") or {}).get("agree")
+    add("LiDAR layer nsgraph / numpy, same sweeps, layers agree", "ratio", lr, f">= {LIDAR_TARGET:g}x",
+        None if lr is None else (lr >= LIDAR_TARGET and bool(agree) and bool(lp.get("same_sweeps"))))
+    tr = r["tables"]["ratio_nsgraph_over_python"]
+    add("JSON table load nsgraph / json.load", "ratio", tr, f">= {TABLE_TARGET:g}x",
+        None if tr is None else tr >= TABLE_TARGET)
+    tnr = (r["tables"]["nsgraph"] or {}).get("peak_rss_over_file")
+    add("table load peak RSS / file size", "ratio", tnr, f"<= {TABLE_RSS_LIMIT:g}x",
+        None if tnr is None else tnr <= TABLE_RSS_LIMIT)
+    sc = r["tables"].get("scale")
+    if sc and "skipped" not in sc:
+        add("table load at scale: all records, peak RSS / file", "ratio", sc.get("peak_rss_over_file"),
+            "<= 1x, every record", bool(sc.get("pass")))
+    g = r.get("generate_bench")
+    sweeps = g and g.get("sweeps_per_s_per_core")
+    add("generate LiDAR stage on bench.json, 1 thread, sweeps/s", "absolute", sweeps, f">= {SWEEPS_TARGET}",
+        None if sweeps is None else sweeps >= SWEEPS_TARGET)
+    dr = r.get("dataset_read")
+    if dr:
+        add("nsgraph.Dataset tiles/s, 1 core, arrays equal", "absolute", dr["nsgraph_tiles_per_s"],
+            f">= {dr['target_tiles_per_s']}", bool(dr["arrays_equal"]) and dr["nsgraph_tiles_per_s"] >= dr["target_tiles_per_s"])
+    mem = r["memory_vs_canvas"]
+    for tool in ("generate", "synth"):
+        ratio = mem[f"{tool}_peak_rss_ratio_4x_over_1x"]
+        add(f"{tool} peak RSS 4x canvas / 1x canvas", "ratio", ratio, f"<= {CANVAS_LIMIT:g}x",
+            None if ratio is None else ratio <= CANVAS_LIMIT and mem["same_covered_cells"] is not False)
+    city = r.get("city")
+    if city:
+        ok = city["pass"]
+        add("city world peak RSS 2 threads / 1 thread", "ratio", city["peak_ratio_2_over_1"],
+            f"<= {city['limit_ratio']:g}x", ok["threads"])
+        add("city world peak RSS per covered LiDAR cell, 1 thread, bytes", "memory",
+            city["threads_1"]["peak_bytes_per_covered_cell"], f"<= {city['bytes_per_cell_limit']}", ok["bytes_per_cell"])
+        tol = city["estimate_tolerance"]
+        for world, runs in [("city", city)] + [(w, city[w]) for w in ("demo", "demo_lidarseg") if city.get(w)]:
+            for key, run in sorted(runs.items()):
+                if not key.startswith("threads_"):
+                    continue
+                e = run["estimate_over_peak"]
+                add(f"{world} world memory estimate / peak, {key.split('_')[1]} thread(s)", "ratio", e,
+                    f"within +-{tol:.0%}", abs(e - 1) <= tol)
+    return out
+
+
 def markdown(r):
     m = r["machine"]
     lines = [f"Measured {m['date_utc']} on {m['cpu_model']}, {m['logical_cores']} logical cores, "
@@ -250,7 +314,19 @@ def markdown(r):
                          f"{demo['threads_1']['estimate_over_peak']:.2f}× / {demo['threads_2']['estimate_over_peak']:.2f}× "
                          f"({demo['threads_1']['peak_rss_bytes'] / 1e6:,.0f} MB at 1 thread) | | | "
                          f"within ±{city['estimate_tolerance']:.0%} | {verdict(ok['estimate'])} |")
+        dl = city.get("demo_lidarseg")
+        if dl:
+            lines.append(f"| demo world, `camera.semantic_source: lidarseg`: `generate`'s memory estimate / measured "
+                         f"peak, 2 threads | {dl['threads_2']['estimate_over_peak']:.2f}× | | | "
+                         f"within ±{city['estimate_tolerance']:.0%} | "
+                         f"{verdict(abs(dl['threads_2']['estimate_over_peak'] - 1) <= city['estimate_tolerance'])} |")
         lines.append(f"| city world: LiDAR stage, 1 thread | {one['sweeps_per_s']:,.0f} sweeps/s | | | (info) | |")
+    lines.append("")
+    lines.append("Verdicts (kind: ratio = two measurements of the same run; absolute = a rate against a fixed number, "
+                 "depends on the machine and its load; memory = bytes against a fixed number):")
+    for v in r["verdicts"]:
+        value = "n/a" if v["value"] is None else f"{v['value']:.3g}"
+        lines.append(f"- {verdict(v['ok'])} [{v['kind']}] {v['name']}: {value} (target {v['target']})")
     lines.append("")
     lines.append("¹ Best of several runs; each side counts the faster of its wall-time and CPU-time rate, "
                  "because the machine is shared and a busy moment slows whichever side runs then. "
@@ -284,14 +360,22 @@ def markdown(r):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--dir", required=True, help="bench-out folder")
+    ap.add_argument("--report-only", action="store_true",
+                    help="exit 0 whatever the verdicts (also BENCH_REPORT_ONLY=1)")
     a = ap.parse_args()
     r = collect(a.dir)
+    r["verdicts"] = verdicts(r)
     with open(os.path.join(a.dir, "bench.json"), "w") as f:
         json.dump(r, f, indent=1)
     md = markdown(r)
     with open(os.path.join(a.dir, "bench.md"), "w") as f:
         f.write(md)
     print(md, end="")
+    missed = [v for v in r["verdicts"] if v["ok"] is False]
+    if missed:
+        print(f"bench: {len(missed)} target(s) missed: " + "; ".join(v["name"] for v in missed), file=sys.stderr)
+        if not (a.report_only or os.environ.get("BENCH_REPORT_ONLY") == "1"):
+            sys.exit(1)
 
 
 if __name__ == "__main__":

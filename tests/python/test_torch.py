@@ -102,11 +102,18 @@ class TorchDatasetTest(unittest.TestCase):
             nodes += batch["nodes"].shape[0]
         self.assertEqual(keys, nsgraph.Dataset(self.root, "train", modalities=()).keys)
         self.assertGreater(nodes, 0)
-        # the same seed and epoch give the same tensors, in the main process as in workers
+        # the same seed and epoch give the same tensors, in the main process as in workers:
+        # every batch, every field
         again = list(torch.utils.data.DataLoader(ds, batch_size=3, num_workers=0, collate_fn=ntorch.collate))
-        first = next(iter(loader))
-        self.assertTrue(torch.equal(first["rgb"], again[0]["rgb"]))
-        self.assertTrue(torch.equal(first["nodes"], again[0]["nodes"]))
+        workers = list(loader)
+        self.assertEqual(len(workers), len(again))
+        for i, (w, m) in enumerate(zip(workers, again)):
+            self.assertEqual(sorted(w), sorted(m))
+            for field in w:
+                if torch.is_tensor(w[field]):
+                    self.assertTrue(torch.equal(w[field], m[field]), f"batch {i}, {field}")
+                else:
+                    self.assertEqual(w[field], m[field], f"batch {i}, {field}")
         ds.set_epoch(1)
         self.assertFalse(all(torch.equal(ds[i]["lidar"], again[0]["lidar"][i]) for i in range(3)))
 

@@ -1,5 +1,6 @@
 #pragma once
 // Helpers shared by the test binaries: source paths, scratch folders, running the CLI.
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -33,6 +34,7 @@ struct CommandResult {
   int exit_code = -1;
   std::string out;
   std::string err;
+  uint64_t peak_rss_bytes = 0;  // the process's peak resident memory (as /usr/bin/time's %M)
 };
 // Runs nsgraph with the arguments (no shell); captures stdout and stderr.
 CommandResult run_nsgraph(const std::vector<std::string>& args);

@@ -49,14 +49,20 @@ constexpr uint64_t kCameraBytesPerPoint = 40;
 // The tiles' share of a location's covered area (0.73 of the covered cells on the demo
 // world: random train crops, test crops on a grid, buffers between the regions).
 constexpr double kTileShare = 0.75;
-// JPEGs decoded at half size in flight per chunk of images (16 × 800 × 450 × 3 B).
-constexpr uint64_t kCameraImageBytes = 16ull * 800 * 450 * 3;
+// Images in flight: each camera thread decodes one image (RGB at the decode scale, its
+// class mask at full size), keeps the candidates and frees the pixels before the next.
+constexpr uint64_t kDecodedImageBytesPerPixel = 3;
+constexpr uint64_t kMaskBytesPerPixel = 1;
 // The lidarseg layer's dense scratch before a fold (256 blocks of 64 KB).
 constexpr uint64_t kLidarsegScratchBytes = 16ull << 20;
-// Graph, GeoJSON, tile encoding and the shard being written (the camera stage's buffers
-// are gone by then, so the larger of the two counts).
-constexpr uint64_t kWorkingBytes = 32ull << 20;
-constexpr uint64_t kWorkingBytesPerThread = 8ull << 20;
+// The tile stage (the camera stage's buffers are gone by then, so the larger of the two
+// counts): the graph's segment index, GeoJSON and manifest, plus one batch of tiles in
+// flight (max(8, 4 × threads) tiles, each its 10 B/px of raw layers and about as much
+// encoded). Measured: +17 MB on the demo world (256-px tiles), +1 MB on the e2e world
+// (128 px); it was a flat 32 MB + 8 MB per thread, which on a small world outweighed
+// everything the run really adds (e2e: estimate 1.27× the peak).
+constexpr uint64_t kWorkingBytes = 8ull << 20;
+constexpr uint64_t kTileBytesPerPixelInFlight = 20;
 
 // Blocks within `range_m` of any of the poses (blocks of `block_m` metres).
 void mark_disc_blocks(double x, double y, double range_m, double block_m, std::set<Block>& out) {
@@ -77,6 +83,7 @@ struct LocationFootprint {
   size_t vehicle_blocks = 0;
   double vehicle_cells = 0.0;   // box footprints, a box seen again in the same place counted once
   size_t images = 0;
+  uint64_t max_image_pixels = 0;  // the largest key-frame camera image (full size)
   size_t sweeps = 0;
   size_t key_sweeps = 0;  // key frames: what lidarseg labels
   double points_per_sweep = kCoverageReferencePoints;  // from a sample of the sweep files' sizes
@@ -140,7 +147,10 @@ LocationFootprint footprint(const nuscenes::Database& db, const std::vector<nusc
     const nuscenes::SampleData& sd = db.sample_data[i];
     const int k = slot[static_cast<size_t>(db.sample[sd.sample].scene)];
     if (k < 0) continue;
-    if (sd.modality == nuscenes::Modality::kCamera && sd.is_key_frame) ++f.images;
+    if (sd.modality == nuscenes::Modality::kCamera && sd.is_key_frame) {
+      ++f.images;
+      f.max_image_pixels = std::max<uint64_t>(f.max_image_pixels, static_cast<uint64_t>(sd.width) * sd.height);
+    }
     if (sd.modality != nuscenes::Modality::kLidar || db.channel(sd) != config.raster.lidar_channel) continue;
     sweeps.push_back(i);
     f.key_sweeps += sd.is_key_frame;
@@ -165,8 +175,23 @@ LocationFootprint footprint(const nuscenes::Database& db, const std::vector<nusc
   return f;
 }
 
-MemoryEstimate location_estimate(const LocationFootprint& f, size_t lanes, size_t threads, bool cameras,
-                                 bool lidarseg) {
+// One camera thread's decoded image and class mask.
+uint64_t image_in_flight_bytes(const LocationFootprint& f, const GenerateConfig& config) {
+  const raster::CameraOptions& camera = config.raster.camera;
+  const uint64_t scale = static_cast<uint64_t>(camera.jpeg_scale_denom) * camera.jpeg_scale_denom;
+  return (camera.rgb ? f.max_image_pixels / scale * kDecodedImageBytesPerPixel : 0) +
+         (camera.semantic_masks() ? f.max_image_pixels * kMaskBytesPerPixel : 0);
+}
+
+// The tile stage: graph, GeoJSON, manifest and one batch of tiles in flight.
+uint64_t tile_stage_bytes(const GenerateConfig& config, size_t threads) {
+  const uint64_t batch = std::max<uint64_t>(8, 4 * threads);
+  const uint64_t pixels = static_cast<uint64_t>(config.crops.size_px) * config.crops.size_px;
+  return kWorkingBytes + batch * pixels * kTileBytesPerPixelInFlight;
+}
+
+MemoryEstimate location_estimate(const LocationFootprint& f, const GenerateConfig& config, size_t lanes,
+                                 size_t threads, bool cameras, bool lidarseg) {
   MemoryEstimate e;
   const auto blocks_of = [](double blocks, size_t cell_bytes) {
     return static_cast<uint64_t>(blocks * kCellsPerBlock * cell_bytes);
@@ -191,7 +216,8 @@ MemoryEstimate location_estimate(const LocationFootprint& f, size_t lanes, size_
     const double tile_blocks = kTileShare * reached;
     const uint64_t colour = blocks_of(tile_blocks, sizeof(raster::ColorCell));
     const uint64_t index =
-        static_cast<uint64_t>(tile_blocks * kCellsPerBlock * fill) * kCameraBytesPerPoint + kCameraImageBytes;
+        static_cast<uint64_t>(tile_blocks * kCellsPerBlock * fill) * kCameraBytesPerPoint +
+        std::min<uint64_t>(threads, f.images) * image_in_flight_bytes(f, config);
     uint64_t labels = 0;
     if (lidarseg)
       labels = static_cast<uint64_t>(reached * kCellsPerBlock * covered_cell_fraction(f, reached, f.key_sweeps)) *
@@ -199,7 +225,7 @@ MemoryEstimate location_estimate(const LocationFootprint& f, size_t lanes, size_
                kLidarsegScratchBytes;
     e.camera_bytes = colour + std::max(index, labels);
   }
-  e.working_bytes = kWorkingBytes + threads * kWorkingBytesPerThread;
+  e.working_bytes = tile_stage_bytes(config, threads);
   return e;
 }
 
@@ -240,12 +266,12 @@ MemoryEstimate estimate_generate_memory(const nuscenes::Database& db,
   for (const auto& [location, list] : scenes) {
     if (list.empty()) continue;
     const LocationFootprint f = footprint(db, list, config, location);
-    MemoryEstimate e = location_estimate(f, lane_count(list.size(), threads), workers, cameras, lidarseg);
+    MemoryEstimate e = location_estimate(f, config, lane_count(list.size(), threads), workers, cameras, lidarseg);
     e.location = location;
     if (peak.location.empty() || e.total() > peak.total()) peak = e;
   }
   peak.base_bytes = current_rss_bytes();
-  if (peak.location.empty()) peak.working_bytes = kWorkingBytes;
+  if (peak.location.empty()) peak.working_bytes = tile_stage_bytes(config, workers);
   return peak;
 }
 

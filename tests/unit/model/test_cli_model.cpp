@@ -6,6 +6,10 @@
 // nsgraph build in a cached folder (test-cache/model_e2e-<key>).
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <map>
+#include <stdexcept>
+
 #include "generate_fixture.h"
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
@@ -32,12 +36,12 @@ std::vector<std::string> train_args(const fs::path& model, const std::string& th
 }
 
 // model-t1 / model-t2: all modalities with 1 and 2 threads (the default variant, graph);
-// model-lidar: LiDAR only; model-b1 / model-b2-t1 / model-b2-t2: the baselines;
-// train-t1.log: what the first training printed on stderr.
+// model-lidar: LiDAR only; model-no-lidar: every input but LiDAR; model-b1 / model-b2-t1 /
+// model-b2-t2: the baselines; train-t1.log: what the first training printed on stderr.
 fs::path trained_models() {
   const fs::path dataset = nsg::test::e2e_dataset();
   return nsg::test::cached_folder(
-      "model_e2e", nsg::test::nsgraph_build_key() + "-" + dataset.filename().string() + "-t6v", [&](const fs::path& dir) {
+      "model_e2e", nsg::test::nsgraph_build_key() + "-" + dataset.filename().string() + "-t6v2", [&](const fs::path& dir) {
         auto train = [&](const std::string& name, const std::string& threads, const std::string& modalities,
                          const std::string& variant = "") {
           const CommandResult r = run_nsgraph(train_args(dir / (name + ".yml.gz"), threads, modalities, variant));
@@ -47,6 +51,7 @@ fs::path trained_models() {
         nsg::test::write_text(dir / "train-t1.log", train("model-t1", "1", "all").err);
         train("model-t2", "2", "all");
         train("model-lidar", "2", "lidar");
+        train("model-no-lidar", "2", "rgb,semantic,vehicle");
         train("model-b1", "2", "all", "b1");
         train("model-b2-t1", "1", "all", "b2");
         train("model-b2-t2", "2", "all", "b2");
@@ -177,6 +182,65 @@ TEST(ModelCli, LidarOnlyModelPredicts) {
   EXPECT_EQ(m.options().modalities.to_string(), "lidar");
   // A different model: not the same file as the all-modalities one.
   EXPECT_FALSE(nsg::read_file(models / "model-lidar.yml.gz") == nsg::read_file(models / "model-t1.yml.gz"));
+}
+
+// The test split's aggregate means of a model's predictions, through `predict` and `score`.
+nlohmann::json test_split_scores(const fs::path& model, const fs::path& dir) {
+  const fs::path sub = dir / (model.stem().stem().string() + ".json");
+  const CommandResult p = run_nsgraph(predict_args(model, sub, "2"));
+  if (p.exit_code != 0) throw std::runtime_error("predict " + model.string() + ": " + p.err);
+  const CommandResult s = run_nsgraph({"score", "--quiet", "--ground-truth", nsg::test::e2e_dataset().string(),
+                                       "--submission", sub.string(), "--split", "test"});
+  if (s.exit_code != 0) throw std::runtime_error("score " + sub.string() + ": " + s.err);
+  return nlohmann::json::parse(s.out)["aggregate"]["mean"];
+}
+
+// Model quality: each variant, trained on the e2e dataset (seconds), scores within the
+// tolerance of the values committed in tests/data/golden/model/e2e-scores.json, and above
+// the floors there, which a model without its LiDAR input misses: a broken feature path
+// (an input read wrongly or not at all) shows as a drop, not only as a crash.
+TEST(ModelQuality, VariantsScoreTheirCommittedValues) {
+  const fs::path models = trained_models();
+  const nlohmann::json golden = nsg::test::read_json(nsg::test::data_dir() / "golden/model/e2e-scores.json");
+  const double tolerance = golden["tolerance"].get<double>();
+  nsg::test::TempDir dir("model-quality");
+  const std::map<std::string, std::string> files = {
+      {"b1", "model-b1"}, {"b2", "model-b2-t1"}, {"graph", "model-t1"}, {"graph-no-lidar", "model-no-lidar"}};
+  std::map<std::string, nlohmann::json> scores;
+  for (const auto& [row, file] : files) {
+    scores[row] = test_split_scores(models / (file + ".yml.gz"), dir.path());
+    std::printf("[ figures ] e2e test split, %s: %s\n", row.c_str(), scores[row].dump().c_str());
+  }
+  for (const auto& [row, committed] : golden["rows"].items()) {
+    for (const auto& [metric, value] : committed.items()) {
+      SCOPED_TRACE(row + " " + metric);
+      ASSERT_TRUE(scores.at(row).contains(metric) && scores.at(row)[metric].is_number());
+      EXPECT_NEAR(scores.at(row)[metric].get<double>(), value.get<double>(), tolerance);
+    }
+  }
+  for (const auto& [row, floors] : golden["floors"].items()) {
+    for (const auto& [metric, floor] : floors.items()) {
+      SCOPED_TRACE(row + " " + metric);
+      EXPECT_GE(scores.at(row)[metric].get<double>(), floor.get<double>());
+      // The control: without LiDAR the same floor is missed.
+      EXPECT_LT(scores.at("graph-no-lidar")[metric].get<double>(), floor.get<double>());
+    }
+  }
+}
+
+// A small b1 model file trained once and committed (tests/data/golden/model/README.md says
+// how): training again on the e2e dataset gives the same bytes, so a change to what b1
+// learns or to how its file is written shows here.
+TEST(ModelQuality, B1TrainsToTheCommittedFile) {
+  nsg::test::TempDir dir("model-b1-golden");
+  const fs::path golden = nsg::test::data_dir() / "golden/model/b1-e2e-trees2.yml.gz";
+  std::vector<std::string> args = train_args(dir / "b1.yml.gz", "2", "all", "b1");
+  args.back() = "2";  // --trees 2: a small file
+  const CommandResult r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string now = nsg::read_file(dir / "b1.yml.gz"), then = nsg::read_file(golden);
+  ASSERT_GT(then.size(), 1000u);
+  EXPECT_TRUE(now == then) << "b1 model bytes changed (" << now.size() << " vs " << then.size() << " bytes)";
 }
 
 TEST(ModelCli, LoadSaveRoundTripIsByteIdentical) {

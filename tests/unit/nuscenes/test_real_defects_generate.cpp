@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -98,6 +99,14 @@ std::pair<int64_t, size_t> vehicle_pixels(const fs::path& out) {
   return {px, tiles};
 }
 
+// Every file under tiles/ (path relative to it → bytes).
+std::map<std::string, std::string> tile_files(const fs::path& out) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(out / "tiles"))
+    if (e.is_regular_file()) files[fs::relative(e.path(), out).string()] = test::read_text(e.path());
+  return files;
+}
+
 TEST(RealDefectsGenerate, MapWithEveryDefectGeneratesFromTheGoodRecords) {
   ReleaseCopy release;
   const test::CommandResult clean = release.generate("clean", {"--version", kVersion});
@@ -120,11 +129,24 @@ TEST(RealDefectsGenerate, MapWithEveryDefectGeneratesFromTheGoodRecords) {
   Issues issues;
   (void)graph::build_lane_graph(map, {}, &issues);
   EXPECT_EQ(after["map_defects"].get<size_t>(), issues.size()) << issues.format();
-  EXPECT_EQ(issues.count_check("graph.dangling_connectivity"), 2u);
-  EXPECT_EQ(issues.count_check("map.self_intersecting_polygon"), 1u);
-  EXPECT_GE(issues.count_check("map.null_token"), 3u);
-  // The tiles lie away from the added records: the same tiles as before.
-  EXPECT_EQ(vehicle_pixels(release.out("defects")).second, vehicle_pixels(release.out("clean")).second);
+  // And exactly what the fixture added (a null token or empty link is reported once per
+  // table and field that holds it, whatever the number of records; the rest once each):
+  const std::map<std::string, size_t> expected = {
+      {"graph.dangling_connectivity", 2},    // ghost-out, ghost-in on the first lane
+      {"map.empty_hole", 1},                 // the null-token polygon's hole
+      {"map.empty_line", 1},                 // line-zero
+      {"map.empty_link", 5},                 // ped_crossing, stop_line, road_segment links and more
+      {"map.null_token", 5},                 // road_block and drivable_area polygon tokens and more
+      {"map.self_intersecting_polygon", 1},  // the bow tie
+  };
+  std::map<std::string, size_t> found;
+  for (const Issue& i : issues.items()) ++found[i.check];
+  EXPECT_EQ(found, expected) << issues.format();
+  EXPECT_EQ(after["map_defects"].get<size_t>(), 15u);
+  // The tiles lie away from the added records: the same tiles as before, byte for byte.
+  const auto clean_tiles = tile_files(release.out("clean")), defect_tiles = tile_files(release.out("defects"));
+  EXPECT_GT(clean_tiles.size(), 0u);
+  EXPECT_TRUE(clean_tiles == defect_tiles) << clean_tiles.size() << " vs " << defect_tiles.size() << " files";
   EXPECT_GT(vehicle_pixels(release.out("defects")).second, 0u);
 }
 

@@ -50,6 +50,20 @@ Agreement semantic_agreement(const fs::path& a, const fs::path& b, const std::ve
   return r;
 }
 
+// Tiles whose `layer` file differs between two datasets of the same tiles.
+size_t layer_tiles_differing(const fs::path& a, const fs::path& b, const std::string& layer) {
+  const auto ta = tiles_of(a), tb = tiles_of(b);
+  size_t differing = 0;
+  for (const auto& [key, files] : ta) {
+    const auto it = tb.find(key);
+    differing += it == tb.end() || files.at(layer) != it->second.at(layer);
+  }
+  return differing;
+}
+size_t semantic_tiles_differing(const fs::path& a, const fs::path& b) {
+  return layer_tiles_differing(a, b, "semantic.tif");
+}
+
 std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& extra) {
   args.insert(args.end(), extra.begin(), extra.end());
   return args;
@@ -66,6 +80,20 @@ TEST(GenerateSemantics, SegmentMasksAsSemanticRoot) {
               100.0 * a.fraction());
   EXPECT_GT(a.both, 50000u);
   EXPECT_GE(a.fraction(), 0.90);
+  // The setting takes effect: the segment masks are not the release's (the tiny model gets
+  // ≈ 7 % of the pixels wrong), so the semantic tiles differ from the reference's, while
+  // LiDAR and RGB do not depend on where the masks come from.
+  EXPECT_GT(a.both - a.agree, 2000u);
+  EXPECT_GT(semantic_tiles_differing(e2e_dataset(), dir.path()), 0u);
+  EXPECT_EQ(layer_tiles_differing(e2e_dataset(), dir.path(), "rgb.tif"), 0u);
+
+  // Pointed at the release's own masks, the same setting gives the reference bytes.
+  TempDir own("gen-segment-own-masks");
+  const CommandResult o = run_nsgraph(with(e2e_generate_args(own.path()),
+                                           {"--threads", "2", "--set",
+                                            "camera.semantic_root=" + (e2e_release() / "semantic").string()}));
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  EXPECT_EQ(semantic_tiles_differing(e2e_dataset(), own.path()), 0u);
 }
 
 TEST(GenerateSemantics, LidarsegSourceSameBytesAtAnyThreadAndShareCount) {
@@ -94,6 +122,11 @@ TEST(GenerateSemantics, LidarsegSourceSameBytesAtAnyThreadAndShareCount) {
               100.0 * a.fraction());
   EXPECT_GT(a.both, 20000u);
   EXPECT_GE(a.fraction(), 0.90);
+  // The source takes effect: the points' classes are not the masks' (lidarseg has no lane
+  // markings or crosswalks, and it labels only the cells a key-frame sweep hit).
+  const Agreement all_classes = semantic_agreement(e2e_dataset(), one.path());
+  EXPECT_GT(all_classes.both - all_classes.agree, 1000u);
+  EXPECT_GT(semantic_tiles_differing(e2e_dataset(), one.path()), masks.size() / 2);
 }
 
 TEST(GenerateSemantics, LidarsegWithoutLidarsegJsonNamesIt) {
