@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Memory at scale (issue 22), called by scripts/bench.sh. The city world
+# Memory at scale, called by scripts/bench.sh. The city world
 # (samples/synth/city.json: 2.2 × 1.7 km, 160 scenes, LiDAR only) and the demo world
 # (samples/synth/demo.json with samples/generate-demo.json: cameras on) are synthesized (or
 # reused with NSG_BENCH_REUSE=1), then `generate -v` runs on each at 1 and 2 threads under

@@ -23,7 +23,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       decoder.decode(bytes.data(), bytes.size(), nsg::nuscenes::JpegScale::kFull, img, "cam.jpg");
       if (img.width > 4096 || img.height > 4096) std::abort();
     } else {
-      const nsg::nuscenes::GrayImage m = nsg::nuscenes::read_semantic_mask(nsg::fuzz::input_file(bytes.data(), bytes.size()));
+      const nsg::nuscenes::GrayImage m =
+          nsg::nuscenes::read_semantic_mask(nsg::fuzz::input_file(bytes.data(), bytes.size()));
       if (m.width > 4096 || m.height > 4096) std::abort();
     }
   });

@@ -12,7 +12,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // Accepted input: exactly size / 20 points, all finite (the documented contract).
     if (points.size() * 20 != size) std::abort();
     for (const auto& p : points)
-      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(p.intensity)) std::abort();
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(p.intensity))
+        std::abort();
   });
   return 0;
 }

@@ -46,7 +46,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       const std::optional<double>& v = m.values[k];
       if (!v) continue;
       if (!std::isfinite(*v)) std::abort();
-      const bool chamfer = k == nsg::metrics::kChamferPx2 || k == nsg::metrics::kChamferM2 || k == nsg::metrics::kChamferMeanM;
+      const bool chamfer =
+          k == nsg::metrics::kChamferPx2 || k == nsg::metrics::kChamferM2 || k == nsg::metrics::kChamferMeanM;
       if (!chamfer && (*v < -1e-9 || *v > 1.0 + 1e-9)) std::abort();
     }
   });

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# `make bench`: the speed and memory targets of DESIGN.md §8, measured on this machine,
-# side by side with the Python way (bench/python, issue 11). Each benchmark writes its own
+# `make bench`: the speed and memory targets of docs/benchmarks.md, measured on this machine,
+# side by side with the Python way (bench/python). Each benchmark writes its own
 # figures; bench/python/report.py collects them into bench-out/bench.json and bench.md.
 #   NSG_BENCH_REUSE=1  keep the existing releases in bench-out/data/synth-* instead of synthesizing
 #                      them again (synth is deterministic; for reruns while developing)
@@ -151,7 +151,7 @@ if "$exe" generate --help >/dev/null 2>&1 && [ -f "$root/samples/synth/bench.jso
   ran=$((ran + 2))
   bash "$root/bench/camera.sh" "$exe" "$out" "$release" "$root/$build/bench/raster/camera_floor" || failed+=("camera floor")
 
-  # Reading the dataset from Python (issue 21): nsgraph.Dataset vs tarfile + PIL on one shard
+  # Reading the dataset from Python: nsgraph.Dataset vs tarfile + PIL on one shard
   # of the dataset just generated, one core, arrays checked equal.
   if [ -f "$root/$build/python/nsgraph/__init__.py" ]; then
     printf '\n== Python dataset read: nsgraph.Dataset vs tarfile + PIL, one shard, one core\n'
@@ -183,7 +183,7 @@ PY
   ran=$((ran + 1))
 fi
 
-# The city and demo worlds (issue 22): memory at 1 and 2 threads, bytes per covered cell, the
+# The city and demo worlds: memory at 1 and 2 threads, bytes per covered cell, the
 # memory estimate; a missed target there (city.json's "pass") fails the run at the end.
 if "$exe" generate --help >/dev/null 2>&1 && [ -f "$root/samples/synth/city.json" ] && [ "${NSG_BENCH_CITY:-1}" != 0 ]; then
   bash "$root/bench/city.sh" "$exe" "$out" "$NSG_BENCH_DIR" || failed+=("city world")

@@ -48,7 +48,7 @@ PY
 )
   "$exe" inspect sweep --dataroot "$out/release" --version "$version" --token "$token" --head 3
 else
-  next+=("synth (issue 3)")
+  next+=("synth")
 fi
 
 step "inspect graph ($location, lane graph at ≤ 2 m, GeoJSON for QGIS)"
@@ -72,14 +72,14 @@ print(f'tiles: {c["train"]["tiles"]} train, {c["val"]["tiles"]} val, {c["test"][
       f'{len(m["shards"])} shards, {sum(s["bytes"] for s in m["shards"]) / 1e6:.1f} MB')
 PY
 else
-  next+=("generate (issue 6)")
+  next+=("generate")
 fi
 
 step "validate"
 if have validate && [ -f "$out/dataset/manifest.json" ]; then
   "$exe" validate "$out/dataset"
 else
-  next+=("validate (issue 7)")
+  next+=("validate")
 fi
 
 step "preview"
@@ -88,7 +88,7 @@ if have preview && [ -f "$out/dataset/manifest.json" ]; then
   "$exe" preview "$out/dataset" --out "$out/preview" --overview
   ls "$out/preview"
 else
-  next+=("preview (issue 9)")
+  next+=("preview")
 fi
 
 step "train: the reference model (default variant: graph) on the train split (lib/model)"
@@ -96,7 +96,7 @@ if have train && [ -f "$out/dataset/manifest.json" ]; then
   /usr/bin/time -f 'train: %e s wall, %M KiB peak RSS' \
     "$exe" train --dataset "$out/dataset" --split train --model "$out/model.yml.gz"
 else
-  next+=("train (issue 10)")
+  next+=("train")
 fi
 
 step "predict: lane graphs for the test split"
@@ -106,7 +106,7 @@ if have predict && [ -f "$out/model.yml.gz" ]; then
   "$exe" preview "$out/dataset" --out "$out/preview-prediction" --split test --submission "$out/submission.json" \
     --sort apls --max-tiles 16
 else
-  next+=("predict (issue 10)")
+  next+=("predict")
 fi
 
 step "score: the reference model on the demo test split (synthetic data, not comparable to real nuScenes)"

@@ -1,6 +1,6 @@
 // Scoring throughput on typical tiles: lane-like graphs of ~100-300 nodes (a road with
 // two lanes each way plus a crossing road, nodes every 2 m), one core. Target >= 100
-// tiles/s (issue 8). items_per_second = tiles/s. BM_ScoreSubmission is the end-to-end
+// tiles/s. items_per_second = tiles/s. BM_ScoreSubmission is the end-to-end
 // rate of `nsgraph score`'s work: reading a 200-tile submission file within the validate
 // limits, parsing it, measuring every tile and finalizing the aggregate.
 #include <benchmark/benchmark.h>
@@ -85,8 +85,8 @@ void BM_ScoreSubmission(benchmark::State& state) {
     gt[key] = road_tile(1 + k % 3);
     tiles[key] = submission_tile(jitter(gt[key], 1.0, static_cast<uint64_t>(k)));
   }
-  const std::filesystem::path file = std::filesystem::temp_directory_path() /
-                                     ("nsg-bench-submission-" + std::to_string(getpid()) + ".json");
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / ("nsg-bench-submission-" + std::to_string(getpid()) + ".json");
   nsg::write_file_atomic(file, nlohmann::json{{"schema_version", "1"}, {"tiles", tiles}}.dump());
   nsg::metrics::ScoreOptions options;  // one thread
   for (auto _ : state) {

@@ -1,11 +1,11 @@
-// bench_nuscenes: loading a large sample_data-shaped table (DESIGN.md §8: ≥ 0.8 GB/s, peak
+// bench_nuscenes: loading a large sample_data-shaped table (docs/benchmarks.md: ≥ 0.8 GB/s, peak
 // memory ≤ 2× the file). Generates the table by streaming (low memory) into
 // $NSG_BENCH_DIR (default: the system temp folder), then loads it in a fresh forked child
 // per repetition so VmHWM (peak RSS) measures the load alone.
 //   NSG_BENCH_MB   table size in MB (default 320)
 //   NSG_BENCH_REPS repetitions (default 3)
 //   NSG_BENCH_KEEP keep the generated file
-//   NSG_BENCH_SCALE_MB  instead: the scale case (issue 19; the real trainval sample_data.json
+//   NSG_BENCH_SCALE_MB  instead: the scale case (the real trainval sample_data.json
 //                  is over 1 GB): one table of this many MB (e.g. 2500), loaded once; checks
 //                  the record count and peak RSS ≤ 1× the file, prints PASS or FAIL lines and
 //                  exits 1 on FAIL. The table is always deleted afterwards.
@@ -62,7 +62,9 @@ struct SplitMix {
   }
 };
 
-void token(char out[33], std::uint64_t a, std::uint64_t b) { std::snprintf(out, 33, "%016" PRIx64 "%016" PRIx64, a, b); }
+void token(char out[33], std::uint64_t a, std::uint64_t b) {
+  std::snprintf(out, 33, "%016" PRIx64 "%016" PRIx64, a, b);
+}
 
 // Writes records shaped like real sample_data (json.dump indent=0 style, ~600 bytes each)
 // until the file reaches `target_bytes`; one record buffer, nothing accumulated. `records`
@@ -86,16 +88,18 @@ std::uint64_t generate(const fs::path& file, std::uint64_t target_bytes, std::ui
     const char* channel = kChannels[i % 4];
     const bool camera = channel[0] == 'C';
     const std::int64_t ts = 1532402927647951 + static_cast<std::int64_t>(i) * 50000;
-    written += std::fprintf(
-        f,
-        "%s{\n\"token\": \"%s\",\n\"sample_token\": \"%s\",\n\"ego_pose_token\": \"%s\",\n"
-        "\"calibrated_sensor_token\": \"%s\",\n\"timestamp\": %" PRId64 ",\n\"fileformat\": \"%s\",\n"
-        "\"is_key_frame\": %s,\n\"height\": %d,\n\"width\": %d,\n"
-        "\"filename\": \"%s/%s/n015-2018-07-24-11-22-45+0800__%s__%" PRId64 ".%s\",\n"
-        "\"prev\": \"%s\",\n\"next\": \"%s\"\n}",
-        i == 0 ? "" : ",\n", tok, sample, tok, cs, ts, camera ? "jpg" : "pcd", i % 10 == 0 ? "true" : "false",
-        camera ? 900 : 0, camera ? 1600 : 0, i % 10 == 0 ? "samples" : "sweeps", channel, channel, ts,
-        camera ? "jpg" : "pcd.bin", i == 0 ? "" : prev, next);
+    written += std::fprintf(f,
+                            "%s{\n\"token\": \"%s\",\n\"sample_token\": \"%s\",\n\"ego_pose_token\": \"%s\",\n"
+                            "\"calibrated_sensor_token\": \"%s\",\n\"timestamp\": %" PRId64
+                            ",\n\"fileformat\": \"%s\",\n"
+                            "\"is_key_frame\": %s,\n\"height\": %d,\n\"width\": %d,\n"
+                            "\"filename\": \"%s/%s/n015-2018-07-24-11-22-45+0800__%s__%" PRId64
+                            ".%s\",\n"
+                            "\"prev\": \"%s\",\n\"next\": \"%s\"\n}",
+                            i == 0 ? "" : ",\n", tok, sample, tok, cs, ts, camera ? "jpg" : "pcd",
+                            i % 10 == 0 ? "true" : "false", camera ? 900 : 0, camera ? 1600 : 0,
+                            i % 10 == 0 ? "samples" : "sweeps", channel, channel, ts, camera ? "jpg" : "pcd.bin",
+                            i == 0 ? "" : prev, next);
   }
   written += std::fprintf(f, "\n]\n");
   if (std::ferror(f) != 0 || std::fclose(f) != 0) throw nsg::IoError(file.string(), "", "write failed (disk full?)");
@@ -169,7 +173,8 @@ int run_scale(std::uint64_t target_mb, const fs::path& dir) {
   const Measurement m = measure_in_child(file);
   const double mbps = bytes / 1e6 / m.seconds;
   const double ratio = static_cast<double>(m.rss_peak) / static_cast<double>(bytes);
-  std::printf("bench_nuscenes scale: loaded %" PRIu64 " records in %.2f s = %.0f MB/s (CPU %.2f s = %.0f MB/s); "
+  std::printf("bench_nuscenes scale: loaded %" PRIu64
+              " records in %.2f s = %.0f MB/s (CPU %.2f s = %.0f MB/s); "
               "peak RSS %.1f MB = %.2fx file (%.1f MB before load)\n",
               m.records, m.seconds, mbps, m.cpu_seconds, bytes / 1e6 / m.cpu_seconds, m.rss_peak / 1e6, ratio,
               m.rss_before / 1e6);
@@ -182,7 +187,9 @@ int run_scale(std::uint64_t target_mb, const fs::path& dir) {
     std::printf("bench_nuscenes scale: FAIL peak RSS %.2fx the file (limit 1.00x)\n", ratio);
     ok = false;
   }
-  if (ok) std::printf("bench_nuscenes scale: PASS (records %" PRIu64 " = written; peak RSS %.2fx <= 1.00x)\n", records, ratio);
+  if (ok)
+    std::printf("bench_nuscenes scale: PASS (records %" PRIu64 " = written; peak RSS %.2fx <= 1.00x)\n", records,
+                ratio);
   return ok ? 0 : 1;
 }
 
@@ -215,13 +222,19 @@ int main() {
       best_cpu_mbps = std::max(best_cpu_mbps, cpu_mbps);
       worst_ratio = std::max(worst_ratio, ratio);
       if (m.records != records)
-        throw nsg::InternalError(file.string(), "", "the loader read " + std::to_string(m.records) + " records of " +
-                                                        std::to_string(records) + " written");
-      std::printf("  load %d: %" PRIu64 " records in %.3f s = %.0f MB/s (CPU %.3f s = %.0f MB/s); peak RSS %.1f MB (%.2fx file; %.1f MB before load)\n",
-                  r + 1, m.records, m.seconds, mbps, m.cpu_seconds, cpu_mbps, m.rss_peak / 1e6, ratio, m.rss_before / 1e6);
+        throw nsg::InternalError(
+            file.string(), "",
+            "the loader read " + std::to_string(m.records) + " records of " + std::to_string(records) + " written");
+      std::printf("  load %d: %" PRIu64
+                  " records in %.3f s = %.0f MB/s (CPU %.3f s = %.0f MB/s); peak RSS %.1f MB (%.2fx file; %.1f MB "
+                  "before load)\n",
+                  r + 1, m.records, m.seconds, mbps, m.cpu_seconds, cpu_mbps, m.rss_peak / 1e6, ratio,
+                  m.rss_before / 1e6);
     }
-    std::printf("bench_nuscenes: best %.0f MB/s wall, %.0f MB/s per CPU second (target >= 800); worst peak/file %.2f "
-                "(target <= 2.00)\n", best_mbps, best_cpu_mbps, worst_ratio);
+    std::printf(
+        "bench_nuscenes: best %.0f MB/s wall, %.0f MB/s per CPU second (target >= 800); worst peak/file %.2f "
+        "(target <= 2.00)\n",
+        best_mbps, best_cpu_mbps, worst_ratio);
     if (std::getenv("NSG_BENCH_KEEP") == nullptr) fs::remove(file);
     return 0;
   } catch (const std::exception& e) {

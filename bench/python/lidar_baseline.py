@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The LiDAR accumulation the way a nuScenes devkit user writes it in numpy (issue 11).
+"""The LiDAR accumulation the way a nuScenes devkit user writes it in numpy.
 
 For every LIDAR_TOP sample_data (key and non-key) of every scene of one location:
 read the .pcd.bin with np.fromfile (5 float32 per point, keep 4 rows like
@@ -46,7 +46,7 @@ def load_table(dataroot, version, name):
         fail(f"{path}: {e}")
 
 
-# --- the devkit's geometry (nuscenes-format.md §4.4) -------------------------------------
+# --- the devkit's geometry (docs/nuscenes-input.md) -------------------------------------
 
 def rotation_matrix(q):
     """pyquaternion's Quaternion(q).rotation_matrix: normalise unless already unit within
@@ -216,7 +216,7 @@ def compare(python_grid, nsgraph_grid, z_tolerance_m):
     sum_n = float(np.sum(nsgraph_grid[n], dtype=np.float64))
     only_p, only_n = int(np.count_nonzero(p & ~n)), int(np.count_nonzero(n & ~p))
     max_dz = float(dz.max()) if dz.size else 0.0
-    # Bit-exact agreement is not expected (nuscenes-format.md §4.4: BLAS summation order,
+    # Bit-exact agreement is not expected (docs/nuscenes-input.md: BLAS summation order,
     # float32 translation); a cell may flip only when a point sits within an ulp of a border.
     covered = max(int(np.count_nonzero(n)), 1)
     agree = (only_p + only_n) <= 1e-5 * covered and max_dz <= z_tolerance_m

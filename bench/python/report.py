@@ -19,7 +19,7 @@ import platform
 import re
 import sys
 
-LIDAR_TARGET = 10.0   # nsgraph / Python, issue 11
+LIDAR_TARGET = 10.0   # nsgraph / Python
 TABLE_TARGET = 4.0
 CANVAS_LIMIT = 1.1    # peak RSS 4x canvas / 1x canvas
 TABLE_RSS_LIMIT = 2.0  # table load peak RSS / file size

@@ -1,4 +1,4 @@
-// Raster-stage throughput, one core (issue 5; DESIGN.md §8 target ≥ 3 000 sweeps/s per core
+// Raster-stage throughput, one core (docs/benchmarks.md target ≥ 3 000 sweeps/s per core
 // from page cache):
 //  - BM_AccumulateLocation: accumulate_location (read .pcd.bin from page cache, roof/range
 //    filter, devkit sensor → ego → global, lowest-z binning) on a synthetic release
@@ -106,8 +106,9 @@ void BM_AddSweep(benchmark::State& state) {
   size_t k = 0, kept = 0;
   for (auto _ : state) {
     const std::vector<LidarPoint>& s = sweeps[k % sweeps.size()];
-    kept += layer.add_sweep(reinterpret_cast<const float*>(s.data()), s.size(), 0, ego_from_sensor(),
-                            global_from_ego(static_cast<int>(k % sweeps.size())), options, static_cast<int32_t>(k), path);
+    kept +=
+        layer.add_sweep(reinterpret_cast<const float*>(s.data()), s.size(), 0, ego_from_sensor(),
+                        global_from_ego(static_cast<int>(k % sweeps.size())), options, static_cast<int32_t>(k), path);
     ++k;
   }
   state.SetItemsProcessed(state.iterations());

@@ -104,7 +104,8 @@ int main(int argc, char** argv) {
     });
     const double n = static_cast<double>(jpegs.size());
     std::printf(
-        "{\"images\": %zu, \"masks\": %zu, \"mask_width_px\": %d, \"sweeps\": %zu, \"scale_denom\": %d, \"passes\": %d,\n"
+        "{\"images\": %zu, \"masks\": %zu, \"mask_width_px\": %d, \"sweeps\": %zu, \"scale_denom\": %d, \"passes\": "
+        "%d,\n"
         " \"jpeg_ms\": %.3f, \"mask_ms\": %.3f, \"jpeg_per_s\": %.1f, \"mask_per_s\": %.1f,\n"
         " \"images_per_s\": %.1f, \"sweeps_per_s\": %.1f, \"sweep_mb_per_s\": %.1f, \"sink\": %zu}\n",
         jpegs.size(), masks.size(), mask_w, sweeps.size(), denom, passes, 1e3 * jpeg_s / n,

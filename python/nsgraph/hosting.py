@@ -4,7 +4,7 @@ phase_codename, **kwargs)``). Scoring is ``nsgraph.score``: the same checks and 
 ``nsgraph score``."""
 from .scoring import score
 
-# The leaderboard columns: the report's per-tile means (METRICS.md), by their report names.
+# The leaderboard columns: the report's per-tile means (docs/metrics.md), by their report names.
 LEADERBOARD_METRICS = (
     "apls", "apls_directed", "apls_strict", "direction_accuracy", "f1", "iou", "chamfer_mean_m",
     "geo_precision", "geo_recall", "geo_f1", "topo_precision", "topo_recall", "topo_f1",

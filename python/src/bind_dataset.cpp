@@ -44,7 +44,7 @@ py::tuple tile_members_to_py() {
   return py::tuple(out);
 }
 
-// Bands and sample type of a layer (DESIGN.md §5); its size is the manifest's size_px.
+// Bands and sample type of a layer (docs/dataset-format.md); its size is the manifest's size_px.
 io::RasterHeader expected_raster(const std::string& layer, int size_px) {
   const bool rgb = layer == "rgb", vehicle = layer == "vehicle";
   return {size_px, size_px, rgb ? 3 : 1, vehicle ? io::SampleType::kFloat32 : io::SampleType::kUInt8};
@@ -137,8 +137,8 @@ void bind_dataset(py::module_& m) {
           "read",
           [](const io::SplitIndex& index, size_t i, const std::vector<std::string>& layers, bool graph, bool meta) {
             for (const std::string& l : layers)
-              NSG_CHECK(std::find(raster_names().begin(), raster_names().end(), l) != raster_names().end(),
-                        ConfigError, "", "layer '" + l + "'", "one of " + join(raster_names(), ", "));
+              NSG_CHECK(std::find(raster_names().begin(), raster_names().end(), l) != raster_names().end(), ConfigError,
+                        "", "layer '" + l + "'", "one of " + join(raster_names(), ", "));
             DecodedTile t;
             {
               py::gil_scoped_release release;

@@ -72,8 +72,9 @@ model::AnchorSet anchor_set(const Points& points, const std::vector<double>& sco
 py::dict net_anchors(const Floats& heat, const Floats& offset, const Floats& direction, int tile_size_px) {
   NSG_CHECK(heat.ndim() == 2, ConfigError, "", "heat", "an (h, w) float32 array");
   model::NetMaps maps;
-  maps.heat = cv::Mat(static_cast<int>(heat.shape(0)), static_cast<int>(heat.shape(1)), CV_32F,
-                      const_cast<float*>(heat.data())).clone();
+  maps.heat =
+      cv::Mat(static_cast<int>(heat.shape(0)), static_cast<int>(heat.shape(1)), CV_32F, const_cast<float*>(heat.data()))
+          .clone();
   const auto off = planes_arg(offset, "offset", 2);
   maps.offset_u = off[0];
   maps.offset_v = off[1];
@@ -87,7 +88,8 @@ py::dict net_anchors(const Floats& heat, const Floats& offset, const Floats& dir
     a = model::net_anchors(maps, o);
     pairs = model::candidate_pairs(a.points, o.pair_radius_px);
   }
-  py::array_t<float> votes({static_cast<py::ssize_t>(a.points.size()), static_cast<py::ssize_t>(model::kDirectionClasses)});
+  py::array_t<float> votes(
+      {static_cast<py::ssize_t>(a.points.size()), static_cast<py::ssize_t>(model::kDirectionClasses)});
   for (size_t k = 0; k < a.points.size(); ++k)
     for (int c = 0; c < model::kDirectionClasses; ++c) votes.mutable_at(k, c) = a.votes[k][static_cast<size_t>(c)];
   py::dict d;
@@ -135,7 +137,8 @@ py::dict net_graph(const Points& points, const std::vector<double>& scores, cons
 // LaneDirNet's class of each pixel-frame vector (du, dv): its 20° bin.
 py::array_t<int64_t> direction_bins(const Points& vectors) {
   std::vector<int64_t> out;
-  for (const auto& d : points_arg(vectors, "vectors")) out.push_back(model::direction_bin(model::map_angle(d[0], d[1])));
+  for (const auto& d : points_arg(vectors, "vectors"))
+    out.push_back(model::direction_bin(model::map_angle(d[0], d[1])));
   return ints_to_numpy(out);
 }
 

@@ -37,9 +37,7 @@ py::object json_to_py(const nlohmann::json& j, int depth) {
 
 py::object json_to_py(const nlohmann::json& j) { return json_to_py(j, 0); }
 
-nlohmann::json parse_json(const std::string& text, const std::string& label) {
-  return parse_json_strict(text, label);
-}
+nlohmann::json parse_json(const std::string& text, const std::string& label) { return parse_json_strict(text, label); }
 
 py::array raster_to_numpy(io::Raster&& raster) {
   auto* owned = new std::vector<uint8_t>(std::move(raster.data));

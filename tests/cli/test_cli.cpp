@@ -1,4 +1,4 @@
-// Runs the real nsgraph binary and checks exit codes and messages (DESIGN.md §2).
+// Runs the real nsgraph binary and checks exit codes and messages (docs/architecture.md).
 #include <gtest/gtest.h>
 
 #include "nsg/core/version.h"
@@ -48,8 +48,6 @@ TEST(Cli, VersionAfterACommandIsTheCommandsOwnOption) {
   EXPECT_NE(global.out.find(std::string("nsgraph ") + kVersion), std::string::npos) << global.out;
 }
 
-TEST(Cli, NoCommandIsAUsageError) {
-  EXPECT_EQ(test::run_nsgraph({}).exit_code, 2);
-}
+TEST(Cli, NoCommandIsAUsageError) { EXPECT_EQ(test::run_nsgraph({}).exit_code, 2); }
 
 }  // namespace nsg

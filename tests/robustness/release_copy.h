@@ -34,7 +34,8 @@ class ReleaseCopy {
 
   // The first sample_data row (file order) matching the predicate's fileformat / key-frame
   // flag / filename prefix ("samples/LIDAR_TOP/").
-  nlohmann::ordered_json sample_data(const std::string& fileformat, bool key_frame, const std::string& prefix = "") const;
+  nlohmann::ordered_json sample_data(const std::string& fileformat, bool key_frame,
+                                     const std::string& prefix = "") const;
   // Every key-frame sample_data filename under `prefix`.
   std::vector<std::string> key_frame_files(const std::string& prefix) const;
 

@@ -1,4 +1,4 @@
-// The corruption catalogue (issue 11): each case damages one thing in a private copy of the
+// The corruption catalogue: each case damages one thing in a private copy of the
 // synthetic release (or a detections / submission file), runs the command that reads it and
 // asserts a clean refusal: the expected exit code (never a signal), stderr naming the file
 // and the record, and no partial output in --out (no manifest, no shard, no temp file).
@@ -81,8 +81,8 @@ Case non_finite(const std::string& name, const std::string& table, size_t row, c
 }
 
 // Edits the map expansion JSON document.
-Case map_edit(const std::string& name, const std::function<std::string(json&)>& edit, Command command = Command::kGenerate,
-              int exit_code = 2) {
+Case map_edit(const std::string& name, const std::function<std::string(json&)>& edit,
+              Command command = Command::kGenerate, int exit_code = 2) {
   return {name, [=](Scenario& s) {
             json map = json::parse(s.release.read(kMap));
             const std::string record = edit(map);
@@ -349,7 +349,7 @@ std::vector<Case> catalogue() {
                      s.command = Command::kGenerateDetections;
                      s.expect = {"synthetic_detector.json"};
                    }});
-  // Submissions (validate --submission, score): invalid submissions exit 1 (DESIGN §2).
+  // Submissions (validate --submission, score): invalid submissions exit 1 (docs/architecture.md, exit codes).
   cases.push_back({"submission_truncated_validate", [](Scenario& s) {
                      const std::string t = submission_text();
                      s.submission = t.substr(0, t.size() / 2);
@@ -412,8 +412,8 @@ TEST_P(Corruption, RefusedCleanly) {
     if (s.command == Command::kValidateSubmission)
       args = {"validate", "--submission", sub.string(), "--dataset", e2e_dataset().string()};
     else
-      args = {"score", "--ground-truth", e2e_dataset().string(), "--submission", sub.string(), "--out",
-              (out / "score.json").string()};
+      args = {"score",      "--ground-truth", e2e_dataset().string(),       "--submission",
+              sub.string(), "--out",          (out / "score.json").string()};
   } else {
     args = e2e_generate_args(out);
     args[std::find(args.begin(), args.end(), "--dataroot") - args.begin() + 1] = release.root().string();

@@ -1,4 +1,4 @@
-// Disk full during `generate` (issue 11): the run is capped by RLIMIT_FSIZE with SIGXFSZ
+// Disk full during `generate`: the run is capped by RLIMIT_FSIZE with SIGXFSZ
 // ignored, so a large write fails with EFBIG just as it would with ENOSPC (the cap is per
 // file, so where it bites is chosen by the file sizes). The run must fail with a clear
 // message, leave nothing incomplete visible (every visible shard is byte for byte the clean
@@ -20,10 +20,8 @@ namespace {
 std::string shell_quote(const std::string& s) {
   std::string q = "'";
   for (char c : s) {
-    if (c == '\'')
-      q += "'\\''";
-    else
-      q += c;
+    if (c == '\'') q += "'\\''";
+    else q += c;
   }
   q += '\'';
   return q;
@@ -128,7 +126,8 @@ TEST(KillNine, VisibleShardsCompleteAndRerunCompletes) {
     }
     line += " & pid=$!; until compgen -G ";
     line += shell_quote((out / stage).string());
-    line += " >/dev/null || ! kill -0 $pid 2>/dev/null; do sleep 0.001; done; kill -9 $pid 2>/dev/null; wait $pid; exit 0";
+    line +=
+        " >/dev/null || ! kill -0 $pid 2>/dev/null; do sleep 0.001; done; kill -9 $pid 2>/dev/null; wait $pid; exit 0";
     ASSERT_EQ(run_program({"bash", "-c", line}).exit_code, 0);
     if (fs::exists(out / "shards"))
       for (const auto& e : fs::directory_iterator(out / "shards")) {

@@ -120,4 +120,3 @@ std::string nsgraph_build_key() {
 }
 
 }  // namespace nsg::test
-

@@ -1,5 +1,5 @@
 // `nsgraph export-cloud`: one scene's accumulated lowest-z ground cloud (intensity, RGB,
-// semantic label) as a PCD file for PCL tools (issue 6).
+// semantic label) as a PCD file for PCL tools.
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -48,7 +48,8 @@ int run(const ExportCloudCommandOptions& in) {
 
 void add_export_cloud_command(CLI::App& root, Context& ctx) {
   auto o = std::make_shared<ExportCloudCommandOptions>();
-  CLI::App* cmd = root.add_subcommand("export-cloud", "One scene's lowest-z ground cloud (intensity, RGB, label) as PCD");
+  CLI::App* cmd =
+      root.add_subcommand("export-cloud", "One scene's lowest-z ground cloud (intensity, RGB, label) as PCD");
   cmd->add_option("--dataroot", o->cloud.dataroot, "nuScenes dataroot")->required();
   cmd->add_option("--version", o->cloud.version, "Release version")->capture_default_str();
   cmd->add_option("--scene", o->cloud.scene, "Scene name (scene.json 'name', e.g. scene-0061)")->required();

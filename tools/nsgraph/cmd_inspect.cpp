@@ -1,4 +1,4 @@
-// `nsgraph inspect <what>`: debugging views of the inputs (DESIGN.md §2).
+// `nsgraph inspect <what>`: debugging views of the inputs (docs/architecture.md).
 #include "commands.h"
 
 namespace nsg::cli {

@@ -48,8 +48,7 @@ void add_inspect_centerlines(CLI::App& parent, Context& ctx) {
   CLI::App* cmd = parent.add_subcommand(
       "centerlines",
       "Print lane and lane-connector centerlines (devkit discretize_lanes) and connectivity edges as JSON");
-  cmd->add_option("--dataroot", options->dataroot, "nuScenes dataset root (holds maps/expansion/)")
-      ->required();
+  cmd->add_option("--dataroot", options->dataroot, "nuScenes dataset root (holds maps/expansion/)")->required();
   cmd->add_option("--location", options->location,
                   "boston-seaport, singapore-onenorth, singapore-hollandvillage or singapore-queenstown")
       ->required();

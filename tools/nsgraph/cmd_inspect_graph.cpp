@@ -1,5 +1,5 @@
 // `nsgraph inspect graph`: the lane graph of a location — counts, longest edge, map
-// defects — and optionally its GeoJSON for QGIS (issue 4).
+// defects — and optionally its GeoJSON for QGIS.
 #include <nlohmann/json.hpp>
 
 #include <cmath>

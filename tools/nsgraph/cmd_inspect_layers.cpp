@@ -43,8 +43,8 @@ void write_tif(const std::string& path, const io::Raster& r, const io::GeoRef& g
 }
 
 // The LiDAR and RGB panels as one PNG (the README's picture of the real key frame).
-void write_panels(const InspectLayersOptions& o, const std::string& version, const tiling::TileRasters& r, int w,
-                  int h, double res, size_t samples) {
+void write_panels(const InspectLayersOptions& o, const std::string& version, const tiling::TileRasters& r, int w, int h,
+                  double res, size_t samples) {
   preview::LayerPanelsInput in{w, h, r.lidar, r.rgb,
                                strprintf("%s, %s: %zu sample%s, %.0f x %.0f m at %.1f m/px", o.location.c_str(),
                                          version.c_str(), samples, samples == 1 ? "" : "s", w * res, h * res, res)};
@@ -89,9 +89,9 @@ int run(const InspectLayersOptions& o) {
       {"sweeps", layers.stats.sweeps},
       {"points_kept", layers.stats.points_kept},
       {"vehicle_boxes", layers.stats.vehicle_boxes},
-      {"cells", {{"lidar", counts.lidar}, {"rgb", counts.rgb}, {"semantic", counts.semantic}, {"vehicle", counts.vehicle}}},
-      {"coverage",
-       {{"lidar", counts.lidar / px}, {"rgb", counts.rgb / px}, {"semantic", counts.semantic / px}}},
+      {"cells",
+       {{"lidar", counts.lidar}, {"rgb", counts.rgb}, {"semantic", counts.semantic}, {"vehicle", counts.vehicle}}},
+      {"coverage", {{"lidar", counts.lidar / px}, {"rgb", counts.rgb / px}, {"semantic", counts.semantic / px}}},
       {"lidar_blocks", layers.stats.lidar_blocks},
       {"lidar_layer_bytes", layers.lidar_layer_bytes},
       {"files", files}};
@@ -104,7 +104,8 @@ int run(const InspectLayersOptions& o) {
 
 void add_inspect_layers(CLI::App& inspect, Context& ctx) {
   auto o = std::make_shared<InspectLayersOptions>();
-  CLI::App* cmd = inspect.add_subcommand("layers", "A location's BEV layers as GeoTIFFs for QGIS, with coverage figures");
+  CLI::App* cmd =
+      inspect.add_subcommand("layers", "A location's BEV layers as GeoTIFFs for QGIS, with coverage figures");
   // The generate config's flags (and --config, --set): the layers are generate's.
   add_config_flags(cmd, o->config, {"--dataroot", "--version", "--detections", "--no-rgb", "--no-semantic"});
   cmd->add_option("--location", o->location, "boston-seaport, singapore-onenorth, ...")->required();

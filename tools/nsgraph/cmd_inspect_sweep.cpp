@@ -1,5 +1,5 @@
 // `nsgraph inspect sweep`: one LiDAR sweep in the global frame (sensor → ego → global with
-// the sweep's own ego pose, nuscenes-format.md §4.4), as JSON on stdout.
+// the sweep's own ego pose, docs/nuscenes-input.md), as JSON on stdout.
 #include <charconv>
 #include <cstdio>
 #include <optional>
@@ -67,7 +67,8 @@ int run_inspect_sweep(const InspectSweepOptions& options) {
   }
   const std::vector<nuscenes::LidarPoint> points = nuscenes::load_sweep_global(db, sd);
   size_t count = points.size();
-  if (options.head && static_cast<unsigned long long>(*options.head) < count) count = static_cast<size_t>(*options.head);
+  if (options.head && static_cast<unsigned long long>(*options.head) < count)
+    count = static_cast<size_t>(*options.head);
   const std::string json = sweep_json(options.token, points, count);
   std::fwrite(json.data(), 1, json.size(), stdout);
   return std::fflush(stdout) == 0 ? kExitOk : kExitInternal;

@@ -9,7 +9,8 @@ namespace nsg::cli {
 
 void add_merge_command(CLI::App& root, Context& ctx) {
   auto out = std::make_shared<std::string>();
-  CLI::App* cmd = root.add_subcommand("merge", "Check the shares of a distributed generate run and write manifest.json");
+  CLI::App* cmd =
+      root.add_subcommand("merge", "Check the shares of a distributed generate run and write manifest.json");
   cmd->add_option("--out", *out, "The dataset folder all shares wrote to")->required();
   cmd->callback([out, &ctx] {
     ctx.run = [out] {

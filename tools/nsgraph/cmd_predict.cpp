@@ -36,8 +36,9 @@ int run_predict(const PredictCliOptions& o, const Context& ctx) {
   if (!is_onnx(o.model)) forest = model::LaneModel::load(o.model);
   const io::Dataset dataset = io::Dataset::open(o.dataset);
   const auto t0 = std::chrono::steady_clock::now();
-  const metrics::GraphSet graphs = forest ? model::predict_dataset(*forest, dataset, o.split, o.threads, !ctx.quiet)
-                                          : model::predict_dataset_onnx(o.model, dataset, o.split, o.threads, !ctx.quiet);
+  const metrics::GraphSet graphs = forest
+                                       ? model::predict_dataset(*forest, dataset, o.split, o.threads, !ctx.quiet)
+                                       : model::predict_dataset_onnx(o.model, dataset, o.split, o.threads, !ctx.quiet);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   model::write_submission(graphs, o.out);
   size_t nodes = 0, edges = 0;
@@ -45,11 +46,12 @@ int run_predict(const PredictCliOptions& o, const Context& ctx) {
     nodes += g.nodes.size();
     edges += g.edges.size();
   }
-  log::info(strprintf("predicted %zu tiles of '%s' with the %s model in %.1f s (%.1f tiles/s): %zu nodes, "
-                      "%zu edges → %s",
-                      graphs.size(), o.split.c_str(),
-                      forest ? model::to_string(forest->options().variant).c_str() : "LaneGraphNet (ONNX)", s,
-                      graphs.size() / std::max(s, 1e-9), nodes, edges, o.out.c_str()));
+  log::info(
+      strprintf("predicted %zu tiles of '%s' with the %s model in %.1f s (%.1f tiles/s): %zu nodes, "
+                "%zu edges → %s",
+                graphs.size(), o.split.c_str(),
+                forest ? model::to_string(forest->options().variant).c_str() : "LaneGraphNet (ONNX)", s,
+                graphs.size() / std::max(s, 1e-9), nodes, edges, o.out.c_str()));
   return kExitOk;
 }
 
@@ -58,7 +60,9 @@ int run_predict(const PredictCliOptions& o, const Context& ctx) {
 void add_predict_command(CLI::App& parent, Context& ctx) {
   auto opts = std::make_shared<PredictCliOptions>();
   CLI::App* cmd = parent.add_subcommand("predict", "Predict lane graphs for a dataset split with a trained model");
-  cmd->add_option("--model", opts->model, "Model file from `nsgraph train`, or LaneGraphNet's M.onnx (M.pairs.onnx next to it)")->required();
+  cmd->add_option("--model", opts->model,
+                  "Model file from `nsgraph train`, or LaneGraphNet's M.onnx (M.pairs.onnx next to it)")
+      ->required();
   cmd->add_option("--dataset", opts->dataset, "Dataset folder (manifest.json)")->required();
   cmd->add_option("--split", opts->split, "Split to predict")->capture_default_str();
   cmd->add_option("--out", opts->out, "Submission JSON to write")->required();

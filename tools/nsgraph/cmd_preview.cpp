@@ -1,5 +1,5 @@
 // `nsgraph preview`: PNG mosaics of a dataset's shards, per-location overviews and
-// submission overlays (lib/preview, issue 9).
+// submission overlays (lib/preview).
 #include <memory>
 
 #include "commands.h"

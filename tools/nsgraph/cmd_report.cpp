@@ -38,8 +38,7 @@ void add_report_command(CLI::App& parent, Context& ctx) {
   auto opts = std::make_shared<ReportCliOptions>();
   CLI::App* cmd = parent.add_subcommand("report", "An HTML report (opens from file://) of a dataset or a submission");
   cmd->add_option("--dataset", opts->dataset, "Dataset folder (manifest.json)")->required();
-  cmd->add_option("--out", opts->out, "Report folder (new, empty or an earlier report, which is replaced)")
-      ->required();
+  cmd->add_option("--out", opts->out, "Report folder (new, empty or an earlier report, which is replaced)")->required();
   cmd->add_option("--submission", opts->lib.submission, "Submission JSON: scores per tile against the dataset");
   cmd->add_option("--baseline", opts->lib.baseline, "A second submission: both scores and their paired difference");
   cmd->add_option("--split", opts->lib.split, "Split to report (default: test with a submission, else all)");

@@ -1,5 +1,5 @@
 // `nsgraph score`: the benchmark metrics of a submission against a ground truth
-// (METRICS.md). Problems of the submission (not JSON, beyond the size, value-count or
+// (docs/metrics.md). Problems of the submission (not JSON, beyond the size, value-count or
 // nesting limits, or invalid) exit 1; an unreadable submission or bad ground truth exits 2.
 #include <cstdio>
 #include <memory>
@@ -21,9 +21,9 @@ struct ScoreCliOptions {
   std::string ground_truth;
   std::string submission;
   std::string split = "test";
-  std::string out;            // JSON report file ("" = none)
+  std::string out;              // JSON report file ("" = none)
   std::string format = "json";  // what stdout prints: json | md | csv
-  std::string schemas;        // schemas folder override
+  std::string schemas;          // schemas folder override
   int threads = 1;
 
   void validate() const {
@@ -45,8 +45,7 @@ int run_score(const ScoreCliOptions& o) {
   const Issues& issues = checked.issues;
   if (!issues.empty()) {
     std::fputs(issues.format().c_str(), stderr);
-    log::error(strprintf("%zu problem(s) in submission %s; not scored", issues.size(),
-                         o.submission.c_str()));
+    log::error(strprintf("%zu problem(s) in submission %s; not scored", issues.size(), o.submission.c_str()));
     return kExitProblems;
   }
   const metrics::GraphSet pred = std::move(checked.graphs);
@@ -77,7 +76,7 @@ int run_score(const ScoreCliOptions& o) {
 
 void add_score_command(CLI::App& parent, Context& ctx) {
   auto opts = std::make_shared<ScoreCliOptions>();
-  CLI::App* cmd = parent.add_subcommand("score", "Score a submission against a ground truth (METRICS.md v1)");
+  CLI::App* cmd = parent.add_subcommand("score", "Score a submission against a ground truth (docs/metrics.md v1)");
   cmd->add_option("--ground-truth", opts->ground_truth,
                   "Dataset folder (its tiles of --split) or a file in the submission format")
       ->required();

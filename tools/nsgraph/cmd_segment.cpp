@@ -1,4 +1,4 @@
-// `nsgraph segment` (issue 20): class-id masks for the key-frame camera images from an ONNX
+// `nsgraph segment`: class-id masks for the key-frame camera images from an ONNX
 // segmentation model, in the layout `generate` reads (camera.semantic_root).
 #include <optional>
 
@@ -26,10 +26,10 @@ int run_segment(SegmentCommandOptions& o, const Context& ctx) {
   o.run.share = pipeline::resolve_share(o.shard_index, o.num_shards);
   o.run.progress = !ctx.quiet;
   const pipeline::SegmentSummary s = pipeline::segment_cameras(o.run);
-  log::info(strprintf("segment: share %d of %d: %zu masks written, %zu already done (%zu images in all); %.1f s, "
-                      "%.2f images/s",
-                      o.run.share.index, o.run.share.count, s.written, s.skipped, s.images, s.seconds,
-                      s.images_per_s()));
+  log::info(
+      strprintf("segment: share %d of %d: %zu masks written, %zu already done (%zu images in all); %.1f s, "
+                "%.2f images/s",
+                o.run.share.index, o.run.share.count, s.written, s.skipped, s.images, s.seconds, s.images_per_s()));
   return kExitOk;
 }
 
@@ -46,8 +46,9 @@ void add_segment_command(CLI::App& root, Context& ctx) {
                   "Labels file: input size and normalisation, output channel → our class "
                   "(samples/semantic-labels/*.json, schemas/v1/segment-labels.schema.json)")
       ->required();
-  cmd->add_option("--out", o->out, "Mask root: writes <out>/<CHANNEL>/<jpeg basename>.png (generate's "
-                                   "camera.semantic_root)")
+  cmd->add_option("--out", o->out,
+                  "Mask root: writes <out>/<CHANNEL>/<jpeg basename>.png (generate's "
+                  "camera.semantic_root)")
       ->required();
   cmd->add_option("--channels", o->run.channels, "Camera channels (default: every camera)")->delimiter(',');
   cmd->add_option("--threads", o->run.threads, "Images in parallel, one model each (0 = all cores)")

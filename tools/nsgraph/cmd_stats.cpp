@@ -20,10 +20,8 @@ void add_stats_command(CLI::App& root, Context& ctx) {
   cmd->callback([o, &ctx] {
     ctx.run = [o] {
       const pipeline::DatasetStats stats = pipeline::compute_stats(o->dataset);
-      if (o->json)
-        std::cout << pipeline::stats_json(stats).dump(2) << "\n";
-      else
-        std::cout << pipeline::stats_text(stats);
+      if (o->json) std::cout << pipeline::stats_json(stats).dump(2) << "\n";
+      else std::cout << pipeline::stats_text(stats);
       return kExitOk;
     };
   });

@@ -32,11 +32,12 @@ int run_synth(const SynthCommandOptions& o, const Context& ctx) {
   const auto start = std::chrono::steady_clock::now();
   const synth::SynthSummary s = synth::write_release(config, run);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  log::info(strprintf("synth: wrote %s (%s, seed %llu): %d scenes, %d samples, %d sample_data, %d annotations, "
-                      "%d lanes + %d connectors, %llu files, %s in %.1f s",
-                      o.out_dir.c_str(), config.location.c_str(), static_cast<unsigned long long>(config.seed), s.scenes,
-                      s.samples, s.sample_data, s.annotations, s.lanes, s.lane_connectors,
-                      static_cast<unsigned long long>(s.files), human_bytes(static_cast<double>(s.bytes)).c_str(), secs));
+  log::info(
+      strprintf("synth: wrote %s (%s, seed %llu): %d scenes, %d samples, %d sample_data, %d annotations, "
+                "%d lanes + %d connectors, %llu files, %s in %.1f s",
+                o.out_dir.c_str(), config.location.c_str(), static_cast<unsigned long long>(config.seed), s.scenes,
+                s.samples, s.sample_data, s.annotations, s.lanes, s.lane_connectors,
+                static_cast<unsigned long long>(s.files), human_bytes(static_cast<double>(s.bytes)).c_str(), secs));
   return kExitOk;
 }
 

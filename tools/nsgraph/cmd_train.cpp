@@ -1,4 +1,4 @@
-// `nsgraph train`: the reference model (lib/model, issues 10 and 23) on a dataset's split.
+// `nsgraph train`: the reference model (lib/model) on a dataset's split.
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -43,13 +43,13 @@ int run_train(TrainCliOptions o, const Context& ctx) {
   m.save(o.model);
   // Figures of an empty set (no held-out tiles, no lane pixels) are NaN: say "n/a".
   auto figure = [](double v, const char* format) { return std::isnan(v) ? std::string("n/a") : strprintf(format, v); };
-  log::info(strprintf("trained %s on %zu tiles of '%s' (%s): features %.1f s, forests %.1f s; centreline MSE "
-                      "%s train / %s held out (%zu tiles); direction accuracy on lanes %s train / %s held out",
-                      model::to_string(o.lib.variant).c_str(), r.tiles, o.split.c_str(),
-                      o.lib.modalities.to_string().c_str(), r.features_s, r.train_s,
-                      figure(r.centre_mse_train, "%.4f").c_str(), figure(r.centre_mse_holdout, "%.4f").c_str(),
-                      r.holdout_tiles, figure(r.direction_accuracy_train, "%.3f").c_str(),
-                      figure(r.direction_accuracy_holdout, "%.3f").c_str()));
+  log::info(strprintf(
+      "trained %s on %zu tiles of '%s' (%s): features %.1f s, forests %.1f s; centreline MSE "
+      "%s train / %s held out (%zu tiles); direction accuracy on lanes %s train / %s held out",
+      model::to_string(o.lib.variant).c_str(), r.tiles, o.split.c_str(), o.lib.modalities.to_string().c_str(),
+      r.features_s, r.train_s, figure(r.centre_mse_train, "%.4f").c_str(), figure(r.centre_mse_holdout, "%.4f").c_str(),
+      r.holdout_tiles, figure(r.direction_accuracy_train, "%.3f").c_str(),
+      figure(r.direction_accuracy_holdout, "%.3f").c_str()));
   if (o.lib.variant != model::Variant::kB1) {
     log::info(strprintf("anchor score MSE %s train / %s held out", figure(r.anchor_mse_train, "%.4f").c_str(),
                         figure(r.anchor_mse_holdout, "%.4f").c_str()));
@@ -82,7 +82,8 @@ void add_train_command(CLI::App& parent, Context& ctx) {
   cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores; results do not depend on it)")
       ->capture_default_str();
   cmd->add_option("--seed", opts->seed, "Seed of the pixel sampling")->capture_default_str();
-  cmd->add_option("--trees", opts->trees, "Trees per forest (default: 32 centreline, 40 direction, 24 anchor, 60 connection)");
+  cmd->add_option("--trees", opts->trees,
+                  "Trees per forest (default: 32 centreline, 40 direction, 24 anchor, 60 connection)");
   cmd->callback([opts, &ctx]() { ctx.run = [opts, &ctx]() { return run_train(*opts, ctx); }; });
 }
 

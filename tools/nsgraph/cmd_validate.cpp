@@ -1,5 +1,5 @@
 // `nsgraph validate`: schemas and named structural checks of a dataset, or of a
-// submission against a dataset split (issue 7). Exit 0 clean, 1 problems, 2 unreadable.
+// submission against a dataset split. Exit 0 clean, 1 problems, 2 unreadable.
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -43,19 +43,21 @@ struct ValidateCliOptions {
 nlohmann::ordered_json issues_json(const Issues& issues) {
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (const Issue& i : issues.items())
-    out.push_back({{"severity", severity_name(i.severity)}, {"check", i.check}, {"subject", i.subject}, {"message", i.message}});
+    out.push_back(
+        {{"severity", severity_name(i.severity)}, {"check", i.check}, {"subject", i.subject}, {"message", i.message}});
   return out;
 }
 
 std::string summary(const Issues& issues, const std::string& what) {
-  return strprintf("%zu error(s), %zu warning(s) in %s", issues.count(Severity::kError), issues.count(Severity::kWarning),
-                   what.c_str());
+  return strprintf("%zu error(s), %zu warning(s) in %s", issues.count(Severity::kError),
+                   issues.count(Severity::kWarning), what.c_str());
 }
 
 int finish(const Issues& issues, const std::string& what, const ValidateCliOptions& o, nlohmann::ordered_json doc) {
   if (o.json) {
     doc["issues"] = issues_json(issues);
-    doc["summary"] = {{"errors", issues.count(Severity::kError)}, {"warnings", issues.count(Severity::kWarning)},
+    doc["summary"] = {{"errors", issues.count(Severity::kError)},
+                      {"warnings", issues.count(Severity::kWarning)},
                       {"valid", issues.count(Severity::kError) == 0}};
     std::cout << doc.dump(1) << "\n";
   } else {
@@ -80,12 +82,12 @@ int run_validate(const ValidateCliOptions& o) {
     so.schemas_dir = o.schemas;
     so.limits.max_file_bytes = static_cast<int64_t>(o.max_file_mb * 1024 * 1024);
     const validate::SubmissionReport r = validate::validate_submission(so);
-    nlohmann::ordered_json doc = {{"schema_version", "1"}, {"kind", "submission"}, {"submission", o.submission},
-                                  {"dataset", o.dataset}, {"split", o.split}, {"tiles", r.tiles},
+    nlohmann::ordered_json doc = {{"schema_version", "1"},         {"kind", "submission"}, {"submission", o.submission},
+                                  {"dataset", o.dataset},          {"split", o.split},     {"tiles", r.tiles},
                                   {"missing_keys", r.missing_keys}};
-    const std::string counts = r.parsed ? strprintf(" (%lld tiles, %zu missing)", static_cast<long long>(r.tiles),
-                                                    r.missing_keys.size())
-                                        : std::string(" (not parsed)");
+    const std::string counts =
+        r.parsed ? strprintf(" (%lld tiles, %zu missing)", static_cast<long long>(r.tiles), r.missing_keys.size())
+                 : std::string(" (not parsed)");
     return finish(r.issues, "submission " + o.submission + counts, o, doc);
   }
   validate::DatasetValidateOptions dopt;
@@ -96,8 +98,8 @@ int run_validate(const ValidateCliOptions& o) {
   nlohmann::ordered_json checks = nlohmann::ordered_json::array();
   for (const validate::CheckInfo& c : validate::dataset_checks())
     if (validate::check_selected(o.checks, c.name)) checks.push_back(c.name);
-  nlohmann::ordered_json doc = {{"schema_version", "1"}, {"kind", "dataset"}, {"dataset", dopt.root.string()},
-                                {"checks", checks}};
+  nlohmann::ordered_json doc = {
+      {"schema_version", "1"}, {"kind", "dataset"}, {"dataset", dopt.root.string()}, {"checks", checks}};
   return finish(issues, "dataset " + dopt.root.string() + strprintf(" (%zu checks)", checks.size()), o, doc);
 }
 

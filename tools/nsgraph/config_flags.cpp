@@ -58,11 +58,19 @@ void add_config_flags(CLI::App* cmd, const std::shared_ptr<ConfigArgs>& args, co
     if (opt == nullptr) throw InternalError("", f->flag, std::string("a declared config key (") + f->key + ")");
     const std::string help = opt->spec.description + " (config " + f->key + ")";
     if (f->value_when_given) {
-      cmd->add_flag_callback(f->flag, [args, f] { args->values.push_back({f->flag, f->key, f->value_when_given}); },
-                             help);
+      cmd->add_flag_callback(
+          f->flag,
+          [args, f] {
+            args->values.push_back({f->flag, f->key, f->value_when_given});
+          },
+          help);
     } else {
       cmd->add_option_function<std::string>(
-          f->flag, [args, f](const std::string& v) { args->values.push_back({f->flag, f->key, v}); }, help);
+          f->flag,
+          [args, f](const std::string& v) {
+            args->values.push_back({f->flag, f->key, v});
+          },
+          help);
     }
   }
 }

@@ -1,4 +1,4 @@
-// nsgraph: one binary, one subcommand per pipeline stage (DESIGN.md §2).
+// nsgraph: one binary, one subcommand per pipeline stage (docs/architecture.md).
 #include <algorithm>
 #include <cstdio>
 #include <exception>
@@ -15,18 +15,10 @@ namespace {
 
 // The one explicit command table (no self-registering statics).
 constexpr nsg::cli::AddCommand kCommands[] = {
-    &nsg::cli::add_synth_command,
-    &nsg::cli::add_inspect_command,
-    &nsg::cli::add_segment_command,
-    &nsg::cli::add_generate_command,
-    &nsg::cli::add_merge_command,
-    &nsg::cli::add_stats_command,
-    &nsg::cli::add_score_command,
-    &nsg::cli::add_preview_command,
-    &nsg::cli::add_report_command,
-    &nsg::cli::add_validate_command,
-    &nsg::cli::add_export_cloud_command,
-    &nsg::cli::add_train_command,
+    &nsg::cli::add_synth_command,    &nsg::cli::add_inspect_command,      &nsg::cli::add_segment_command,
+    &nsg::cli::add_generate_command, &nsg::cli::add_merge_command,        &nsg::cli::add_stats_command,
+    &nsg::cli::add_score_command,    &nsg::cli::add_preview_command,      &nsg::cli::add_report_command,
+    &nsg::cli::add_validate_command, &nsg::cli::add_export_cloud_command, &nsg::cli::add_train_command,
     &nsg::cli::add_predict_command,
 };
 

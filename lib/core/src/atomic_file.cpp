@@ -27,8 +27,7 @@ void fsync_path(const fs::path& path) {
 }  // namespace
 
 fs::path temp_path_for(const fs::path& target) {
-  return fs::path(target.string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                  std::to_string(g_temp_counter++));
+  return fs::path(target.string() + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(g_temp_counter++));
 }
 
 AtomicFileWriter::AtomicFileWriter(fs::path target) : target_(std::move(target)) {

@@ -2,8 +2,7 @@
 
 namespace nsg {
 
-std::string format_error_message(const std::string& file, const std::string& record,
-                                 const std::string& expected) {
+std::string format_error_message(const std::string& file, const std::string& record, const std::string& expected) {
   std::string out;
   for (const std::string* part : {&file, &record, &expected}) {
     if (part->empty()) continue;

@@ -15,8 +15,8 @@ const char* severity_name(Severity s) {
 
 namespace {
 std::string more_message(const std::string& check, size_t more, size_t listed) {
-  return "and " + std::to_string(more) + " more " + check + " issue(s) not listed (the first " + std::to_string(listed) +
-         " are)";
+  return "and " + std::to_string(more) + " more " + check + " issue(s) not listed (the first " +
+         std::to_string(listed) + " are)";
 }
 }  // namespace
 

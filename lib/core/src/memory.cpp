@@ -28,10 +28,20 @@ uint64_t current_rss_bytes() { return status_kb("VmRSS"); }
 uint64_t peak_rss_bytes() { return status_kb("VmHWM"); }
 
 uint64_t parse_memory_size(const std::string& text, const std::string& what) {
-  static const std::map<std::string, double> kUnits = {
-      {"", 1.0},          {"B", 1.0},           {"K", 1e3},           {"KB", 1e3},          {"M", 1e6},
-      {"MB", 1e6},        {"G", 1e9},           {"GB", 1e9},          {"T", 1e12},          {"TB", 1e12},
-      {"KiB", 1024.0},    {"MiB", 1048576.0},   {"GiB", 1073741824.0}, {"TiB", 1099511627776.0}};
+  static const std::map<std::string, double> kUnits = {{"", 1.0},
+                                                       {"B", 1.0},
+                                                       {"K", 1e3},
+                                                       {"KB", 1e3},
+                                                       {"M", 1e6},
+                                                       {"MB", 1e6},
+                                                       {"G", 1e9},
+                                                       {"GB", 1e9},
+                                                       {"T", 1e12},
+                                                       {"TB", 1e12},
+                                                       {"KiB", 1024.0},
+                                                       {"MiB", 1048576.0},
+                                                       {"GiB", 1073741824.0},
+                                                       {"TiB", 1099511627776.0}};
   const std::string expected = "a memory size such as 800M, 16G or 1.5GiB";
   size_t end = 0;
   double value = 0.0;

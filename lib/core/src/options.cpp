@@ -93,10 +93,8 @@ OrderedJson Spec::schema() const {
     if (!range.only.empty()) {
       OrderedJson values = OrderedJson::array();
       for (double v : range.only) {
-        if (type == "integer")
-          values.push_back(static_cast<int64_t>(v));
-        else
-          values.push_back(v);
+        if (type == "integer") values.push_back(static_cast<int64_t>(v));
+        else values.push_back(v);
       }
       s["enum"] = values;
       return s;
@@ -118,9 +116,7 @@ OrderedJson Spec::schema() const {
   return s;
 }
 
-[[noreturn]] void reject(const Json& v, const Spec& spec) {
-  throw ConfigError("", spec.key, spec.expected() + got(v));
-}
+[[noreturn]] void reject(const Json& v, const Spec& spec) { throw ConfigError("", spec.key, spec.expected() + got(v)); }
 
 double read_number(const Json& v, const Spec& spec) {
   if (!v.is_number()) reject(v, spec);
@@ -130,9 +126,9 @@ double read_number(const Json& v, const Spec& spec) {
 }
 
 int64_t read_integer(const Json& v, const Spec& spec) {
-  const bool integral = v.is_number_integer() || (v.is_number_float() && std::isfinite(v.get<double>()) &&
-                                                  std::floor(v.get<double>()) == v.get<double>() &&
-                                                  std::abs(v.get<double>()) < 9e18);
+  const bool integral =
+      v.is_number_integer() || (v.is_number_float() && std::isfinite(v.get<double>()) &&
+                                std::floor(v.get<double>()) == v.get<double>() && std::abs(v.get<double>()) < 9e18);
   if (!integral || (v.is_number_unsigned() && v.get<uint64_t>() > uint64_t(std::numeric_limits<int64_t>::max())))
     reject(v, spec);
   const int64_t x = v.get<int64_t>();

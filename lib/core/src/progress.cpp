@@ -37,11 +37,10 @@ std::string Progress::render_line() const {
     const double frac = static_cast<double>(done) / static_cast<double>(total_);
     const double eta_s = frac > 0 ? elapsed_s * (1.0 - frac) / frac : 0.0;
     std::snprintf(buf, sizeof buf, "%s: %llu/%llu (%.0f%%) %.1fs, ETA %.0fs", label_.c_str(),
-                  static_cast<unsigned long long>(done), static_cast<unsigned long long>(total_),
-                  100.0 * frac, elapsed_s, eta_s);
+                  static_cast<unsigned long long>(done), static_cast<unsigned long long>(total_), 100.0 * frac,
+                  elapsed_s, eta_s);
   } else {
-    std::snprintf(buf, sizeof buf, "%s: %llu %.1fs", label_.c_str(),
-                  static_cast<unsigned long long>(done), elapsed_s);
+    std::snprintf(buf, sizeof buf, "%s: %llu %.1fs", label_.c_str(), static_cast<unsigned long long>(done), elapsed_s);
   }
   std::string line = buf;
   if (!detail_.empty()) line += ", " + detail_;

@@ -1,4 +1,4 @@
-// The devkit's arcline_path_utils, expression for expression (nuscenes-format.md §5.3).
+// The devkit's arcline_path_utils, expression for expression (docs/nuscenes-input.md).
 // Built with -ffp-contract=off: a fused multiply-add would change the last bits.
 // Every arithmetic expression below keeps the operand order and grouping of the Python
 // source (including multiplications by 1.0 and 0.0, which matter for signed zeros), so
@@ -63,8 +63,7 @@ std::array<int, 3> segment_signs(ArclineShape shape) {
 
 // get_breakpoint_poses.
 std::array<Twist, 3> breakpoint_twists(const ArclinePath& path) {
-  return {Twist{1.0, 0.0, path.curvature(0)}, Twist{1.0, 0.0, path.curvature(1)},
-          Twist{1.0, 0.0, path.curvature(2)}};
+  return {Twist{1.0, 0.0, path.curvature(0)}, Twist{1.0, 0.0, path.curvature(1)}, Twist{1.0, 0.0, path.curvature(2)}};
 }
 
 std::string format_double_or_text(double v) {
@@ -138,9 +137,8 @@ std::vector<Pose2> discretize_arcline(const ArclinePath& path, double resolution
   const double path_length = python_sum(s);
   NSG_CHECK(std::isfinite(resolution_m) && resolution_m > 0.0, ConfigError, "", "resolution",
             "expected a finite resolution > 0 m, got " + format_double_or_text(resolution_m));
-  NSG_CHECK(std::isfinite(path_length) && path_length / resolution_m < kMaxPoints, DataError, "",
-            "arcline path", "expected a finite length below 1e7 resolution steps, got " +
-                                format_double_or_text(path_length) + " m");
+  NSG_CHECK(std::isfinite(path_length) && path_length / resolution_m < kMaxPoints, DataError, "", "arcline path",
+            "expected a finite length below 1e7 resolution steps, got " + format_double_or_text(path_length) + " m");
   // int(max(math.ceil(L / r) + 1.5, 2)) == max(ceil(L / r) + 1, 2).
   const double n_ceil = std::ceil(path_length / resolution_m);
   const long n_points = std::max(static_cast<long>(n_ceil) + 1, 2L);

@@ -17,9 +17,9 @@ Eigen::Matrix3d rotation_matrix(const Quaternion& q_in) {
   const Quaternion q = normalised(q_in);
   const double w = q.w, x = q.x, y = q.y, z = q.z;
   Eigen::Matrix3d r;
-  r << w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y),
-      2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x),
-      2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z;
+  r << w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y), 2 * (x * y + w * z),
+      w * w - x * x + y * y - z * z, 2 * (y * z - w * x), 2 * (x * z - w * y), 2 * (y * z + w * x),
+      w * w - x * x - y * y + z * z;
   return r;
 }
 
@@ -28,9 +28,7 @@ double devkit_yaw(const Quaternion& q_in) {
   return std::atan2(2.0 * (q.w * q.z - q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
 }
 
-Quaternion quaternion_from_yaw(double yaw_rad) {
-  return {std::cos(yaw_rad / 2.0), 0.0, 0.0, std::sin(yaw_rad / 2.0)};
-}
+Quaternion quaternion_from_yaw(double yaw_rad) { return {std::cos(yaw_rad / 2.0), 0.0, 0.0, std::sin(yaw_rad / 2.0)}; }
 
 Rigid3 Rigid3::from_pose(const std::array<double, 3>& translation, const Quaternion& rotation) {
   Rigid3 t;
@@ -74,9 +72,10 @@ namespace {
 
 // Plain loops over restrict-qualified columns so the compiler vectorizes them; the
 // expressions keep transform_points_devkit's order of operations.
-__attribute__((target_clones("avx2", "default"))) void rotate_translate_columns(
-    const double* r, float tx, float ty, float tz, float* __restrict x, float* __restrict y, float* __restrict z,
-    size_t count) {
+__attribute__((target_clones("avx2", "default"))) void rotate_translate_columns(const double* r, float tx, float ty,
+                                                                                float tz, float* __restrict x,
+                                                                                float* __restrict y,
+                                                                                float* __restrict z, size_t count) {
   const double r00 = r[0], r01 = r[1], r02 = r[2], r10 = r[3], r11 = r[4], r12 = r[5], r20 = r[6], r21 = r[7],
                r22 = r[8];
   for (size_t i = 0; i < count; ++i) {

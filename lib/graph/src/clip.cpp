@@ -13,8 +13,7 @@ double TileGraph::total_length_m() const {
   return total;
 }
 
-bool clip_segment(double ax, double ay, double bx, double by, const TileBounds& box, double* t0,
-                  double* t1) {
+bool clip_segment(double ax, double ay, double bx, double by, const TileBounds& box, double* t0, double* t1) {
   const double dx = bx - ax, dy = by - ay;
   double lo = 0.0, hi = 1.0;
   // Each border as p·t ≤ q.

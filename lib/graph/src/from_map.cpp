@@ -27,8 +27,7 @@ std::vector<LaneSource> lane_sources(const nuscenes::MapExpansion& map) {
   return out;
 }
 
-LaneGraph build_lane_graph(const nuscenes::MapExpansion& map, const LaneGraphOptions& options,
-                           Issues* issues) {
+LaneGraph build_lane_graph(const nuscenes::MapExpansion& map, const LaneGraphOptions& options, Issues* issues) {
   // The map's load defects (null tokens, "" links, degenerate geometry) come first: every
   // caller that reports graph defects (inspect graph, generate) then reports them too, and
   // --strict treats them like the graph's own.

@@ -43,9 +43,9 @@ void write_geojson(const LaneGraph& graph, std::string_view location, std::ostre
     // Bearing clockwise from map north, the way a map reader states a direction.
     double bearing = std::atan2(b.x_m - a.x_m, b.y_m - a.y_m) * 180.0 / std::numbers::pi;
     if (bearing < 0) bearing += 360.0;
-    out << (e ? ",\n" : "\n") << "{\"type\": \"Feature\", \"properties\": {\"lane_token\": "
-        << json_string(lane.token) << ", \"layer\": \"" << (lane.is_connector ? "lane_connector" : "lane")
-        << "\", \"source\": " << edge.source << ", \"target\": " << edge.target
+    out << (e ? ",\n" : "\n") << "{\"type\": \"Feature\", \"properties\": {\"lane_token\": " << json_string(lane.token)
+        << ", \"layer\": \"" << (lane.is_connector ? "lane_connector" : "lane") << "\", \"source\": " << edge.source
+        << ", \"target\": " << edge.target
         << ", \"bearing_deg\": " << format_double(std::round(bearing * 100.0) / 100.0)
         << "}, \"geometry\": {\"type\": \"LineString\", \"coordinates\": [";
     write_position(out, projection.to_lonlat(a.x_m, a.y_m));

@@ -51,8 +51,8 @@ struct DefectLog {
   }
 };
 
-void check_connectivity(const std::vector<LaneSource>& sources,
-                        const std::unordered_map<std::string, int32_t>& index, DefectLog* log) {
+void check_connectivity(const std::vector<LaneSource>& sources, const std::unordered_map<std::string, int32_t>& index,
+                        DefectLog* log) {
   for (const LaneSource& a : sources) {
     if (!a.has_connectivity) {
       log->add("missing_connectivity", a.token, "token has no entry in `connectivity`");
@@ -82,7 +82,7 @@ void check_connectivity(const std::vector<LaneSource>& sources,
 }
 
 // A join moves a lane's first node onto its predecessor's last one, up to the join
-// tolerance away (real maps: a few mm, real-data.md), which can stretch the first edge past
+// tolerance away (real maps: a few mm, docs/nuscenes-input.md), which can stretch the first edge past
 // max_spacing; such an edge gets evenly spaced nodes inserted. Float noise of the
 // resampling (1e-13 m) is not worth a node.
 void split_long_edges(Lane& lane, std::vector<Node>& nodes, double max_spacing_m) {
@@ -151,13 +151,12 @@ void throw_if_defects(const std::vector<Issue>& found, const std::string& map_la
   const auto first = std::find_if(found.begin(), found.end(), defect);
   if (first == found.end()) return;
   const auto count = std::count_if(found.begin(), found.end(), defect);
-  throw DataError(map_label, first->subject,
-                  first->check + ": " + first->message + " (--strict; " + std::to_string(count) +
-                      " map defect(s) in all)");
+  throw DataError(
+      map_label, first->subject,
+      first->check + ": " + first->message + " (--strict; " + std::to_string(count) + " map defect(s) in all)");
 }
 
-std::vector<Node> joined_centerline(const std::vector<geometry::ArclinePath>& paths,
-                                    double resolution_m) {
+std::vector<Node> joined_centerline(const std::vector<geometry::ArclinePath>& paths, double resolution_m) {
   std::vector<Node> line;
   for (size_t p = 0; p < paths.size(); ++p) {
     std::vector<geometry::Pose2> poses = geometry::discretize_arcline(paths[p], resolution_m);
@@ -193,8 +192,8 @@ std::vector<Node> resample_polyline(const std::vector<Node>& polyline, double ma
   return out;
 }
 
-LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGraphOptions& options,
-                           Issues* issues, const std::string& map_label) {
+LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGraphOptions& options, Issues* issues,
+                           const std::string& map_label) {
   // `options` were checked where they were read (the config reader, or validate()).
   DefectLog log;
   std::unordered_map<std::string, int32_t> index;
@@ -238,8 +237,8 @@ LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGra
       const double gap = distance(raw.nodes[from.nodes.back()], raw.nodes[to.nodes.front()]);
       if (gap > options.join_tolerance_m) {
         log.add("ends_apart", sources[a].token,
-                "end is " + format_double(gap) + " m from the start of outgoing " + token +
-                    " (tolerance " + format_double(options.join_tolerance_m) + " m); not joined");
+                "end is " + format_double(gap) + " m from the start of outgoing " + token + " (tolerance " +
+                    format_double(options.join_tolerance_m) + " m); not joined");
         continue;
       }
       joins.join(from.nodes.back(), to.nodes.front());
@@ -249,8 +248,7 @@ LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGra
   }
   for (size_t i = 0; i < sources.size(); ++i) {
     if (!connected[i] && !raw.lanes[i].nodes.empty())
-      log.add("isolated_lane", sources[i].token, "lane joins no other lane (normal in real maps)",
-              Severity::kInfo);
+      log.add("isolated_lane", sources[i].token, "lane joins no other lane (normal in real maps)", Severity::kInfo);
   }
 
   // 3. Compact: representatives keep their own position; ids in order of first use.

@@ -39,8 +39,7 @@ std::vector<double> edge_offsets(const LaneGraph& graph) {
 // First projected point reachable from `lane`'s successors within `budget_m` of lane
 // length, breadth first (lanes without points are passed through).
 void connect_across(const LaneGraph& graph, int32_t from_point, int32_t lane,
-                    const std::vector<int32_t>& first_point_of_lane, double budget_m,
-                    AdaptiveGroundTruth* gt) {
+                    const std::vector<int32_t>& first_point_of_lane, double budget_m, AdaptiveGroundTruth* gt) {
   std::deque<std::pair<int32_t, double>> queue;  // lane, length used before it
   std::vector<bool> seen(graph.lanes.size(), false);
   for (int32_t next : graph.lanes[lane].successors) queue.emplace_back(next, 0.0);
@@ -62,8 +61,7 @@ void connect_across(const LaneGraph& graph, int32_t from_point, int32_t lane,
 }  // namespace
 
 AdaptiveGroundTruth project_onto_lanes(const LaneGraph& graph, const SegmentIndex& index,
-                                       const std::vector<Node>& points,
-                                       const ProjectionOptions& options) {
+                                       const std::vector<Node>& points, const ProjectionOptions& options) {
   options.validate();
   const std::vector<double> offset = edge_offsets(graph);
   AdaptiveGroundTruth gt;

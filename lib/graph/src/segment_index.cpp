@@ -37,8 +37,7 @@ const std::vector<int32_t>* SegmentIndex::cell(int64_t cx, int64_t cy) const {
   return it == cells_.end() ? nullptr : &it->second;
 }
 
-std::vector<int32_t> SegmentIndex::query_box(double x_min, double y_min, double x_max,
-                                             double y_max) const {
+std::vector<int32_t> SegmentIndex::query_box(double x_min, double y_min, double x_max, double y_max) const {
   std::vector<int32_t> out;
   const int64_t cx0 = static_cast<int64_t>(std::floor(x_min / cell_m_));
   const int64_t cx1 = static_cast<int64_t>(std::floor(x_max / cell_m_));
@@ -51,8 +50,8 @@ std::vector<int32_t> SegmentIndex::query_box(double x_min, double y_min, double 
       for (int32_t e : *edges) {
         const Node& a = graph_.nodes[graph_.edges[e].source];
         const Node& b = graph_.nodes[graph_.edges[e].target];
-        if (std::max(a.x_m, b.x_m) < x_min || std::min(a.x_m, b.x_m) > x_max ||
-            std::max(a.y_m, b.y_m) < y_min || std::min(a.y_m, b.y_m) > y_max)
+        if (std::max(a.x_m, b.x_m) < x_min || std::min(a.x_m, b.x_m) > x_max || std::max(a.y_m, b.y_m) < y_min ||
+            std::min(a.y_m, b.y_m) > y_max)
           continue;
         out.push_back(e);
       }

@@ -1,5 +1,5 @@
 // GeoTIFF in memory: libtiff over a growable buffer (encode) or a read-only span (decode),
-// GeoKeys through libgeotiff (DESIGN.md §6).
+// GeoKeys through libgeotiff (docs/dataset-format.md).
 #include <geotiff.h>
 #include <geovalues.h>
 #include <tiffio.h>
@@ -32,7 +32,7 @@ struct MemFile {
   std::vector<uint8_t>* out = nullptr;  // encode: grows as libtiff writes
   std::span<const uint8_t> in;          // decode: read-only
   uint64_t pos = 0;
-  std::string error;                    // libtiff's messages, for our exceptions
+  std::string error;  // libtiff's messages, for our exceptions
 
   uint64_t size() const { return out != nullptr ? out->size() : in.size(); }
   const uint8_t* data() const { return out != nullptr ? out->data() : in.data(); }
@@ -90,8 +90,7 @@ TIFFExtendProc g_parent_extender = nullptr;
 // GDAL's nodata tag: an ASCII number, as GDAL itself registers it.
 void extend_with_gdal_tags(TIFF* tif) {
   static const TIFFFieldInfo kFields[] = {
-      {TIFFTAG_GDAL_NODATA, -1, -1, TIFF_ASCII, FIELD_CUSTOM, 1, 0,
-       const_cast<char*>("GDALNoDataValue")}};
+      {TIFFTAG_GDAL_NODATA, -1, -1, TIFF_ASCII, FIELD_CUSTOM, 1, 0, const_cast<char*>("GDALNoDataValue")}};
   TIFFMergeFieldInfo(tif, kFields, 1);
   if (g_parent_extender != nullptr) g_parent_extender(tif);
 }
@@ -116,12 +115,11 @@ using GtifPtr = std::unique_ptr<GTIF, GtifFreer>;
 
 TiffPtr open_tiff(const std::string& name, const char* mode, MemFile& mem) {
   register_tags();
-  std::unique_ptr<TIFFOpenOptions, void (*)(TIFFOpenOptions*)> opts(TIFFOpenOptionsAlloc(),
-                                                                    TIFFOpenOptionsFree);
+  std::unique_ptr<TIFFOpenOptions, void (*)(TIFFOpenOptions*)> opts(TIFFOpenOptionsAlloc(), TIFFOpenOptionsFree);
   TIFFOpenOptionsSetErrorHandlerExtR(opts.get(), on_tiff_error, &mem);
   TIFFOpenOptionsSetWarningHandlerExtR(opts.get(), on_tiff_warning, &mem);
-  TIFF* tif = TIFFClientOpenExt(name.c_str(), mode, &mem, mem_read, mem_write, mem_seek,
-                                mem_close, mem_size, mem_map, mem_unmap, opts.get());
+  TIFF* tif = TIFFClientOpenExt(name.c_str(), mode, &mem, mem_read, mem_write, mem_seek, mem_close, mem_size, mem_map,
+                                mem_unmap, opts.get());
   return TiffPtr(tif);
 }
 
@@ -130,9 +128,10 @@ TiffPtr open_tiff(const std::string& name, const char* mode, MemFile& mem) {
 void check_encodable(const Raster& r, const GeoTiffOptions& options) {
   const bool u8 = r.type == SampleType::kUInt8 && (r.bands == 1 || r.bands == 3);
   const bool f32 = r.type == SampleType::kFloat32 && r.bands == 1;
-  NSG_CHECK(u8 || f32, DataError, "", "raster", "GeoTIFF encoding supports uint8 1- or 3-band "
-            "and float32 1-band rasters, got " + std::to_string(r.bands) + " band(s) of " +
-            (r.type == SampleType::kUInt8 ? "uint8" : "float32"));
+  NSG_CHECK(u8 || f32, DataError, "", "raster",
+            "GeoTIFF encoding supports uint8 1- or 3-band "
+            "and float32 1-band rasters, got " +
+                std::to_string(r.bands) + " band(s) of " + (r.type == SampleType::kUInt8 ? "uint8" : "float32"));
   if (options.nodata && r.type == SampleType::kUInt8) {
     const double v = *options.nodata;
     NSG_CHECK(v >= 0.0 && v <= 255.0 && v == std::floor(v), ConfigError, "", "nodata",
@@ -152,8 +151,7 @@ void set_image_tags(TIFF* tif, const Raster& r, const GeoTiffOptions& options) {
   TIFFSetField(tif, TIFFTAG_IMAGELENGTH, static_cast<uint32_t>(r.height));
   TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, static_cast<uint16_t>(r.bands));
   TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, static_cast<uint16_t>(f32 ? 32 : 8));
-  TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT,
-               static_cast<uint16_t>(f32 ? SAMPLEFORMAT_IEEEFP : SAMPLEFORMAT_UINT));
+  TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT, static_cast<uint16_t>(f32 ? SAMPLEFORMAT_IEEEFP : SAMPLEFORMAT_UINT));
   TIFFSetField(tif, TIFFTAG_PHOTOMETRIC,
                static_cast<uint16_t>(r.bands == 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK));
   TIFFSetField(tif, TIFFTAG_PLANARCONFIG, static_cast<uint16_t>(PLANARCONFIG_CONTIG));
@@ -164,7 +162,7 @@ void set_image_tags(TIFF* tif, const Raster& r, const GeoTiffOptions& options) {
   if (options.nodata) TIFFSetField(tif, TIFFTAG_GDAL_NODATA, nodata_text(*options.nodata).c_str());
 }
 
-// The user-defined spherical azimuthal-equidistant CRS, key for key as DESIGN.md §6 lists.
+// The user-defined spherical azimuthal-equidistant CRS, key for key as docs/dataset-format.md lists.
 void set_geokeys(TIFF* tif, const GeoRef& g) {
   const auto& loc = geometry::location_info(g.location);
   GtifPtr gt(GTIFNew(tif));
@@ -203,8 +201,7 @@ void write_strips(TIFF* tif, const Raster& r, MemFile& mem) {
     // libtiff writes into the buffer only for predictors or byte swapping; we use neither.
     auto* src = const_cast<uint8_t*>(r.data.data() + row * row_bytes);
     if (TIFFWriteEncodedStrip(tif, strip, src, static_cast<tmsize_t>(rows * row_bytes)) < 0) {
-      throw InternalError("", "GeoTIFF strip " + std::to_string(strip),
-                          "libtiff could not encode: " + mem.error);
+      throw InternalError("", "GeoTIFF strip " + std::to_string(strip), "libtiff could not encode: " + mem.error);
     }
   }
 }
@@ -220,8 +217,7 @@ Layout read_layout(TIFF* tif, const std::string& name) {
   Layout l;
   NSG_CHECK(!TIFFIsTiled(tif), ParseError, name, "TIFF layout", "a striped TIFF, found a tiled one");
   NSG_CHECK(TIFFGetField(tif, TIFFTAG_IMAGEWIDTH, &l.width) == 1 &&
-                TIFFGetField(tif, TIFFTAG_IMAGELENGTH, &l.height) == 1 && l.width > 0 &&
-                l.height > 0,
+                TIFFGetField(tif, TIFFTAG_IMAGELENGTH, &l.height) == 1 && l.width > 0 && l.height > 0,
             ParseError, name, "ImageWidth/ImageLength", "a positive image size");
   TIFFGetFieldDefaulted(tif, TIFFTAG_SAMPLESPERPIXEL, &l.bands);
   TIFFGetFieldDefaulted(tif, TIFFTAG_BITSPERSAMPLE, &l.bits);
@@ -230,9 +226,8 @@ Layout read_layout(TIFF* tif, const std::string& name) {
   const bool u8 = l.bits == 8 && l.format == SAMPLEFORMAT_UINT && (l.bands == 1 || l.bands == 3);
   const bool f32 = l.bits == 32 && l.format == SAMPLEFORMAT_IEEEFP && l.bands == 1;
   NSG_CHECK(u8 || f32, ParseError, name, "TIFF sample layout",
-            "uint8 with 1 or 3 samples per pixel or float32 with 1, got " +
-                std::to_string(l.bands) + " sample(s) of " + std::to_string(l.bits) +
-                " bits, SampleFormat " + std::to_string(l.format));
+            "uint8 with 1 or 3 samples per pixel or float32 with 1, got " + std::to_string(l.bands) + " sample(s) of " +
+                std::to_string(l.bits) + " bits, SampleFormat " + std::to_string(l.format));
   NSG_CHECK(l.bands == 1 || l.planar == PLANARCONFIG_CONTIG, ParseError, name, "PlanarConfig",
             "contiguous (pixel-interleaved) samples");
   return l;
@@ -252,16 +247,14 @@ void read_strips(TIFF* tif, Raster& r, const std::string& name, MemFile& mem) {
     const auto want = static_cast<tmsize_t>(rows * row_bytes);
     const tmsize_t got = TIFFReadEncodedStrip(tif, s, r.data.data() + row * row_bytes, want);
     NSG_CHECK(got == want, ParseError, name, "strip " + std::to_string(s),
-              std::to_string(want) + " decoded bytes" +
-                  (mem.error.empty() ? "" : " (libtiff: " + mem.error + ")"));
+              std::to_string(want) + " decoded bytes" + (mem.error.empty() ? "" : " (libtiff: " + mem.error + ")"));
   }
 }
 
 // Location whose origin equals the file's projection centre, or "" if none.
 std::string match_location(double lat_deg, double lon_deg) {
   for (const auto& loc : geometry::known_locations()) {
-    if (std::abs(loc.origin_lat_deg - lat_deg) < 1e-12 &&
-        std::abs(loc.origin_lon_deg - lon_deg) < 1e-12) {
+    if (std::abs(loc.origin_lat_deg - lat_deg) < 1e-12 && std::abs(loc.origin_lon_deg - lon_deg) < 1e-12) {
       return std::string(loc.name);
     }
   }
@@ -272,15 +265,13 @@ GeoRef read_georef(TIFF* tif, const std::string& name) {
   uint16_t n_tie = 0, n_scale = 0;
   double* tie = nullptr;
   double* scale = nullptr;
-  NSG_CHECK(TIFFGetField(tif, TIFFTAG_GEOTIEPOINTS, &n_tie, &tie) == 1 && n_tie >= 6,
-            ParseError, name, "ModelTiepointTag", "a tiepoint (i, j, k, x, y, z)");
-  NSG_CHECK(TIFFGetField(tif, TIFFTAG_GEOPIXELSCALE, &n_scale, &scale) == 1 && n_scale >= 2,
-            ParseError, name, "ModelPixelScaleTag", "a pixel scale (sx, sy, sz)");
-  NSG_CHECK(tie[0] == 0.0 && tie[1] == 0.0, ParseError, name, "ModelTiepointTag",
-            "the tiepoint at raster (0, 0)");
+  NSG_CHECK(TIFFGetField(tif, TIFFTAG_GEOTIEPOINTS, &n_tie, &tie) == 1 && n_tie >= 6, ParseError, name,
+            "ModelTiepointTag", "a tiepoint (i, j, k, x, y, z)");
+  NSG_CHECK(TIFFGetField(tif, TIFFTAG_GEOPIXELSCALE, &n_scale, &scale) == 1 && n_scale >= 2, ParseError, name,
+            "ModelPixelScaleTag", "a pixel scale (sx, sy, sz)");
+  NSG_CHECK(tie[0] == 0.0 && tie[1] == 0.0, ParseError, name, "ModelTiepointTag", "the tiepoint at raster (0, 0)");
   NSG_CHECK(scale[0] > 0.0 && scale[0] == scale[1], ParseError, name, "ModelPixelScaleTag",
-            "square positive pixels, got " + format_double(scale[0]) + " x " +
-                format_double(scale[1]));
+            "square positive pixels, got " + format_double(scale[0]) + " x " + format_double(scale[1]));
   GeoRef g;
   g.x_west_m = tie[3];
   g.y_north_m = tie[4];
@@ -296,8 +287,7 @@ GeoRef read_georef(TIFF* tif, const std::string& name) {
 
 }  // namespace
 
-std::vector<uint8_t> encode_geotiff(const Raster& raster, const GeoRef& georef,
-                                    const GeoTiffOptions& options) {
+std::vector<uint8_t> encode_geotiff(const Raster& raster, const GeoRef& georef, const GeoTiffOptions& options) {
   raster.validate();
   georef.validate();
   options.validate();
@@ -338,7 +328,8 @@ std::string describe(const RasterHeader& h) {
 void check_raster_header(const RasterHeader& got, const RasterHeader& want, const std::string& name,
                          const std::string& record) {
   NSG_CHECK(got.width == want.width && got.height == want.height && got.bands == want.bands && got.type == want.type,
-            DataError, name, record, "a raster of " + describe(want) + " (the manifest's tile format), got " + describe(got));
+            DataError, name, record,
+            "a raster of " + describe(want) + " (the manifest's tile format), got " + describe(got));
 }
 
 Raster decode_geotiff(std::span<const uint8_t> bytes, const std::string& name, GeoRef* georef) {

@@ -38,13 +38,11 @@ std::string archive_message(archive* a) {
 }
 
 void check_member_name(const fs::path& file, const std::string& name) {
-  NSG_CHECK(!name.empty() && name.front() != '/' && name.back() != '/', ConfigError,
-            file.string(), "member '" + name + "'", "a non-empty relative file name");
-  NSG_CHECK(name.find('\0') == std::string::npos, ConfigError, file.string(), "member",
-            "a name without NUL bytes");
+  NSG_CHECK(!name.empty() && name.front() != '/' && name.back() != '/', ConfigError, file.string(),
+            "member '" + name + "'", "a non-empty relative file name");
+  NSG_CHECK(name.find('\0') == std::string::npos, ConfigError, file.string(), "member", "a name without NUL bytes");
   for (const auto& part : fs::path(name)) {
-    NSG_CHECK(part != "..", ConfigError, file.string(), "member '" + name + "'",
-              "a name without '..' components");
+    NSG_CHECK(part != "..", ConfigError, file.string(), "member '" + name + "'", "a name without '..' components");
   }
 }
 
@@ -101,8 +99,8 @@ void TarWriter::add(const std::string& member_name, std::span<const uint8_t> byt
   Impl& w = *impl_;
   if (w.finished) throw InternalError(w.final_path.string(), member_name, "add after finish");
   check_member_name(w.final_path, member_name);
-  NSG_CHECK(w.names.insert(member_name).second, ConfigError, w.final_path.string(),
-            "member '" + member_name + "'", "unique member names (already added)");
+  NSG_CHECK(w.names.insert(member_name).second, ConfigError, w.final_path.string(), "member '" + member_name + "'",
+            "unique member names (already added)");
   std::unique_ptr<archive_entry, EntryFree> entry(archive_entry_new());
   archive_entry* e = entry.get();
   archive_entry_set_pathname(e, member_name.c_str());
@@ -165,8 +163,8 @@ struct TarReader::Impl {
 TarReader::TarReader(const fs::path& path) : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
   std::error_code ec;
-  NSG_CHECK(fs::is_regular_file(path, ec) && std::ifstream(path, std::ios::binary).good(), IoError,
-            path.string(), "", "a readable tar file");
+  NSG_CHECK(fs::is_regular_file(path, ec) && std::ifstream(path, std::ios::binary).good(), IoError, path.string(), "",
+            "a readable tar file");
   impl_->ar.reset(archive_read_new());
   archive* a = impl_->ar.get();
   if (a == nullptr) throw InternalError(path.string(), "", "archive_read_new failed");
@@ -209,8 +207,8 @@ bool TarReader::next(TarMember& out) {
     const la_int64_t size = archive_entry_size(e);
     std::error_code ec;
     const auto file_size = fs::file_size(r.path, ec);
-    NSG_CHECK(size >= 0 && !ec && static_cast<uint64_t>(size) <= file_size, ParseError,
-              r.path.string(), "member '" + name + "'", "a size within the archive");
+    NSG_CHECK(size >= 0 && !ec && static_cast<uint64_t>(size) <= file_size, ParseError, r.path.string(),
+              "member '" + name + "'", "a size within the archive");
     out.name = name;
     out.bytes.resize(static_cast<size_t>(size));
     size_t done = 0;
@@ -219,8 +217,7 @@ bool TarReader::next(TarMember& out) {
       if (n < 0) r.fail("member '" + name + "'");
       if (n == 0) {
         throw ParseError(r.path.string(), "member '" + name + "'",
-                         std::to_string(size) + " bytes of data, the archive ends after " +
-                             std::to_string(done));
+                         std::to_string(size) + " bytes of data, the archive ends after " + std::to_string(done));
       }
       done += static_cast<size_t>(n);
     }

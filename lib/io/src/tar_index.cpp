@@ -60,14 +60,15 @@ bool checksum_ok(const unsigned char* h) {
 }
 
 // pax records "<len> <key>=<value>\n": the "path" and "size" overrides.
-void apply_pax(const std::string& text, std::string* path, std::optional<uint64_t>* size,
-               const std::string& file, const std::string& where) {
+void apply_pax(const std::string& text, std::string* path, std::optional<uint64_t>* size, const std::string& file,
+               const std::string& where) {
   size_t at = 0;
   while (at < text.size()) {
     const size_t space = text.find(' ', at);
     NSG_CHECK(space != std::string::npos, ParseError, file, where, "pax records '<length> <key>=<value>\\n'");
     const uint64_t len = std::strtoull(text.c_str() + at, nullptr, 10);
-    NSG_CHECK(len > space - at && at + len <= text.size(), ParseError, file, where, "a pax record length within the header");
+    NSG_CHECK(len > space - at && at + len <= text.size(), ParseError, file, where,
+              "a pax record length within the header");
     const std::string record = text.substr(space + 1, at + len - space - 2);  // without the '\n'
     const size_t eq = record.find('=');
     if (eq != std::string::npos) {
@@ -104,7 +105,9 @@ void check_tar_member_type(const std::string& file, const std::string& name, cha
   const bool regular = type == '0' || type == '\0' || type == '7';
   NSG_CHECK(regular || type == '5', ParseError, file, "member '" + name + "'",
             std::string("regular files (and folders) only, not a ") +
-                (type == '1' ? "hard link" : type == '2' ? "symbolic link" : "special file") +
+                (type == '1'   ? "hard link"
+                 : type == '2' ? "symbolic link"
+                               : "special file") +
                 " (type '" + std::string(1, type) + "')");
 }
 
@@ -138,8 +141,8 @@ std::vector<TarIndexEntry> index_tar(const fs::path& path) {
   uint64_t at = 0;
   unsigned char h[kBlock];
   for (;;) {
-    const std::string where = out.empty() ? "header at byte " + std::to_string(at)
-                                          : "header after member '" + out.back().name + "'";
+    const std::string where =
+        out.empty() ? "header at byte " + std::to_string(at) : "header after member '" + out.back().name + "'";
     NSG_CHECK(at + 2 * kBlock <= file_size, ParseError, file, where,
               "the end-of-archive marker (two zero blocks); the archive is truncated");
     read_at(f.fd, at, h, kBlock, file, where);

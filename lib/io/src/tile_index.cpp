@@ -88,10 +88,10 @@ SplitIndex::SplitIndex(const fs::path& root, const std::string& split) : root_(r
     const size_t before = tiles_.size();
     tar_ ? index_tar_shard(entry) : index_folder_shard(entry);
     const auto expected = entry.value("tiles", int64_t{-1});
-    NSG_CHECK(expected < 0 || static_cast<int64_t>(tiles_.size() - before) == expected, DataError,
-              shards_.back().path.string(), "shard '" + shards_.back().name + "'",
-              std::to_string(expected) + " tiles as the manifest says, found " +
-                  std::to_string(tiles_.size() - before));
+    NSG_CHECK(
+        expected < 0 || static_cast<int64_t>(tiles_.size() - before) == expected, DataError,
+        shards_.back().path.string(), "shard '" + shards_.back().name + "'",
+        std::to_string(expected) + " tiles as the manifest says, found " + std::to_string(tiles_.size() - before));
   }
 }
 
@@ -151,7 +151,8 @@ DatasetTile SplitIndex::read(size_t i, const std::vector<std::string>& suffixes)
   DatasetTile out{t.key, shard.name, {}};
   std::vector<const Member*> wanted;
   for (const Member& m : t.members)
-    if (suffixes.empty() || std::find(suffixes.begin(), suffixes.end(), m.suffix) != suffixes.end()) wanted.push_back(&m);
+    if (suffixes.empty() || std::find(suffixes.begin(), suffixes.end(), m.suffix) != suffixes.end())
+      wanted.push_back(&m);
   for (const std::string& s : suffixes) {
     const bool found = std::any_of(wanted.begin(), wanted.end(), [&](const Member* m) { return m->suffix == s; });
     NSG_CHECK(found, ParseError, t.key + "." + s, shard.path.string(), "the tile's " + s + " (missing)");

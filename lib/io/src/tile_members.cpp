@@ -6,8 +6,7 @@ const std::vector<TileMember>& tile_members() {
   static const std::vector<TileMember> kMembers = {
       {"lidar", "lidar.tif", true, SampleType::kUInt8, 1, "intensity", 0.0, 1,
        "intensity of the lowest LiDAR point of the cell; 0 = no data"},
-      {"rgb", "rgb.tif", true, SampleType::kUInt8, 3, "colour", 0.0, 2,
-       "camera colour of that point; 0,0,0 = no data"},
+      {"rgb", "rgb.tif", true, SampleType::kUInt8, 3, "colour", 0.0, 2, "camera colour of that point; 0,0,0 = no data"},
       {"semantic", "semantic.tif", true, SampleType::kUInt8, 1, "class id", 255.0, 4,
        "class id (samples/semantic-classes.json); 255 = no data"},
       {"vehicle", "vehicle.tif", true, SampleType::kFloat32, 1, "turns", -1.0, 0,

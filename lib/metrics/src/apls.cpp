@@ -179,8 +179,7 @@ SplitGraph split_at_snaps(const std::vector<Pm>& b_nodes, const std::vector<Segm
     }
     chain.push_back({s.j, pb});
     for (size_t c = 0; c + 1 < chain.size(); ++c) {
-      add_piece(out.arcs, chain[c].first, chain[c + 1].first,
-                dist_m(chain[c].second, chain[c + 1].second), fwd, bwd);
+      add_piece(out.arcs, chain[c].first, chain[c + 1].first, dist_m(chain[c].second, chain[c + 1].second), fwd, bwd);
     }
   }
   out.n_nodes = static_cast<size_t>(next);
@@ -188,9 +187,7 @@ SplitGraph split_at_snaps(const std::vector<Pm>& b_nodes, const std::vector<Segm
 }
 
 bool same_split(const SplitGraph& x, const SplitGraph& y) {
-  auto same_arc = [](const Arc& p, const Arc& q) {
-    return p.from == q.from && p.to == q.to && p.w == q.w;
-  };
+  auto same_arc = [](const Arc& p, const Arc& q) { return p.from == q.from && p.to == q.to && p.w == q.w; };
   return x.n_nodes == y.n_nodes && x.node_of == y.node_of &&
          std::equal(x.arcs.begin(), x.arcs.end(), y.arcs.begin(), y.arcs.end(), same_arc);
 }
@@ -208,8 +205,8 @@ struct OneSided {
 // share A's shortest paths, computed once per control point).
 std::vector<OneSided> one_sided(const std::vector<Pm>& a_nodes, const std::vector<Segment>& a_segs,
                                 const std::vector<Pm>& b_nodes, const std::vector<Segment>& b_segs,
-                                const std::vector<Snap>& snaps, const std::vector<double>& snap_ms,
-                                bool directed, double min_path_m) {
+                                const std::vector<Snap>& snaps, const std::vector<double>& snap_ms, bool directed,
+                                double min_path_m) {
   const PathGraph a_graph = graph_paths(a_nodes, a_segs, directed);
   std::vector<SplitGraph> splits;
   std::vector<PathGraph> b_graphs;
@@ -291,9 +288,8 @@ AplsFamily compute_apls(const CleanGraph& gt, const CleanGraph& pred, const Metr
   const std::vector<Snap> p_on_g = snap_all(p, g, g_segs, reach_m);
   // Undirected: the normal and the strict snap radius; directed: the normal one.
   auto sides = [&](const std::vector<double>& snap_ms, bool directed) {
-    return std::pair{
-        one_sided(g, g_segs, p, p_segs, g_on_p, snap_ms, directed, params.min_path_m),
-        one_sided(p, p_segs, g, g_segs, p_on_g, snap_ms, directed, params.min_path_m)};
+    return std::pair{one_sided(g, g_segs, p, p_segs, g_on_p, snap_ms, directed, params.min_path_m),
+                     one_sided(p, p_segs, g, g_segs, p_on_g, snap_ms, directed, params.min_path_m)};
   };
   const auto [und_gp, und_pg] = sides({params.snap_m, params.strict_snap_m}, false);
   const auto [dir_gp, dir_pg] = sides({params.snap_m}, true);

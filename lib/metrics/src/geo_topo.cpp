@@ -29,12 +29,12 @@ struct Chain {
 // samples, so radius searches run Dijkstra over nodes only and walk the chains.
 struct SampleGraph {
   std::vector<Point> pos;
-  int32_t n_node_samples = 0;               // samples 0 .. n-1 are nodes
-  std::vector<Chain> chains;                // by increasing (i, j)
-  std::vector<int32_t> chain_offset;        // CSR: chains incident to each node sample
+  int32_t n_node_samples = 0;         // samples 0 .. n-1 are nodes
+  std::vector<Chain> chains;          // by increasing (i, j)
+  std::vector<int32_t> chain_offset;  // CSR: chains incident to each node sample
   std::vector<int32_t> chain_ids;
-  std::vector<int32_t> chain_of_interior;   // interior sample - n_node_samples -> chain
-  std::vector<int32_t> comp;                // connected component (a root sample) of each sample
+  std::vector<int32_t> chain_of_interior;  // interior sample - n_node_samples -> chain
+  std::vector<int32_t> comp;               // connected component (a root sample) of each sample
 
   size_t size() const { return pos.size(); }
 };
@@ -73,8 +73,8 @@ SampleGraph sample_graph(const CleanGraph& g, double step_px) {
     const double len = std::sqrt(dx * dx + dy * dy);
     const int k = std::max(1, static_cast<int>(std::ceil(len / step_px - kCeilTol)));
     const auto chain = static_cast<int32_t>(sg.chains.size());
-    sg.chains.push_back({sample_of[s.i], sample_of[s.j], static_cast<int32_t>(sg.pos.size()), k,
-                         len / k, s.fwd, s.bwd});
+    sg.chains.push_back(
+        {sample_of[s.i], sample_of[s.j], static_cast<int32_t>(sg.pos.size()), k, len / k, s.fwd, s.bwd});
     ++sg.chain_offset[sample_of[s.i] + 1];
     ++sg.chain_offset[sample_of[s.j] + 1];
     for (int s_idx = 1; s_idx < k; ++s_idx) {
@@ -137,14 +137,13 @@ void sort_candidates(std::vector<Candidate>& cands, int64_t q_max, size_t n_g, s
   }
   std::vector<uint64_t> keys(cands.size());
   for (size_t k = 0; k < cands.size(); ++k) {
-    keys[k] = (static_cast<uint64_t>(cands[k].q) << (bits_g + bits_p)) |
-              (static_cast<uint64_t>(cands[k].g) << bits_p) | static_cast<uint64_t>(cands[k].p);
+    keys[k] = (static_cast<uint64_t>(cands[k].q) << (bits_g + bits_p)) | (static_cast<uint64_t>(cands[k].g) << bits_p) |
+              static_cast<uint64_t>(cands[k].p);
   }
   radix_sort(keys, bits_q + bits_g + bits_p);
   const uint64_t mask_g = (uint64_t{1} << bits_g) - 1, mask_p = (uint64_t{1} << bits_p) - 1;
   for (size_t k = 0; k < keys.size(); ++k) {
-    cands[k] = {static_cast<int64_t>(keys[k] >> (bits_g + bits_p)),
-                static_cast<int32_t>((keys[k] >> bits_p) & mask_g),
+    cands[k] = {static_cast<int64_t>(keys[k] >> (bits_g + bits_p)), static_cast<int32_t>((keys[k] >> bits_p) & mask_g),
                 static_cast<int32_t>(keys[k] & mask_p)};
   }
 }
@@ -161,9 +160,7 @@ std::vector<Candidate> candidates(const SampleGraph& gt, const SampleGraph& pred
     v0 = std::min(v0, p.v);
   }
   const double cell = std::max(match_px, 1e-3);
-  auto cell_of = [&](double x, double origin) {
-    return static_cast<int64_t>(std::floor((x - origin) / cell));
-  };
+  auto cell_of = [&](double x, double origin) { return static_cast<int64_t>(std::floor((x - origin) / cell)); };
   int64_t nu = 1, nv = 1;
   for (const Point& p : pred.pos) {
     nu = std::max(nu, cell_of(p.u, u0) + 1);
@@ -205,9 +202,12 @@ std::vector<Candidate> candidates(const SampleGraph& gt, const SampleGraph& pred
 class RadiusSearch {
  public:
   explicit RadiusSearch(const SampleGraph& sg)
-      : sg_(sg), dist_(static_cast<size_t>(sg.n_node_samples), kUnset),
-        prev_node_in_(static_cast<size_t>(sg.n_node_samples), 0), reach_(sg.chains.size()),
-        prev_reach_(sg.chains.size()), listed_(sg.chains.size(), 0),
+      : sg_(sg),
+        dist_(static_cast<size_t>(sg.n_node_samples), kUnset),
+        prev_node_in_(static_cast<size_t>(sg.n_node_samples), 0),
+        reach_(sg.chains.size()),
+        prev_reach_(sg.chains.size()),
+        listed_(sg.chains.size(), 0),
         through_(sg.chains.size(), 0) {}
 
   void run(int32_t src, bool directed, double radius) {
@@ -449,9 +449,14 @@ RanksBy ranks_by(size_t n, const std::vector<Candidate>& cands, bool by_g) {
 class IncrementalMatching {
  public:
   IncrementalMatching(const std::vector<Candidate>& cands, const RanksBy& by_g, const RanksBy& by_p)
-      : by_g_(by_g), by_p_(by_p), pair_(cands.size()), accepted_(cands.size(), 0),
-        g_(by_g.offset.size() - 1), p_(by_p.offset.size() - 1),
-        pending_((cands.size() + 63) / 64, 0), summary_((pending_.size() + 63) / 64, 0),
+      : by_g_(by_g),
+        by_p_(by_p),
+        pair_(cands.size()),
+        accepted_(cands.size(), 0),
+        g_(by_g.offset.size() - 1),
+        p_(by_p.offset.size() - 1),
+        pending_((cands.size() + 63) / 64, 0),
+        summary_((pending_.size() + 63) / 64, 0),
         lo_(summary_.size()) {
     for (size_t k = 0; k < cands.size(); ++k) pair_[k] = {cands[k].g, cands[k].p};
   }
@@ -490,8 +495,7 @@ class IncrementalMatching {
 
   // Only a candidate whose other side is in changes presence; one leaving matters only
   // if it was accepted.
-  void set(std::vector<Side>& self, const std::vector<Side>& other, const RanksBy& by, int32_t x,
-           bool value) {
+  void set(std::vector<Side>& self, const std::vector<Side>& other, const RanksBy& by, int32_t x, bool value) {
     if (self[x].in == value) return;
     self[x].in = value;
     if (!value && self[x].n_accepted == 0) return;
@@ -510,8 +514,8 @@ class IncrementalMatching {
   // After x's candidate `rank` flipped: newly accepted, the accepted candidates above it
   // on x (if any) can lose; newly rejected, the present rejected ones above it can win,
   // unless x keeps an accepted candidate below (they stay rejected then).
-  void push_above(const RanksBy& by, int32_t x, int32_t rank, bool accepted_now,
-                  const std::vector<Side>& self, const std::vector<Side>& other) {
+  void push_above(const RanksBy& by, int32_t x, int32_t rank, bool accepted_now, const std::vector<Side>& self,
+                  const std::vector<Side>& other) {
     if (accepted_now ? self[x].n_accepted < 2 : self[x].min_accepted < rank) return;
     for (int32_t k = by.offset[x + 1] - 1; k >= by.offset[x] && by.entries[k].rank > rank; --k) {
       const RanksBy::Entry e = by.entries[k];
@@ -546,8 +550,7 @@ class IncrementalMatching {
   void decide(int32_t rank) {
     const auto [g, p] = pair_[rank];
     // No accepted candidate below `rank` on g nor on p.
-    const uint8_t now = g_[g].in && p_[p].in && g_[g].min_accepted >= rank &&
-                        p_[p].min_accepted >= rank;
+    const uint8_t now = g_[g].in && p_[p].in && g_[g].min_accepted >= rank && p_[p].min_accepted >= rank;
     if (now == accepted_[rank]) return;
     accepted_[rank] = now;
     if (now) {
@@ -613,8 +616,7 @@ class WholeComponent {
     for (int32_t c : comp_) ++size_[c];
   }
   bool still_whole(const RadiusSearch& last, int32_t x) const {
-    return whole_ && comp_[x] == comp_[anchor_] &&
-           last.dist_to(x) + last.max_dist() <= limit_;
+    return whole_ && comp_[x] == comp_[anchor_] && last.dist_to(x) + last.max_dist() <= limit_;
   }
   // Records a search from `src` that reached `n_reached` samples.
   void ran(int32_t src, int64_t n_reached) {
@@ -632,9 +634,8 @@ class WholeComponent {
 };
 
 // Rules 6-8 on the undirected or the directed sample graphs, seeds in increasing g.
-TopoSums topo_sums(const SampleGraph& gt, const SampleGraph& pred, bool directed,
-                   const std::vector<Candidate>& cands, const RanksBy& by_g, const RanksBy& by_p,
-                   const std::vector<std::pair<int32_t, int32_t>>& seeds,
+TopoSums topo_sums(const SampleGraph& gt, const SampleGraph& pred, bool directed, const std::vector<Candidate>& cands,
+                   const RanksBy& by_g, const RanksBy& by_p, const std::vector<std::pair<int32_t, int32_t>>& seeds,
                    const std::vector<int32_t>& order, double radius_px) {
   TopoSums sums;
   RadiusSearch search_g(gt), search_p(pred);
@@ -669,8 +670,7 @@ TopoSums topo_sums(const SampleGraph& gt, const SampleGraph& pred, bool directed
 
 }  // namespace
 
-GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred,
-                               const MetricParams& params) {
+GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params) {
   const SampleGraph g = sample_graph(gt, params.geo_step_px);
   const SampleGraph p = sample_graph(pred, params.geo_step_px);
   GeoTopoResult r;

@@ -28,8 +28,7 @@ struct DirectionResult {
   std::optional<double> accuracy, accuracy_length_weighted, matched_fraction;
   int64_t pred_edges = 0, matched = 0, correct = 0;
 };
-DirectionResult compute_direction(const CleanGraph& gt, const CleanGraph& pred,
-                                  const MetricParams& params);
+DirectionResult compute_direction(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params);
 
 struct MaskResult {
   int64_t gt_px = 0, pred_px = 0, inter_px = 0, union_px = 0;
@@ -39,8 +38,7 @@ MaskResult compute_masks(const CleanGraph& gt, const CleanGraph& pred, const Met
 struct ChamferResult {
   std::optional<double> px2, m2, mean_m;
 };
-ChamferResult compute_chamfer(const CleanGraph& gt, const CleanGraph& pred,
-                              const MetricParams& params);
+ChamferResult compute_chamfer(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params);
 
 struct GeoTopoResult {
   std::optional<double> geo_precision, geo_recall, geo_f1;
@@ -48,8 +46,7 @@ struct GeoTopoResult {
   std::optional<double> topo_directed_precision, topo_directed_recall, topo_directed_f1;
   int64_t gt_samples = 0, pred_samples = 0, matched = 0, seeds = 0;
 };
-GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred,
-                               const MetricParams& params);
+GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params);
 
 // Ratio helpers shared by the families.
 std::optional<double> ratio(double num, double den);  // undefined if den == 0

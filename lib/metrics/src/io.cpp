@@ -28,8 +28,8 @@ double finite_number(const nlohmann::json& j, const std::string& file, const std
   return x;
 }
 
-std::vector<double> scores(const nlohmann::json& tile, const char* name, size_t expected_size,
-                           const std::string& file, const std::string& path) {
+std::vector<double> scores(const nlohmann::json& tile, const char* name, size_t expected_size, const std::string& file,
+                           const std::string& path) {
   std::vector<double> out;
   if (!tile.contains(name)) return out;
   const nlohmann::json& a = tile.at(name);
@@ -40,13 +40,12 @@ std::vector<double> scores(const nlohmann::json& tile, const char* name, size_t 
   return out;
 }
 
-Graph graph_from_submission_tile(const nlohmann::json& tile, const std::string& file,
-                                 const std::string& path) {
+Graph graph_from_submission_tile(const nlohmann::json& tile, const std::string& file, const std::string& path) {
   NSG_CHECK(tile.is_object(), DataError, file, path, "an object {nodes, edges}");
-  NSG_CHECK(tile.contains("nodes") && tile.at("nodes").is_array(), DataError, file,
-            path + "/nodes", "an array of [u, v]");
-  NSG_CHECK(tile.contains("edges") && tile.at("edges").is_array(), DataError, file,
-            path + "/edges", "an array of [i, j]");
+  NSG_CHECK(tile.contains("nodes") && tile.at("nodes").is_array(), DataError, file, path + "/nodes",
+            "an array of [u, v]");
+  NSG_CHECK(tile.contains("edges") && tile.at("edges").is_array(), DataError, file, path + "/edges",
+            "an array of [i, j]");
   Graph g;
   const nlohmann::json& nodes = tile.at("nodes");
   g.nodes.reserve(nodes.size());
@@ -122,12 +121,9 @@ void load_tar(const fs::path& tar, GraphSet& out) {
 
 }  // namespace
 
-nlohmann::json read_json_file(const fs::path& path) {
-  return parse_json_strict(read_file(path), path.string());
-}
+nlohmann::json read_json_file(const fs::path& path) { return parse_json_strict(read_file(path), path.string()); }
 
-std::optional<nlohmann::json> read_submission_file(const fs::path& path,
-                                                   const validate::SubmissionLimits& limits,
+std::optional<nlohmann::json> read_submission_file(const fs::path& path, const validate::SubmissionLimits& limits,
                                                    Issues& issues) {
   // Not JSON at all (truncated, NaN) is a problem of the submission like any other
   // (validate --submission reports it the same way): in `issues`, exit 1.
@@ -146,8 +142,8 @@ GraphSet graphs_from_submission(const nlohmann::json& doc, const std::string& fi
 
 Graph graph_from_dataset_json(const std::string& text, const std::string& file) {
   const nlohmann::json doc = parse_json_strict(text, file);
-  NSG_CHECK(doc.is_object() && doc.contains("nodes") && doc["nodes"].is_array() &&
-                doc.contains("edges") && doc["edges"].is_array(),
+  NSG_CHECK(doc.is_object() && doc.contains("nodes") && doc["nodes"].is_array() && doc.contains("edges") &&
+                doc["edges"].is_array(),
             DataError, file, "", "a graph object with arrays nodes and edges");
   Graph g;
   std::unordered_map<std::string, int64_t> index_of;
@@ -155,10 +151,10 @@ Graph graph_from_dataset_json(const std::string& text, const std::string& file) 
   for (size_t k = 0; k < nodes.size(); ++k) {
     const std::string p = "/nodes/" + std::to_string(k);
     const nlohmann::json& n = nodes[k];
-    NSG_CHECK(n.is_object() && n.contains("id") && n.contains("u") && n.contains("v"), DataError,
-              file, p, "a node {id, u, v, x, y}");
-    NSG_CHECK(index_of.emplace(id_key(n["id"]), static_cast<int64_t>(k)).second, DataError, file,
-              p + "/id", "a unique node id");
+    NSG_CHECK(n.is_object() && n.contains("id") && n.contains("u") && n.contains("v"), DataError, file, p,
+              "a node {id, u, v, x, y}");
+    NSG_CHECK(index_of.emplace(id_key(n["id"]), static_cast<int64_t>(k)).second, DataError, file, p + "/id",
+              "a unique node id");
     g.nodes.push_back({finite_number(n["u"], file, p + "/u"), finite_number(n["v"], file, p + "/v")});
   }
   const nlohmann::json& edges = doc["edges"];
@@ -198,8 +194,7 @@ GraphSet load_dataset_split(const fs::path& dataset, const std::string& split) {
   return out;
 }
 
-GraphSet load_ground_truth(const fs::path& path, const std::string& split,
-                           const validate::SubmissionLimits& limits) {
+GraphSet load_ground_truth(const fs::path& path, const std::string& split, const validate::SubmissionLimits& limits) {
   if (fs::is_directory(path)) return load_dataset_split(path, split);
   Issues issues;
   const std::optional<nlohmann::json> doc = read_submission_file(path, limits, issues);

@@ -8,24 +8,50 @@
 
 namespace nsg::metrics {
 namespace {
-constexpr const char* kMetricNames[kMetricCount] = {
-    "apls", "apls_gt_to_pred", "apls_pred_to_gt",
-    "apls_directed", "apls_directed_gt_to_pred", "apls_directed_pred_to_gt",
-    "apls_strict", "apls_strict_gt_to_pred", "apls_strict_pred_to_gt",
-    "direction_accuracy", "direction_accuracy_length_weighted", "direction_matched_fraction",
-    "f1", "iou",
-    "chamfer_px2", "chamfer_m2", "chamfer_mean_m",
-    "geo_precision", "geo_recall", "geo_f1",
-    "topo_precision", "topo_recall", "topo_f1",
-    "topo_directed_precision", "topo_directed_recall", "topo_directed_f1"};
-constexpr const char* kCountNames[kCountCount] = {
-    "missing_prediction",
-    "gt_self_loops_dropped", "gt_duplicate_edges_dropped",
-    "pred_self_loops_dropped", "pred_duplicate_edges_dropped",
-    "gt_px", "pred_px", "inter_px", "union_px",
-    "geo_gt_samples", "geo_pred_samples", "geo_matched", "topo_seeds",
-    "apls_gt_pairs", "apls_pred_pairs",
-    "direction_pred_edges", "direction_matched", "direction_correct"};
+constexpr const char* kMetricNames[kMetricCount] = {"apls",
+                                                    "apls_gt_to_pred",
+                                                    "apls_pred_to_gt",
+                                                    "apls_directed",
+                                                    "apls_directed_gt_to_pred",
+                                                    "apls_directed_pred_to_gt",
+                                                    "apls_strict",
+                                                    "apls_strict_gt_to_pred",
+                                                    "apls_strict_pred_to_gt",
+                                                    "direction_accuracy",
+                                                    "direction_accuracy_length_weighted",
+                                                    "direction_matched_fraction",
+                                                    "f1",
+                                                    "iou",
+                                                    "chamfer_px2",
+                                                    "chamfer_m2",
+                                                    "chamfer_mean_m",
+                                                    "geo_precision",
+                                                    "geo_recall",
+                                                    "geo_f1",
+                                                    "topo_precision",
+                                                    "topo_recall",
+                                                    "topo_f1",
+                                                    "topo_directed_precision",
+                                                    "topo_directed_recall",
+                                                    "topo_directed_f1"};
+constexpr const char* kCountNames[kCountCount] = {"missing_prediction",
+                                                  "gt_self_loops_dropped",
+                                                  "gt_duplicate_edges_dropped",
+                                                  "pred_self_loops_dropped",
+                                                  "pred_duplicate_edges_dropped",
+                                                  "gt_px",
+                                                  "pred_px",
+                                                  "inter_px",
+                                                  "union_px",
+                                                  "geo_gt_samples",
+                                                  "geo_pred_samples",
+                                                  "geo_matched",
+                                                  "topo_seeds",
+                                                  "apls_gt_pairs",
+                                                  "apls_pred_pairs",
+                                                  "direction_pred_edges",
+                                                  "direction_matched",
+                                                  "direction_correct"};
 
 void set_apls(MetricValues& v, int first, const detail::AplsResult& r) {
   v[first] = r.apls;
@@ -43,7 +69,8 @@ void check_limits(const Graph& g, const std::string& subject) {
   Issues issues;
   const validate::SubmissionLimits limits;
   // Beyond the node / edge limits the work is not computed (it could be large itself).
-  const bool counted = n <= limits.max_nodes_per_tile && static_cast<int64_t>(g.edges.size()) <= limits.max_edges_per_tile;
+  const bool counted =
+      n <= limits.max_nodes_per_tile && static_cast<int64_t>(g.edges.size()) <= limits.max_edges_per_tile;
   validate::check_tile_limits(n, static_cast<int64_t>(g.edges.size()), length_px,
                               counted ? validate::path_search_work(n, g.edges) : 0, subject, limits, issues);
   if (!issues.empty()) throw DataError("", issues.items().front().subject, issues.items().front().message);
@@ -60,8 +87,7 @@ const char* count_name(int count) {
   return kCountNames[count];
 }
 
-TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pred,
-                        const MetricParams& params) {
+TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pred, const MetricParams& params) {
   check_limits(gt, key + " (ground truth)");
   if (pred != nullptr) check_limits(*pred, key + " (prediction)");
   const Graph empty;
@@ -102,8 +128,7 @@ TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pr
   c[kPredPx] = mask.pred_px;
   c[kInterPx] = mask.inter_px;
   c[kUnionPx] = mask.union_px;
-  v[kF1] = detail::ratio(2.0 * static_cast<double>(mask.inter_px),
-                         static_cast<double>(mask.gt_px + mask.pred_px));
+  v[kF1] = detail::ratio(2.0 * static_cast<double>(mask.inter_px), static_cast<double>(mask.gt_px + mask.pred_px));
   v[kIou] = detail::ratio(static_cast<double>(mask.inter_px), static_cast<double>(mask.union_px));
 
   const detail::ChamferResult ch = detail::compute_chamfer(g, p, params);

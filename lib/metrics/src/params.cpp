@@ -28,11 +28,10 @@ void MetricParams::validate() const {
 }
 
 nlohmann::json MetricParams::to_json() const {
-  return {{"resolution_m", resolution_m},   {"size_px", size_px},
-          {"snap_m", snap_m},               {"strict_snap_m", strict_snap_m},
-          {"min_path_m", min_path_m},       {"direction_match_px", direction_match_px},
-          {"lane_width_px", lane_width_px}, {"geo_step_px", geo_step_px},
-          {"geo_match_px", geo_match_px},   {"topo_radius_m", topo_radius_m}};
+  return {{"resolution_m", resolution_m},   {"size_px", size_px},         {"snap_m", snap_m},
+          {"strict_snap_m", strict_snap_m}, {"min_path_m", min_path_m},   {"direction_match_px", direction_match_px},
+          {"lane_width_px", lane_width_px}, {"geo_step_px", geo_step_px}, {"geo_match_px", geo_match_px},
+          {"topo_radius_m", topo_radius_m}};
 }
 
 MetricParams MetricParams::from_json(const nlohmann::json& j, const std::string& file) {

@@ -21,8 +21,7 @@ std::string md_value(const std::optional<double>& v, int decimals = 4) {
 
 void ScoreOptions::validate() const {
   params.validate();
-  NSG_CHECK(threads >= 0 && threads <= 1024, ConfigError, "", "threads",
-            "0 (all cores) or a thread count up to 1024");
+  NSG_CHECK(threads >= 0 && threads <= 1024, ConfigError, "", "threads", "0 (all cores) or a thread count up to 1024");
 }
 
 ScoreReport score(const GraphSet& gt, const GraphSet& pred, const ScoreOptions& options) {
@@ -108,18 +107,18 @@ std::string report_to_markdown(const ScoreReport& r) {
       << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
       << "| " << md_value(a.mean[kApls]) << " | " << md_value(a.mean[kAplsDirected]) << " | "
       << md_value(a.mean[kAplsStrict]) << " | " << md_value(a.mean[kDirectionAccuracy]) << " | "
-      << md_value(a.mean[kF1]) << " | " << md_value(a.mean[kIou]) << " | "
-      << md_value(a.mean[kChamferM2], 2) << " | " << md_value(a.mean[kChamferMeanM], 3) << " | "
-      << md_value(a.mean[kGeoF1]) << " | " << md_value(a.mean[kTopoF1]) << " |\n\n";
-  out << "Macro means over " << a.n_tiles << " tiles (metrics v" << kMetricsVersion << "); "
-      << a.n_missing_predictions << " missing predictions scored as empty, "
-      << a.n_extra_predictions << " extra keys ignored. Pooled: F1 " << md_value(a.pooled_f1)
-      << ", IoU " << md_value(a.pooled_iou) << ", GEO P/R/F1 " << md_value(a.pooled_geo_precision)
-      << " / " << md_value(a.pooled_geo_recall) << " / " << md_value(a.pooled_geo_f1) << ".\n\n";
+      << md_value(a.mean[kF1]) << " | " << md_value(a.mean[kIou]) << " | " << md_value(a.mean[kChamferM2], 2) << " | "
+      << md_value(a.mean[kChamferMeanM], 3) << " | " << md_value(a.mean[kGeoF1]) << " | " << md_value(a.mean[kTopoF1])
+      << " |\n\n";
+  out << "Macro means over " << a.n_tiles << " tiles (metrics v" << kMetricsVersion << "); " << a.n_missing_predictions
+      << " missing predictions scored as empty, " << a.n_extra_predictions << " extra keys ignored. Pooled: F1 "
+      << md_value(a.pooled_f1) << ", IoU " << md_value(a.pooled_iou) << ", GEO P/R/F1 "
+      << md_value(a.pooled_geo_precision) << " / " << md_value(a.pooled_geo_recall) << " / "
+      << md_value(a.pooled_geo_f1) << ".\n\n";
   out << "| metric | mean | defined | undefined |\n|---|---:|---:|---:|\n";
   for (int m = 0; m < kMetricCount; ++m)
-    out << "| `" << metric_name(m) << "` | " << md_value(a.mean[m], 6) << " | " << a.n_defined[m]
-        << " | " << a.n_undefined[m] << " |\n";
+    out << "| `" << metric_name(m) << "` | " << md_value(a.mean[m], 6) << " | " << a.n_defined[m] << " | "
+        << a.n_undefined[m] << " |\n";
   return out.str();
 }
 

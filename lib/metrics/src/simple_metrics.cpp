@@ -35,8 +35,7 @@ std::optional<double> f1_of(std::optional<double> p, std::optional<double> r) {
   return 2.0 * *p * *r / (*p + *r);
 }
 
-DirectionResult compute_direction(const CleanGraph& gt, const CleanGraph& pred,
-                                  const MetricParams& params) {
+DirectionResult compute_direction(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params) {
   struct Seg {
     double ax, ay, bx, by;
   };
@@ -130,8 +129,7 @@ MaskResult compute_masks(const CleanGraph& gt, const CleanGraph& pred, const Met
   return r;
 }
 
-ChamferResult compute_chamfer(const CleanGraph& gt, const CleanGraph& pred,
-                              const MetricParams& params) {
+ChamferResult compute_chamfer(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params) {
   ChamferResult r;
   if (gt.nodes.empty() && pred.nodes.empty()) {
     r.px2 = r.m2 = r.mean_m = 0.0;
@@ -155,8 +153,7 @@ ChamferResult compute_chamfer(const CleanGraph& gt, const CleanGraph& pred,
   const auto [p2, p1] = one_way(pred.nodes, gt.nodes);
   r.px2 = g2 + p2;
   r.m2 = *r.px2 * (params.resolution_m * params.resolution_m);
-  r.mean_m = 0.5 * (g1 / static_cast<double>(gt.nodes.size()) +
-                    p1 / static_cast<double>(pred.nodes.size())) *
+  r.mean_m = 0.5 * (g1 / static_cast<double>(gt.nodes.size()) + p1 / static_cast<double>(pred.nodes.size())) *
              params.resolution_m;
   return r;
 }

@@ -121,11 +121,10 @@ class PointGrid {
       if (ulo <= 0 && vlo <= 0 && uhi >= nu_ - 1 && vhi >= nv_ - 1) return best;
       // Every unvisited point lies outside the visited box of cells; stop once that box's
       // distance from q (less a margin for rounding) exceeds the best distance so far.
-      const double gap = std::min({q.u - (u0_ + static_cast<double>(ulo) * cell_),
-                                   u0_ + static_cast<double>(uhi + 1) * cell_ - q.u,
-                                   q.v - (v0_ + static_cast<double>(vlo) * cell_),
-                                   v0_ + static_cast<double>(vhi + 1) * cell_ - q.v}) -
-                         kMargin * (cell_ + std::abs(q.u) + std::abs(q.v));
+      const double gap =
+          std::min({q.u - (u0_ + static_cast<double>(ulo) * cell_), u0_ + static_cast<double>(uhi + 1) * cell_ - q.u,
+                    q.v - (v0_ + static_cast<double>(vlo) * cell_), v0_ + static_cast<double>(vhi + 1) * cell_ - q.v}) -
+          kMargin * (cell_ + std::abs(q.u) + std::abs(q.v));
       if (gap > 0.0 && gap * gap > best) return best;
     }
   }

@@ -10,8 +10,8 @@ CheckedSubmission check_submission_document(const nlohmann::json& doc, const std
                                             const validate::SubmissionLimits& limits) {
   CheckedSubmission out;
   const std::filesystem::path dir = validate::find_schemas_dir(schemas_dir);
-  out.issues = validate::validate_against_schema(dir / "v1" / "submission.schema.json", doc, label,
-                                                 "submission.schema");
+  out.issues =
+      validate::validate_against_schema(dir / "v1" / "submission.schema.json", doc, label, "submission.schema");
   out.issues.append(validate::check_submission_structure(doc, label, limits));
   if (out.issues.empty()) out.graphs = graphs_from_submission(doc, label);
   return out;
@@ -26,8 +26,7 @@ CheckedSubmission check_submission_text(const std::string& text, const std::stri
   return check_submission_document(*doc, label, schemas_dir, limits);
 }
 
-CheckedSubmission check_submission_file(const std::filesystem::path& file,
-                                        const std::filesystem::path& schemas_dir,
+CheckedSubmission check_submission_file(const std::filesystem::path& file, const std::filesystem::path& schemas_dir,
                                         const validate::SubmissionLimits& limits) {
   // Read within the limits (file size, JSON values, nesting) before a DOM is built: a
   // huge or hostile file is refused, never parsed.

@@ -13,8 +13,10 @@
 namespace nsg::model {
 
 void AnchorOptions::validate() const {
-  NSG_CHECK(target_sigma_px > 0.0 && target_sigma_px <= 20.0, ConfigError, "", "anchor.target_sigma_px", "in (0, 20] px");
-  NSG_CHECK(smooth_sigma_px >= 0.0 && smooth_sigma_px <= 10.0, ConfigError, "", "anchor.smooth_sigma_px", "in [0, 10] px");
+  NSG_CHECK(target_sigma_px > 0.0 && target_sigma_px <= 20.0, ConfigError, "", "anchor.target_sigma_px",
+            "in (0, 20] px");
+  NSG_CHECK(smooth_sigma_px >= 0.0 && smooth_sigma_px <= 10.0, ConfigError, "", "anchor.smooth_sigma_px",
+            "in [0, 10] px");
   NSG_CHECK(min_score > 0.0 && min_score < 1.0, ConfigError, "", "anchor.min_score", "a score in (0, 1)");
   NSG_CHECK(nms_radius_px >= 1.0 && nms_radius_px <= 64.0, ConfigError, "", "anchor.nms_radius_px", "in [1, 64] px");
   NSG_CHECK(neighbours >= 1 && neighbours <= 8, ConfigError, "", "anchor.neighbours", "1 … 8");
@@ -36,9 +38,7 @@ std::vector<std::array<double, 2>> detect_anchors(const cv::Mat& score, const An
   if (options.smooth_sigma_px > 0.0) cv::GaussianBlur(score, s, {0, 0}, options.smooth_sigma_px);
   else s = score;
   const int rows = s.rows, cols = s.cols;
-  auto at = [&](int v, int u) {
-    return u < 0 || v < 0 || u >= cols || v >= rows ? -1.0f : s.at<float>(v, u);
-  };
+  auto at = [&](int v, int u) { return u < 0 || v < 0 || u >= cols || v >= rows ? -1.0f : s.at<float>(v, u); };
   // Ridge test: across a lane the score falls on both sides; along it, it may not. A
   // pixel on a slope beside the ridge is a maximum along at most one axis.
   static const int kAxes[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};

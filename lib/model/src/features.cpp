@@ -22,8 +22,8 @@ struct ClassGroup {
 };
 const std::vector<ClassGroup>& class_groups() {
   static const std::vector<ClassGroup> groups = {
-      {"road", {0}},     {"marking", {1}},  {"crosswalk", {2}}, {"sidewalk", {3}},
-      {"curb", {4}},     {"green", {5, 6}}, {"building", {7}},  {"vehicle", {8, 9}},
+      {"road", {0}}, {"marking", {1}},  {"crosswalk", {2}}, {"sidewalk", {3}},
+      {"curb", {4}}, {"green", {5, 6}}, {"building", {7}},  {"vehicle", {8, 9}},
   };
   return groups;
 }
@@ -168,8 +168,8 @@ cv::Mat sample_across(const cv::Mat& map, const cv::Mat& ax, const cv::Mat& ay, 
 // The travel direction implied by a reference marking on a known side: of the two senses
 // of the local axis, the one that has the marking on its left (left = true) or right.
 // Returned as map-frame (cos, sin) weighted by exp(−distance / scale_px); 0 without one.
-void implied_direction(const cv::Mat& marking, const cv::Mat& ax, const cv::Mat& ay, bool left,
-                       float scale_px, cv::Mat& out_x, cv::Mat& out_y) {
+void implied_direction(const cv::Mat& marking, const cv::Mat& ax, const cv::Mat& ay, bool left, float scale_px,
+                       cv::Mat& out_x, cv::Mat& out_y) {
   cv::Mat du, dv;
   out_x = cv::Mat::zeros(marking.size(), CV_32F);
   out_y = cv::Mat::zeros(marking.size(), CV_32F);
@@ -190,10 +190,10 @@ void implied_direction(const cv::Mat& marking, const cv::Mat& ax, const cv::Mat&
 // Everything the modality blocks share: masks of markings per source and the orientation.
 struct Shared {
   cv::Mat lidar_valid_f, rgb_valid_f, sem_valid_f;
-  cv::Mat paint;             // LiDAR: brighter than its surroundings (CV_8U 0/255)
-  cv::Mat yellow, white;     // RGB
+  cv::Mat paint;                   // LiDAR: brighter than its surroundings (CV_8U 0/255)
+  cv::Mat yellow, white;           // RGB
   cv::Mat sem_marking, road_edge;  // semantics
-  cv::Mat ax, ay;            // local line axis (map frame)
+  cv::Mat ax, ay;                  // local line axis (map frame)
   Orientation orientation;
 };
 
@@ -260,8 +260,7 @@ void semantic_features(const TileInput& t, Shared& s, FeatureSink& out) {
     for (int id : g.ids) member |= (t.semantic == id);
     const cv::Mat member_f = mask_float(member);
     for (int k : {5, 21}) {
-      out.add("semantic." + std::string(g.name) + "_" + std::to_string(k),
-              valid_mean(member_f, s.sem_valid_f, k));
+      out.add("semantic." + std::string(g.name) + "_" + std::to_string(k), valid_mean(member_f, s.sem_valid_f, k));
     }
   }
   out.add("semantic.coverage_21", density(s.sem_valid_f, 21));
@@ -383,7 +382,9 @@ Modalities Modalities::parse(const std::string& list) {
     else if (item == "rgb") m.rgb = true;
     else if (item == "semantic" || item == "semantics") m.semantic = true;
     else if (item == "vehicle" || item == "vehicles") m.vehicle = true;
-    else throw ConfigError("", "--modalities", "a comma-separated subset of lidar, rgb, semantic, vehicle (got '" + item + "')");
+    else
+      throw ConfigError("", "--modalities",
+                        "a comma-separated subset of lidar, rgb, semantic, vehicle (got '" + item + "')");
   }
   m.validate();
   return m;

@@ -52,8 +52,8 @@ cv::Ptr<cv::ml::RTrees> train_forest(const ForestOptions& f, const cv::Mat& x, c
   NSG_CHECK(x.rows > 0, DataError, "", "training samples", "at least one sample (no tile with data in the split?)");
   cv::Mat var_type(1, x.cols + 1, CV_8U, cv::Scalar(cv::ml::VAR_ORDERED));
   if (classifier) var_type.at<uint8_t>(x.cols) = cv::ml::VAR_CATEGORICAL;
-  const cv::Ptr<cv::ml::TrainData> data = cv::ml::TrainData::create(x, cv::ml::ROW_SAMPLE, y, cv::noArray(),
-                                                                    cv::noArray(), cv::noArray(), var_type);
+  const cv::Ptr<cv::ml::TrainData> data =
+      cv::ml::TrainData::create(x, cv::ml::ROW_SAMPLE, y, cv::noArray(), cv::noArray(), cv::noArray(), var_type);
   cv::Ptr<cv::ml::RTrees> rt = make_forest(f);
   // OpenCV's bagging draws from the calling thread's cv::theRNG(): seed it here, on the
   // training thread, so a forest never depends on which thread trains it or on what ran before.
@@ -127,7 +127,8 @@ std::vector<Votes> window_votes(const cv::ml::RTrees& forest, const FeatureMaps&
     Votes& v = out[static_cast<size_t>(r / kWindow)];
     for (int c = 0; c < raw.cols; ++c) {
       const int label = raw.at<int>(0, c);
-      if (label >= 0 && label < kDirectionClasses) v[static_cast<size_t>(label)] += static_cast<float>(raw.at<int>(r + 1, c));
+      if (label >= 0 && label < kDirectionClasses)
+        v[static_cast<size_t>(label)] += static_cast<float>(raw.at<int>(r + 1, c));
     }
   }
   return out;

@@ -60,7 +60,8 @@ double sample(const cv::Mat& map, double u, double v) {
   const int u0 = std::min(static_cast<int>(u), map.cols - 2), v0 = std::min(static_cast<int>(v), map.rows - 2);
   const double fu = u - u0, fv = v - v0;
   auto at = [&](int vv, int uu) { return static_cast<double>(map.at<float>(vv, uu)); };
-  return (1 - fv) * ((1 - fu) * at(v0, u0) + fu * at(v0, u0 + 1)) + fv * ((1 - fu) * at(v0 + 1, u0) + fu * at(v0 + 1, u0 + 1));
+  return (1 - fv) * ((1 - fu) * at(v0, u0) + fu * at(v0, u0 + 1)) +
+         fv * ((1 - fu) * at(v0 + 1, u0) + fu * at(v0 + 1, u0 + 1));
 }
 
 // Drops 8-connected components smaller than min_px.
@@ -174,9 +175,10 @@ SkeletonGraph trace_skeleton(const cv::Mat& skeleton) {
       if (vertex_of[qs] >= 0) {
         // Two vertex pixels side by side: one direct branch, added from the lower pixel.
         if (vertex_of[qs] != vertex_of[i] && i < qs) {
-          out.branches.push_back({vertex_of[i], vertex_of[qs],
-                                  {out.vertices[static_cast<size_t>(vertex_of[i])],
-                                   out.vertices[static_cast<size_t>(vertex_of[qs])]}});
+          out.branches.push_back(
+              {vertex_of[i],
+               vertex_of[qs],
+               {out.vertices[static_cast<size_t>(vertex_of[i])], out.vertices[static_cast<size_t>(vertex_of[qs])]}});
         }
       } else if (!visited[qs]) {
         out.branches.push_back(walk(i, qs));
@@ -315,7 +317,8 @@ void postprocess(metrics::Graph& graph, int tile_size_px, const ExtractionOption
     if (!node_ok[static_cast<size_t>(i)] || !node_ok[static_cast<size_t>(j)]) continue;
     if (graph.edge_scores[e] < options.min_edge_score) continue;
     if (std::hypot(b.u - a.u, b.v - a.v) > max_len) continue;
-    if (angle_deg && options.max_direction_angle_deg < 90.0 && (*angle_deg)[e] > options.max_direction_angle_deg) continue;
+    if (angle_deg && options.max_direction_angle_deg < 90.0 && (*angle_deg)[e] > options.max_direction_angle_deg)
+      continue;
     edges.push_back(graph.edges[e]);
     edge_scores.push_back(graph.edge_scores[e]);
     used[static_cast<size_t>(i)] = used[static_cast<size_t>(j)] = 1;

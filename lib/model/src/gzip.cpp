@@ -34,7 +34,8 @@ std::string read_maybe_gzip(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   NSG_CHECK(in.good(), IoError, file, "file", "a readable file");
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < 2 || static_cast<unsigned char>(bytes[0]) != 0x1f || static_cast<unsigned char>(bytes[1]) != 0x8b) {
+  if (bytes.size() < 2 || static_cast<unsigned char>(bytes[0]) != 0x1f ||
+      static_cast<unsigned char>(bytes[1]) != 0x8b) {
     return bytes;
   }
   z_stream z{};

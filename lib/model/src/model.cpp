@@ -23,8 +23,8 @@ namespace {
 using detail::draw;
 using detail::seconds_since;
 
-constexpr double kTargetRadiusPx = 30.0;     // distances are exact up to here
-constexpr double kNearPx = 3.0, kAroundPx = 12.0;  // training strata of the centre head
+constexpr double kTargetRadiusPx = 30.0;              // distances are exact up to here
+constexpr double kNearPx = 3.0, kAroundPx = 12.0;     // training strata of the centre head
 constexpr double kLanePx = 4.5, kBackgroundPx = 9.0;  // the direction head's lane / background
 
 float soft_target(float distance_px, double sigma_px) {
@@ -174,13 +174,11 @@ void train_connection(LaneModel::Impl& m, const io::Dataset& dataset, const std:
                       size_t total, bool progress, TrainReport& r) {
   const auto t0 = std::chrono::steady_clock::now();
   // A small split gives pairs from more of its tiles: at least ≈ 30 tiles when it has them.
-  const size_t every = std::max<size_t>(
-      1, std::min(static_cast<size_t>(m.options.pairs.train_tile_every), total / 30));
+  const size_t every = std::max<size_t>(1, std::min(static_cast<size_t>(m.options.pairs.train_tile_every), total / 30));
   // Every k-th tile, plus every other held-out tile for the held-out accuracy (the k-th
   // tiles may never be held out, e.g. k = 4 with every 10th held out).
   auto wanted = [&](size_t i) {
-    return i % every == 0 ||
-           (is_holdout(m.options, i) && (i / static_cast<size_t>(m.options.holdout_every)) % 2 == 0);
+    return i % every == 0 || (is_holdout(m.options, i) && (i / static_cast<size_t>(m.options.holdout_every)) % 2 == 0);
   };
   std::vector<PairSamples> slots(total);
   {
@@ -204,8 +202,8 @@ void train_connection(LaneModel::Impl& m, const io::Dataset& dataset, const std:
   r.pair_accuracy_train = accuracy(*m.connection, x, y, -1);
   r.pair_accuracy_holdout = accuracy(*m.connection, hx, hy, -1);
   r.pairs_s = seconds_since(t0);
-  log::info("connection classifier: " + std::to_string(r.pair_samples) + " pairs (" +
-            std::to_string(r.pair_positives) + " connected) from every " + std::to_string(every) + ". tile");
+  log::info("connection classifier: " + std::to_string(r.pair_samples) + " pairs (" + std::to_string(r.pair_positives) +
+            " connected) from every " + std::to_string(every) + ". tile");
 }
 
 }  // namespace
@@ -340,9 +338,7 @@ TilePrediction LaneModel::predict(const TileInput& tile) const {
   p.likelihood = t.likelihood;
   p.anchor_score = t.anchor_score;
   switch (m.options.variant) {
-    case Variant::kB1:
-      p.graph = extract_graph(p.likelihood, votes, m.options.extraction);
-      break;
+    case Variant::kB1: p.graph = extract_graph(p.likelihood, votes, m.options.extraction); break;
     case Variant::kB2:
       p.graph = b2_graph(make_anchor_set(t.anchor_score, votes, m.options.anchors), t.likelihood, m.options.anchors,
                          m.options.extraction);

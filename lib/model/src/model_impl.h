@@ -17,7 +17,7 @@ struct LaneModel::Impl {
   cv::Ptr<cv::ml::RTrees> centre, direction;
   cv::Ptr<cv::ml::RTrees> anchor;      // b2, graph
   cv::Ptr<cv::ml::RTrees> connection;  // graph
-  nlohmann::json report;  // what training measured, kept in the file for provenance
+  nlohmann::json report;               // what training measured, kept in the file for provenance
 };
 
 }  // namespace nsg::model

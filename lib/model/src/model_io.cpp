@@ -65,7 +65,8 @@ void read_fields(const cv::FileNode& n, Options& options, Fields fields) {
 }
 
 void write_forest_options(cv::FileStorage& fs, const std::string& name, const ForestOptions& f) {
-  fs << name << "{" << "trees" << f.trees << "max_depth" << f.max_depth << "min_samples" << f.min_samples << "}";
+  fs << name << "{"
+     << "trees" << f.trees << "max_depth" << f.max_depth << "min_samples" << f.min_samples << "}";
 }
 
 ForestOptions read_forest_options(const cv::FileNode& n) {
@@ -95,7 +96,8 @@ void write_variant_options(cv::FileStorage& fs, const ModelOptions& o) {
   if (o.variant != Variant::kGraph) return;
   write_forest_options(fs, "connection_forest", o.connection);
   write_fields(fs, "pairs", o.pairs, kPairFields);
-  fs << "pair_features" << "[";
+  fs << "pair_features"
+     << "[";
   for (const auto& n : pair_feature_names()) fs << n;
   fs << "]";
 }
@@ -123,7 +125,8 @@ void LaneModel::save(const std::filesystem::path& path) const {
   // to the files written before the variants existed (and those load as b1).
   if (m.options.variant != Variant::kB1) fs << "variant" << to_string(m.options.variant);
   fs << "modalities" << m.options.modalities.to_string();
-  fs << "features" << "[";
+  fs << "features"
+     << "[";
   for (const auto& n : m.feature_names) fs << n;
   fs << "]";
   fs << "predict_stride_px" << m.options.predict_stride_px;
@@ -135,7 +138,8 @@ void LaneModel::save(const std::filesystem::path& path) const {
   write_variant_options(fs, m.options);
   // Numbers in the map (OpenCV's YAML writer mangles strings that look like JSON); the
   // split's name, a plain word, beside it.
-  fs << "training_report" << "{";
+  fs << "training_report"
+     << "{";
   for (const auto& [k, v] : m.report.items()) {
     if (v.is_number()) fs << k << v.get<double>();
   }
@@ -163,8 +167,8 @@ LaneModel LaneModel::load(const std::filesystem::path& path) {
     NSG_CHECK(static_cast<int>(fs["format_version"]) == kFormatVersion, ParseError, file, "format_version",
               "version " + std::to_string(kFormatVersion));
     // Files from before the variants hold today's b1.
-    m.options.variant = fs["variant"].empty() ? Variant::kB1
-                                              : parse_variant(static_cast<std::string>(fs["variant"]), "variant");
+    m.options.variant =
+        fs["variant"].empty() ? Variant::kB1 : parse_variant(static_cast<std::string>(fs["variant"]), "variant");
     m.options.modalities = Modalities::parse(static_cast<std::string>(fs["modalities"]));
     for (const auto& n : fs["features"]) m.feature_names.push_back(static_cast<std::string>(n));
     NSG_CHECK(m.feature_names == feature_names(m.options.modalities), ParseError, file, "features",

@@ -82,14 +82,18 @@ AnchorSet net_anchors(const NetMaps& maps, const NetGraphOptions& o) {
   std::vector<Candidate> cands;
   for (int r = 0; r < heat.rows; ++r)
     for (int c = 0; c < heat.cols; ++c)
-      if (heat.at<float>(r, c) >= o.anchor_threshold && is_peak(heat, r, c)) cands.push_back({heat.at<float>(r, c), r, c});
-  std::stable_sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+      if (heat.at<float>(r, c) >= o.anchor_threshold && is_peak(heat, r, c))
+        cands.push_back({heat.at<float>(r, c), r, c});
+  std::stable_sort(cands.begin(), cands.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
   AnchorSet out;
   std::vector<std::array<int, 2>> cells;
   const double last = maps.tile_size_px - 1.0, half = (o.stride_px - 1) / 2.0;
   for (const Candidate& k : cands) {
-    const double u = std::clamp((k.c + static_cast<double>(maps.offset_u.at<float>(k.r, k.c))) * o.stride_px + half, 0.0, last);
-    const double v = std::clamp((k.r + static_cast<double>(maps.offset_v.at<float>(k.r, k.c))) * o.stride_px + half, 0.0, last);
+    const double u =
+        std::clamp((k.c + static_cast<double>(maps.offset_u.at<float>(k.r, k.c))) * o.stride_px + half, 0.0, last);
+    const double v =
+        std::clamp((k.r + static_cast<double>(maps.offset_v.at<float>(k.r, k.c))) * o.stride_px + half, 0.0, last);
     bool near = false;
     for (const auto& p : out.points) near = near || std::hypot(p[0] - u, p[1] - v) < o.nms_radius_px;
     if (near) continue;
@@ -115,7 +119,8 @@ AnchorSet net_anchors(const NetMaps& maps, const NetGraphOptions& o) {
     Votes votes{};
     for (int rr = std::max(0, r - o.vote_radius_cells); rr <= std::min(heat.rows - 1, r + o.vote_radius_cells); ++rr)
       for (int cc = std::max(0, c - o.vote_radius_cells); cc <= std::min(heat.cols - 1, c + o.vote_radius_cells); ++cc)
-        for (int k = 0; k < kDirectionClasses; ++k) votes[static_cast<size_t>(k)] += maps.direction[static_cast<size_t>(k)].at<float>(rr, cc);
+        for (int k = 0; k < kDirectionClasses; ++k)
+          votes[static_cast<size_t>(k)] += maps.direction[static_cast<size_t>(k)].at<float>(rr, cc);
     out.votes.push_back(votes);
     out.mean_dir.push_back(mean_direction_px(votes));
   }
@@ -142,7 +147,8 @@ cv::Mat net_pair_inputs(const std::vector<cv::Mat>& features, const std::vector<
       const double f = static_cast<double>(t) / (samples - 1);
       const double cu = px_to_cell(a[0] + (b[0] - a[0]) * f, o.stride_px);
       const double cv = px_to_cell(a[1] + (b[1] - a[1]) * f, o.stride_px);
-      for (int c = 0; c < channels; ++c) s[static_cast<size_t>(t * channels + c)] = sample_clamped(features[static_cast<size_t>(c)], cu, cv);
+      for (int c = 0; c < channels; ++c)
+        s[static_cast<size_t>(t * channels + c)] = sample_clamped(features[static_cast<size_t>(c)], cu, cv);
     }
     float* row = out.ptr<float>(static_cast<int>(k));
     for (int c = 0; c < channels; ++c) {
@@ -174,7 +180,8 @@ metrics::Graph net_graph(const AnchorSet& anchors, const std::vector<std::array<
   for (size_t k = 0; k < pairs.size(); ++k) {
     for (int i : pairs[k])
       NSG_CHECK(i >= 0 && static_cast<size_t>(i) < anchors.points.size(), DataError, "",
-                "pairs[" + std::to_string(k) + "]", "anchor indices in [0, " + std::to_string(anchors.points.size()) + ")");
+                "pairs[" + std::to_string(k) + "]",
+                "anchor indices in [0, " + std::to_string(anchors.points.size()) + ")");
     if (pair_scores[k] < o.min_connection_score) continue;
     kept.pairs.push_back(pairs[k]);
     kept_scores.push_back(pair_scores[k]);

@@ -14,8 +14,8 @@ namespace nsg::model {
 
 void PairOptions::validate() const {
   NSG_CHECK(radius_px >= 2.0 && radius_px <= 128.0, ConfigError, "", "pairs.radius_px", "in [2, 128] px");
-  NSG_CHECK(min_connection_score >= 0.0 && min_connection_score <= 1.0, ConfigError, "",
-            "pairs.min_connection_score", "in [0, 1]");
+  NSG_CHECK(min_connection_score >= 0.0 && min_connection_score <= 1.0, ConfigError, "", "pairs.min_connection_score",
+            "in [0, 1]");
   NSG_CHECK(label_max_distance_px > 0.0, ConfigError, "", "pairs.label_max_distance_px", "> 0 px");
   NSG_CHECK(label_max_follow_px >= 0.0, ConfigError, "", "pairs.label_max_follow_px", "≥ 0 px");
   NSG_CHECK(train_tile_every >= 1, ConfigError, "", "pairs.train_tile_every", "≥ 1");
@@ -34,10 +34,10 @@ std::vector<std::array<int, 2>> candidate_pairs(const std::vector<std::array<dou
 }
 
 std::vector<std::string> pair_feature_names() {
-  return {"length_px",        "anchor_score_min",  "anchor_score_max",   "centre_along_min",  "centre_along_mean",
-          "centre_mid",       "anchor_along_min",  "anchor_along_mean",  "axis_cos_end_min",  "axis_cos_end_max",
-          "axis_cos_sum",     "dir_agreement",     "dir_confidence_min", "background_max",    "rank_min",
-          "rank_max",         "length_over_nn_min", "length_over_nn_max", "anchors_skipped"};
+  return {"length_px",    "anchor_score_min",   "anchor_score_max",   "centre_along_min", "centre_along_mean",
+          "centre_mid",   "anchor_along_min",   "anchor_along_mean",  "axis_cos_end_min", "axis_cos_end_max",
+          "axis_cos_sum", "dir_agreement",      "dir_confidence_min", "background_max",   "rank_min",
+          "rank_max",     "length_over_nn_min", "length_over_nn_max", "anchors_skipped"};
 }
 
 namespace {
@@ -63,8 +63,8 @@ std::pair<double, double> confidence_and_background(const Votes& v, const std::a
 
 }  // namespace
 
-cv::Mat pair_features(const AnchorSet& anchors, const std::vector<std::array<int, 2>>& pairs,
-                      const cv::Mat& likelihood, const cv::Mat& anchor_score) {
+cv::Mat pair_features(const AnchorSet& anchors, const std::vector<std::array<int, 2>>& pairs, const cv::Mat& likelihood,
+                      const cv::Mat& anchor_score) {
   const auto& p = anchors.points;
   const size_t n = p.size();
   std::vector<double> nn(n, 0.0);
@@ -82,8 +82,8 @@ cv::Mat pair_features(const AnchorSet& anchors, const std::vector<std::array<int
     for (size_t k = 0; k < n; ++k) r += k != i && k != j && dist(p[i], p[k]) < d;
     return r;
   };
-  constexpr int kAlong = 9;          // interior samples at t = 0.1 … 0.9
-  constexpr double kSkipPx = 4.0;    // an anchor this close to the segment's interior is skipped
+  constexpr int kAlong = 9;        // interior samples at t = 0.1 … 0.9
+  constexpr double kSkipPx = 4.0;  // an anchor this close to the segment's interior is skipped
   cv::Mat out(static_cast<int>(pairs.size()), static_cast<int>(pair_feature_names().size()), CV_32F);
   for (size_t r = 0; r < pairs.size(); ++r) {
     const auto a = static_cast<size_t>(pairs[r][0]), b = static_cast<size_t>(pairs[r][1]);

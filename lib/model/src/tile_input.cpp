@@ -13,7 +13,7 @@ cv::Mat layer(const io::DatasetTile& tile, const std::string& suffix, io::Sample
   const io::Raster r = tile.raster(suffix);
   const std::string name = tile.key + "." + suffix;
   NSG_CHECK(r.type == type && r.bands == bands, ParseError, name, "layer",
-            std::to_string(bands) + " band(s) of the layer's sample type (DESIGN.md §5)");
+            std::to_string(bands) + " band(s) of the layer's sample type (docs/dataset-format.md)");
   NSG_CHECK(r.width == r.height && (size_px < 0 || r.width == size_px), ParseError, name, "size",
             "a square raster of the tile's size");
   cv::Mat m(r.height, r.width, cv_type);

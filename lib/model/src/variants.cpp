@@ -41,8 +41,8 @@ metrics::Graph b2_graph(const AnchorSet& anchors, const cv::Mat& likelihood, con
                         const ExtractionOptions& extraction) {
   anchor_options.validate();
   std::vector<double> angle_deg;
-  metrics::Graph g = oriented(anchors, nearest_neighbour_pairs(anchors.points, anchor_options.neighbours),
-                              likelihood, &angle_deg);
+  metrics::Graph g =
+      oriented(anchors, nearest_neighbour_pairs(anchors.points, anchor_options.neighbours), likelihood, &angle_deg);
   postprocess(g, likelihood.rows, extraction, &angle_deg);
   return g;
 }

@@ -23,7 +23,8 @@ int scaled_dimension(int full, JpegScale scale) {
 
 JpegDecoder::JpegDecoder() : impl_(std::make_unique<Impl>()) {
   impl_->handle = tjInitDecompress();
-  if (impl_->handle == nullptr) throw InternalError("", "", std::string("tjInitDecompress failed: ") + tjGetErrorStr2(nullptr));
+  if (impl_->handle == nullptr)
+    throw InternalError("", "", std::string("tjInitDecompress failed: ") + tjGetErrorStr2(nullptr));
 }
 
 JpegDecoder::~JpegDecoder() {
@@ -37,9 +38,9 @@ std::pair<int, int> JpegDecoder::read_size(const std::uint8_t* data, size_t size
     throw ParseError(name, "", std::string("a JPEG image (header: ") + tjGetErrorStr2(impl_->handle) + ")");
   }
   NSG_CHECK(width > 0 && height > 0 && width <= kMaxJpegSidePx && height <= kMaxJpegSidePx, ParseError, name,
-            "JPEG header", "a camera image of at most " + std::to_string(kMaxJpegSidePx) + " x " +
-                               std::to_string(kMaxJpegSidePx) + " pixels, got " + std::to_string(width) + " x " +
-                               std::to_string(height));
+            "JPEG header",
+            "a camera image of at most " + std::to_string(kMaxJpegSidePx) + " x " + std::to_string(kMaxJpegSidePx) +
+                " pixels, got " + std::to_string(width) + " x " + std::to_string(height));
   return {width, height};
 }
 
@@ -50,8 +51,8 @@ void JpegDecoder::decode(const std::uint8_t* data, size_t size, JpegScale scale,
   out.height = scaled_dimension(full_h, scale);
   out.pixels.resize(static_cast<size_t>(out.width) * out.height * 3);
   // Warnings (e.g. premature end of data) count as errors: a partial image is not data.
-  if (tjDecompress2(impl_->handle, data, static_cast<unsigned long>(size), out.pixels.data(), out.width, 0,
-                    out.height, TJPF_RGB, TJFLAG_STOPONWARNING) != 0) {
+  if (tjDecompress2(impl_->handle, data, static_cast<unsigned long>(size), out.pixels.data(), out.width, 0, out.height,
+                    TJPF_RGB, TJFLAG_STOPONWARNING) != 0) {
     throw ParseError(name, "", std::string("a valid JPEG image (decode: ") + tjGetErrorStr2(impl_->handle) + ")");
   }
 }

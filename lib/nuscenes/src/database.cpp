@@ -12,18 +12,20 @@ namespace nsg::nuscenes {
 namespace {
 
 constexpr std::array<const char*, 13> kTableNames = {
-    "category", "attribute", "visibility", "instance",          "sensor", "calibrated_sensor", "ego_pose",
-    "log",      "scene",     "sample",     "sample_annotation", "sample_data", "map"};
+    "category", "attribute", "visibility",        "instance",    "sensor", "calibrated_sensor", "ego_pose", "log",
+    "scene",    "sample",    "sample_annotation", "sample_data", "map"};
 
 std::string record_of(const Token& token) { return "token " + token.str(); }
 
 // Resolves one link of `row` (a record of `from`) into `to`; a non-empty token that is not
 // found is a DataError naming the file, the record and the field.
 template <class From, class To>
-Index link(const Table<From>& from, const From& row, const char* field, const Token& token,
-           const Table<To>& to, bool required) {
+Index link(const Table<From>& from, const From& row, const char* field, const Token& token, const Table<To>& to,
+           bool required) {
   if (token.empty()) {
-    if (required) throw DataError(from.file(), record_of(row.token), std::string("field \"") + field + "\": a non-empty " + table_name<To>() + " token");
+    if (required)
+      throw DataError(from.file(), record_of(row.token),
+                      std::string("field \"") + field + "\": a non-empty " + table_name<To>() + " token");
     return kNoIndex;
   }
   const Index i = to.find(token);
@@ -92,8 +94,7 @@ std::filesystem::path Database::table_path(std::string_view table) const {
   return dataroot_ / version_ / (std::string(table) + ".json");
 }
 
-Database Database::load(const std::filesystem::path& dataroot, const std::string& version,
-                        const LoadOptions& options) {
+Database Database::load(const std::filesystem::path& dataroot, const std::string& version, const LoadOptions& options) {
   options.validate();
   if (version.empty() || version.find('/') != std::string::npos || version == "." || version == "..") {
     throw ConfigError("", version, "a release version folder name such as \"v1.0-mini\"");

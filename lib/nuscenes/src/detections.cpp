@@ -11,17 +11,21 @@ namespace nsg::nuscenes {
 namespace {
 
 constexpr std::array<const char*, kDetectionClassCount> kClassNames = {
-    "car", "truck", "bus", "trailer", "construction_vehicle", "pedestrian", "motorcycle", "bicycle", "traffic_cone",
-    "barrier"};
+    "car",        "truck",      "bus",     "trailer",      "construction_vehicle",
+    "pedestrian", "motorcycle", "bicycle", "traffic_cone", "barrier"};
 
 using detail::FieldSpec;
-using detail::od::value;
 using detail::RecordContext;
+using detail::od::value;
 
-#define NSG_FIELD(R, key, body) \
-  FieldSpec<R> { key, [](value& v, RecordContext& ctx, R& r) { body; } }
-#define NSG_OPTIONAL_FIELD(R, key, body) \
-  FieldSpec<R> { key, [](value& v, RecordContext& ctx, R& r) { body; }, false }
+#define NSG_FIELD(R, key, body)                           \
+  FieldSpec<R> {                                          \
+    key, [](value& v, RecordContext& ctx, R& r) { body; } \
+  }
+#define NSG_OPTIONAL_FIELD(R, key, body)                         \
+  FieldSpec<R> {                                                 \
+    key, [](value& v, RecordContext& ctx, R& r) { body; }, false \
+  }
 
 DetectionClass read_class(value& v, const RecordContext& ctx) {
   const std::string_view s = detail::read_string(v, ctx);
@@ -93,7 +97,8 @@ void read_sample_boxes(value& boxes_value, RecordContext& ctx, DetectionSample& 
 
 void read_results(value& results_value, RecordContext& ctx, DetectionResults& out) {
   detail::od::object results;
-  if (auto ec = results_value.get_object().get(results)) ctx.fail("\"results\" to be an object {sample_token: [boxes]}", ec);
+  if (auto ec = results_value.get_object().get(results))
+    ctx.fail("\"results\" to be an object {sample_token: [boxes]}", ec);
   for (auto field_result : results) {
     detail::od::field field;
     ctx.record_prefix = "results";
@@ -103,7 +108,8 @@ void read_results(value& results_value, RecordContext& ctx, DetectionResults& ou
     std::string_view key;
     if (auto ec = field.unescaped_key().get(key)) ctx.fail("a sample_token key", ec);
     const std::optional<Token> token = Token::parse(key);
-    if (!token || token->empty()) ctx.fail("a sample token of 32 lowercase hex chars as key, got \"" + std::string(key) + "\"");
+    if (!token || token->empty())
+      ctx.fail("a sample token of 32 lowercase hex chars as key, got \"" + std::string(key) + "\"");
     DetectionSample& sample = out.samples.emplace_back();
     sample.sample_token = *token;
     ctx.record_prefix = "results[" + token->str() + "] box";
@@ -136,11 +142,9 @@ bool attribute_valid_for(DetectionClass c, std::string_view a) {
     case DetectionClass::kPedestrian:
       return a == "pedestrian.moving" || a == "pedestrian.standing" || a == "pedestrian.sitting_lying_down";
     case DetectionClass::kMotorcycle:
-    case DetectionClass::kBicycle:
-      return a == "cycle.with_rider" || a == "cycle.without_rider";
+    case DetectionClass::kBicycle: return a == "cycle.with_rider" || a == "cycle.without_rider";
     case DetectionClass::kTrafficCone:
-    case DetectionClass::kBarrier:
-      return false;
+    case DetectionClass::kBarrier: return false;
   }
   return false;
 }
@@ -209,7 +213,8 @@ DetectionResults read_detections(const std::filesystem::path& file) {
   if (!detail::at_end(doc)) ctx.fail("end of file after the top-level object");
   if (!has_meta) throw ParseError(out.file, "", "required key \"meta\" (missing)");
   if (!has_results) throw ParseError(out.file, "", "required key \"results\" (missing)");
-  const Index dup = out.index.build(out.samples.size(), [&](size_t i) -> const Token& { return out.samples[i].sample_token; });
+  const Index dup =
+      out.index.build(out.samples.size(), [&](size_t i) -> const Token& { return out.samples[i].sample_token; });
   if (dup != kNoIndex) {
     throw ParseError(out.file, "results[" + out.samples[static_cast<size_t>(dup)].sample_token.str() + "]",
                      "each sample token once in \"results\"");

@@ -13,7 +13,8 @@ namespace nsg::nuscenes::detail {
 namespace {
 
 std::string_view trim_view(std::string_view s) {
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\n' || s.back() == '\r' || s.back() == '\t' || s.back() == ',')) {
+  while (!s.empty() &&
+         (s.back() == ' ' || s.back() == '\n' || s.back() == '\r' || s.back() == '\t' || s.back() == ',')) {
     s.remove_suffix(1);
   }
   return s;
@@ -25,19 +26,14 @@ const char* describe(simdjson::error_code ec) {
     case simdjson::TAPE_ERROR:
     case simdjson::UNCLOSED_STRING:
     case simdjson::EMPTY:
-    case simdjson::DEPTH_ERROR:
-      return "truncated or malformed JSON";
-    case simdjson::INCORRECT_TYPE:
-      return "wrong type";
+    case simdjson::DEPTH_ERROR: return "truncated or malformed JSON";
+    case simdjson::INCORRECT_TYPE: return "wrong type";
     case simdjson::NUMBER_ERROR:
-    case simdjson::NUMBER_OUT_OF_RANGE:
-      return "not a representable number (NaN/Infinity are not JSON)";
+    case simdjson::NUMBER_OUT_OF_RANGE: return "not a representable number (NaN/Infinity are not JSON)";
     case simdjson::T_ATOM_ERROR:
     case simdjson::F_ATOM_ERROR:
-    case simdjson::N_ATOM_ERROR:
-      return "invalid literal (NaN/Infinity are not JSON)";
-    default:
-      return "malformed JSON";
+    case simdjson::N_ATOM_ERROR: return "invalid literal (NaN/Infinity are not JSON)";
+    default: return "malformed JSON";
   }
 }
 

@@ -33,11 +33,10 @@ struct RecordContext {
   // names the token, found by scanning the object's top level).
   const char* record_begin = nullptr;
   const char* text_end = nullptr;
-  std::string_view key;       // current key (points into a static field spec)
+  std::string_view key;  // current key (points into a static field spec)
 
   std::string record() const;
-  [[noreturn]] void fail(const std::string& expected,
-                         simdjson::error_code ec = simdjson::SUCCESS) const;
+  [[noreturn]] void fail(const std::string& expected, simdjson::error_code ec = simdjson::SUCCESS) const;
 };
 
 // Whole file into a simdjson padded buffer (one copy of the file in memory).
@@ -68,8 +67,7 @@ struct FieldSpec {
 // Reads one object: keys in any order, unknown keys skipped, each known key at most once,
 // every required key present.
 template <class R, size_t N>
-void read_record(od::object& object, RecordContext& ctx, const std::array<FieldSpec<R>, N>& spec,
-                 R& record) {
+void read_record(od::object& object, RecordContext& ctx, const std::array<FieldSpec<R>, N>& spec, R& record) {
   static_assert(N <= 64);
   std::uint64_t seen = 0;
   size_t k = N - 1;
@@ -223,9 +221,8 @@ std::vector<Record> read_records(const std::filesystem::path& file, Fill fill) {
         std::future<void> b;
         side.clear();
         if (has_b) {
-          b = std::async(std::launch::async, [&] {
-            parse_array_text(parser_b, data_b, length_b, capacity_b, ctx_b, 0, to_side);
-          });
+          b = std::async(std::launch::async,
+                         [&] { parse_array_text(parser_b, data_b, length_b, capacity_b, ctx_b, 0, to_side); });
         }
         index += parse_array_text(parser_a, data_a, length_a, capacity_a, ctx_a, index, to_rows);
         if (has_b) {

@@ -72,7 +72,8 @@ size_t LidarFile::read(std::vector<LidarPoint>& points, size_t max_rows, Check c
   while (done < bytes) {  // one read in practice; loop for short reads
     const ssize_t n = ::read(fd_, out + done, bytes - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) throw IoError(file_.string(), "", std::string("read error: ") + (n < 0 ? std::strerror(errno) : "file shrank"));
+    if (n <= 0)
+      throw IoError(file_.string(), "", std::string("read error: ") + (n < 0 ? std::strerror(errno) : "file shrank"));
     done += static_cast<size_t>(n);
   }
   next_row_ += count;

@@ -51,8 +51,8 @@ void CenterlinesJsonOptions::validate() const {
             "expected a finite resolution > 0 m");
 }
 
-void write_centerlines_json(const MapExpansion& map, const CenterlinesJsonOptions& options,
-                            std::ostream& out, Issues* issues) {
+void write_centerlines_json(const MapExpansion& map, const CenterlinesJsonOptions& options, std::ostream& out,
+                            Issues* issues) {
   options.validate();
   std::unordered_set<std::string_view> selected;
   for (const std::string& token : options.tokens) {
@@ -62,9 +62,7 @@ void write_centerlines_json(const MapExpansion& map, const CenterlinesJsonOption
     }
     selected.insert(token);
   }
-  const auto wanted = [&](std::string_view token) {
-    return selected.empty() || selected.count(token) > 0;
-  };
+  const auto wanted = [&](std::string_view token) { return selected.empty() || selected.count(token) > 0; };
 
   out << "{\"centerlines\": [";
   bool first = true;

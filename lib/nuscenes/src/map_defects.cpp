@@ -28,8 +28,8 @@ bool segments_meet(const Point& a, const Point& b, const Point& c, const Point& 
   const int o1 = orientation(a, b, c), o2 = orientation(a, b, d);
   const int o3 = orientation(c, d, a), o4 = orientation(c, d, b);
   if (o1 != o2 && o3 != o4) return true;
-  return (o1 == 0 && on_segment(a, b, c)) || (o2 == 0 && on_segment(a, b, d)) ||
-         (o3 == 0 && on_segment(c, d, a)) || (o4 == 0 && on_segment(c, d, b));
+  return (o1 == 0 && on_segment(a, b, c)) || (o2 == 0 && on_segment(a, b, d)) || (o3 == 0 && on_segment(c, d, a)) ||
+         (o4 == 0 && on_segment(c, d, b));
 }
 
 std::vector<Point> ring_points(const MapExpansion& map, const std::vector<MapIndex>& nodes) {
@@ -88,7 +88,7 @@ Issues MapDefectLog::issues() const {
 
 bool ring_self_intersects(const std::vector<Point>& points) {
   const size_t n = points.size();
-  if (n < 4) return false;  // a triangle cannot cross itself
+  if (n < 4) return false;    // a triangle cannot cross itself
   std::vector<size_t> edges;  // edge i joins points[i] and points[(i + 1) % n]
   for (size_t i = 0; i < n; ++i)
     if (points[i] != points[(i + 1) % n]) edges.push_back(i);

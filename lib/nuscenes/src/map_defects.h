@@ -1,5 +1,5 @@
 #pragma once
-// Map defects the devkit loads without complaint (real-data.md "Map expansion v1.3"): null
+// Map defects the devkit loads without complaint (docs/nuscenes-input.md "Map expansion v1.3"): null
 // tokens, "" links, lines without nodes, empty holes, self-intersecting rings. They are
 // collected while reading and reported in MapExpansion::issues(), grouped per (check,
 // layer, key): queenstown's 676 null road_block.polygon_tokens make one issue, not 676.
@@ -19,8 +19,8 @@ class MapDefectLog {
 
   // One occurrence. `record` names the record: "'<token>'", or "#<index>" when its token is
   // null or empty. `what` says what was found and what nsgraph did (same text per group).
-  void add(Severity severity, std::string_view check, std::string_view layer, std::string_view key,
-           std::string record, std::string_view what);
+  void add(Severity severity, std::string_view check, std::string_view layer, std::string_view key, std::string record,
+           std::string_view what);
 
   // One issue per group, in order of first occurrence. Subject: "<file>: <layer> <first
   // record>"; message: "key \"<key>\" <what>: <count> record(s) (<first few>)".

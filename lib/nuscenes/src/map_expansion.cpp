@@ -17,9 +17,7 @@ std::string_view map_layer_name(MapLayer layer) {
   return kNames[static_cast<size_t>(layer)];
 }
 
-size_t MapExpansion::size(MapLayer layer) const {
-  return token_index_[static_cast<size_t>(layer)].size();
-}
+size_t MapExpansion::size(MapLayer layer) const { return token_index_[static_cast<size_t>(layer)].size(); }
 
 std::optional<MapIndex> MapExpansion::find(MapLayer layer, std::string_view token) const {
   const TokenMap& index = token_index_[static_cast<size_t>(layer)];
@@ -79,8 +77,7 @@ const std::vector<std::string>& MapExpansion::incoming(std::string_view token) c
   return c->incoming;
 }
 
-std::vector<geometry::Pose2> MapExpansion::discretize_lane(std::string_view token,
-                                                           double resolution_m) const {
+std::vector<geometry::Pose2> MapExpansion::discretize_lane(std::string_view token, double resolution_m) const {
   // arcline_path_3.get(token, []): a token without paths has no poses.
   const auto* paths = find_arcline_path(token);
   if (paths == nullptr) return {};
@@ -109,8 +106,7 @@ std::vector<Centerline> MapExpansion::discretize_centerlines(double resolution_m
     out.push_back({lane.token, MapLayer::kLane, discretize_lane(lane.token, resolution_m)});
   }
   for (const LaneConnector& connector : lane_connector_) {
-    out.push_back({connector.token, MapLayer::kLaneConnector,
-                   discretize_lane(connector.token, resolution_m)});
+    out.push_back({connector.token, MapLayer::kLaneConnector, discretize_lane(connector.token, resolution_m)});
   }
   return out;
 }

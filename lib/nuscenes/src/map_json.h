@@ -22,11 +22,11 @@ namespace od = simdjson::ondemand;
 // Where the reader is; used to build error messages and to name records in defects.
 struct Ctx {
   std::string file;
-  std::string_view layer;  // "lane", "arcline_path_3", … ("" at the top level)
-  size_t index = 0;        // record position in its array
-  std::string token;       // record token once known (arcline/connectivity: the map key)
-  std::string_view key;    // field being read
-  bool in_list = false;    // arcline paths: index is the path number within the token's list
+  std::string_view layer;           // "lane", "arcline_path_3", … ("" at the top level)
+  size_t index = 0;                 // record position in its array
+  std::string token;                // record token once known (arcline/connectivity: the map key)
+  std::string_view key;             // field being read
+  bool in_list = false;             // arcline paths: index is the path number within the token's list
   MapDefectLog* defects = nullptr;  // where null tokens and "" links are reported
 
   std::string record() const {
@@ -36,11 +36,8 @@ struct Ctx {
     if (token.empty() || in_list) out += strprintf(" %s#%zu", in_list ? "path " : "", index);
     return out;
   }
-  std::string field_prefix() const {
-    return key.empty() ? std::string() : "key \"" + std::string(key) + "\": ";
-  }
-  [[noreturn]] void parse_fail(const std::string& expected,
-                               simdjson::error_code ec = simdjson::SUCCESS) const {
+  std::string field_prefix() const { return key.empty() ? std::string() : "key \"" + std::string(key) + "\": "; }
+  [[noreturn]] void parse_fail(const std::string& expected, simdjson::error_code ec = simdjson::SUCCESS) const {
     std::string what = field_prefix() + "expected " + expected;
     if (ec != simdjson::SUCCESS) what += std::string(" (JSON: ") + simdjson::error_message(ec) + ")";
     throw ParseError(file, record(), what);
@@ -91,8 +88,7 @@ void for_each_element(od::value& v, const Ctx& c, const char* what, F&& f) {
 
 inline std::vector<std::string> get_string_list(od::value& v, const Ctx& c) {
   std::vector<std::string> out;
-  for_each_element(v, c, "an array of strings",
-                   [&](od::value& ev, size_t) { out.emplace_back(get_string(ev, c)); });
+  for_each_element(v, c, "an array of strings", [&](od::value& ev, size_t) { out.emplace_back(get_string(ev, c)); });
   return out;
 }
 
@@ -137,8 +133,7 @@ inline std::string_view get_token(od::value& v, const Ctx& c) {
 
 inline std::vector<std::string> get_token_list(od::value& v, const Ctx& c) {
   std::vector<std::string> out;
-  for_each_element(v, c, "an array of strings",
-                   [&](od::value& ev, size_t) { out.emplace_back(get_token(ev, c)); });
+  for_each_element(v, c, "an array of strings", [&](od::value& ev, size_t) { out.emplace_back(get_token(ev, c)); });
   return out;
 }
 
@@ -152,13 +147,21 @@ struct Field {
 };
 
 template <class R, std::string R::*M>
-void string_field(od::value& v, Ctx& c, R& r) { r.*M = std::string(get_string(v, c)); }
+void string_field(od::value& v, Ctx& c, R& r) {
+  r.*M = std::string(get_string(v, c));
+}
 template <class R, std::vector<std::string> R::*M>
-void string_list_field(od::value& v, Ctx& c, R& r) { r.*M = get_string_list(v, c); }
+void string_list_field(od::value& v, Ctx& c, R& r) {
+  r.*M = get_string_list(v, c);
+}
 template <class R, double R::*M>
-void number_field(od::value& v, Ctx& c, R& r) { r.*M = get_number(v, c); }
+void number_field(od::value& v, Ctx& c, R& r) {
+  r.*M = get_number(v, c);
+}
 template <class R, bool R::*M>
-void bool_field(od::value& v, Ctx& c, R& r) { r.*M = get_bool(v, c); }
+void bool_field(od::value& v, Ctx& c, R& r) {
+  r.*M = get_bool(v, c);
+}
 
 // Reads the fields of one JSON object into `r`: keys in any order, unknown keys skipped
 // (forward compatible; also "token", read before by read_record), each known key at most
@@ -217,8 +220,12 @@ void read_record(od::value& v, Ctx& c, const std::array<Field<R>, N>& spec, R& r
   read_fields(object, c, spec, r);
 }
 template <class R, std::string R::*M>
-void token_field(od::value& v, Ctx& c, R& r) { r.*M = std::string(get_token(v, c)); }
+void token_field(od::value& v, Ctx& c, R& r) {
+  r.*M = std::string(get_token(v, c));
+}
 template <class R, std::vector<std::string> R::*M>
-void token_list_field(od::value& v, Ctx& c, R& r) { r.*M = get_token_list(v, c); }
+void token_list_field(od::value& v, Ctx& c, R& r) {
+  r.*M = get_token_list(v, c);
+}
 
 }  // namespace nsg::nuscenes::map_detail

@@ -1,5 +1,5 @@
 // Map expansion reader: one simdjson on-demand pass over the file into typed records,
-// then the devkit's load-time checks (nuscenes-format.md §5) on the resolved references.
+// then the devkit's load-time checks (docs/nuscenes-input.md) on the resolved references.
 // Structure problems (not JSON, wrong type, missing key, non-finite number) are
 // ParseErrors; consistent-looking but wrong content (old version, dangling reference,
 // invalid arcline path) are DataErrors. Every message names the file, the layer and record
@@ -66,12 +66,17 @@ std::vector<LaneDividerSegment> get_segments(od::value& v, Ctx& c) {
 }
 
 template <class R, std::vector<LaneDividerSegment> R::*M>
-void segments_field(od::value& v, Ctx& c, R& r) { r.*M = get_segments(v, c); }
+void segments_field(od::value& v, Ctx& c, R& r) {
+  r.*M = get_segments(v, c);
+}
 
 constexpr std::array<Field<MapPose6>, 6> kPose6Fields{{
-    {"tx", &number_field<MapPose6, &MapPose6::tx>}, {"ty", &number_field<MapPose6, &MapPose6::ty>},
-    {"tz", &number_field<MapPose6, &MapPose6::tz>}, {"rx", &number_field<MapPose6, &MapPose6::rx>},
-    {"ry", &number_field<MapPose6, &MapPose6::ry>}, {"rz", &number_field<MapPose6, &MapPose6::rz>},
+    {"tx", &number_field<MapPose6, &MapPose6::tx>},
+    {"ty", &number_field<MapPose6, &MapPose6::ty>},
+    {"tz", &number_field<MapPose6, &MapPose6::tz>},
+    {"rx", &number_field<MapPose6, &MapPose6::rx>},
+    {"ry", &number_field<MapPose6, &MapPose6::ry>},
+    {"rz", &number_field<MapPose6, &MapPose6::rz>},
 }};
 
 template <class R, MapPose6 R::*M>
@@ -85,8 +90,7 @@ constexpr std::array<Field<TrafficLightItem>, 4> kItemFields{{
     {"color", &string_field<TrafficLightItem, &TrafficLightItem::color>},
     {"shape", &string_field<TrafficLightItem, &TrafficLightItem::shape>},
     {"rel_pos", &pose6_field<TrafficLightItem, &TrafficLightItem::rel_pos>},
-    {"to_road_block_tokens",
-     &token_list_field<TrafficLightItem, &TrafficLightItem::to_road_block_tokens>},
+    {"to_road_block_tokens", &token_list_field<TrafficLightItem, &TrafficLightItem::to_road_block_tokens>},
 }};
 
 void traffic_light_items(od::value& v, Ctx& c, TrafficLight& r) {
@@ -105,16 +109,16 @@ void node_x(od::value& v, Ctx& c, MapNode& r) { r.x_m = get_number(v, c); }
 void node_y(od::value& v, Ctx& c, MapNode& r) { r.y_m = get_number(v, c); }
 constexpr std::array<Field<MapNode>, 2> kNodeFields{{{"x", &node_x}, {"y", &node_y}}};
 
-constexpr std::array<Field<MapLine>, 1> kLineFields{{
-    {"node_tokens", &token_list_field<MapLine, &MapLine::node_tokens>}}};
+constexpr std::array<Field<MapLine>, 1> kLineFields{
+    {{"node_tokens", &token_list_field<MapLine, &MapLine::node_tokens>}}};
 
 constexpr std::array<Field<MapPolygon>, 2> kPolygonFields{{
     {"exterior_node_tokens", &token_list_field<MapPolygon, &MapPolygon::exterior_node_tokens>},
     {"holes", &polygon_holes},
 }};
 
-constexpr std::array<Field<DrivableArea>, 1> kDrivableAreaFields{{
-    {"polygon_tokens", &token_list_field<DrivableArea, &DrivableArea::polygon_tokens>}}};
+constexpr std::array<Field<DrivableArea>, 1> kDrivableAreaFields{
+    {{"polygon_tokens", &token_list_field<DrivableArea, &DrivableArea::polygon_tokens>}}};
 
 constexpr std::array<Field<RoadSegment>, 3> kRoadSegmentFields{{
     {"polygon_token", &token_field<RoadSegment, &RoadSegment::polygon_token>},
@@ -138,16 +142,16 @@ constexpr std::array<Field<Lane>, 6> kLaneFields{{
     {"right_lane_divider_segments", &segments_field<Lane, &Lane::right_lane_divider_segments>},
 }};
 
-constexpr std::array<Field<LaneConnector>, 1> kLaneConnectorFields{{
-    {"polygon_token", &token_field<LaneConnector, &LaneConnector::polygon_token>, false}}};
+constexpr std::array<Field<LaneConnector>, 1> kLaneConnectorFields{
+    {{"polygon_token", &token_field<LaneConnector, &LaneConnector::polygon_token>, false}}};
 
 constexpr std::array<Field<PedCrossing>, 2> kPedCrossingFields{{
     {"polygon_token", &token_field<PedCrossing, &PedCrossing::polygon_token>},
     {"road_segment_token", &token_field<PedCrossing, &PedCrossing::road_segment_token>, false},
 }};
 
-constexpr std::array<Field<Walkway>, 1> kWalkwayFields{{
-    {"polygon_token", &token_field<Walkway, &Walkway::polygon_token>}}};
+constexpr std::array<Field<Walkway>, 1> kWalkwayFields{
+    {{"polygon_token", &token_field<Walkway, &Walkway::polygon_token>}}};
 
 constexpr std::array<Field<StopLine>, 5> kStopLineFields{{
     {"polygon_token", &token_field<StopLine, &StopLine::polygon_token>},
@@ -170,15 +174,13 @@ constexpr std::array<Field<RoadDivider>, 2> kRoadDividerFields{{
 
 constexpr std::array<Field<LaneDivider>, 2> kLaneDividerFields{{
     {"line_token", &token_field<LaneDivider, &LaneDivider::line_token>},
-    {"lane_divider_segments", &segments_field<LaneDivider, &LaneDivider::lane_divider_segments>,
-     false},
+    {"lane_divider_segments", &segments_field<LaneDivider, &LaneDivider::lane_divider_segments>, false},
 }};
 
 constexpr std::array<Field<TrafficLight>, 5> kTrafficLightFields{{
     {"line_token", &token_field<TrafficLight, &TrafficLight::line_token>},
     {"traffic_light_type", &string_field<TrafficLight, &TrafficLight::traffic_light_type>, false},
-    {"from_road_block_token", &token_field<TrafficLight, &TrafficLight::from_road_block_token>,
-     false},
+    {"from_road_block_token", &token_field<TrafficLight, &TrafficLight::from_road_block_token>, false},
     {"items", &traffic_light_items, false},
     {"pose", &pose6_field<TrafficLight, &TrafficLight::pose>, false},
 }};
@@ -249,8 +251,7 @@ class MapExpansionBuilder {
   void parse(const std::filesystem::path& path);
   void parse_top_level(od::object& top);
   template <class R, size_t N>
-  void read_layer(od::value& v, std::string_view layer, const std::array<Field<R>, N>& spec,
-                  std::vector<R>& out);
+  void read_layer(od::value& v, std::string_view layer, const std::array<Field<R>, N>& spec, std::vector<R>& out);
   void read_arclines(od::value& v);
   void read_connectivity(od::value& v);
   void check_version(const std::string& version) const;
@@ -259,8 +260,8 @@ class MapExpansionBuilder {
   void index_layers();
   template <class R>
   void index_layer(MapLayer layer, const std::vector<R>& records);
-  MapIndex resolve(MapLayer target, std::string_view token, MapLayer from,
-                   const std::string& from_token, std::string_view field) const;
+  MapIndex resolve(MapLayer target, std::string_view token, MapLayer from, const std::string& from_token,
+                   std::string_view field) const;
   void resolve_references();
   void resolve_drivable_areas();
 
@@ -277,13 +278,11 @@ struct TopKey {
 };
 // Top-level keys of a v1.3 file; all but "version" must be present.
 constexpr std::array<TopKey, 19> kTopKeys{{
-    {"version", false},       {"polygon", true},      {"line", true},
-    {"node", true},           {"drivable_area", true}, {"road_segment", true},
-    {"road_block", true},     {"lane", true},         {"ped_crossing", true},
-    {"walkway", true},        {"stop_line", true},    {"carpark_area", true},
-    {"road_divider", true},   {"lane_divider", true}, {"traffic_light", true},
-    {"lane_connector", true}, {"arcline_path_3", true}, {"connectivity", true},
-    {"canvas_edge", true},
+    {"version", false},       {"polygon", true},      {"line", true},          {"node", true},
+    {"drivable_area", true},  {"road_segment", true}, {"road_block", true},    {"lane", true},
+    {"ped_crossing", true},   {"walkway", true},      {"stop_line", true},     {"carpark_area", true},
+    {"road_divider", true},   {"lane_divider", true}, {"traffic_light", true}, {"lane_connector", true},
+    {"arcline_path_3", true}, {"connectivity", true}, {"canvas_edge", true},
 }};
 
 }  // namespace
@@ -293,13 +292,14 @@ void MapExpansionBuilder::check_version(const std::string& version) const {
   if (version < kMinVersion) {
     throw DataError(c_.file, "key \"version\"",
                     "expected a map expansion version >= \"1.3\" (string comparison, like the "
-                    "devkit), got \"" + version + "\"; download the current map expansion");
+                    "devkit), got \"" +
+                        version + "\"; download the current map expansion");
   }
 }
 
 template <class R, size_t N>
-void MapExpansionBuilder::read_layer(od::value& v, std::string_view layer,
-                                     const std::array<Field<R>, N>& spec, std::vector<R>& out) {
+void MapExpansionBuilder::read_layer(od::value& v, std::string_view layer, const std::array<Field<R>, N>& spec,
+                                     std::vector<R>& out) {
   c_.layer = layer;
   for_each_element(v, c_, "an array of records", [&](od::value& ev, size_t i) {
     c_.index = i;
@@ -489,9 +489,8 @@ void MapExpansionBuilder::fail_truncated(std::string_view json) const {
       last_token = std::string(json.substr(open + 1, close - open - 1));
     }
   }
-  const std::string where = last_token.empty() ? std::string()
-                                               : " (the last record token before the end is '" +
-                                                     last_token + "')";
+  const std::string where =
+      last_token.empty() ? std::string() : " (the last record token before the end is '" + last_token + "')";
   throw ParseError(c_.file, last_token.empty() ? "" : "record '" + last_token + "'",
                    strprintf("expected a complete JSON document: the file ends early after %zu "
                              "bytes, inside an object or array%s",
@@ -506,8 +505,7 @@ void MapExpansionBuilder::index_layer(MapLayer layer, const std::vector<R>& reco
     const auto [it, inserted] = index.emplace(records[i].token, static_cast<MapIndex>(i));
     if (!inserted) {
       throw DataError(c_.file, std::string(map_layer_name(layer)) + " '" + records[i].token + "'",
-                      strprintf("expected unique tokens in the layer (records #%u and #%zu share it)",
-                                it->second, i));
+                      strprintf("expected unique tokens in the layer (records #%u and #%zu share it)", it->second, i));
     }
   }
 }
@@ -534,12 +532,12 @@ MapIndex MapExpansionBuilder::resolve(MapLayer target, std::string_view token, M
                                       const std::string& from_token, std::string_view field) const {
   if (const auto found = m_.find(target, token)) return *found;
   // A null link reads as "": the devkit finds the record whose own token is null, if any.
-  const std::string got = token.empty() ? "null or \"\", and no " + std::string(map_layer_name(target)) +
-                                              " record has a null token"
-                                        : "'" + std::string(token) + "'";
+  const std::string got =
+      token.empty() ? "null or \"\", and no " + std::string(map_layer_name(target)) + " record has a null token"
+                    : "'" + std::string(token) + "'";
   throw DataError(c_.file, std::string(map_layer_name(from)) + " '" + from_token + "'",
-                  "key \"" + std::string(field) + "\": expected an existing " +
-                      std::string(map_layer_name(target)) + " token, got " + got + " (dangling reference)");
+                  "key \"" + std::string(field) + "\": expected an existing " + std::string(map_layer_name(target)) +
+                      " token, got " + got + " (dangling reference)");
 }
 
 void MapExpansionBuilder::resolve_references() {
@@ -578,8 +576,8 @@ void MapExpansionBuilder::resolve_references() {
   line_of(m_.road_divider_, L::kRoadDivider);
   line_of(m_.lane_divider_, L::kLaneDivider);
   line_of(m_.traffic_light_, L::kTrafficLight);
-  const auto segment_nodes = [&](std::vector<LaneDividerSegment>& segments, L from,
-                                 const std::string& tok, std::string_view field) {
+  const auto segment_nodes = [&](std::vector<LaneDividerSegment>& segments, L from, const std::string& tok,
+                                 std::string_view field) {
     for (LaneDividerSegment& s : segments) s.node = resolve(L::kNode, s.node_token, from, tok, field);
   };
   for (Lane& r : m_.lane_) {
@@ -635,14 +633,11 @@ MapExpansion MapExpansionBuilder::load(const std::filesystem::path& path) {
   return map;
 }
 
-MapExpansion load_map_expansion_file(const std::filesystem::path& path) {
-  return MapExpansionBuilder::load(path);
-}
+MapExpansion load_map_expansion_file(const std::filesystem::path& path) { return MapExpansionBuilder::load(path); }
 
 MapExpansion load_map_expansion(const std::filesystem::path& dataroot, std::string_view location) {
   (void)geometry::location_info(location);  // ConfigError unless one of the four names
-  return MapExpansionBuilder::load(dataroot / "maps" / "expansion" /
-                                   (std::string(location) + ".json"));
+  return MapExpansionBuilder::load(dataroot / "maps" / "expansion" / (std::string(location) + ".json"));
 }
 
 }  // namespace nsg::nuscenes

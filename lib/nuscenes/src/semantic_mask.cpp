@@ -70,8 +70,9 @@ std::string read_gray8(std::FILE* f, GrayImage& out, std::vector<png_bytep>& row
   png_destroy_read_struct(&png, &info, nullptr);
   if (problem == nullptr) return "";
   std::string reason = problem;
-  reason += problem_size ? " (got " + std::to_string(width) + " x " + std::to_string(height) + ")"
-                         : " (got bit depth " + std::to_string(bit_depth) + ", color type " + std::to_string(color_type) + ")";
+  reason += problem_size
+                ? " (got " + std::to_string(width) + " x " + std::to_string(height) + ")"
+                : " (got bit depth " + std::to_string(bit_depth) + ", color type " + std::to_string(color_type) + ")";
   return reason;
 }
 

@@ -1,4 +1,4 @@
-// Table readers: one declarative field list per table (nuscenes-format.md §3).
+// Table readers: one declarative field list per table (docs/nuscenes-input.md).
 #include "nsg/nuscenes/tables.h"
 
 #include <cstring>
@@ -23,16 +23,16 @@ namespace {
 // [0-9a-f]. A table record holds ~6 tokens, so this runs millions of times per table.
 bool hex16_to_bytes(const char* text, std::uint8_t* out) {
   const __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(text));
-  const __m128i digit = _mm_sub_epi8(c, _mm_set1_epi8('0'));   // 0..9 for '0'..'9'
-  const __m128i letter = _mm_sub_epi8(c, _mm_set1_epi8('a'));  // 0..5 for 'a'..'f'
+  const __m128i digit = _mm_sub_epi8(c, _mm_set1_epi8('0'));                              // 0..9 for '0'..'9'
+  const __m128i letter = _mm_sub_epi8(c, _mm_set1_epi8('a'));                             // 0..5 for 'a'..'f'
   const __m128i is_digit = _mm_cmpeq_epi8(_mm_min_epu8(digit, _mm_set1_epi8(9)), digit);  // unsigned ≤ 9
   const __m128i is_letter = _mm_cmpeq_epi8(_mm_min_epu8(letter, _mm_set1_epi8(5)), letter);
   if (_mm_movemask_epi8(_mm_or_si128(is_digit, is_letter)) != 0xffff) return false;
   const __m128i nibble =
       _mm_or_si128(_mm_and_si128(is_digit, digit), _mm_andnot_si128(is_digit, _mm_add_epi8(letter, _mm_set1_epi8(10))));
   // 16-bit lanes hold (second << 8 | first); a byte is (first << 4) | second.
-  const __m128i pairs = _mm_or_si128(_mm_slli_epi16(_mm_and_si128(nibble, _mm_set1_epi16(0x00ff)), 4),
-                                     _mm_srli_epi16(nibble, 8));
+  const __m128i pairs =
+      _mm_or_si128(_mm_slli_epi16(_mm_and_si128(nibble, _mm_set1_epi16(0x00ff)), 4), _mm_srli_epi16(nibble, 8));
   _mm_storel_epi64(reinterpret_cast<__m128i*>(out), _mm_packus_epi16(pairs, pairs));
   return true;
 }
@@ -59,7 +59,7 @@ std::optional<Token> Token::parse(std::string_view text, bool allow_short) {
     for (size_t w = 0; w < 4; ++w) {
       std::uint64_t x;
       std::memcpy(&x, text.data() + 8 * w, 8);  // little-endian: char 0 in the low byte
-      const auto ge = [&](std::uint64_t lo) { return ((x | kH) - kL * lo) & kH; };  // byte >= lo
+      const auto ge = [&](std::uint64_t lo) { return ((x | kH) - kL * lo) & kH; };      // byte >= lo
       const auto le = [&](std::uint64_t hi) { return ((kL * (0x80 + hi)) - x) & kH; };  // byte <= hi
       const std::uint64_t digit = ge(0x30) & le(0x39), letter = ge(0x61) & le(0x66);
       ok &= ((x & kH) == 0) & ((digit | letter) == kH);
@@ -95,12 +95,9 @@ Token Token::from_string(std::string_view text) {
 
 std::string Token::str() const {
   switch (kind_) {
-    case Kind::kEmpty:
-      return {};
-    case Kind::kShort:
-      return std::string(reinterpret_cast<const char*>(bytes_.data()), length_);
-    case Kind::kHex32:
-      break;
+    case Kind::kEmpty: return {};
+    case Kind::kShort: return std::string(reinterpret_cast<const char*>(bytes_.data()), length_);
+    case Kind::kHex32: break;
   }
   static const char* kDigits = "0123456789abcdef";
   std::string s(32, '0');
@@ -133,12 +130,9 @@ bool operator<(const Token& a, const Token& b) {
 
 const char* modality_name(Modality m) {
   switch (m) {
-    case Modality::kCamera:
-      return "camera";
-    case Modality::kLidar:
-      return "lidar";
-    case Modality::kRadar:
-      return "radar";
+    case Modality::kCamera: return "camera";
+    case Modality::kLidar: return "lidar";
+    case Modality::kRadar: return "radar";
   }
   return "?";
 }
@@ -148,8 +142,8 @@ const char* modality_name(Modality m) {
 namespace {
 
 using detail::FieldSpec;
-using detail::od::value;
 using detail::RecordContext;
+using detail::od::value;
 
 // The record's own token; remembered for later error messages of the same record.
 template <class R>
@@ -159,10 +153,14 @@ void read_own_token(value& v, RecordContext& ctx, R& r, bool allow_short = false
   if (r.token.empty()) ctx.fail("a non-empty token");
 }
 
-#define NSG_FIELD(R, key, body) \
-  FieldSpec<R> { key, [](value& v, RecordContext& ctx, R& r) { body; } }
-#define NSG_OPTIONAL_FIELD(R, key, body) \
-  FieldSpec<R> { key, [](value& v, RecordContext& ctx, R& r) { body; }, false }
+#define NSG_FIELD(R, key, body)                           \
+  FieldSpec<R> {                                          \
+    key, [](value& v, RecordContext& ctx, R& r) { body; } \
+  }
+#define NSG_OPTIONAL_FIELD(R, key, body)                         \
+  FieldSpec<R> {                                                 \
+    key, [](value& v, RecordContext& ctx, R& r) { body; }, false \
+  }
 #define NSG_TOKEN(R, member) NSG_FIELD(R, #member, r.member = detail::read_token(v, ctx))
 
 template <class R>
@@ -368,11 +366,11 @@ const Record& Table<Record>::get(const Token& token) const {
   return rows_[static_cast<size_t>(i)];
 }
 
-#define NSG_TABLE(Record, name)                                                   \
-  template <>                                                                     \
-  const char* table_name<Record>() {                                              \
-    return name;                                                                  \
-  }                                                                               \
+#define NSG_TABLE(Record, name)                                                  \
+  template <>                                                                    \
+  const char* table_name<Record>() {                                             \
+    return name;                                                                 \
+  }                                                                              \
   template std::vector<Record> read_table<Record>(const std::filesystem::path&); \
   template class Table<Record>;
 

@@ -20,8 +20,10 @@ int64_t OutputOptions::resolved_tiles_per_shard() const {
 }
 
 std::vector<ExcludedScene> default_excluded_scenes() {
-  const std::string bad_fit = "boston-seaport: the ego poses fit the map badly (nuScenes devkit README, map_api blacklist)";
-  const std::string off_map = "boston-seaport: lies outside the annotated map (nuScenes devkit README, map_api blacklist)";
+  const std::string bad_fit =
+      "boston-seaport: the ego poses fit the map badly (nuScenes devkit README, map_api blacklist)";
+  const std::string off_map =
+      "boston-seaport: lies outside the annotated map (nuScenes devkit README, map_api blacklist)";
   return {{"scene-0499", bad_fit},
           {"scene-0501", off_map},
           {"scene-0502", off_map},
@@ -51,8 +53,7 @@ void GenerateConfig::check_relations(const options::Origins& origins) const {
     // The value came from the source that set the key (or a key below it) last.
     std::string source = "defaults";
     for (const auto& [key, from] : origins)
-      if (key == e.record() || starts_with(key, e.record() + ".") || starts_with(e.record(), key + "."))
-        source = from;
+      if (key == e.record() || starts_with(key, e.record() + ".") || starts_with(e.record(), key + ".")) source = from;
     throw ConfigError(source, e.record(), e.expected());
   }
 }
@@ -93,7 +94,8 @@ ordered_json regions_json(const std::map<std::string, std::vector<tiling::Region
     ordered_json arr = ordered_json::array();
     for (const tiling::Region& r : list) {
       const tiling::RectM& b = r.bounds;
-      arr.push_back({{"name", r.name}, {"split", r.split}, {"bounds_m", {b.x_west_m, b.y_south_m, b.x_east_m, b.y_north_m}}});
+      arr.push_back(
+          {{"name", r.name}, {"split", r.split}, {"bounds_m", {b.x_west_m, b.y_south_m, b.x_east_m, b.y_north_m}}});
     }
     out[location] = arr;
   }
@@ -152,7 +154,8 @@ const options::Table<GenerateConfig>& generate_option_table() {
            if (v != "1") options::reject(v, s);
          })
         .help("Version of this format");
-    t.text("dataroot", &GenerateConfig::dataroot).help("nuScenes dataroot (\"\" in a config file: given by --dataroot)");
+    t.text("dataroot", &GenerateConfig::dataroot)
+        .help("nuScenes dataroot (\"\" in a config file: given by --dataroot)");
     t.text("version", &GenerateConfig::version).help("Release version, e.g. v1.0-trainval or v1.0-mini");
     t.shape(
          "locations", "an array of location names", {{"type", "array"}, {"items", {{"type", "string"}}}},
@@ -178,8 +181,9 @@ const options::Table<GenerateConfig>& generate_option_table() {
            return out;
          },
          [](GenerateConfig& c, const json& v, const Spec& s) { c.exclude_scenes = read_excluded_scenes(v, s); })
-        .help("Scenes left out of the run (default: the real release's known-bad boston-seaport scenes 0499, 0501, "
-              "0502, 0515, 0517; [] keeps every scene); the manifest lists those present");
+        .help(
+            "Scenes left out of the run (default: the real release's known-bad boston-seaport scenes 0499, 0501, "
+            "0502, 0515, 0517; [] keeps every scene); the manifest lists those present");
     t.integer("seed", &GenerateConfig::seed).range(options::at_least(0)).help("Seed of every random choice");
     t.number("resolution_m", &GenerateConfig::resolution_m)
         .unit("m")
@@ -281,7 +285,8 @@ void apply_value(GenerateConfig& config, const std::string& key, const std::stri
 void apply_setting(GenerateConfig& config, const std::string& assignment, options::Origins* origins) {
   const size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw ConfigError("--set", assignment, "key=value (e.g. crops.min_lidar_coverage=0.4; --list-options lists the keys)");
+    throw ConfigError("--set", assignment,
+                      "key=value (e.g. crops.min_lidar_coverage=0.4; --list-options lists the keys)");
   apply_value(config, assignment.substr(0, eq), assignment.substr(eq + 1), "--set", origins);
 }
 

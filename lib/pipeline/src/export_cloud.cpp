@@ -118,8 +118,9 @@ SceneCloud export_cloud(const ExportCloudOptions& options) {
   Database db = Database::load(options.dataroot, options.version);
   SceneCloud cloud = scene_cloud(db, options.scene, options.raster, options.threads);
   if (cloud.points.empty())  // PCL refuses an empty cloud; say why instead
-    throw DataError(db.sample_data.file(), "scene '" + options.scene + "'",
-                    "LiDAR points in the scene's " + options.raster.lidar_channel + " sweeps (none survive the filters)");
+    throw DataError(
+        db.sample_data.file(), "scene '" + options.scene + "'",
+        "LiDAR points in the scene's " + options.raster.lidar_channel + " sweeps (none survive the filters)");
   write_pcd(cloud.points, options.out, options.format);
   return cloud;
 }

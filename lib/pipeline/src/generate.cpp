@@ -86,8 +86,8 @@ ShareSpec resolve_share(std::optional<int> index, std::optional<int> count) {
 }
 
 size_t LocationPlan::count(const std::string& split) const {
-  return static_cast<size_t>(std::count_if(crops.begin(), crops.end(),
-                                           [&](const tiling::Crop& c) { return c.split == split; }));
+  return static_cast<size_t>(
+      std::count_if(crops.begin(), crops.end(), [&](const tiling::Crop& c) { return c.split == split; }));
 }
 
 ordered_json plan_json(const LocationPlan& p) {
@@ -107,14 +107,15 @@ ordered_json plan_json(const LocationPlan& p) {
                       {"last_key", p.keys[s.first + s.count - 1]}});
   ordered_json excluded = ordered_json::array();
   for (const ExcludedScene& e : p.excluded_scenes) excluded.push_back({{"name", e.name}, {"reason", e.reason}});
-  return {{"name", p.location},
-          {"map_version", p.map_version},
-          {"lane_graph",
-           {{"nodes", p.graph_nodes}, {"edges", p.graph_edges}, {"lanes", p.graph_lanes}, {"map_defects", p.map_defects}}},
-          {"scenes", {{"used", p.scenes_used}, {"excluded", excluded}}},
-          {"regions", regions},
-          {"counts", counts},
-          {"shards", shards}};
+  return {
+      {"name", p.location},
+      {"map_version", p.map_version},
+      {"lane_graph",
+       {{"nodes", p.graph_nodes}, {"edges", p.graph_edges}, {"lanes", p.graph_lanes}, {"map_defects", p.map_defects}}},
+      {"scenes", {{"used", p.scenes_used}, {"excluded", excluded}}},
+      {"regions", regions},
+      {"counts", counts},
+      {"shards", shards}};
 }
 
 namespace {
@@ -130,7 +131,8 @@ struct LocationState {
 std::vector<std::string> resolve_locations(const GenerateConfig& config, const nuscenes::Database& db) {
   if (!config.locations.empty()) {
     for (const std::string& l : config.locations) {
-      const bool present = std::any_of(db.log.begin(), db.log.end(), [&](const nuscenes::Log& g) { return g.location == l; });
+      const bool present =
+          std::any_of(db.log.begin(), db.log.end(), [&](const nuscenes::Log& g) { return g.location == l; });
       if (!present) throw ConfigError("", "locations", "locations with logs in the release ('" + l + "' has none)");
     }
     return config.locations;
@@ -320,8 +322,7 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
     t0 = std::chrono::steady_clock::now();
     if (scenes.empty())
       log::warn("generate: " + location + ": every scene is excluded (scenes.exclude): no LiDAR, no tiles");
-    else
-      log::info(strprintf("generate: %s: accumulating LiDAR of %zu scene(s)", location.c_str(), scenes.size()));
+    else log::info(strprintf("generate: %s: accumulating LiDAR of %zu scene(s)", location.c_str(), scenes.size()));
     st.layers = accumulate_layers(db, config, scenes, run.threads);
     summary.sweeps += st.layers.stats.sweeps;
     summary.seconds.lidar_s += seconds_since(t0);
@@ -414,7 +415,8 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
         out.write_maps(item.id, location, st.graph, st.plan);
       } else {
         Progress* progress = tile_progress ? &*tile_progress : nullptr;
-        summary.tiles_written += out.write_shard(item.id, db, st.plan, st.plan.shards[item.shard], layers, run, progress);
+        summary.tiles_written +=
+            out.write_shard(item.id, db, st.plan, st.plan.shards[item.shard], layers, run, progress);
       }
       ++summary.items_done;
     }

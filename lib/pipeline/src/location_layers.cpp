@@ -38,7 +38,8 @@ CameraSetup prepare_cameras(const nuscenes::Database& db, const GenerateConfig& 
 raster::LocationLayers accumulate_layers(const nuscenes::Database& db, const GenerateConfig& config,
                                          const std::vector<nuscenes::Index>& scenes, int threads) {
   if (scenes.empty())
-    return raster::LocationLayers{raster::LidarLayer(config.resolution_m), raster::VehicleLayer(config.resolution_m), {}};
+    return raster::LocationLayers{
+        raster::LidarLayer(config.resolution_m), raster::VehicleLayer(config.resolution_m), {}};
   return raster::accumulate_scenes(db, scenes, config.raster, threads);
 }
 
@@ -50,12 +51,13 @@ raster::ColorLayer camera_layers(const nuscenes::Database& db, const GenerateCon
   const raster::CameraOptions& camera = config.raster.camera;
   if (camera.rgb || camera.semantic_masks()) color = raster::colorize_scenes(db, scenes, lidar, rects, camera, threads);
   if (setup.lidarseg) {
-    const raster::LidarsegLayer labels = raster::accumulate_lidarseg(db, scenes, config.raster.lidar,
-                                                                     config.raster.lidar_channel,
-                                                                     setup.lidarseg_classes, threads);
+    const raster::LidarsegLayer labels = raster::accumulate_lidarseg(
+        db, scenes, config.raster.lidar, config.raster.lidar_channel, setup.lidarseg_classes, threads);
     if (labels.stats.sweeps_without_labels > 0)
-      log::warn(strprintf("generate: %s: %zu of %zu key-frame sweeps have no lidarseg labels (their points give no "
-                          "class)", label.c_str(), labels.stats.sweeps_without_labels, labels.stats.sweeps));
+      log::warn(
+          strprintf("generate: %s: %zu of %zu key-frame sweeps have no lidarseg labels (their points give no "
+                    "class)",
+                    label.c_str(), labels.stats.sweeps_without_labels, labels.stats.sweeps));
     raster::overlay_semantics(color, labels, rects);
   }
   return color;
@@ -84,8 +86,9 @@ WindowLayers window_layers(const nuscenes::Database& db, const GenerateConfig& c
   const tiling::CellWindow& w = out.window;
   const int64_t pixels = (w.col1 - w.col0) * (w.row1 - w.row0);
   if (pixels > max_pixels)
-    throw ConfigError("", bbox_record, strprintf("a window of at most %lld pixels (this one has %lld; pass a smaller one)",
-                                                 static_cast<long long>(max_pixels), static_cast<long long>(pixels)));
+    throw ConfigError("", bbox_record,
+                      strprintf("a window of at most %lld pixels (this one has %lld; pass a smaller one)",
+                                static_cast<long long>(max_pixels), static_cast<long long>(pixels)));
   const raster::ColorLayer color =
       camera_layers(db, config, cameras, scenes, layers.lidar, {{w.col0, w.row0, w.col1, w.row1}}, threads, location);
   const tiling::LocationRasters source{&layers.lidar, cameras.cameras ? &color : nullptr, &layers.vehicles, nullptr,

@@ -33,8 +33,8 @@ constexpr double kReachedBlockFraction = 0.8;
 // their points (denser sweeps mostly hit the same near cells again). Fitted on the three
 // synthetic worlds: city 2.4 sweeps per block of 8 000 points → 0.31, demo 5.0 → 0.53,
 // bench 2.5 of 34 720 points (the real sensor's count) → 0.39.
-constexpr double kCoverageRatePerSweep = 0.15;      // μ
-constexpr double kCoveragePointsExponent = 0.16;    // κ
+constexpr double kCoverageRatePerSweep = 0.15;    // μ
+constexpr double kCoveragePointsExponent = 0.16;  // κ
 constexpr double kCoverageReferencePoints = 8000.0;
 // Sweeps whose file size is looked at for the points per sweep (evenly spread).
 constexpr size_t kSweepSizeSamples = 256;
@@ -81,11 +81,11 @@ struct LocationFootprint {
   size_t lidar_blocks = 0;      // union over the location's sweeps
   size_t max_scene_blocks = 0;  // the largest single scene
   size_t vehicle_blocks = 0;
-  double vehicle_cells = 0.0;   // box footprints, a box seen again in the same place counted once
+  double vehicle_cells = 0.0;  // box footprints, a box seen again in the same place counted once
   size_t images = 0;
   uint64_t max_image_pixels = 0;  // the largest key-frame camera image (full size)
   size_t sweeps = 0;
-  size_t key_sweeps = 0;  // key frames: what lidarseg labels
+  size_t key_sweeps = 0;                               // key frames: what lidarseg labels
   double points_per_sweep = kCoverageReferencePoints;  // from a sample of the sweep files' sizes
   uint64_t map_file_bytes = 0;
 };
@@ -134,7 +134,7 @@ void add_vehicle_footprint(const nuscenes::Database& db, const std::vector<int>&
 }
 
 LocationFootprint footprint(const nuscenes::Database& db, const std::vector<nuscenes::Index>& scenes,
-                           const GenerateConfig& config, const std::string& location) {
+                            const GenerateConfig& config, const std::string& location) {
   const double block_m = raster::kBlockCells * config.resolution_m;
   const double range_m = config.raster.lidar.max_range_m;
   std::vector<int> slot(db.scene.size(), -1);
@@ -190,8 +190,8 @@ uint64_t tile_stage_bytes(const GenerateConfig& config, size_t threads) {
   return kWorkingBytes + batch * pixels * kTileBytesPerPixelInFlight;
 }
 
-MemoryEstimate location_estimate(const LocationFootprint& f, const GenerateConfig& config, size_t lanes,
-                                 size_t threads, bool cameras, bool lidarseg) {
+MemoryEstimate location_estimate(const LocationFootprint& f, const GenerateConfig& config, size_t lanes, size_t threads,
+                                 bool cameras, bool lidarseg) {
   MemoryEstimate e;
   const auto blocks_of = [](double blocks, size_t cell_bytes) {
     return static_cast<uint64_t>(blocks * kCellsPerBlock * cell_bytes);
@@ -201,10 +201,10 @@ MemoryEstimate location_estimate(const LocationFootprint& f, const GenerateConfi
   e.map_bytes = static_cast<uint64_t>(kMapReadBytesPerFileByte * static_cast<double>(f.map_file_bytes));
   e.lidar_blocks = static_cast<uint64_t>(reached);
   // The finished layers are packed: the covered cells and a little per block.
-  e.lidar_bytes = static_cast<uint64_t>(reached * (fill * kCellsPerBlock * sizeof(raster::LidarCell) +
-                                                   kPackedBlockBytes));
-  e.vehicle_bytes = static_cast<uint64_t>(f.vehicle_cells * sizeof(raster::VehicleCell)) +
-                    f.vehicle_blocks * kPackedBlockBytes;
+  e.lidar_bytes =
+      static_cast<uint64_t>(reached * (fill * kCellsPerBlock * sizeof(raster::LidarCell) + kPackedBlockBytes));
+  e.vehicle_bytes =
+      static_cast<uint64_t>(f.vehicle_cells * sizeof(raster::VehicleCell)) + f.vehicle_blocks * kPackedBlockBytes;
   // Each lane holds one scene's dense LiDAR and vehicle blocks while it accumulates.
   e.scenes_bytes = lanes * blocks_of(kReachedBlockFraction * static_cast<double>(f.max_scene_blocks),
                                      sizeof(raster::LidarCell) + sizeof(raster::VehicleCell) / 4);
@@ -215,9 +215,8 @@ MemoryEstimate location_estimate(const LocationFootprint& f, const GenerateConfi
   if (cameras && f.images > 0) {
     const double tile_blocks = kTileShare * reached;
     const uint64_t colour = blocks_of(tile_blocks, sizeof(raster::ColorCell));
-    const uint64_t index =
-        static_cast<uint64_t>(tile_blocks * kCellsPerBlock * fill) * kCameraBytesPerPoint +
-        std::min<uint64_t>(threads, f.images) * image_in_flight_bytes(f, config);
+    const uint64_t index = static_cast<uint64_t>(tile_blocks * kCellsPerBlock * fill) * kCameraBytesPerPoint +
+                           std::min<uint64_t>(threads, f.images) * image_in_flight_bytes(f, config);
     uint64_t labels = 0;
     if (lidarseg)
       labels = static_cast<uint64_t>(reached * kCellsPerBlock * covered_cell_fraction(f, reached, f.key_sweeps)) *
@@ -234,11 +233,12 @@ std::string mb(uint64_t bytes) { return human_bytes(static_cast<double>(bytes));
 }  // namespace
 
 std::string MemoryEstimate::describe() const {
-  return strprintf("%s (at %s: tables and process %s; reading the map %s, then: LiDAR layer %s over ~%llu "
-                   "blocks, vehicles %s, scenes in progress %s, cameras %s, tiles and graph %s)",
-                   mb(total()).c_str(), location.c_str(), mb(base_bytes).c_str(), mb(map_bytes).c_str(),
-                   mb(lidar_bytes).c_str(), static_cast<unsigned long long>(lidar_blocks), mb(vehicle_bytes).c_str(),
-                   mb(scenes_bytes).c_str(), mb(camera_bytes).c_str(), mb(working_bytes).c_str());
+  return strprintf(
+      "%s (at %s: tables and process %s; reading the map %s, then: LiDAR layer %s over ~%llu "
+      "blocks, vehicles %s, scenes in progress %s, cameras %s, tiles and graph %s)",
+      mb(total()).c_str(), location.c_str(), mb(base_bytes).c_str(), mb(map_bytes).c_str(), mb(lidar_bytes).c_str(),
+      static_cast<unsigned long long>(lidar_blocks), mb(vehicle_bytes).c_str(), mb(scenes_bytes).c_str(),
+      mb(camera_bytes).c_str(), mb(working_bytes).c_str());
 }
 
 std::string MemoryEstimate::how_to_lower() const {
@@ -260,8 +260,8 @@ MemoryEstimate estimate_generate_memory(const nuscenes::Database& db,
                                         const std::map<std::string, std::vector<nuscenes::Index>>& scenes,
                                         const GenerateConfig& config, int threads, bool cameras) {
   const size_t workers = static_cast<size_t>(resolve_threads(threads));
-  const bool lidarseg = config.raster.camera.semantic &&
-                        config.raster.camera.semantic_source == raster::SemanticSource::kLidarseg;
+  const bool lidarseg =
+      config.raster.camera.semantic && config.raster.camera.semantic_source == raster::SemanticSource::kLidarseg;
   MemoryEstimate peak;
   for (const auto& [location, list] : scenes) {
     if (list.empty()) continue;

@@ -1,5 +1,5 @@
 // `merge`: checks that every share of a run finished and that every output still hashes
-// as recorded, then writes manifest.json (DESIGN.md §5, §7).
+// as recorded, then writes manifest.json (docs/dataset-format.md).
 #include <algorithm>
 #include <map>
 #include <regex>
@@ -111,8 +111,8 @@ void merge(const fs::path& out) {
   std::map<int, const ShareRecord*> shares;
   for (const ShareRecord& r : all) {
     if (r.count != count) {
-      problems.push_back(r.path.string() + ": a record of a " + std::to_string(r.count) +
-                         "-share run next to a " + std::to_string(count) + "-share run (remove the stale one)");
+      problems.push_back(r.path.string() + ": a record of a " + std::to_string(r.count) + "-share run next to a " +
+                         std::to_string(count) + "-share run (remove the stale one)");
       continue;
     }
     shares[r.index] = &r;
@@ -162,8 +162,12 @@ void merge(const fs::path& out) {
       const std::string split = shard["split"].get<std::string>();
       split_tiles[split] += shard["tiles"].get<int64_t>();
       ++split_shards[split];
-      ordered_json entry = {{"name", name}, {"split", split}, {"location", location["name"]}, {"tiles", shard["tiles"]},
-                            {"first_key", shard["first_key"]}, {"last_key", shard["last_key"]}};
+      ordered_json entry = {{"name", name},
+                            {"split", split},
+                            {"location", location["name"]},
+                            {"tiles", shard["tiles"]},
+                            {"first_key", shard["first_key"]},
+                            {"last_key", shard["last_key"]}};
       if (tar) {
         entry["file"] = (*item)["files"][0]["file"];
         entry["sha256"] = (*item)["files"][0]["sha256"];
@@ -196,24 +200,23 @@ void merge(const fs::path& out) {
       for (const auto& e : location["scenes"]["excluded"])
         excluded_scenes.push_back({{"name", e["name"]}, {"location", location["name"]}, {"reason", e["reason"]}});
   const ordered_json& config = first.doc["config"];
-  const ordered_json manifest = {
-      {"schema_version", "1"},
-      {"tool", {{"name", "nsgraph"}, {"version", kVersion}}},
-      {"seed", config["seed"]},
-      {"config", config},
-      {"inputs", inputs_json(config, plan)},
-      {"georeference", georeference_json(plan)},
-      {"layout", tar ? "tar" : "folder"},
-      {"tile_format",
-       {{"resolution_m", config["resolution_m"]},
-        {"size_px", config["crops"]["size_px"]},
-        {"key_pattern", "<location>-<split>-<NNNNNN>"},
-        {"files", tile_file_suffixes()}}},
-      {"locations", plan},
-      {"excluded_scenes", excluded_scenes},
-      {"counts", counts},
-      {"shards", shards},
-      {"maps", maps}};
+  const ordered_json manifest = {{"schema_version", "1"},
+                                 {"tool", {{"name", "nsgraph"}, {"version", kVersion}}},
+                                 {"seed", config["seed"]},
+                                 {"config", config},
+                                 {"inputs", inputs_json(config, plan)},
+                                 {"georeference", georeference_json(plan)},
+                                 {"layout", tar ? "tar" : "folder"},
+                                 {"tile_format",
+                                  {{"resolution_m", config["resolution_m"]},
+                                   {"size_px", config["crops"]["size_px"]},
+                                   {"key_pattern", "<location>-<split>-<NNNNNN>"},
+                                   {"files", tile_file_suffixes()}}},
+                                 {"locations", plan},
+                                 {"excluded_scenes", excluded_scenes},
+                                 {"counts", counts},
+                                 {"shards", shards},
+                                 {"maps", maps}};
   write_file_atomic(out / "manifest.json", manifest.dump(1) + "\n");
 }
 

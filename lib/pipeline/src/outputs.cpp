@@ -133,19 +133,23 @@ ordered_json polygon_feature(const std::string& location, const tiling::RectM& r
 std::string regions_geojson(const LocationPlan& plan, double resolution_m, int size_px) {
   ordered_json features = ordered_json::array();
   for (const tiling::Region& r : plan.regions)
-    features.push_back(polygon_feature(plan.location, r.bounds,
-                                       {{"kind", "region"}, {"name", r.name}, {"split", r.split},
-                                        {"bounds_m", {r.bounds.x_west_m, r.bounds.y_south_m, r.bounds.x_east_m,
-                                                      r.bounds.y_north_m}}}));
+    features.push_back(polygon_feature(
+        plan.location, r.bounds,
+        {{"kind", "region"},
+         {"name", r.name},
+         {"split", r.split},
+         {"bounds_m", {r.bounds.x_west_m, r.bounds.y_south_m, r.bounds.x_east_m, r.bounds.y_north_m}}}));
   for (size_t i = 0; i < plan.crops.size(); ++i) {
     const tiling::Crop& c = plan.crops[i];
     features.push_back(polygon_feature(plan.location, c.bounds(resolution_m, size_px),
-                                       {{"kind", "crop"}, {"key", plan.keys[i]}, {"split", c.split},
-                                        {"region", c.region}, {"lidar_coverage", c.lidar_coverage}}));
+                                       {{"kind", "crop"},
+                                        {"key", plan.keys[i]},
+                                        {"split", c.split},
+                                        {"region", c.region},
+                                        {"lidar_coverage", c.lidar_coverage}}));
   }
-  const ordered_json doc = {{"type", "FeatureCollection"},
-                            {"name", plan.location + " split regions and crops"},
-                            {"features", features}};
+  const ordered_json doc = {
+      {"type", "FeatureCollection"}, {"name", plan.location + " split regions and crops"}, {"features", features}};
   return doc.dump(1) + "\n";
 }
 
@@ -205,8 +209,12 @@ size_t OutputWriter::write_shard(const std::string& id, const nuscenes::Database
         } else {
           const std::string relative = "tiles/" + shard.split + "/" + plan.keys[b + k] + "/" + f.name;
           remove_stale_temps(out_ / relative);
-          write_file_atomic(out_ / relative, std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size()));
-          files.push_back({{"file", relative}, {"sha256", sha256_hex(std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size()))}, {"bytes", f.bytes.size()}});
+          write_file_atomic(out_ / relative,
+                            std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size()));
+          files.push_back(
+              {{"file", relative},
+               {"sha256", sha256_hex(std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size()))},
+               {"bytes", f.bytes.size()}});
         }
       }
       if (progress) {

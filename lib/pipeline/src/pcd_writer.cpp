@@ -38,7 +38,7 @@ pcl::PCLPointCloud2 to_cloud2(const std::vector<CloudPoint>& points) {
   cloud.row_step = kPointBytes * cloud.width;
   using F = pcl::PCLPointField;
   // rgb is a float field holding the packed bits, as pcl::PointXYZRGB(L) writes it.
-  cloud.fields = {field("x", 0, F::FLOAT32),          field("y", 4, F::FLOAT32),   field("z", 8, F::FLOAT32),
+  cloud.fields = {field("x", 0, F::FLOAT32),          field("y", 4, F::FLOAT32),    field("z", 8, F::FLOAT32),
                   field("intensity", 12, F::FLOAT32), field("rgb", 16, F::FLOAT32), field("label", 20, F::UINT32)};
   cloud.data.resize(static_cast<size_t>(cloud.row_step));
   uint8_t* out = cloud.data.data();
@@ -85,8 +85,9 @@ void write_pcd(const std::vector<CloudPoint>& points, const std::filesystem::pat
   int rc = 0;
   try {
     switch (format) {
-      case PcdFormat::kAscii: rc = writer.writeASCII(temp.string(), cloud, Eigen::Vector4f::Zero(),
-                                                     Eigen::Quaternionf::Identity(), 8); break;
+      case PcdFormat::kAscii:
+        rc = writer.writeASCII(temp.string(), cloud, Eigen::Vector4f::Zero(), Eigen::Quaternionf::Identity(), 8);
+        break;
       case PcdFormat::kBinary: rc = writer.writeBinary(temp.string(), cloud); break;
       case PcdFormat::kBinaryCompressed: rc = writer.writeBinaryCompressed(temp.string(), cloud); break;
     }

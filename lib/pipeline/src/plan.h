@@ -14,9 +14,9 @@
 namespace nsg::pipeline {
 
 struct PlannedShard {
-  std::string name;   // "<split>-NNNNNN"
+  std::string name;  // "<split>-NNNNNN"
   std::string split;
-  size_t first = 0;   // index into LocationPlan::crops
+  size_t first = 0;  // index into LocationPlan::crops
   size_t count = 0;
 };
 

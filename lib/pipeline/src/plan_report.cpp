@@ -15,12 +15,12 @@ namespace {
 
 // What to suggest at the end, gathered while the accounts are written.
 struct Hints {
-  bool keep_scenes = false;        // every scene of a location excluded
-  double best_coverage = 0.0;      // highest coverage among windows below the threshold
-  bool more_random = false;        // random placement asked for 0 crops in a region
+  bool keep_scenes = false;                // every scene of a location excluded
+  double best_coverage = 0.0;              // highest coverage among windows below the threshold
+  bool more_random = false;                // random placement asked for 0 crops in a region
   std::set<std::string> explicit_regions;  // locations where a split got no automatic block
-  bool bigger_regions = false;     // regions or blocks too small for a crop
-  bool block_coverage = false;     // every automatic block below min_block_coverage
+  bool bigger_regions = false;             // regions or blocks too small for a crop
+  bool block_coverage = false;             // every automatic block below min_block_coverage
 };
 
 long long ll(int64_t v) { return static_cast<long long>(v); }
@@ -58,20 +58,23 @@ std::string split_account(const PlanFilters& f, const GenerateConfig& c, size_t 
       if (split == "test" && usable < 2) why += " (a test block needs at least 2 blocks)";
       h.explicit_regions.insert(f.location);
     } else {
-      why = strprintf("its %lld block(s) are smaller than a %.1f m crop once the %.1f m buffers to other splits are cut off",
-                      ll(f.regions.blocks_too_small[k]), c.crop_size_m(), c.splits.buffer_m);
+      why = strprintf(
+          "its %lld block(s) are smaller than a %.1f m crop once the %.1f m buffers to other splits are cut off",
+          ll(f.regions.blocks_too_small[k]), c.crop_size_m(), c.splits.buffer_m);
       h.bigger_regions = true;
     }
     return split + ": no region (" + why + ")";
   }
-  std::string line = strprintf("%s: %lld region(s) with %.4f km² of LiDAR", split.c_str(), ll(s.regions), s.covered_km2);
+  std::string line =
+      strprintf("%s: %lld region(s) with %.4f km² of LiDAR", split.c_str(), ll(s.regions), s.covered_km2);
   if (s.regions_no_room > 0) {
     line += strprintf("; %lld without room for a %d-px crop", ll(s.regions_no_room), c.crops.size_px);
     h.bigger_regions = true;
   }
   if (s.regions_none_wanted > 0) {
-    line += strprintf("; %lld where random placement asks for 0 crops (covered km² × crops.random_per_km2 = %g rounds to 0)",
-                      ll(s.regions_none_wanted), c.crops.random_per_km2);
+    line += strprintf(
+        "; %lld where random placement asks for 0 crops (covered km² × crops.random_per_km2 = %g rounds to 0)",
+        ll(s.regions_none_wanted), c.crops.random_per_km2);
     h.more_random = true;
   }
   if (placement_of(c, k) == tiling::Placement::kRandom && s.wanted > 0)
@@ -100,11 +103,11 @@ std::vector<std::string> location_account(const PlanFilters& f, const GenerateCo
     head += strprintf("; no LiDAR point kept (lidar.channel = %s, lidar.max_range_m = %g)",
                       c.raster.lidar_channel.c_str(), c.raster.lidar.max_range_m);
   if (!f.regions.explicit_regions && !f.regions.no_lidar) {
-    head += strprintf("; automatic split: %lld block(s) of %.1f m over the LiDAR extent, %lld below "
-                      "splits.min_block_coverage = %g, assigned %lld train / %lld val / %lld test",
-                      ll(f.regions.blocks), f.regions.block_size_m, ll(f.regions.blocks_low_coverage),
-                      c.splits.min_block_coverage, ll(f.regions.blocks_assigned[0]), ll(f.regions.blocks_assigned[1]),
-                      ll(f.regions.blocks_assigned[2]));
+    head += strprintf(
+        "; automatic split: %lld block(s) of %.1f m over the LiDAR extent, %lld below "
+        "splits.min_block_coverage = %g, assigned %lld train / %lld val / %lld test",
+        ll(f.regions.blocks), f.regions.block_size_m, ll(f.regions.blocks_low_coverage), c.splits.min_block_coverage,
+        ll(f.regions.blocks_assigned[0]), ll(f.regions.blocks_assigned[1]), ll(f.regions.blocks_assigned[2]));
     if (f.regions.blocks > 0 && f.regions.blocks_low_coverage == f.regions.blocks) h.block_coverage = true;
   }
   lines.push_back(head);
@@ -120,14 +123,16 @@ std::vector<std::string> suggestions(const Hints& h, const GenerateConfig& c) {
   if (h.best_coverage > 0.0) {
     const double lower = std::max(0.01, std::floor(h.best_coverage * 100.0) / 100.0);
     if (lower < c.crops.min_lidar_coverage)
-      out.push_back(strprintf("accept sparser crops: --set crops.min_lidar_coverage=%.2f (now %g; the best rejected "
-                              "window had %.3f)",
-                              lower, c.crops.min_lidar_coverage, h.best_coverage));
+      out.push_back(
+          strprintf("accept sparser crops: --set crops.min_lidar_coverage=%.2f (now %g; the best rejected "
+                    "window had %.3f)",
+                    lower, c.crops.min_lidar_coverage, h.best_coverage));
   }
   if (h.more_random)
-    out.push_back(strprintf("ask for more random crops: --set crops.random_total=N (per location, over the split's "
-                            "regions) or a crops.random_per_km2 above %g",
-                            c.crops.random_per_km2));
+    out.push_back(
+        strprintf("ask for more random crops: --set crops.random_total=N (per location, over the split's "
+                  "regions) or a crops.random_per_km2 above %g",
+                  c.crops.random_per_km2));
   if (!h.explicit_regions.empty()) {
     std::vector<std::string> keys;
     for (const std::string& l : h.explicit_regions) keys.push_back("splits.regions." + l);
@@ -135,9 +140,10 @@ std::vector<std::string> suggestions(const Hints& h, const GenerateConfig& c) {
                   " in a --config file (see samples/generate-demo.json), or a smaller splits.block_size_m");
   }
   if (h.bigger_regions)
-    out.push_back(strprintf("make regions hold a crop: larger regions or splits.block_size_m, a smaller splits.buffer_m "
-                            "(now %g m, at least one crop), or smaller crops.size_px (now %d)",
-                            c.splits.buffer_m, c.crops.size_px));
+    out.push_back(
+        strprintf("make regions hold a crop: larger regions or splits.block_size_m, a smaller splits.buffer_m "
+                  "(now %g m, at least one crop), or smaller crops.size_px (now %d)",
+                  c.splits.buffer_m, c.crops.size_px));
   if (h.block_coverage)
     out.push_back(strprintf("let sparser blocks take part: --set splits.min_block_coverage=… (now %g)",
                             c.splits.min_block_coverage));
@@ -171,12 +177,13 @@ std::vector<std::string> empty_split_warnings(const std::vector<PlanFilters>& fi
   if (total == 0) return out;
   for (size_t k = 0; k < 3; ++k) {
     if (tiles[k] > 0) continue;
-    const bool asked = std::any_of(filters.begin(), filters.end(),
-                                   [&](const PlanFilters& f) { return split_asked(f, config, k); });
+    const bool asked =
+        std::any_of(filters.begin(), filters.end(), [&](const PlanFilters& f) { return split_asked(f, config, k); });
     if (!asked) continue;
     Hints h;
-    std::string message = strprintf("the %s split has no tiles (train %lld, val %lld, test %lld):",
-                                    std::string(tiling::kSplitNames[k]).c_str(), ll(tiles[0]), ll(tiles[1]), ll(tiles[2]));
+    std::string message = strprintf(
+        "the %s split has no tiles (train %lld, val %lld, test %lld):", std::string(tiling::kSplitNames[k]).c_str(),
+        ll(tiles[0]), ll(tiles[1]), ll(tiles[2]));
     for (const PlanFilters& f : filters) {
       if (!split_asked(f, config, k)) continue;
       for (const std::string& l : location_account(f, config, h, {k})) message += "\n  " + l;

@@ -58,8 +58,9 @@ DatasetStats compute_stats(const std::filesystem::path& root) {
       for (const auto& e : graph["edges"]) {
         const auto& a = graph["nodes"][e["source"].get<size_t>()];
         const auto& c = graph["nodes"][e["target"].get<size_t>()];
-        st.lane_length_km += std::hypot(a["x"].get<double>() - c["x"].get<double>(),
-                                        a["y"].get<double>() - c["y"].get<double>()) / 1000.0;
+        st.lane_length_km +=
+            std::hypot(a["x"].get<double>() - c["x"].get<double>(), a["y"].get<double>() - c["y"].get<double>()) /
+            1000.0;
       }
       st.vehicle_px += meta["counts"]["vehicle_px"].get<int64_t>();
       st.mean_coverage_lidar += meta["coverage"]["lidar"].get<double>();
@@ -94,23 +95,23 @@ nlohmann::ordered_json stats_json(const DatasetStats& stats) {
     auto it = stats.splits.find(std::string(name));
     if (it == stats.splits.end()) continue;
     const SplitStats& s = it->second;
-    out[std::string(name)] = {{"tiles", s.tiles},
-                              {"labeled_area_km2", s.labeled_area_km2},
-                              {"lane_segments", s.lane_segments},
-                              {"lane_length_km", s.lane_length_km},
-                              {"vehicle_px", s.vehicle_px},
-                              {"vehicle_area_km2", s.vehicle_area_km2},
-                              {"semantic_classes", s.semantic_classes},
-                              {"mean_coverage", {{"lidar", s.mean_coverage_lidar},
-                                                 {"rgb", s.mean_coverage_rgb},
-                                                 {"semantic", s.mean_coverage_semantic}}}};
+    out[std::string(name)] = {
+        {"tiles", s.tiles},
+        {"labeled_area_km2", s.labeled_area_km2},
+        {"lane_segments", s.lane_segments},
+        {"lane_length_km", s.lane_length_km},
+        {"vehicle_px", s.vehicle_px},
+        {"vehicle_area_km2", s.vehicle_area_km2},
+        {"semantic_classes", s.semantic_classes},
+        {"mean_coverage",
+         {{"lidar", s.mean_coverage_lidar}, {"rgb", s.mean_coverage_rgb}, {"semantic", s.mean_coverage_semantic}}}};
   }
   return out;
 }
 
 std::string stats_text(const DatasetStats& stats) {
-  std::string out = strprintf("%-6s %7s %12s %10s %10s %12s %8s %24s\n", "split", "tiles", "area (km²)",
-                              "lane segs", "lanes (km)", "vehicle km²", "classes", "coverage lidar/rgb/sem");
+  std::string out = strprintf("%-6s %7s %12s %10s %10s %12s %8s %24s\n", "split", "tiles", "area (km²)", "lane segs",
+                              "lanes (km)", "vehicle km²", "classes", "coverage lidar/rgb/sem");
   for (std::string_view name : {"train", "val", "test", "all"}) {
     auto it = stats.splits.find(std::string(name));
     if (it == stats.splits.end()) continue;

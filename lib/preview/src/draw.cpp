@@ -20,11 +20,11 @@ struct SemanticClass {
 // Copy of samples/semantic-classes.json (a test keeps them equal): the library must not
 // depend on finding the source tree at run time.
 constexpr SemanticClass kSemanticClasses[kSemanticClassCount] = {
-    {"road", {200, 100, 50}},      {"lane_marking", {230, 120, 10}}, {"crosswalk", {250, 250, 120}},
-    {"sidewalk", {255, 220, 200}}, {"curb", {200, 49, 254}},         {"terrain", {255, 0, 0}},
-    {"vegetation", {107, 142, 35}}, {"building", {70, 70, 70}},      {"car", {0, 0, 142}},
-    {"truck_bus", {0, 60, 100}},   {"person", {220, 20, 60}},        {"two_wheeler", {119, 11, 32}},
-    {"pole_sign", {220, 220, 0}},  {"sky_other", {70, 130, 180}},
+    {"road", {200, 100, 50}},       {"lane_marking", {230, 120, 10}}, {"crosswalk", {250, 250, 120}},
+    {"sidewalk", {255, 220, 200}},  {"curb", {200, 49, 254}},         {"terrain", {255, 0, 0}},
+    {"vegetation", {107, 142, 35}}, {"building", {70, 70, 70}},       {"car", {0, 0, 142}},
+    {"truck_bus", {0, 60, 100}},    {"person", {220, 20, 60}},        {"two_wheeler", {119, 11, 32}},
+    {"pole_sign", {220, 220, 0}},   {"sky_other", {70, 130, 180}},
 };
 
 }  // namespace
@@ -62,7 +62,9 @@ Rgb split_color(const std::string& split) {
   return {128, 128, 128};
 }
 
-Rgb region_fill(const std::string& split) { return detail::blend(kMapBackground, split_color(split), kRegionFillAlpha); }
+Rgb region_fill(const std::string& split) {
+  return detail::blend(kMapBackground, split_color(split), kRegionFillAlpha);
+}
 
 Rgb heading_color(double heading) {
   const double h6 = std::clamp(heading - std::floor(heading), 0.0, 1.0) * 6.0;
@@ -80,14 +82,15 @@ Rgb heading_color(double heading) {
 }
 
 std::vector<uint8_t> encode_png(const Image& image, int compression_level) {
-  NSG_CHECK(image.width > 0 && image.height > 0 && image.rgb.size() == static_cast<size_t>(image.width) * image.height * 3,
-            DataError, "", "image", "a non-empty RGB buffer");
+  NSG_CHECK(
+      image.width > 0 && image.height > 0 && image.rgb.size() == static_cast<size_t>(image.width) * image.height * 3,
+      DataError, "", "image", "a non-empty RGB buffer");
   const cv::Mat rgb(image.height, image.width, CV_8UC3, const_cast<uint8_t*>(image.rgb.data()));
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
   std::vector<uint8_t> bytes;
-  NSG_CHECK(cv::imencode(".png", bgr, bytes, {cv::IMWRITE_PNG_COMPRESSION, std::clamp(compression_level, 0, 9)}), InternalError, "", "png",
-            "OpenCV to encode the image");
+  NSG_CHECK(cv::imencode(".png", bgr, bytes, {cv::IMWRITE_PNG_COMPRESSION, std::clamp(compression_level, 0, 9)}),
+            InternalError, "", "png", "OpenCV to encode the image");
   return bytes;
 }
 

@@ -17,7 +17,7 @@ namespace {
 
 using detail::kLineHeightPx;
 
-constexpr int kMarginPx = 12;  // around the image and between cards
+constexpr int kMarginPx = 12;   // around the image and between cards
 constexpr int kPanelGapPx = 4;  // between the panels of one card
 
 void MosaicOptionsCheck(const MosaicOptions& o) {
@@ -110,8 +110,7 @@ cv::Mat coverage_mat(const io::DatasetTile& tile, int size_px) {
   for (int i = 0; i < size_px * size_px; ++i) {
     const uint8_t f = cov.data[i];
     if (f == 0) continue;
-    m.at<cv::Vec3b>(i / size_px, i % size_px) =
-        cv::Vec3b(f & 1 ? 230 : 40, f & 2 ? 230 : 40, f & 4 ? 230 : 40);
+    m.at<cv::Vec3b>(i / size_px, i % size_px) = cv::Vec3b(f & 1 ? 230 : 40, f & 2 ? 230 : 40, f & 4 ? 230 : 40);
   }
   return m;
 }
@@ -121,7 +120,9 @@ std::string show(const std::optional<double>& v) { return v ? strprintf("%.3f", 
 std::vector<std::string> caption_of(const CardInput& in, const nlohmann::json& meta, const metrics::Graph& gt) {
   std::vector<std::string> lines{in.tile->key};
   const nlohmann::json cov = meta.value("coverage", nlohmann::json::object());
-  auto pct = [&cov](const char* k) { return cov.contains(k) && cov[k].is_number() ? strprintf("%.1f%%", 100.0 * cov[k].get<double>()) : std::string("?"); };
+  auto pct = [&cov](const char* k) {
+    return cov.contains(k) && cov[k].is_number() ? strprintf("%.1f%%", 100.0 * cov[k].get<double>()) : std::string("?");
+  };
   lines.push_back(strprintf("coverage L %s R %s S %s | %zu nodes %zu edges", pct("lidar").c_str(), pct("rgb").c_str(),
                             pct("semantic").c_str(), gt.nodes.size(), gt.edges.size()));
   if (in.submission) {
@@ -186,7 +187,6 @@ Image render_tile_layer(const io::DatasetTile& tile, const std::string& layer) {
   return image;
 }
 
-
 Mosaic render_mosaic(const std::string& name, const std::vector<CardInput>& inputs, const MosaicOptions& options) {
   options.validate();
   NSG_CHECK(!inputs.empty(), ConfigError, "", name, "at least one tile to render");
@@ -225,8 +225,8 @@ Mosaic render_mosaic(const std::string& name, const std::vector<CardInput>& inpu
     const int y0 = cards_top + (i / cols) * (card_h + kMarginPx);
     card.caption_rect = {x0, y0, card_w, caption_h};
     for (int layer = 0; layer < kLayerCount; ++layer)
-      card.panels[layer] = {x0 + (layer % 2) * (panel + kPanelGapPx), y0 + caption_h + (layer / 2) * (panel + kPanelGapPx),
-                            panel, panel};
+      card.panels[layer] = {x0 + (layer % 2) * (panel + kPanelGapPx),
+                            y0 + caption_h + (layer / 2) * (panel + kPanelGapPx), panel, panel};
     draw_card(canvas, inputs[i], card);
     mosaic.cards.push_back(std::move(card));
   }

@@ -153,13 +153,16 @@ Overview render_overview(const io::Dataset& dataset, const std::string& location
   });
   // meta.location, not the key prefix: "boston-" would also match "boston-seaport-…".
   auto of_location = [&](const io::DatasetTile& t) {
-    return detail::json_guard(t.key + ".meta.json", [&] { return t.json("meta.json").value("location", ""); }) == location;
+    return detail::json_guard(t.key + ".meta.json", [&] { return t.json("meta.json").value("location", ""); }) ==
+           location;
   };
   if (regions.empty())  // no regions recorded: the extent comes from the tiles themselves
     dataset.for_each_tile(split, [&](const io::DatasetTile& t) {
       const std::string meta = t.key + ".meta.json";
       if (of_location(t))
-        grow(detail::json_guard(meta, [&] { return bounds_of(t.json("meta.json").value("bounds_m", nlohmann::json()), meta, "bounds_m"); }));
+        grow(detail::json_guard(meta, [&] {
+          return bounds_of(t.json("meta.json").value("bounds_m", nlohmann::json()), meta, "bounds_m");
+        }));
       return true;
     });
   NSG_CHECK(std::isfinite(x_w), DataError, manifest, location, "regions or tiles to draw");
@@ -169,9 +172,8 @@ Overview render_overview(const io::Dataset& dataset, const std::string& location
   const double pad_m = 0.05 * std::max(x_e - x_w, y_n - y_s);
   x_w -= pad_m, y_s -= pad_m, x_e += pad_m, y_n += pad_m;
   const nlohmann::json tile_format = m.value("tile_format", nlohmann::json::object());
-  const double tile_res_m = detail::json_guard(manifest, [&] {
-    return tile_format.is_object() ? tile_format.value("resolution_m", 0.2) : 0.2;
-  });
+  const double tile_res_m = detail::json_guard(
+      manifest, [&] { return tile_format.is_object() ? tile_format.value("resolution_m", 0.2) : 0.2; });
   ov.m_per_px = std::max(tile_res_m, std::max(x_e - x_w, y_n - y_s) / options.max_map_px);
   ov.x_west_m = x_w;
   ov.y_north_m = y_n;

@@ -32,7 +32,8 @@ bool lower_is_better(int metric) {
 std::vector<nlohmann::json> selected_shards(const io::Dataset& ds, const PreviewOptions& o) {
   std::vector<nlohmann::json> out;
   for (const auto& s : ds.shards(o.split)) {
-    const std::string name = detail::json_guard((ds.root() / "manifest.json").string(), [&] { return s.value("name", ""); });
+    const std::string name =
+        detail::json_guard((ds.root() / "manifest.json").string(), [&] { return s.value("name", ""); });
     if (o.shard && !ends_with(name, strprintf("-%06d", *o.shard))) continue;
     out.push_back(s);
   }
@@ -119,7 +120,8 @@ void write_submission_mosaic(const io::Dataset& ds, const fs::path& out, const P
 
 }  // namespace
 
-std::vector<metrics::TileMeasurement> worst_first(std::vector<metrics::TileMeasurement> tiles, const std::string& metric) {
+std::vector<metrics::TileMeasurement> worst_first(std::vector<metrics::TileMeasurement> tiles,
+                                                  const std::string& metric) {
   const int m = metric_index(metric);
   NSG_CHECK(m >= 0, ConfigError, "", "--sort", "a metric name of the score report, got '" + metric + "'");
   const bool lower = lower_is_better(m);

@@ -96,8 +96,7 @@ void read_ahead(const std::filesystem::path& file) {
   ::close(fd);
 }
 
-void add_sweep(const Database& db, Index sd_index, const LidarOptions& options, SweepBuffers& buf,
-               LaneResult& out) {
+void add_sweep(const Database& db, Index sd_index, const LidarOptions& options, SweepBuffers& buf, LaneResult& out) {
   const nuscenes::SampleData& sd = db.sample_data[sd_index];
   const nuscenes::CalibratedSensor& cs = db.calibrated_sensor[sd.calibrated_sensor];
   const nuscenes::EgoPose& ep = db.ego_pose[sd.ego_pose];
@@ -113,9 +112,8 @@ void add_sweep(const Database& db, Index sd_index, const LidarOptions& options, 
     const size_t first_row = file.read(buf.raw, kSweepRunRows, nuscenes::LidarFile::Check::kCallerChecks);
     int64_t bad_row = -1;
     out.points_kept += out.lidar.add_sweep(reinterpret_cast<const float*>(buf.raw.data()), buf.raw.size(),
-                                           static_cast<int32_t>(first_row), ego_from_sensor, global_from_ego,
-                                           options, static_cast<int32_t>(sd_index),
-                                           LidarLayer::SweepPath::kAuto, &bad_row);
+                                           static_cast<int32_t>(first_row), ego_from_sensor, global_from_ego, options,
+                                           static_cast<int32_t>(sd_index), LidarLayer::SweepPath::kAuto, &bad_row);
     if (bad_row >= 0) file.fail_not_finite(static_cast<size_t>(bad_row));
   }
   ++out.sweeps;
@@ -204,7 +202,7 @@ LocationLayers accumulate_scenes(const Database& db, const std::vector<Index>& s
   // Scenes go to lanes (one per thread). A lane accumulates one scene into its dense
   // scratch layers (what the sweep kernel writes fastest) and folds them into the shared
   // result under a lock when the scene is done; the fold leaves the result's blocks packed
-  // (only the cells holding data, issue 22). A thread thus holds one scene's dense area on
+  // (only the cells holding data). A thread thus holds one scene's dense area on
   // top of the packed result, not most of the city again (scenes of a city overlap), so
   // peak memory follows the covered area whatever the thread count. The folds are
   // associative and commutative (lowest z with tie-breaks; vehicle cells by score and
@@ -225,10 +223,8 @@ LocationLayers accumulate_scenes(const Database& db, const std::vector<Index>& s
       if (i + 1 < sweeps.size()) read_ahead(db.file_path(db.sample_data[sweeps[i + 1]]));
       add_sweep(db, sweeps[i], options.lidar, buf, out);
     }
-    if (use_detections)
-      add_detection_boxes(db, detections, options.detection_score_threshold, work[k], out);
-    else
-      add_annotation_boxes(db, work[k], out);
+    if (use_detections) add_detection_boxes(db, detections, options.detection_score_threshold, work[k], out);
+    else add_annotation_boxes(db, work[k], out);
     const std::lock_guard<std::mutex> lock(fold_mutex);
     fold(out, shared);
     out = LaneResult(res);  // frees the scene's blocks (and the block table that pointed at them)

@@ -67,7 +67,8 @@ void visit_targets(const LidarLayer& lidar, const std::vector<CellRect>& regions
         const LidarCell& cell = cells[r * kBlockCells + c];
         const CellIndex ci{bx * kBlockCells + c, by * kBlockCells + r};
         if (!cell.has_data()) continue;
-        if (!rects.empty() && std::none_of(rects.begin(), rects.end(), [&](const CellRect& x) { return x.contains(ci); }))
+        if (!rects.empty() &&
+            std::none_of(rects.begin(), rects.end(), [&](const CellRect& x) { return x.contains(ci); }))
           continue;
         on_cell(ci, cell);
       }
@@ -80,13 +81,17 @@ TargetIndex collect_targets(const LidarLayer& lidar, const std::vector<CellRect>
   TargetIndex index;
   index.resolution_m = lidar.resolution_m();
   // Counted first so the index is allocated once at its size: growing it by doubling held
-  // up to 1.5× its final size at a reallocation (issue 22: the camera stage's peak).
+  // up to 1.5× its final size at a reallocation (the camera stage's peak).
   size_t count = 0;
-  visit_targets(lidar, regions, [&](CellIndex, const LidarCell&) { ++count; }, [](int64_t, int64_t) {});
+  visit_targets(
+      lidar, regions, [&](CellIndex, const LidarCell&) { ++count; }, [](int64_t, int64_t) {});
   index.targets.reserve(count);
   size_t begin = 0;
   visit_targets(
-      lidar, regions, [&](CellIndex ci, const LidarCell& cell) { index.targets.push_back({cell.x, cell.y, cell.z, ci}); },
+      lidar, regions,
+      [&](CellIndex ci, const LidarCell& cell) {
+        index.targets.push_back({cell.x, cell.y, cell.z, ci});
+      },
       [&](int64_t bx, int64_t by) {
         if (index.targets.size() > begin) index.blocks[{by, bx}] = {begin, index.targets.size()};
         begin = index.targets.size();
@@ -148,8 +153,8 @@ ViewGeometry view_geometry(const Database& db, Index camera) {
   const nuscenes::SampleData& sd = db.sample_data[camera];
   const nuscenes::CalibratedSensor& cs = db.calibrated_sensor[sd.calibrated_sensor];
   if (!cs.camera_intrinsic)
-    throw DataError(db.calibrated_sensor.file(), "token " + cs.token.str(), "a camera_intrinsic for camera " +
-                                                                               db.channel(sd));
+    throw DataError(db.calibrated_sensor.file(), "token " + cs.token.str(),
+                    "a camera_intrinsic for camera " + db.channel(sd));
   if (sd.width <= 2 || sd.height <= 2)
     throw DataError(db.sample_data.file(), "token " + sd.token.str(), "the image width and height of a camera record");
   ViewGeometry g;
@@ -177,8 +182,10 @@ ViewGeometry view_geometry(const Database& db, Index camera) {
 class ShadowBuffer {
  public:
   ShadowBuffer(const ViewGeometry& view, const CameraOptions& options)
-      : cols_(view.width / kShadowCellPx + 1), rows_(view.height / kShadowCellPx + 1),
-        side_px_(options.occlusion_side_px), window_px_(options.occlusion_window_px),
+      : cols_(view.width / kShadowCellPx + 1),
+        rows_(view.height / kShadowCellPx + 1),
+        side_px_(options.occlusion_side_px),
+        window_px_(options.occlusion_window_px),
         height_px_m_(view.k(1, 1) * options.occlusion_height_m),
         depth_(static_cast<size_t>(cols_) * rows_, std::numeric_limits<float>::infinity()) {}
 
@@ -301,8 +308,12 @@ ImageResult process_image(const Database& db, const ImageJob& job, const TargetI
         ++out.occluded;
         continue;
       }
-      out.candidates.push_back({static_cast<uint32_t>(t), static_cast<float>(depth), static_cast<float>(u),
-                                static_cast<float>(v), {0, 0, 0}, 255});
+      out.candidates.push_back({static_cast<uint32_t>(t),
+                                static_cast<float>(depth),
+                                static_cast<float>(u),
+                                static_cast<float>(v),
+                                {0, 0, 0},
+                                255});
     }
   };
   const double block_m = kBlockCells * index.resolution_m;
@@ -323,18 +334,19 @@ ImageResult process_image(const Database& db, const ImageJob& job, const TargetI
     const auto scale = static_cast<nuscenes::JpegScale>(options.jpeg_scale_denom);
     if (img.width != nuscenes::scaled_dimension(view.width, scale) ||
         img.height != nuscenes::scaled_dimension(view.height, scale))
-      throw DataError(jpeg.string(), "", "an image of the sample_data's size " + std::to_string(view.width) + "×" +
-                                             std::to_string(view.height));
+      throw DataError(
+          jpeg.string(), "",
+          "an image of the sample_data's size " + std::to_string(view.width) + "×" + std::to_string(view.height));
     for (Candidate& c : out.candidates) sample_rgb(img, options.jpeg_scale_denom, c);
   }
   if (options.semantic_masks()) {
     const nuscenes::GrayImage mask = nuscenes::read_semantic_mask(job.mask);
     const int denom = mask_scale_denom(mask, view);
     if (denom == 0)
-      throw DataError(job.mask.string(), "", "a mask of the image's size " + std::to_string(view.width) + "×" +
-                                                 std::to_string(view.height) + " or of 1/n of it (n = 2…" +
-                                                 std::to_string(kMaxMaskScaleDenom) + ", sides rounded up; got " +
-                                                 std::to_string(mask.width) + "×" + std::to_string(mask.height) + ")");
+      throw DataError(job.mask.string(), "",
+                      "a mask of the image's size " + std::to_string(view.width) + "×" + std::to_string(view.height) +
+                          " or of 1/n of it (n = 2…" + std::to_string(kMaxMaskScaleDenom) + ", sides rounded up; got " +
+                          std::to_string(mask.width) + "×" + std::to_string(mask.height) + ")");
     // The class of the nearest full-size pixel, read from the mask pixel that covers it
     // (mask pixel k covers full pixels [k·n, k·n + n − 1]); n = 1 is the full-size lookup.
     for (Candidate& c : out.candidates) {
@@ -358,7 +370,8 @@ ColorLayer colorize_scenes(const Database& db, const std::vector<Index>& scenes,
   // `options` were checked where they were read (config reader, or colorize_location).
   // Both off is a valid generate config (no camera layers) but nothing to colour here.
   if (!options.rgb && !options.semantic_masks())
-    throw ConfigError("", "camera.rgb / camera.semantic", "at least one of them enabled (semantics from masks) to colour points");
+    throw ConfigError("", "camera.rgb / camera.semantic",
+                      "at least one of them enabled (semantics from masks) to colour points");
   check_scene_list(db, scenes);
   const std::vector<ImageJob> jobs = plan_images(db, scenes, options);
   ColorLayer layer(lidar.resolution_m());

@@ -111,7 +111,8 @@ void LidarLayer::attach_block(size_t slot, int64_t bx, int64_t by) {
   constexpr size_t kCells = size_t{kBlockCells} * kBlockCells;
   LidarCell* block = cells_.block_data(bx, by);
   BlockTable& table = table_;
-  if (table.z_used == table.z_storage.size()) table.z_storage.push_back(std::make_unique_for_overwrite<float[]>(kCells));
+  if (table.z_used == table.z_storage.size())
+    table.z_storage.push_back(std::make_unique_for_overwrite<float[]>(kCells));
   float* z = table.z_storage[table.z_used++].get();
   for (size_t i = 0; i < kCells; ++i) z[i] = block[i].z;
   table.cells[slot] = block;
@@ -150,9 +151,8 @@ thread_local SweepColumns sweep_columns;
 }  // namespace
 
 size_t LidarLayer::add_sweep_portable(const float* rows5, size_t count, int32_t first_row,
-                                      const geometry::Rigid3& ego_from_sensor,
-                                      const geometry::Rigid3& global_from_ego, const LidarOptions& options,
-                                      int32_t sweep_id, int64_t& bad_row) {
+                                      const geometry::Rigid3& ego_from_sensor, const geometry::Rigid3& global_from_ego,
+                                      const LidarOptions& options, int32_t sweep_id, int64_t& bad_row) {
   // Checked before anything is added (this path is not the fast one).
   if (const int64_t bad = sweep_kernel::first_non_finite_row(rows5, count); bad >= 0) {
     bad_row = first_row + bad;
@@ -180,9 +180,10 @@ size_t LidarLayer::add_sweep_portable(const float* rows5, size_t count, int32_t 
   return n;
 }
 
-size_t LidarLayer::add_sweep(const float* rows5, size_t count, int32_t first_row, const geometry::Rigid3& ego_from_sensor,
-                             const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id,
-                             SweepPath path, int64_t* first_non_finite_row) {
+size_t LidarLayer::add_sweep(const float* rows5, size_t count, int32_t first_row,
+                             const geometry::Rigid3& ego_from_sensor, const geometry::Rigid3& global_from_ego,
+                             const LidarOptions& options, int32_t sweep_id, SweepPath path,
+                             int64_t* first_non_finite_row) {
   const bool fused = path == SweepPath::kFused || path == SweepPath::kFusedAvx2;
   if (first_row < 0 || count > static_cast<size_t>(std::numeric_limits<int32_t>::max() - first_row))
     throw InternalError("", "", "sweep rows beyond int32 point indices");
@@ -194,8 +195,7 @@ size_t LidarLayer::add_sweep(const float* rows5, size_t count, int32_t first_row
           ? add_sweep_portable(rows5, count, first_row, ego_from_sensor, global_from_ego, options, sweep_id, bad_row)
           : add_sweep_fused(rows5, count, first_row, ego_from_sensor, global_from_ego, options, sweep_id,
                             path != SweepPath::kFusedAvx2, bad_row);
-  if (first_non_finite_row != nullptr)
-    *first_non_finite_row = bad_row;
+  if (first_non_finite_row != nullptr) *first_non_finite_row = bad_row;
   else if (bad_row >= 0)
     throw DataError("", "point " + std::to_string(bad_row), "finite x, y, z, intensity and ring in every sweep row");
   return kept;

@@ -16,7 +16,7 @@ using nuscenes::Index;
 
 namespace {
 
-constexpr size_t kChunkSweeps = 16;  // sweeps in flight at once: bounds memory, not results
+constexpr size_t kChunkSweeps = 16;     // sweeps in flight at once: bounds memory, not results
 constexpr size_t kScratchBlocks = 256;  // dense blocks (64 KB each) before a fold into the packed layer
 
 // A labelled point of one sweep, ready to bin.
@@ -83,7 +83,7 @@ LidarsegLayer accumulate_lidarseg(const Database& db, const std::vector<Index>& 
   layer.stats.sweeps = sweeps.size();
   std::vector<SweepResult> results;
   // Points land in dense scratch blocks, folded into the packed layer every few hundred
-  // blocks (issue 22: the layer then keeps only its labelled cells); lowest-wins is
+  // blocks (the layer then keeps only its labelled cells); lowest-wins is
   // order-free, so when the folds happen does not show.
   SparseGrid<LidarsegCell> scratch;
   SparseGrid<LidarsegCell>::Cursor cursor;
@@ -117,7 +117,8 @@ void overlay_semantics(ColorLayer& color, const LidarsegLayer& lidarseg, const s
   SparseGrid<ColorCell>::Cursor cursor;
   lidarseg.cells.for_each([&](CellIndex c, const LidarsegCell& cell) {
     if (!cell.has_data()) return;
-    if (!regions.empty() && std::none_of(regions.begin(), regions.end(), [&](const CellRect& r) { return r.contains(c); }))
+    if (!regions.empty() &&
+        std::none_of(regions.begin(), regions.end(), [&](const CellRect& r) { return r.contains(c); }))
       return;
     ColorCell& out = color.cells_.at(c, cursor);
     if (!(out.flags & kCoverageSemantic)) ++color.semantic_cells_;

@@ -32,11 +32,13 @@ const options::Table<CameraOptions>& camera_option_table() {
         .help("Folder of the class-id masks, <root>/<CHANNEL>/<image basename>.png (\"\" = <dataroot>/semantic)");
     t.choice("camera.semantic_source", &CameraOptions::semantic_source,
              {{"masks", SemanticSource::kMasks}, {"lidarseg", SemanticSource::kLidarseg}})
-        .help("Semantics from the camera images' class-id masks, or from nuScenes-lidarseg's point labels "
-              "(a cell takes the class of its lowest labelled key-frame point)");
+        .help(
+            "Semantics from the camera images' class-id masks, or from nuScenes-lidarseg's point labels "
+            "(a cell takes the class of its lowest labelled key-frame point)");
     t.path("camera.lidarseg_labels", &CameraOptions::lidarseg_labels)
-        .help("Labels file mapping the lidarseg labels to our classes (\"\" = the built-in "
-              "samples/semantic-labels/nuscenes-lidarseg.json)");
+        .help(
+            "Labels file mapping the lidarseg labels to our classes (\"\" = the built-in "
+            "samples/semantic-labels/nuscenes-lidarseg.json)");
     t.number("camera.view_radius_m", &CameraOptions::view_radius_m)
         .unit("m")
         .range(above(0))
@@ -48,8 +50,9 @@ const options::Table<CameraOptions>& camera_option_table() {
     t.integer("camera.occlusion_window_px", &CameraOptions::occlusion_window_px)
         .unit("px")
         .range(between(0, 512))
-        .help("How far up the image (full-resolution px) from occlusion_height_m above a point's line of sight a "
-              "closer LiDAR return hides it");
+        .help(
+            "How far up the image (full-resolution px) from occlusion_height_m above a point's line of sight a "
+            "closer LiDAR return hides it");
     t.integer("camera.occlusion_side_px", &CameraOptions::occlusion_side_px)
         .unit("px")
         .range(between(0, 512))

@@ -136,8 +136,7 @@ size_t filter_tail(const float* rows5, size_t i, size_t n, int32_t first_id, dou
 // at the first group holding one, `bad_row` gets that row (in rows5) and the stage stops
 // (nothing of the group is added; the caller reports the row).
 __attribute__((target("avx2"))) size_t filter_compact(const float* rows5, size_t n, int32_t first_id, double roof,
-                                                      double range2, int64_t& bad_row,
-                                                      FusedChunk& c) {
+                                                      double range2, int64_t& bad_row, FusedChunk& c) {
   const __m256d v_roof = _mm256_set1_pd(roof), v_range2 = _mm256_set1_pd(range2);
   const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256i exponent = _mm256_set1_epi32(static_cast<int32_t>(sweep_kernel::kFloatExponent));
@@ -239,7 +238,8 @@ NSG_AVX2_INLINE void bin8(FusedChunk& c, size_t k, __m256 x, __m256 y, const Bin
   in = _mm256_and_si256(in, _mm256_and_si256(_mm256_cmpgt_epi32(ty, v_minus1), _mm256_cmpgt_epi32(v_size, ty)));
   in = _mm256_and_si256(in, exact);
   const __m256i t = _mm256_add_epi32(_mm256_slli_epi32(ty, 5), tx);
-  const __m256i offset = _mm256_or_si256(_mm256_slli_epi32(_mm256_and_si256(row, v_63), 6), _mm256_and_si256(col, v_63));
+  const __m256i offset =
+      _mm256_or_si256(_mm256_slli_epi32(_mm256_and_si256(row, v_63), 6), _mm256_and_si256(col, v_63));
   _mm256_store_si256(reinterpret_cast<__m256i*>(c.slot + k),
                      _mm256_blendv_epi8(_mm256_set1_epi32(sweep_kernel::kNullSlot), t, in));
   _mm256_store_si256(reinterpret_cast<__m256i*>(c.offset + k), offset);
@@ -266,7 +266,7 @@ __attribute__((target("avx2"))) void transform_bin_avx2(FusedChunk& c, size_t m,
 // float32 conversion), half the instructions, and 32 registers hold both matrices.
 #define NSG_AVX512_TARGET __attribute__((target("avx2,avx512f,avx512vl")))
 NSG_AVX512_TARGET __attribute__((always_inline)) inline void transform8_avx512(const __m512d* r, const __m256* t,
-                                                                                 __m256& x, __m256& y, __m256& z) {
+                                                                               __m256& x, __m256& y, __m256& z) {
   const __m512d px = _mm512_cvtps_pd(x), py = _mm512_cvtps_pd(y), pz = _mm512_cvtps_pd(z);
   __m256 out[3];
   for (int a = 0; a < 3; ++a) {
@@ -279,7 +279,7 @@ NSG_AVX512_TARGET __attribute__((always_inline)) inline void transform8_avx512(c
 
 // cells8 on 16 lanes (the same operations; floor = roundscale towards −inf).
 NSG_AVX512_TARGET __attribute__((always_inline)) inline __m512i cells16(__m512 v, __m512 r, __m512 two_delta,
-                                                                          __mmask16& exact) {
+                                                                        __mmask16& exact) {
   const __m512 u = _mm512_mul_ps(v, r);
   const __m512 fl = _mm512_roundscale_ps(u, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
   const __m512 f = _mm512_sub_ps(u, fl);
@@ -291,7 +291,7 @@ NSG_AVX512_TARGET __attribute__((always_inline)) inline __m512i cells16(__m512 v
 
 // bin8 on 16 lanes.
 NSG_AVX512_TARGET __attribute__((always_inline)) inline void bin16(FusedChunk& c, size_t k, __m512 x, __m512 y,
-                                                                     const BinParams& p) {
+                                                                   const BinParams& p) {
   __mmask16 exact_x, exact_y;
   const __m512 inv_res = _mm512_set1_ps(p.inv_res), two_delta = _mm512_set1_ps(p.two_delta);
   const __m512i col = cells16(x, inv_res, two_delta, exact_x);
@@ -313,8 +313,7 @@ NSG_AVX512_TARGET __attribute__((always_inline)) inline void bin16(FusedChunk& c
 }
 
 NSG_AVX512_TARGET __attribute__((always_inline)) inline __m512 join(__m256 low, __m256 high) {
-  return _mm512_castpd_ps(
-      _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_castps_pd(low)), _mm256_castps_pd(high), 1));
+  return _mm512_castpd_ps(_mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_castps_pd(low)), _mm256_castps_pd(high), 1));
 }
 
 // Stage A on 16 rows at a time (AVX-512F): five loads, a permute per column and register
@@ -367,8 +366,7 @@ NSG_AVX512_TARGET __attribute__((always_inline)) inline __m512 column16(const __
 }
 
 NSG_AVX512_TARGET size_t filter_compact_avx512(const float* rows5, size_t n, int32_t first_id, double roof,
-                                               double range2, const FloatFilter& ff, int64_t& bad_row,
-                                               FusedChunk& c) {
+                                               double range2, const FloatFilter& ff, int64_t& bad_row, FusedChunk& c) {
   const __m512i exponent = _mm512_set1_epi32(static_cast<int32_t>(sweep_kernel::kFloatExponent));
   const __m512 roof_f = _mm512_set1_ps(ff.roof_f), near_f = _mm512_set1_ps(ff.near_f), far_f = _mm512_set1_ps(ff.far_f);
   const __m256d roof_d = _mm256_set1_pd(roof), range2_d = _mm256_set1_pd(range2);
@@ -376,8 +374,8 @@ NSG_AVX512_TARGET size_t filter_compact_avx512(const float* rows5, size_t n, int
   size_t m = 0, i = 0;
   for (; i + 16 <= n; i += 16) {
     const float* p = rows5 + 5 * i;
-    const __m512 v[5] = {_mm512_loadu_ps(p), _mm512_loadu_ps(p + 16), _mm512_loadu_ps(p + 32),
-                         _mm512_loadu_ps(p + 48), _mm512_loadu_ps(p + 64)};
+    const __m512 v[5] = {_mm512_loadu_ps(p), _mm512_loadu_ps(p + 16), _mm512_loadu_ps(p + 32), _mm512_loadu_ps(p + 48),
+                         _mm512_loadu_ps(p + 64)};
     __mmask16 bad = 0;
     for (int r = 0; r < 5; ++r)
       bad |= _mm512_cmpeq_epi32_mask(_mm512_and_si512(_mm512_castps_si512(v[r]), exponent), exponent);
@@ -413,8 +411,8 @@ NSG_AVX512_TARGET size_t filter_compact_avx512(const float* rows5, size_t n, int
   return filter_tail(rows5, i, n, first_id, roof, range2, bad_row, c, m);  // the last < 16 rows
 }
 
-NSG_AVX512_TARGET void transform_bin_avx512(FusedChunk& c, size_t m, const DevkitTransform& a,
-                                            const DevkitTransform& b, const BinParams& p) {
+NSG_AVX512_TARGET void transform_bin_avx512(FusedChunk& c, size_t m, const DevkitTransform& a, const DevkitTransform& b,
+                                            const BinParams& p) {
   __m512d ra[9], rb[9];
   __m256 ta[3], tb[3];
   for (int i = 0; i < 9; ++i) ra[i] = _mm512_set1_pd(a.r[i]), rb[i] = _mm512_set1_pd(b.r[i]);
@@ -462,12 +460,12 @@ bool LidarLayer::fused_kernel_available() {
 }
 
 size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, int32_t first_row,
-                                   const geometry::Rigid3& ego_from_sensor,
-                                   const geometry::Rigid3& global_from_ego, const LidarOptions& options,
-                                   int32_t sweep_id, bool allow_avx512, int64_t& bad_row) {
+                                   const geometry::Rigid3& ego_from_sensor, const geometry::Rigid3& global_from_ego,
+                                   const LidarOptions& options, int32_t sweep_id, bool allow_avx512, int64_t& bad_row) {
   // The table is centred on the ego position (the sweep lies within max range of it);
   // poses that far out (or not finite) take the portable path, which needs no int32.
-  const double ex = global_from_ego.translation.x() / resolution_m_, ey = global_from_ego.translation.y() / resolution_m_;
+  const double ex = global_from_ego.translation.x() / resolution_m_,
+               ey = global_from_ego.translation.y() / resolution_m_;
   if (!(std::abs(ex) < 1e9 && std::abs(ey) < 1e9))
     return add_sweep_portable(rows5, count, first_row, ego_from_sensor, global_from_ego, options, sweep_id, bad_row);
   centre_table(SparseGrid<LidarCell>::floor_div(static_cast<int64_t>(std::floor(ex))),
@@ -493,19 +491,16 @@ size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, int32_t fir
     const size_t n = std::min(kRawChunk, count - start);
     const int32_t first_id = first_row + static_cast<int32_t>(start);
     int64_t bad = -1;
-    const size_t m =
-        wide && filter.usable
-            ? filter_compact_avx512(rows5 + 5 * start, n, first_id, roof, range2, filter, bad, c)
-            : filter_compact(rows5 + 5 * start, n, first_id, roof, range2, bad, c);
+    const size_t m = wide && filter.usable
+                         ? filter_compact_avx512(rows5 + 5 * start, n, first_id, roof, range2, filter, bad, c)
+                         : filter_compact(rows5 + 5 * start, n, first_id, roof, range2, bad, c);
     if (bad >= 0) [[unlikely]] {  // this chunk is not added; the caller drops the sweep
       bad_row = first_row + static_cast<int64_t>(start) + bad;
       return kept;
     }
     kept += m;
-    if (wide)
-      transform_bin_avx512(c, m, a, b, bin);
-    else
-      transform_bin_avx2(c, m, a, b, bin);
+    if (wide) transform_bin_avx512(c, m, a, b, bin);
+    else transform_bin_avx2(c, m, a, b, bin);
     const size_t nc = screen(c, m, table_.z.data());
     for (size_t j = 0; j < nc; ++j) {
       // The candidates' cells are mostly cache misses (B2 read only the z copy): fetch a
@@ -526,8 +521,7 @@ size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, int32_t fir
       const size_t slot = static_cast<size_t>(c.slot[k]);
       if (LidarCell* block = table_.cells[slot]) [[likely]]
         offer_point(p, sweep_id, block[c.offset[k]], table_.z[slot][c.offset[k]]);
-      else
-        update_cell(p, c.col[k], c.row[k], c.exact[k] != 0, sweep_id, cursor);
+      else update_cell(p, c.col[k], c.row[k], c.exact[k] != 0, sweep_id, cursor);
     }
   }
   return kept;
@@ -538,9 +532,8 @@ size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, int32_t fir
 bool LidarLayer::fused_kernel_available() { return false; }
 
 size_t LidarLayer::add_sweep_fused(const float* rows5, size_t count, int32_t first_row,
-                                   const geometry::Rigid3& ego_from_sensor,
-                                   const geometry::Rigid3& global_from_ego, const LidarOptions& options,
-                                   int32_t sweep_id, bool allow_avx512, int64_t& bad_row) {
+                                   const geometry::Rigid3& ego_from_sensor, const geometry::Rigid3& global_from_ego,
+                                   const LidarOptions& options, int32_t sweep_id, bool allow_avx512, int64_t& bad_row) {
   return add_sweep_portable(rows5, count, first_row, ego_from_sensor, global_from_ego, options, sweep_id, bad_row);
 }
 

@@ -20,8 +20,8 @@ namespace nsg::report::detail {
 // --- scoring.cpp: what `nsgraph score` does, in one call (so it can be swapped for a
 // library entry point without touching the report).
 struct ScoredSubmission {
-  Issues issues;               // non-empty: the submission was refused, nothing scored
-  metrics::GraphSet graphs;    // the submission's tiles
+  Issues issues;             // non-empty: the submission was refused, nothing scored
+  metrics::GraphSet graphs;  // the submission's tiles
   metrics::ScoreReport report;
 };
 ScoredSubmission score_submission(const std::filesystem::path& dataset, const std::string& split,
@@ -36,7 +36,7 @@ struct TileInputs {
 };
 struct TileRow {
   std::string key, location, split;
-  std::vector<double> bounds_m;           // x_west, y_south, x_east, y_north
+  std::vector<double> bounds_m;                         // x_west, y_south, x_east, y_north
   std::map<std::string, std::optional<double>> values;  // the per-tile table's columns
 };
 struct TilePass {
@@ -54,14 +54,12 @@ std::vector<std::string> table_columns(bool submission, bool baseline);
 // data/summary.js's document: mode, summary table, locations with regions and buffers,
 // legends, the main metrics.
 nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::string& split,
-                                        const metrics::ScoreReport* scores,
-                                        const metrics::ScoreReport* baseline);
+                                        const metrics::ScoreReport* scores, const metrics::ScoreReport* baseline);
 // data/tiles.js's document: columns of the per-tile table.
 nlohmann::ordered_json tiles_document(const std::vector<TileRow>& rows, const std::vector<std::string>& columns);
 // Writes img/overview-<location>.png per location with tiles; returns {location: georef}.
 nlohmann::ordered_json write_overviews(const io::Dataset& dataset, const std::string& split,
-                                       const std::vector<TileRow>& rows, const std::filesystem::path& dir,
-                                       int max_px);
+                                       const std::vector<TileRow>& rows, const std::filesystem::path& dir, int max_px);
 
 // --- assets (generated from lib/report/assets at build time)
 struct Asset {

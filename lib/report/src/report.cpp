@@ -116,11 +116,11 @@ ReportResult write_report(const fs::path& dataset_root, const fs::path& out, con
   }
   log::info("report: rendering the tiles of " + (split.empty() ? std::string("every split") : "split " + split));
   const detail::TilePass pass = detail::write_tile_pages(dataset, split, inputs, tmp.path, options.threads);
-  NSG_CHECK(!pass.rows.empty(), DataError, (dataset_root / "manifest.json").string(),
-            split.empty() ? "shards" : split, "at least one tile to report");
+  NSG_CHECK(!pass.rows.empty(), DataError, (dataset_root / "manifest.json").string(), split.empty() ? "shards" : split,
+            "at least one tile to report");
 
-  nlohmann::ordered_json summary = detail::summary_document(dataset, split, scored ? &sub.report : nullptr,
-                                                            with_baseline ? &base.report : nullptr);
+  nlohmann::ordered_json summary =
+      detail::summary_document(dataset, split, scored ? &sub.report : nullptr, with_baseline ? &base.report : nullptr);
   const nlohmann::ordered_json overviews =
       detail::write_overviews(dataset, split, pass.rows, tmp.path, options.overview_max_px);
   for (auto& loc : summary["locations"])

@@ -42,9 +42,9 @@ namespace fs = std::filesystem;
 
 std::string hex(preview::Rgb c) { return strprintf("#%02x%02x%02x", c.r, c.g, c.b); }
 
-// The metrics the overview colours by and the histograms show (METRICS.md's headline set).
-const std::vector<std::string> kMainMetrics = {"apls",   "apls_directed",  "direction_accuracy", "f1",
-                                               "iou",    "chamfer_mean_m", "geo_f1",             "topo_f1"};
+// The metrics the overview colours by and the histograms show (docs/metrics.md's headline set).
+const std::vector<std::string> kMainMetrics = {
+    "apls", "apls_directed", "direction_accuracy", "f1", "iou", "chamfer_mean_m", "geo_f1", "topo_f1"};
 const std::vector<std::string> kMainFigures = {"coverage_lidar", "coverage_rgb", "gt_edges", "lane_length_m"};
 
 nlohmann::ordered_json legends() {
@@ -57,8 +57,9 @@ nlohmann::ordered_json legends() {
     heading.push_back({{"label", strprintf("%.0f°", q * 45.0)}, {"color", hex(preview::heading_color(q / 8.0))}});
   heading.push_back({{"label", "no vehicle (LiDAR dimmed)"}, {"color", "#606060"}});
   nlohmann::ordered_json coverage = nlohmann::ordered_json::array();
-  const char* names[] = {"", "LiDAR only", "RGB only", "LiDAR + RGB", "semantics only", "LiDAR + semantics",
-                         "RGB + semantics", "all three"};
+  const char* names[] = {
+      "",         "LiDAR only", "RGB only", "LiDAR + RGB", "semantics only", "LiDAR + semantics", "RGB + semantics",
+      "all three"};
   for (int f = 1; f < 8; ++f)
     coverage.push_back({{"label", names[f]},
                         {"color", hex({static_cast<uint8_t>(f & 1 ? 230 : 40), static_cast<uint8_t>(f & 2 ? 230 : 40),
@@ -69,8 +70,9 @@ nlohmann::ordered_json legends() {
                                   {{"label", "no data"}, {"color", hex(preview::kNoData)}}};
   nlohmann::ordered_json splits;
   for (const char* s : {"train", "val", "test"}) splits[s] = hex(preview::split_color(s));
-  return {{"lidar", lidar}, {"rgb", nlohmann::ordered_json::array()}, {"semantic", semantic},
-          {"vehicle", heading}, {"coverage", coverage}, {"splits", splits}};
+  return {{"lidar", lidar},       {"rgb", nlohmann::ordered_json::array()},
+          {"semantic", semantic}, {"vehicle", heading},
+          {"coverage", coverage}, {"splits", splits}};
 }
 
 nlohmann::json manifest_regions(const nlohmann::json& loc, const std::string& manifest) {
@@ -105,8 +107,8 @@ nlohmann::ordered_json score_rows(const metrics::ScoreReport& s, const metrics::
       const PairedDifference d = paired_difference(a, b);
       const auto& bm = base->aggregate.mean[m];
       row["baseline_mean"] = rounded(bm);
-      row["difference"] = rounded(s.aggregate.mean[m] && bm ? std::optional<double>(*s.aggregate.mean[m] - *bm)
-                                                            : std::nullopt);
+      row["difference"] =
+          rounded(s.aggregate.mean[m] && bm ? std::optional<double>(*s.aggregate.mean[m] - *bm) : std::nullopt);
       row["paired_n"] = d.n;
       row["paired_mean"] = rounded(d.mean);
       row["paired_se"] = rounded(d.standard_error);
@@ -154,8 +156,7 @@ std::string data_script(const std::string& name, const std::string& json_text) {
 }
 
 nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::string& split,
-                                        const metrics::ScoreReport* scores,
-                                        const metrics::ScoreReport* baseline) {
+                                        const metrics::ScoreReport* scores, const metrics::ScoreReport* baseline) {
   const std::string manifest = (dataset.root() / "manifest.json").string();
   nlohmann::ordered_json doc;
   doc["format"] = "nsgraph-report-1";
@@ -168,7 +169,7 @@ nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::s
   doc["legends"] = legends();
   doc["columns"] = table_columns(scores != nullptr, baseline != nullptr);
   doc["main"] = scores ? kMainMetrics : kMainFigures;
-  doc["lower_is_better"] = {"chamfer_px2", "chamfer_m2", "chamfer_mean_m", "missing_prediction",
+  doc["lower_is_better"] = {"chamfer_px2",           "chamfer_m2",      "chamfer_mean_m", "missing_prediction",
                             "wrong_direction_edges", "unmatched_edges", "missed_gt_edges"};
   if (scores) {
     doc["score"] = score_facts(*scores);
@@ -180,8 +181,7 @@ nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::s
   const nlohmann::json& m = dataset.manifest();
   double buffer_m = 0.0;
   try {
-    if (m.contains("config") && m["config"].contains("splits"))
-      buffer_m = m["config"]["splits"].value("buffer_m", 0.0);
+    if (m.contains("config") && m["config"].contains("splits")) buffer_m = m["config"]["splits"].value("buffer_m", 0.0);
   } catch (const nlohmann::json::exception& e) {
     throw ParseError(manifest, "config.splits.buffer_m", std::string("a number (") + e.what() + ")");
   }
@@ -240,12 +240,8 @@ nlohmann::ordered_json write_overviews(const io::Dataset& dataset, const std::st
     const std::string file = "img/overview-" + location + ".png";
     const std::vector<uint8_t> png = preview::encode_png(map);
     write_file_atomic(dir / file, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
-    out[location] = {{"image", file},
-                     {"x_west_m", ov.x_west_m},
-                     {"y_north_m", ov.y_north_m},
-                     {"m_per_px", ov.m_per_px},
-                     {"width_px", r.width},
-                     {"height_px", r.height}};
+    out[location] = {{"image", file},           {"x_west_m", ov.x_west_m}, {"y_north_m", ov.y_north_m},
+                     {"m_per_px", ov.m_per_px}, {"width_px", r.width},     {"height_px", r.height}};
   }
   return out;
 }

@@ -72,8 +72,8 @@ Meta read_meta(const io::DatasetTile& tile) {
     m.scenes = j.value("scenes", nlohmann::json::array());
     return m;
   } catch (const nlohmann::json::exception& e) {
-    throw ParseError(file, "fields", std::string("location, split, bounds_m of the documented types (") + e.what() +
-                                         ")");
+    throw ParseError(file, "fields",
+                     std::string("location, split, bounds_m of the documented types (") + e.what() + ")");
   }
 }
 
@@ -191,13 +191,14 @@ std::vector<std::string> table_columns(bool submission, bool baseline) {
   if (submission) {
     for (int m = 0; m < metrics::kMetricCount; ++m) cols.push_back(metrics::metric_name(m));
     if (baseline)
-      for (int m = 0; m < metrics::kMetricCount; ++m) cols.push_back(std::string("baseline.") + metrics::metric_name(m));
-    for (const char* c : {"missing_prediction", "pred_edges", "wrong_direction_edges", "unmatched_edges",
-                          "missed_gt_edges"})
+      for (int m = 0; m < metrics::kMetricCount; ++m)
+        cols.push_back(std::string("baseline.") + metrics::metric_name(m));
+    for (const char* c :
+         {"missing_prediction", "pred_edges", "wrong_direction_edges", "unmatched_edges", "missed_gt_edges"})
       cols.push_back(c);
   }
-  for (const char* c : {"gt_nodes", "gt_edges", "lane_length_m", "coverage_lidar", "coverage_rgb", "coverage_semantic",
-                        "vehicle_px"})
+  for (const char* c :
+       {"gt_nodes", "gt_edges", "lane_length_m", "coverage_lidar", "coverage_rgb", "coverage_semantic", "vehicle_px"})
     cols.push_back(c);
   return cols;
 }

@@ -12,9 +12,9 @@ namespace nsg::segment {
 namespace fs = std::filesystem;
 
 const std::vector<std::string>& class_names() {
-  static const std::vector<std::string> names = {"road",     "lane_marking", "crosswalk", "sidewalk",  "curb",
-                                                 "terrain",  "vegetation",   "building",  "car",       "truck_bus",
-                                                 "person",   "two_wheeler",  "pole_sign", "sky_other"};
+  static const std::vector<std::string> names = {"road",    "lane_marking", "crosswalk", "sidewalk", "curb",
+                                                 "terrain", "vegetation",   "building",  "car",      "truck_bus",
+                                                 "person",  "two_wheeler",  "pole_sign", "sky_other"};
   return names;
 }
 
@@ -78,8 +78,8 @@ SegmentLabels labels_from_json(const nlohmann::json& doc, const std::string& fil
   if (!issues.items().empty()) {
     const Issue& first = issues.items().front();
     // The subject is "<file_label>:<JSON pointer>"; the error names the file once.
-    const std::string pointer = first.subject.rfind(file_label + ":", 0) == 0 ? first.subject.substr(file_label.size() + 1)
-                                                                              : first.subject;
+    const std::string pointer =
+        first.subject.rfind(file_label + ":", 0) == 0 ? first.subject.substr(file_label.size() + 1) : first.subject;
     throw ParseError(file_label, pointer, "a labels file as schemas/v1/segment-labels.schema.json: " + first.message);
   }
   return build_labels(doc, file_label);
@@ -98,12 +98,11 @@ SegmentLabels load_labels(const fs::path& file, const fs::path& schemas_dir) {
 const SegmentLabels& builtin_lidarseg_labels() {
   // Index → our class; see samples/semantic-labels/nuscenes-lidarseg.json for the reasons.
   static const SegmentLabels labels = [] {
-    const char* kClasses[32] = {
-        "void",        "void",       "person",     "person",     "person",     "person",     "person",
-        "person",      "person",     "void",       "void",       "void",       "void",       "void",
-        "two_wheeler", "truck_bus",  "truck_bus",  "car",        "truck_bus",  "truck_bus",  "car",
-        "two_wheeler", "truck_bus",  "truck_bus",  "road",       "void",       "sidewalk",   "terrain",
-        "building",    "void",       "vegetation", "void"};
+    const char* kClasses[32] = {"void",        "void",      "person",     "person", "person",    "person",    "person",
+                                "person",      "person",    "void",       "void",   "void",      "void",      "void",
+                                "two_wheeler", "truck_bus", "truck_bus",  "car",    "truck_bus", "truck_bus", "car",
+                                "two_wheeler", "truck_bus", "truck_bus",  "road",   "void",      "sidewalk",  "terrain",
+                                "building",    "void",      "vegetation", "void"};
     nlohmann::json doc = {{"schema_version", "1"}, {"classes", nlohmann::json::object()}};
     for (int i = 0; i < 32; ++i) doc["classes"][std::to_string(i)] = kClasses[i];
     return build_labels(doc, "built-in nuscenes-lidarseg labels");

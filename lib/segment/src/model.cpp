@@ -48,7 +48,8 @@ struct SegmentationModel::Impl {
   }
 };
 
-SegmentationModel::SegmentationModel(const fs::path& onnx, const SegmentLabels& labels) : impl_(std::make_unique<Impl>()) {
+SegmentationModel::SegmentationModel(const fs::path& onnx, const SegmentLabels& labels)
+    : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.file = onnx;
   std::error_code ec;
@@ -71,8 +72,9 @@ SegmentationModel::SegmentationModel(const fs::path& onnx, const SegmentLabels& 
   std::string shape;
   for (int d = 0; d < out.dims; ++d) shape += (d ? "×" : "") + std::to_string(out.size[d]);
   if (out.dims != 4 || out.size[0] != 1 || out.type() != CV_32F)
-    throw ParseError(onnx.string(), "",
-                     "a segmentation model whose output is N×C×h×w float32 class scores with N = 1 (got " + shape + ")");
+    throw ParseError(
+        onnx.string(), "",
+        "a segmentation model whose output is N×C×h×w float32 class scores with N = 1 (got " + shape + ")");
   m.channels = out.size[1];
   m.out_h = out.size[2];
   m.out_w = out.size[3];
@@ -81,7 +83,8 @@ SegmentationModel::SegmentationModel(const fs::path& onnx, const SegmentLabels& 
                      "output channels of the model " + onnx.filename().string() + " (0.." +
                          std::to_string(m.channels - 1) + ", its output is " + shape + ")");
   m.class_of_channel.resize(static_cast<size_t>(m.channels));
-  for (int c = 0; c < m.channels; ++c) m.class_of_channel[static_cast<size_t>(c)] = labels.class_of(static_cast<size_t>(c));
+  for (int c = 0; c < m.channels; ++c)
+    m.class_of_channel[static_cast<size_t>(c)] = labels.class_of(static_cast<size_t>(c));
 }
 
 SegmentationModel::~SegmentationModel() = default;

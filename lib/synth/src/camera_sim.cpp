@@ -37,8 +37,7 @@ double texture_amplitude(GroundMaterial material) {
 double world_texture(const Eigen::Vector3d& p) {
   const auto ix = static_cast<int64_t>(std::floor(p.x() * 10.0));
   const auto iy = static_cast<int64_t>(std::floor(p.y() * 10.0));
-  const uint64_t h = mix64(static_cast<uint64_t>(ix) * 0x9E3779B97F4A7C15ULL ^
-                           mix64(static_cast<uint64_t>(iy)));
+  const uint64_t h = mix64(static_cast<uint64_t>(ix) * 0x9E3779B97F4A7C15ULL ^ mix64(static_cast<uint64_t>(iy)));
   return static_cast<double>(h >> 11) * (2.0 / 9007199254740992.0) - 1.0;
 }
 
@@ -86,8 +85,7 @@ const std::vector<SemanticClass>& confusions(SemanticClass cls) {
 
 // A class different from `cls` found a little beyond the blob's rim (8 probes from a
 // random start direction), or kVoid if the blob sits inside one region.
-uint8_t neighbouring_class(const CameraImage& image, int cx, int cy, int radius, uint8_t cls,
-                           Rng& rng) {
+uint8_t neighbouring_class(const CameraImage& image, int cx, int cy, int radius, uint8_t cls, Rng& rng) {
   static const int kDirs[8][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
   const int start = static_cast<int>(rng.uniform_int(uint64_t{8}));
   const int reach = 2 * radius;
@@ -153,8 +151,8 @@ void add_label_noise(CameraImage& image, double rate, Rng& rng) {
 void CameraSimOptions::validate() const {
   require(width_px > 0 && width_px <= 16384, "width_px", "1..16384 pixels");
   require(height_px > 0 && height_px <= 16384, "height_px", "1..16384 pixels");
-  require(std::isfinite(label_noise_rate) && label_noise_rate >= 0.0 && label_noise_rate <= 0.5,
-          "label_noise_rate", "a fraction in [0, 0.5]");
+  require(std::isfinite(label_noise_rate) && label_noise_rate >= 0.0 && label_noise_rate <= 0.5, "label_noise_rate",
+          "a fraction in [0, 0.5]");
   require(std::isfinite(max_depth_m) && max_depth_m > 0.0, "max_depth_m", "a depth > 0 m");
   require(std::isfinite(pixel_noise) && pixel_noise >= 0.0 && pixel_noise <= 64.0, "pixel_noise",
           "an amplitude in [0, 64]");
@@ -210,16 +208,14 @@ const std::array<SemanticClassInfo, 14>& semantic_classes() {
 }
 
 CameraImage render_camera(const SceneSnapshot& scene, const geometry::Rigid3& global_from_camera,
-                          const Eigen::Matrix3d& intrinsic, const CameraSimOptions& options,
-                          Rng& rng) {
+                          const Eigen::Matrix3d& intrinsic, const CameraSimOptions& options, Rng& rng) {
   options.validate();
   const SceneRaycaster caster(scene, options.raycast);
   return render_camera(caster, global_from_camera, intrinsic, options, rng);
 }
 
 CameraImage render_camera(const SceneRaycaster& caster, const geometry::Rigid3& global_from_camera,
-                          const Eigen::Matrix3d& intrinsic, const CameraSimOptions& options,
-                          Rng& rng) {
+                          const Eigen::Matrix3d& intrinsic, const CameraSimOptions& options, Rng& rng) {
   options.validate();
   const double det = intrinsic.determinant();
   require(std::isfinite(det) && std::abs(det) > 1e-12 && intrinsic.allFinite(), "intrinsic",

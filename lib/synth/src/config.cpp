@@ -15,8 +15,8 @@ namespace {
 
 using nlohmann::json;
 
-const std::vector<std::string> kLocations = {"singapore-onenorth", "singapore-hollandvillage",
-                                             "singapore-queenstown", "boston-seaport"};
+const std::vector<std::string> kLocations = {"singapore-onenorth", "singapore-hollandvillage", "singapore-queenstown",
+                                             "boston-seaport"};
 
 void require(bool cond, const std::string& key, const std::string& expected) {
   if (!cond) throw ConfigError("synth config", key, expected);
@@ -76,8 +76,8 @@ class ObjectReader {
 }  // namespace
 
 const std::vector<std::string>& all_camera_channels() {
-  static const std::vector<std::string> kChannels = {"CAM_FRONT",      "CAM_FRONT_RIGHT", "CAM_FRONT_LEFT",
-                                                     "CAM_BACK",       "CAM_BACK_LEFT",   "CAM_BACK_RIGHT"};
+  static const std::vector<std::string> kChannels = {"CAM_FRONT", "CAM_FRONT_RIGHT", "CAM_FRONT_LEFT",
+                                                     "CAM_BACK",  "CAM_BACK_LEFT",   "CAM_BACK_RIGHT"};
   return kChannels;
 }
 
@@ -85,17 +85,15 @@ void CityConfig::validate() const {
   require(blocks_x >= 2 && blocks_x <= 40, "city.blocks_x", "an integer in [2, 40]");
   require(blocks_y >= 2 && blocks_y <= 40, "city.blocks_y", "an integer in [2, 40]");
   require(lane_width_m >= 2.5 && lane_width_m <= 5.0, "city.lane_width_m", "a width in [2.5, 5] m");
-  require(max_lanes_per_direction >= 1 && max_lanes_per_direction <= 3, "city.max_lanes_per_direction",
-          "1, 2 or 3");
+  require(max_lanes_per_direction >= 1 && max_lanes_per_direction <= 3, "city.max_lanes_per_direction", "1, 2 or 3");
   // A block must hold two full-width streets' halves, sidewalks and the corner arcs.
   const double max_half_road = max_lanes_per_direction * lane_width_m + 2.5;
-  require(block_size_m >= 2.0 * (max_half_road + sidewalk_width_m) + 30.0 && block_size_m <= 500.0,
-          "city.block_size_m", "at least 2·(lanes·width + parking + sidewalk) + 30 m and at most 500 m");
+  require(block_size_m >= 2.0 * (max_half_road + sidewalk_width_m) + 30.0 && block_size_m <= 500.0, "city.block_size_m",
+          "at least 2·(lanes·width + parking + sidewalk) + 30 m and at most 500 m");
   require(one_way_fraction >= 0.0 && one_way_fraction <= 1.0, "city.one_way_fraction", "a fraction in [0, 1]");
   require(parking_fraction >= 0.0 && parking_fraction <= 1.0, "city.parking_fraction", "a fraction in [0, 1]");
   require(park_fraction >= 0.0 && park_fraction <= 1.0, "city.park_fraction", "a fraction in [0, 1]");
-  require(ring_corner_radius_m >= max_half_road + sidewalk_width_m + 5.0 &&
-              ring_corner_radius_m <= block_size_m / 2.0,
+  require(ring_corner_radius_m >= max_half_road + sidewalk_width_m + 5.0 && ring_corner_radius_m <= block_size_m / 2.0,
           "city.ring_corner_radius_m", "a radius larger than the road half-width + sidewalk + 5 m and ≤ block_size/2");
   require(sidewalk_width_m >= 1.0 && sidewalk_width_m <= 8.0, "city.sidewalk_width_m", "a width in [1, 8] m");
   require(ground_resolution_m >= 0.02 && ground_resolution_m <= 0.2, "city.ground_resolution_m",
@@ -125,8 +123,10 @@ void LidarConfig::validate() const {
   require(rate_hz >= 2.0 && rate_hz <= 40.0 && std::fmod(rate_hz, 2.0) == 0.0, "lidar.rate_hz",
           "an even rate in [2, 40] Hz (key frames are every rate/2-th sweep)");
   require(beams >= 1 && beams <= 128, "lidar.beams", "an integer in [1, 128]");
-  require(points_per_sweep >= 100 && points_per_sweep <= 500000, "lidar.points_per_sweep", "an integer in [100, 500000]");
-  require(roof_points >= 0 && roof_points < points_per_sweep, "lidar.roof_points", "an integer in [0, points_per_sweep)");
+  require(points_per_sweep >= 100 && points_per_sweep <= 500000, "lidar.points_per_sweep",
+          "an integer in [100, 500000]");
+  require(roof_points >= 0 && roof_points < points_per_sweep, "lidar.roof_points",
+          "an integer in [0, points_per_sweep)");
   require(max_range_m > 5.0 && max_range_m <= 300.0, "lidar.max_range_m", "a range in (5, 300] m");
   require(range_noise_m >= 0.0 && range_noise_m <= 1.0, "lidar.range_noise_m", "a noise in [0, 1] m");
 }
@@ -162,8 +162,7 @@ void DetectionsConfig::validate() const {
 void SynthConfig::validate() const {
   require(std::find(kLocations.begin(), kLocations.end(), location) != kLocations.end(), "location",
           "one of singapore-onenorth, singapore-hollandvillage, singapore-queenstown, boston-seaport");
-  require(version.rfind("v1.0-", 0) == 0 && version.size() > 5 &&
-              version.find_first_of("/\\") == std::string::npos,
+  require(version.rfind("v1.0-", 0) == 0 && version.size() > 5 && version.find_first_of("/\\") == std::string::npos,
           "version", "a release name like \"v1.0-mini\"");
   require(map_size_m[0] >= 100.0 && map_size_m[0] <= 4000.0 && map_size_m[1] >= 100.0 && map_size_m[1] <= 4000.0,
           "map_size_m", "[width, height] in [100, 4000] m");
@@ -280,26 +279,45 @@ std::string SynthConfig::to_json() const {
   j["version"] = version;
   j["map_size_m"] = map_size_m;
   j["seed"] = seed;
-  j["city"] = {{"origin_m", city.origin_m}, {"blocks_x", city.blocks_x}, {"blocks_y", city.blocks_y},
-               {"block_size_m", city.block_size_m}, {"lane_width_m", city.lane_width_m},
+  j["city"] = {{"origin_m", city.origin_m},
+               {"blocks_x", city.blocks_x},
+               {"blocks_y", city.blocks_y},
+               {"block_size_m", city.block_size_m},
+               {"lane_width_m", city.lane_width_m},
                {"max_lanes_per_direction", city.max_lanes_per_direction},
-               {"one_way_fraction", city.one_way_fraction}, {"parking_fraction", city.parking_fraction},
-               {"ring_corner_radius_m", city.ring_corner_radius_m}, {"sidewalk_width_m", city.sidewalk_width_m},
-               {"park_fraction", city.park_fraction}, {"ground_resolution_m", city.ground_resolution_m}};
+               {"one_way_fraction", city.one_way_fraction},
+               {"parking_fraction", city.parking_fraction},
+               {"ring_corner_radius_m", city.ring_corner_radius_m},
+               {"sidewalk_width_m", city.sidewalk_width_m},
+               {"park_fraction", city.park_fraction},
+               {"ground_resolution_m", city.ground_resolution_m}};
   j["traffic"] = {{"moving_vehicles_per_scene", traffic.moving_vehicles_per_scene},
-                  {"parked_spacing_m", traffic.parked_spacing_m}, {"parked_occupancy", traffic.parked_occupancy},
+                  {"parked_spacing_m", traffic.parked_spacing_m},
+                  {"parked_occupancy", traffic.parked_occupancy},
                   {"pedestrians_per_scene", traffic.pedestrians_per_scene},
                   {"annotation_range_m", traffic.annotation_range_m}};
-  j["scenes"] = {{"count", scenes.count}, {"samples_per_scene", scenes.samples_per_scene},
-                 {"ego_speed_mps", scenes.ego_speed_mps}, {"first_timestamp_us", scenes.first_timestamp_us}};
-  j["lidar"] = {{"rate_hz", lidar.rate_hz}, {"beams", lidar.beams}, {"points_per_sweep", lidar.points_per_sweep},
-                {"roof_points", lidar.roof_points}, {"max_range_m", lidar.max_range_m},
-                {"range_noise_m", lidar.range_noise_m}, {"lidarseg", lidar.lidarseg}};
-  j["camera"] = {{"rate_hz", camera.rate_hz}, {"channels", camera.channels}, {"width_px", camera.width_px},
-                 {"height_px", camera.height_px}, {"jpeg_quality", camera.jpeg_quality},
-                 {"label_noise_rate", camera.label_noise_rate}, {"mask_scale_denom", camera.mask_scale_denom}};
-  j["detections"] = {{"name", detections.name}, {"position_noise_m", detections.position_noise_m},
-                     {"yaw_noise_rad", detections.yaw_noise_rad}, {"miss_rate", detections.miss_rate},
+  j["scenes"] = {{"count", scenes.count},
+                 {"samples_per_scene", scenes.samples_per_scene},
+                 {"ego_speed_mps", scenes.ego_speed_mps},
+                 {"first_timestamp_us", scenes.first_timestamp_us}};
+  j["lidar"] = {{"rate_hz", lidar.rate_hz},
+                {"beams", lidar.beams},
+                {"points_per_sweep", lidar.points_per_sweep},
+                {"roof_points", lidar.roof_points},
+                {"max_range_m", lidar.max_range_m},
+                {"range_noise_m", lidar.range_noise_m},
+                {"lidarseg", lidar.lidarseg}};
+  j["camera"] = {{"rate_hz", camera.rate_hz},
+                 {"channels", camera.channels},
+                 {"width_px", camera.width_px},
+                 {"height_px", camera.height_px},
+                 {"jpeg_quality", camera.jpeg_quality},
+                 {"label_noise_rate", camera.label_noise_rate},
+                 {"mask_scale_denom", camera.mask_scale_denom}};
+  j["detections"] = {{"name", detections.name},
+                     {"position_noise_m", detections.position_noise_m},
+                     {"yaw_noise_rad", detections.yaw_noise_rad},
+                     {"miss_rate", detections.miss_rate},
                      {"false_positives_per_sample", detections.false_positives_per_sample},
                      {"score_true_mean", detections.score_true_mean},
                      {"score_false_mean", detections.score_false_mean}};

@@ -27,32 +27,24 @@ bool finite(double v) { return std::isfinite(v); }
 // Options
 
 void RaycastOptions::validate() const {
-  require(finite(ground_min_height_m) && finite(ground_max_height_m) &&
-              ground_min_height_m < ground_max_height_m,
-          "raycast.ground_min_height_m",
-          "finite ground_min_height_m < ground_max_height_m");
+  require(finite(ground_min_height_m) && finite(ground_max_height_m) && ground_min_height_m < ground_max_height_m,
+          "raycast.ground_min_height_m", "finite ground_min_height_m < ground_max_height_m");
   require(finite(min_step_m) && min_step_m > 0.0, "raycast.min_step_m", "a step > 0 m");
-  require(finite(max_step_m) && max_step_m >= min_step_m, "raycast.max_step_m",
-          "a step >= min_step_m");
-  require(finite(max_drop_per_step_m) && max_drop_per_step_m > 0.0,
-          "raycast.max_drop_per_step_m", "a height > 0 m");
-  require(finite(grid_cell_m) && grid_cell_m >= 0.0, "raycast.grid_cell_m",
-          "a cell size >= 0 m (0 = automatic)");
+  require(finite(max_step_m) && max_step_m >= min_step_m, "raycast.max_step_m", "a step >= min_step_m");
+  require(finite(max_drop_per_step_m) && max_drop_per_step_m > 0.0, "raycast.max_drop_per_step_m", "a height > 0 m");
+  require(finite(grid_cell_m) && grid_cell_m >= 0.0, "raycast.grid_cell_m", "a cell size >= 0 m (0 = automatic)");
 }
 
 void LidarSimOptions::validate() const {
   require(beams >= 1 && beams <= 256, "beams", "1..256 beams");
-  require(finite(elevation_min_deg) && finite(elevation_max_deg) &&
-              elevation_min_deg >= -90.0 && elevation_max_deg <= 90.0 &&
-              elevation_min_deg <= elevation_max_deg,
+  require(finite(elevation_min_deg) && finite(elevation_max_deg) && elevation_min_deg >= -90.0 &&
+              elevation_max_deg <= 90.0 && elevation_min_deg <= elevation_max_deg,
           "elevation_min_deg", "-90 <= elevation_min_deg <= elevation_max_deg <= 90");
   require(points_per_sweep >= beams, "points_per_sweep", "at least one firing per beam");
   require(finite(max_range_m) && max_range_m > 0.0, "max_range_m", "a range > 0 m");
   require(finite(range_noise_m) && range_noise_m >= 0.0, "range_noise_m", "a sigma >= 0 m");
-  require(roof_points >= 0 && roof_points <= points_per_sweep, "roof_points",
-          "0..points_per_sweep roof returns");
-  require(finite(roof_depth_m) && roof_depth_m > 0.0 && roof_depth_m < 5.0, "roof_depth_m",
-          "a depth in (0, 5) m");
+  require(roof_points >= 0 && roof_points <= points_per_sweep, "roof_points", "0..points_per_sweep roof returns");
+  require(finite(roof_depth_m) && roof_depth_m > 0.0 && roof_depth_m < 5.0, "roof_depth_m", "a depth in (0, 5) m");
   raycast.validate();
 }
 
@@ -75,8 +67,7 @@ SceneRaycaster::SceneRaycaster(const SceneSnapshot& scene, const RaycastOptions&
     o.z_max = box.center_m.z() + 0.5 * box.height_m;
     const double ex = 0.5 * (std::abs(o.cos_yaw) * box.length_m + std::abs(o.sin_yaw) * box.width_m);
     const double ey = 0.5 * (std::abs(o.sin_yaw) * box.length_m + std::abs(o.cos_yaw) * box.width_m);
-    aabbs.push_back({box.center_m.x() - ex, box.center_m.y() - ey, box.center_m.x() + ex,
-                     box.center_m.y() + ey});
+    aabbs.push_back({box.center_m.x() - ex, box.center_m.y() - ey, box.center_m.x() + ex, box.center_m.y() + ey});
     objects_.push_back(o);
   };
   for (const auto& b : scene.static_boxes) add_box(b);
@@ -87,8 +78,8 @@ SceneRaycaster::SceneRaycaster(const SceneSnapshot& scene, const RaycastOptions&
     o.pole = &p;
     o.z_min = scene.ground(p.base_m.x(), p.base_m.y()).height_m;  // stands on the ground
     o.z_max = o.z_min + p.height_m;
-    aabbs.push_back({p.base_m.x() - p.radius_m, p.base_m.y() - p.radius_m,
-                     p.base_m.x() + p.radius_m, p.base_m.y() + p.radius_m});
+    aabbs.push_back(
+        {p.base_m.x() - p.radius_m, p.base_m.y() - p.radius_m, p.base_m.x() + p.radius_m, p.base_m.y() + p.radius_m});
     objects_.push_back(o);
   }
   if (objects_.empty()) return;
@@ -146,8 +137,8 @@ SceneRaycaster::SceneRaycaster(const SceneSnapshot& scene, const RaycastOptions&
   }
 }
 
-bool SceneRaycaster::clip_to_bounds(const Eigen::Vector3d& o, const Eigen::Vector3d& d,
-                                    double& t_min, double& t_max) const {
+bool SceneRaycaster::clip_to_bounds(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double& t_min,
+                                    double& t_max) const {
   const auto& b = scene_.bounds_m;
   if (!(b[2] > b[0] && b[3] > b[1])) return t_min <= t_max;  // unset bounds: unbounded world
   for (int axis = 0; axis < 2; ++axis) {
@@ -164,9 +155,8 @@ bool SceneRaycaster::clip_to_bounds(const Eigen::Vector3d& o, const Eigen::Vecto
   return t_min <= t_max;
 }
 
-bool SceneRaycaster::intersect(const Object& object, const Eigen::Vector3d& o,
-                               const Eigen::Vector3d& d, double t_min, double t_max,
-                               RayHit& hit) const {
+bool SceneRaycaster::intersect(const Object& object, const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_min,
+                               double t_max, RayHit& hit) const {
   if (!object.is_pole) {
     const SceneBox& box = *object.box;
     const double c = object.cos_yaw, s = object.sin_yaw;
@@ -199,8 +189,7 @@ bool SceneRaycaster::intersect(const Object& object, const Eigen::Vector3d& o,
     hit.hit = true;
     hit.range_m = t_enter;
     hit.point_m = o + t_enter * d;
-    hit.normal = Eigen::Vector3d(c * n_local.x() - s * n_local.y(), s * n_local.x() + c * n_local.y(),
-                                 n_local.z());
+    hit.normal = Eigen::Vector3d(c * n_local.x() - s * n_local.y(), s * n_local.x() + c * n_local.y(), n_local.z());
     hit.kind = RayHit::Kind::kBox;
     hit.cls = box.cls;
     hit.lidar_intensity = box.lidar_intensity;
@@ -249,8 +238,8 @@ bool SceneRaycaster::intersect(const Object& object, const Eigen::Vector3d& o,
 
 // Amanatides–Woo traversal of the 2-D grid; stops at the first cell whose exit lies beyond
 // the best hit so far.
-RayHit SceneRaycaster::cast_objects(const Eigen::Vector3d& o, const Eigen::Vector3d& d,
-                                    double t_min, double t_max) const {
+RayHit SceneRaycaster::cast_objects(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_min,
+                                    double t_max) const {
   RayHit best;
   if (objects_.empty()) return best;
   // Clip to the grid rectangle.
@@ -327,8 +316,7 @@ RayHit SceneRaycaster::cast_objects(const Eigen::Vector3d& o, const Eigen::Vecto
   return best;
 }
 
-RayHit SceneRaycaster::cast_ground(const Eigen::Vector3d& o, const Eigen::Vector3d& d,
-                                   double max_range_m) const {
+RayHit SceneRaycaster::cast_ground(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double max_range_m) const {
   RayHit miss;
   const double g_lo = options_.ground_min_height_m, g_hi = options_.ground_max_height_m;
   const double dz = d.z();
@@ -403,8 +391,8 @@ RayHit SceneRaycaster::cast_ground(const Eigen::Vector3d& o, const Eigen::Vector
   return miss;
 }
 
-RayHit SceneRaycaster::cast(const Eigen::Vector3d& origin_m, const Eigen::Vector3d& direction,
-                            double max_range_m, double min_range_m) const {
+RayHit SceneRaycaster::cast(const Eigen::Vector3d& origin_m, const Eigen::Vector3d& direction, double max_range_m,
+                            double min_range_m) const {
   RayHit none;
   const double norm = direction.norm();
   if (!(norm > 0.0) || !finite(norm)) return none;
@@ -451,14 +439,11 @@ double ground_intensity_spread(GroundMaterial material) {
   }
 }
 
-float quantise_intensity(double value) {
-  return static_cast<float>(std::clamp(std::round(value), 0.0, 255.0));
-}
+float quantise_intensity(double value) { return static_cast<float>(std::clamp(std::round(value), 0.0, 255.0)); }
 
 }  // namespace
 
-std::vector<float> simulate_lidar_sweep(const SceneSnapshot& scene,
-                                        const geometry::Rigid3& global_from_sensor,
+std::vector<float> simulate_lidar_sweep(const SceneSnapshot& scene, const geometry::Rigid3& global_from_sensor,
                                         const LidarSimOptions& options, Rng& rng) {
   options.validate();
   const SceneRaycaster caster(scene, options.raycast);
@@ -474,26 +459,25 @@ uint8_t lidarseg_label(const RayHit& hit) {
       case GroundMaterial::kPaintYellow:
       case GroundMaterial::kCrosswalkPaint: return 24;  // flat.driveable_surface
       case GroundMaterial::kSidewalk:
-      case GroundMaterial::kCurbTop: return 26;  // flat.sidewalk
-      case GroundMaterial::kTerrain: return 27;  // flat.terrain
+      case GroundMaterial::kCurbTop: return 26;     // flat.sidewalk
+      case GroundMaterial::kTerrain: return 27;     // flat.terrain
       case GroundMaterial::kVegetation: return 30;  // static.vegetation
     }
     return 25;  // flat.other
   }
   switch (hit.cls) {
-    case SemanticClass::kCar: return 17;          // vehicle.car
-    case SemanticClass::kTruckBus: return 23;     // vehicle.truck (buses too: one class of ours)
-    case SemanticClass::kPerson: return 2;        // human.pedestrian.adult
-    case SemanticClass::kTwoWheeler: return 14;   // vehicle.bicycle
+    case SemanticClass::kCar: return 17;         // vehicle.car
+    case SemanticClass::kTruckBus: return 23;    // vehicle.truck (buses too: one class of ours)
+    case SemanticClass::kPerson: return 2;       // human.pedestrian.adult
+    case SemanticClass::kTwoWheeler: return 14;  // vehicle.bicycle
     case SemanticClass::kBuilding:
-    case SemanticClass::kPoleSign: return 28;     // static.manmade
-    case SemanticClass::kVegetation: return 30;   // static.vegetation (tree trunks)
-    default: return 29;                           // static.other
+    case SemanticClass::kPoleSign: return 28;    // static.manmade
+    case SemanticClass::kVegetation: return 30;  // static.vegetation (tree trunks)
+    default: return 29;                          // static.other
   }
 }
 
-std::vector<float> simulate_lidar_sweep(const SceneRaycaster& caster,
-                                        const geometry::Rigid3& global_from_sensor,
+std::vector<float> simulate_lidar_sweep(const SceneRaycaster& caster, const geometry::Rigid3& global_from_sensor,
                                         const LidarSimOptions& options, Rng& rng,
                                         std::vector<uint8_t>* lidarseg_labels) {
   options.validate();
@@ -502,10 +486,9 @@ std::vector<float> simulate_lidar_sweep(const SceneRaycaster& caster,
   const int azimuth_steps = options.points_per_sweep / beams;
   std::vector<double> cos_el(beams), sin_el(beams);
   for (int r = 0; r < beams; ++r) {
-    const double el_deg =
-        beams == 1 ? options.elevation_min_deg
-                   : options.elevation_min_deg +
-                         (options.elevation_max_deg - options.elevation_min_deg) * r / (beams - 1);
+    const double el_deg = beams == 1 ? options.elevation_min_deg
+                                     : options.elevation_min_deg +
+                                           (options.elevation_max_deg - options.elevation_min_deg) * r / (beams - 1);
     cos_el[r] = std::cos(el_deg * kPi / 180.0);
     sin_el[r] = std::sin(el_deg * kPi / 180.0);
   }

@@ -150,19 +150,22 @@ std::string MapBuilder::traffic_light(const Points& pts, const std::string& from
   Json items = Json::array();
   const char* colors[] = {"RED", "YELLOW", "GREEN"};
   for (int i = 0; i < 3; ++i) {
-    items.push_back(Json{{"color", colors[i]},
-                         {"shape", "CIRCLE"},
-                         {"rel_pos", Json{{"tx", 0.0}, {"ty", 0.0}, {"tz", 0.632 - 0.3 * i}, {"rx", 0.0}, {"ry", 0.0}, {"rz", 0.0}}},
-                         {"to_road_block_tokens", to_road_blocks}});
+    items.push_back(Json{
+        {"color", colors[i]},
+        {"shape", "CIRCLE"},
+        {"rel_pos", Json{{"tx", 0.0}, {"ty", 0.0}, {"tz", 0.632 - 0.3 * i}, {"rx", 0.0}, {"ry", 0.0}, {"rz", 0.0}}},
+        {"to_road_block_tokens", to_road_blocks}});
   }
   const std::string l = line(pts);
-  traffic_light_.push_back(Json{{"token", t},
-                                {"line_token", l},
-                                {"traffic_light_type", "VERTICAL"},
-                                {"from_road_block_token", from_road_block},
-                                {"items", items},
-                                {"pose", Json{{"tx", pts.front().x()}, {"ty", pts.front().y()}, {"tz", 0.0},
-                                              {"rx", 0.0}, {"ry", 0.0}, {"rz", yaw_rad}}}});
+  traffic_light_.push_back(Json{
+      {"token", t},
+      {"line_token", l},
+      {"traffic_light_type", "VERTICAL"},
+      {"from_road_block_token", from_road_block},
+      {"items", items},
+      {"pose",
+       Json{
+           {"tx", pts.front().x()}, {"ty", pts.front().y()}, {"tz", 0.0}, {"rx", 0.0}, {"ry", 0.0}, {"rz", yaw_rad}}}});
   return t;
 }
 
@@ -170,7 +173,8 @@ void MapBuilder::drivable_area(const std::vector<std::string>& polygon_tokens) {
   drivable_area_.push_back(Json{{"token", drivable_area_token_}, {"polygon_tokens", polygon_tokens}});
 }
 
-std::string MapBuilder::to_json(const std::array<double, 2>& canvas_edge_m, const std::vector<LaneTopology>& lanes) const {
+std::string MapBuilder::to_json(const std::array<double, 2>& canvas_edge_m,
+                                const std::vector<LaneTopology>& lanes) const {
   Json arcline = Json::object(), connectivity = Json::object();
   for (const LaneTopology& lane : lanes) {
     Json paths = Json::array();

@@ -39,30 +39,52 @@ void SynthRunOptions::validate() const {
 
 const std::vector<SensorSpec>& sensor_specs() {
   auto yawq = [](double deg) { return geometry::quaternion_from_yaw(deg * 3.141592653589793 / 180.0); };
-  // LIDAR_TOP and CAM_FRONT: the n015 calibrations of nuscenes-format.md §3; the other
+  // LIDAR_TOP and CAM_FRONT: the n015 calibrations of docs/nuscenes-input.md; the other
   // cameras: calibrations of the same kind (mounting positions/angles of the real rig);
   // radars: approximate mounting positions, facing their directions.
   static const std::vector<SensorSpec> kSpecs = {
-      {"CAM_FRONT", "camera", "725903f5b62f56118f4094b46a4470d8", {1.70079118954, 0.0159456324149, 1.51095763913},
+      {"CAM_FRONT",
+       "camera",
+       "725903f5b62f56118f4094b46a4470d8",
+       {1.70079118954, 0.0159456324149, 1.51095763913},
        {0.4998015430569128, -0.5030316162024876, 0.4997798114386805, -0.49737083824542755},
        {1266.417203046554, 1266.417203046554, 816.2670197447984, 491.50706579294757}},
-      {"CAM_FRONT_RIGHT", "camera", "2f7ad058f1ac5557bf321c7543758f43", {1.5508477543, -0.493404796419, 1.49574800619},
+      {"CAM_FRONT_RIGHT",
+       "camera",
+       "2f7ad058f1ac5557bf321c7543758f43",
+       {1.5508477543, -0.493404796419, 1.49574800619},
        {0.2060347966337182, -0.2026940577919598, 0.6824507824531167, -0.6713610884174485},
        {1260.8474446004698, 1260.8474446004698, 807.968244525, 495.3344268742088}},
-      {"CAM_FRONT_LEFT", "camera", "ec4b5d41840a509984f7ec36419d4c09", {1.52387798135, 0.494631336551, 1.50932822144},
+      {"CAM_FRONT_LEFT",
+       "camera",
+       "ec4b5d41840a509984f7ec36419d4c09",
+       {1.52387798135, 0.494631336551, 1.50932822144},
        {0.6757265034669446, -0.6736266522251881, 0.21214015046209478, -0.21122827103904068},
        {1272.5979470598488, 1272.5979470598488, 826.6154927353808, 479.75165386361925}},
-      {"CAM_BACK", "camera", "ce89d4f3050b5892b33b3d328c5e82a3", {0.0283260309358, 0.00345136761476, 1.57910346144},
+      {"CAM_BACK",
+       "camera",
+       "ce89d4f3050b5892b33b3d328c5e82a3",
+       {0.0283260309358, 0.00345136761476, 1.57910346144},
        {0.5037872666382278, -0.49740249788611096, -0.4941850223835201, 0.5045496097725578},
        {809.2209905677063, 809.2209905677063, 829.2196003259838, 481.77842384512485}},
-      {"CAM_BACK_LEFT", "camera", "a89643a5de885c6486df2232dc954da2", {1.03569100218, 0.484795032713, 1.59097014818},
+      {"CAM_BACK_LEFT",
+       "camera",
+       "a89643a5de885c6486df2232dc954da2",
+       {1.03569100218, 0.484795032713, 1.59097014818},
        {0.6924185592174665, -0.7031619420114925, -0.11648342771943819, 0.11203317912370753},
        {1256.7414812095406, 1256.7414812095406, 792.1125740759628, 492.7757465151356}},
-      {"CAM_BACK_RIGHT", "camera", "ca7dba2ec9f95951bbe67246f7f2c3f7", {1.0148780988, -0.480568219723, 1.56239545128},
+      {"CAM_BACK_RIGHT",
+       "camera",
+       "ca7dba2ec9f95951bbe67246f7f2c3f7",
+       {1.0148780988, -0.480568219723, 1.56239545128},
        {0.12280980120078765, -0.132400842670559, -0.7004305821388234, 0.690496031265798},
        {1259.5137405846733, 1259.5137405846733, 807.2529053838625, 501.19579884916527}},
-      {"LIDAR_TOP", "lidar", "dc8b396651c05aedbb9cdaae573bb567", {0.943713, 0.0, 1.84023},
-       {0.7077955119163518, -0.006492242056004365, 0.010646214713995808, -0.7063073142877817}, {}},
+      {"LIDAR_TOP",
+       "lidar",
+       "dc8b396651c05aedbb9cdaae573bb567",
+       {0.943713, 0.0, 1.84023},
+       {0.7077955119163518, -0.006492242056004365, 0.010646214713995808, -0.7063073142877817},
+       {}},
       {"RADAR_FRONT", "radar", "47fcd48f71d75e0da5c8c1704a9bfe0a", {3.412, 0.0, 0.5}, yawq(0.0), {}},
       {"RADAR_FRONT_LEFT", "radar", "1f69f87a4e175e5ba1d03e2e6d9bcd27", {2.422, 0.8, 0.78}, yawq(90.0), {}},
       {"RADAR_FRONT_RIGHT", "radar", "232a6c4dc628532e81de1c57120876e9", {2.422, -0.8, 0.77}, yawq(-90.0), {}},
@@ -117,35 +139,75 @@ const std::vector<CategorySpec>& categories() {
       {"human.pedestrian.child", "Child subcategory.", 3},
       {"human.pedestrian.wheelchair", "Wheelchairs. If a person is in the wheelchair, include in the annotation.", 8},
       {"human.pedestrian.stroller", "Strollers. If a person is in the stroller, include in the annotation.", 7},
-      {"human.pedestrian.personal_mobility", "A small electric or self-propelled vehicle, e.g. skateboard, segway, or scooters.", 5},
+      {"human.pedestrian.personal_mobility",
+       "A small electric or self-propelled vehicle, e.g. skateboard, segway, or scooters.", 5},
       {"human.pedestrian.police_officer", "Police officer.", 6},
       {"human.pedestrian.construction_worker", "Construction worker", 4},
       {"animal", "All animals, e.g. cats, rats, dogs, deer, birds.", 1},
-      {"vehicle.car", "Vehicle designed primarily for personal use, e.g. sedans, hatch-backs, wagons, vans, mini-vans, SUVs and jeeps.", 17},
-      {"vehicle.motorcycle", "Gasoline or electric powered 2-wheeled vehicle designed to move rapidly (at the speed of standard cars) on the road surface.", 21},
-      {"vehicle.bicycle", "Human or electric powered 2-wheeled vehicle designed to travel at lower speeds either on road surface, sidewalks or bike paths.", 14},
+      {"vehicle.car",
+       "Vehicle designed primarily for personal use, e.g. sedans, hatch-backs, wagons, vans, mini-vans, SUVs and "
+       "jeeps.",
+       17},
+      {"vehicle.motorcycle",
+       "Gasoline or electric powered 2-wheeled vehicle designed to move rapidly (at the speed of standard cars) on the "
+       "road surface.",
+       21},
+      {"vehicle.bicycle",
+       "Human or electric powered 2-wheeled vehicle designed to travel at lower speeds either on road surface, "
+       "sidewalks or bike paths.",
+       14},
       {"vehicle.bus.bendy", "Bendy bus subcategory. Annotate each section of the bendy bus individually.", 15},
       {"vehicle.bus.rigid", "Rigid bus subcategory.", 16},
-      {"vehicle.truck", "Vehicles primarily designed to haul cargo including pick-ups, lorrys, trucks and semi-tractors.", 23},
-      {"vehicle.construction", "Vehicles primarily designed for construction. Typically very slow moving or stationary.", 18},
+      {"vehicle.truck",
+       "Vehicles primarily designed to haul cargo including pick-ups, lorrys, trucks and semi-tractors.", 23},
+      {"vehicle.construction",
+       "Vehicles primarily designed for construction. Typically very slow moving or stationary.", 18},
       {"vehicle.emergency.ambulance", "All types of ambulances.", 19},
       {"vehicle.emergency.police", "All types of police vehicles including police bicycles and motorcycles.", 20},
       {"vehicle.trailer", "Any vehicle trailer, both for trucks, cars and bikes.", 22},
       {"movable_object.barrier", "Temporary road barrier placed in the scene in order to redirect traffic.", 9},
       {"movable_object.trafficcone", "All types of traffic cone.", 12},
-      {"movable_object.pushable_pullable", "Objects that a pedestrian may push or pull, e.g. dolleys, wheel barrows, garbage-bins.", 11},
-      {"movable_object.debris", "Movable object that is left on the driveable surface that is too large to be driven over safely.", 10},
+      {"movable_object.pushable_pullable",
+       "Objects that a pedestrian may push or pull, e.g. dolleys, wheel barrows, garbage-bins.", 11},
+      {"movable_object.debris",
+       "Movable object that is left on the driveable surface that is too large to be driven over safely.", 10},
       {"static_object.bicycle_rack", "Area or device intended to park or secure the bicycles in a row.", 13},
       // The classes nuScenes-lidarseg adds (its category.json has all 32, each with index).
-      {"noise", "Any lidar return that does not correspond to a physical object, such as dust, vapor, noise, fog, raindrops, smoke and reflections.", 0},
-      {"flat.driveable_surface", "All paved or unpaved surfaces that a car can drive on with no concern of traffic rules.", 24},
-      {"flat.other", "All other forms of horizontal ground-level structures that do not belong to any of driveable_surface, curb, sidewalk and terrain. Includes elevated parts of traffic islands, delimiters, rail tracks, stairs with at most 3 steps and larger bodies of water - lakes, rivers.", 25},
-      {"flat.sidewalk", "Sidewalk, pedestrian walkways, bike paths, etc. Part of the ground designated for pedestrians or cyclists. Sidewalks do **not** have to be next to a road.", 26},
-      {"flat.terrain", "Natural horizontal surfaces such as ground level horizontal vegetation (< 20 cm tall), grass, rolling hills, soil, sand and gravel.", 27},
-      {"static.manmade", "Includes man-made structures but not limited to: buildings, walls, guard rails, fences, poles, drainages, hydrants, flags, banners, street signs, electric circuit boxes, traffic lights, parking meters and stairs with more than 3 steps.", 28},
-      {"static.other", "Points in the background that are not distinguishable. Or objects that do not match any of the above labels.", 29},
-      {"static.vegetation", "Any vegetation in the frame that is higher than the ground, including bushes, plants, potted plants, trees, etc. Only tall grass (> 20cm) is part of this, ground level grass is part of `flat.terrain`.", 30},
-      {"vehicle.ego", "The vehicle on which the cameras, radar and lidar are mounted, that is sometimes visible at the bottom of the image.", 31},
+      {"noise",
+       "Any lidar return that does not correspond to a physical object, such as dust, vapor, noise, fog, raindrops, "
+       "smoke and reflections.",
+       0},
+      {"flat.driveable_surface",
+       "All paved or unpaved surfaces that a car can drive on with no concern of traffic rules.", 24},
+      {"flat.other",
+       "All other forms of horizontal ground-level structures that do not belong to any of driveable_surface, curb, "
+       "sidewalk and terrain. Includes elevated parts of traffic islands, delimiters, rail tracks, stairs with at most "
+       "3 steps and larger bodies of water - lakes, rivers.",
+       25},
+      {"flat.sidewalk",
+       "Sidewalk, pedestrian walkways, bike paths, etc. Part of the ground designated for pedestrians or cyclists. "
+       "Sidewalks do **not** have to be next to a road.",
+       26},
+      {"flat.terrain",
+       "Natural horizontal surfaces such as ground level horizontal vegetation (< 20 cm tall), grass, rolling hills, "
+       "soil, sand and gravel.",
+       27},
+      {"static.manmade",
+       "Includes man-made structures but not limited to: buildings, walls, guard rails, fences, poles, drainages, "
+       "hydrants, flags, banners, street signs, electric circuit boxes, traffic lights, parking meters and stairs with "
+       "more than 3 steps.",
+       28},
+      {"static.other",
+       "Points in the background that are not distinguishable. Or objects that do not match any of the above labels.",
+       29},
+      {"static.vegetation",
+       "Any vegetation in the frame that is higher than the ground, including bushes, plants, potted plants, trees, "
+       "etc. Only tall grass (> 20cm) is part of this, ground level grass is part of `flat.terrain`.",
+       30},
+      {"vehicle.ego",
+       "The vehicle on which the cameras, radar and lidar are mounted, that is sometimes visible at the bottom of the "
+       "image.",
+       31},
   };
   return k;
 }
@@ -244,7 +306,8 @@ SceneRun plan_scene_run(const World& world, int index, uint64_t seed) {
   s.logfile = log_name(cfg, s.t0, &s.date);
   s.plan = plan_scene(world, duration_s + 0.5, rng);
   for (const SensorSpec& sp : sensor_specs())
-    s.calib_tokens[sp.channel] = table_token(seed, "calibrated_sensor", static_cast<uint64_t>(index), hash_string(sp.channel.data(), sp.channel.size()));
+    s.calib_tokens[sp.channel] = table_token(seed, "calibrated_sensor", static_cast<uint64_t>(index),
+                                             hash_string(sp.channel.data(), sp.channel.size()));
 
   // LiDAR: 20 Hz sweeps with ±300 µs jitter; every (rate/2)-th sweep is a key frame.
   const int per_key = static_cast<int>(std::lround(cfg.lidar.rate_hz / 2.0));
@@ -254,7 +317,8 @@ SceneRun plan_scene_run(const World& world, int index, uint64_t seed) {
   for (int k = 0; k < n_sweeps; ++k) {
     Frame f;
     f.channel = "LIDAR_TOP";
-    f.timestamp = s.t0 + std::llround(k * lidar_period_us) + (k == 0 ? 0 : rng.uniform_int(int64_t{-300}, int64_t{300}));
+    f.timestamp =
+        s.t0 + std::llround(k * lidar_period_us) + (k == 0 ? 0 : rng.uniform_int(int64_t{-300}, int64_t{300}));
     f.key = k % per_key == 0;
     f.sample = (k + per_key - 1) / per_key;  // key: its own sample; non-key: the next one
     lidar.push_back(f);
@@ -268,9 +332,9 @@ SceneRun plan_scene_run(const World& world, int index, uint64_t seed) {
   // Cameras: free-running at their rate, phase-shifted by where the LiDAR beam passes each
   // camera (clockwise spin from the front); the key frame of a sample is the closest in time.
   const double cam_period_us = 1e6 / cfg.camera.rate_hz;
-  const std::map<std::string, double> yaw_deg = {{"CAM_FRONT", 0.0},    {"CAM_FRONT_RIGHT", -55.0},
+  const std::map<std::string, double> yaw_deg = {{"CAM_FRONT", 0.0},         {"CAM_FRONT_RIGHT", -55.0},
                                                  {"CAM_BACK_RIGHT", -110.0}, {"CAM_BACK", 180.0},
-                                                 {"CAM_BACK_LEFT", 110.0}, {"CAM_FRONT_LEFT", 55.0}};
+                                                 {"CAM_BACK_LEFT", 110.0},   {"CAM_FRONT_LEFT", 55.0}};
   for (const std::string& ch : cfg.camera.channels) {
     const double cw = std::fmod(360.0 - yaw_deg.at(ch), 360.0);
     const int64_t phase = std::llround(cw / 360.0 * 50000.0);  // the real LiDAR spins at 20 Hz
@@ -308,8 +372,8 @@ SceneRun plan_scene_run(const World& world, int index, uint64_t seed) {
     const std::string ext = sp.modality == "lidar" ? "pcd.bin" : "jpg";
     for (size_t j = 0; j < frames.size(); ++j) {
       Frame& f = frames[j];
-      f.token = table_token(seed, "sample_data", static_cast<uint64_t>(index),
-                            hash_string(ch.data(), ch.size()), static_cast<uint64_t>(j));
+      f.token = table_token(seed, "sample_data", static_cast<uint64_t>(index), hash_string(ch.data(), ch.size()),
+                            static_cast<uint64_t>(j));
       f.filename = std::string(f.key ? "samples/" : "sweeps/") + ch + "/" + s.logfile + "__" + ch + "__" +
                    std::to_string(f.timestamp) + "." + ext;
     }
@@ -552,15 +616,16 @@ class ReleaseWriter {
     for (const auto& [name, desc] : attributes())
       attribute.push_back(PyJson{{"token", fixed_token("attribute", name)}, {"name", name}, {"description", desc}});
     const char* levels[] = {"v0-40", "v40-60", "v60-80", "v80-100"};
-    const char* vis_desc[] = {"visibility of whole object is between 0 and 40%",
-                              "visibility of whole object is between 40 and 60%",
-                              "visibility of whole object is between 60 and 80%",
-                              "visibility of whole object is between 80 and 100%"};
+    const char* vis_desc[] = {
+        "visibility of whole object is between 0 and 40%", "visibility of whole object is between 40 and 60%",
+        "visibility of whole object is between 60 and 80%", "visibility of whole object is between 80 and 100%"};
     for (int i = 0; i < 4; ++i)
-      visibility.push_back(PyJson{{"description", vis_desc[i]}, {"token", std::to_string(i + 1)}, {"level", levels[i]}});
+      visibility.push_back(
+          PyJson{{"description", vis_desc[i]}, {"token", std::to_string(i + 1)}, {"level", levels[i]}});
 
     PyJson scene = PyJson::array(), sample = PyJson::array(), sample_data = PyJson::array(), ego_pose = PyJson::array(),
-           calibrated = PyJson::array(), log = PyJson::array(), sample_ann = PyJson::array(), instance = PyJson::array();
+           calibrated = PyJson::array(), log = PyJson::array(), sample_ann = PyJson::array(),
+           instance = PyJson::array();
     std::vector<std::string> log_tokens;
     for (const SceneRun& s : scenes_) {
       log.push_back(PyJson{{"token", s.log_token},
@@ -569,14 +634,15 @@ class ReleaseWriter {
                            {"date_captured", s.date},
                            {"location", cfg_.location}});
       log_tokens.push_back(s.log_token);
-      scene.push_back(PyJson{{"token", s.token},
-                             {"log_token", s.log_token},
-                             {"nbr_samples", static_cast<int>(s.samples.size())},
-                             {"first_sample_token", s.samples.front().token},
-                             {"last_sample_token", s.samples.back().token},
-                             {"name", scene_name(s.index)},
-                             {"description", "synthetic city drive, " + std::string(cfg_.right_hand_traffic() ? "right" : "left") +
-                                                 "-hand traffic"}});
+      scene.push_back(PyJson{
+          {"token", s.token},
+          {"log_token", s.log_token},
+          {"nbr_samples", static_cast<int>(s.samples.size())},
+          {"first_sample_token", s.samples.front().token},
+          {"last_sample_token", s.samples.back().token},
+          {"name", scene_name(s.index)},
+          {"description",
+           "synthetic city drive, " + std::string(cfg_.right_hand_traffic() ? "right" : "left") + "-hand traffic"}});
       for (size_t i = 0; i < s.samples.size(); ++i) {
         sample.push_back(PyJson{{"token", s.samples[i].token},
                                 {"timestamp", s.samples[i].timestamp},
@@ -629,7 +695,8 @@ class ReleaseWriter {
         for (const AnnotationPlan& ap : s.samples[i].anns) by_agent[ap.agent].push_back({i, &ap});
       for (const auto& [agent_idx, anns] : by_agent) {
         const Agent& agent = s.plan.agents[static_cast<size_t>(agent_idx)];
-        const std::string inst = table_token(seed_, "instance", static_cast<uint64_t>(s.index), static_cast<uint64_t>(agent_idx));
+        const std::string inst =
+            table_token(seed_, "instance", static_cast<uint64_t>(s.index), static_cast<uint64_t>(agent_idx));
         instance.push_back(PyJson{{"token", inst},
                                   {"category_token", fixed_token("category", agent.category)},
                                   {"nbr_annotations", static_cast<int>(anns.size())},
@@ -639,18 +706,19 @@ class ReleaseWriter {
           const auto& [si, ap] = anns[k];
           const SceneBox& b = ap->box;
           const double t = seconds_since(s, s.samples[si].timestamp);
-          sample_ann.push_back(PyJson{{"token", ap->token},
-                                      {"sample_token", s.samples[si].token},
-                                      {"instance_token", inst},
-                                      {"visibility_token", visibility_of(ap->num_lidar_pts)},
-                                      {"attribute_tokens", PyJson::array({fixed_token("attribute", attribute_of(agent, t))})},
-                                      {"translation", PyJson::array({b.center_m.x(), b.center_m.y(), b.center_m.z()})},
-                                      {"size", PyJson::array({b.width_m, b.length_m, b.height_m})},
-                                      {"rotation", quat(geometry::quaternion_from_yaw(b.yaw_rad))},
-                                      {"prev", k == 0 ? "" : anns[k - 1].second->token},
-                                      {"next", k + 1 == anns.size() ? "" : anns[k + 1].second->token},
-                                      {"num_lidar_pts", ap->num_lidar_pts},
-                                      {"num_radar_pts", 0}});
+          sample_ann.push_back(
+              PyJson{{"token", ap->token},
+                     {"sample_token", s.samples[si].token},
+                     {"instance_token", inst},
+                     {"visibility_token", visibility_of(ap->num_lidar_pts)},
+                     {"attribute_tokens", PyJson::array({fixed_token("attribute", attribute_of(agent, t))})},
+                     {"translation", PyJson::array({b.center_m.x(), b.center_m.y(), b.center_m.z()})},
+                     {"size", PyJson::array({b.width_m, b.length_m, b.height_m})},
+                     {"rotation", quat(geometry::quaternion_from_yaw(b.yaw_rad))},
+                     {"prev", k == 0 ? "" : anns[k - 1].second->token},
+                     {"next", k + 1 == anns.size() ? "" : anns[k + 1].second->token},
+                     {"num_lidar_pts", ap->num_lidar_pts},
+                     {"num_radar_pts", 0}});
           ++summary_.annotations;
         }
         ++summary_.instances;
@@ -741,7 +809,10 @@ class ReleaseWriter {
         results[smp.token] = boxes;
       }
     }
-    PyJson root{{"meta", PyJson{{"use_camera", false}, {"use_lidar", true}, {"use_radar", false}, {"use_map", false},
+    PyJson root{{"meta", PyJson{{"use_camera", false},
+                                {"use_lidar", true},
+                                {"use_radar", false},
+                                {"use_map", false},
                                 {"use_external", false}}},
                 {"results", results}};
     put("detections/" + dc.name + ".json", py_json_dump(root, PyJsonStyle::kCompact));

@@ -38,7 +38,8 @@ Route random_route(const World& world, int start_lane, double min_length_m, Rng&
     r.lanes.push_back(lane);
     const std::vector<Pose2> poly = lane_polyline(world.lanes[static_cast<size_t>(lane)], 0.5);
     for (size_t k = r.poses.empty() ? 0 : 1; k < poly.size(); ++k) {
-      const double step = r.poses.empty() ? 0.0 : std::hypot(poly[k].x - r.poses.back().x, poly[k].y - r.poses.back().y);
+      const double step =
+          r.poses.empty() ? 0.0 : std::hypot(poly[k].x - r.poses.back().x, poly[k].y - r.poses.back().y);
       r.distance_m.push_back((r.distance_m.empty() ? 0.0 : r.distance_m.back()) + step);
       r.poses.push_back(poly[k]);
     }
@@ -51,10 +52,8 @@ Route random_route(const World& world, int start_lane, double min_length_m, Rng&
 
 Pose2 Agent::pose_at(double t_s) const {
   switch (kind) {
-    case Kind::kParked:
-      return fixed;
-    case Kind::kMoving:
-      return route.at(start_m + speed_mps * t_s);
+    case Kind::kParked: return fixed;
+    case Kind::kMoving: return route.at(start_m + speed_mps * t_s);
     case Kind::kPedestrian: {
       // Walks back and forth along the sidewalk stretch.
       const double period = 2.0 * walk_length_m;
@@ -177,8 +176,8 @@ ScenePlan plan_scene(const World& world, double duration_s, Rng& rng) {
     a.kind = Agent::Kind::kParked;
     set_type(a, rng.bernoulli(0.9) ? kCar : kTruck, rng);
     a.length_m = std::min(a.length_m, cfg.traffic.parked_spacing_m - 0.8);
-    a.fixed = {slot.x + rng.uniform(-0.3, 0.3) * std::cos(slot.yaw), slot.y + rng.uniform(-0.3, 0.3) * std::sin(slot.yaw),
-               slot.yaw + rng.uniform(-0.03, 0.03)};
+    a.fixed = {slot.x + rng.uniform(-0.3, 0.3) * std::cos(slot.yaw),
+               slot.y + rng.uniform(-0.3, 0.3) * std::sin(slot.yaw), slot.yaw + rng.uniform(-0.03, 0.03)};
     plan.agents.push_back(std::move(a));
   }
   // Pedestrians on sidewalks near the ego.

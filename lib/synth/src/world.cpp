@@ -237,7 +237,11 @@ std::vector<Pose2> lane_polyline(const LaneInfo& lane, double step_m) {
 // Ground raster.
 
 GroundRaster::GroundRaster(double x0_m, double y0_m, double resolution_m, int width, int height)
-    : x0_(x0_m), y0_(y0_m), res_(resolution_m), width_(width), height_(height),
+    : x0_(x0_m),
+      y0_(y0_m),
+      res_(resolution_m),
+      width_(width),
+      height_(height),
       cells_(static_cast<size_t>(width) * height, static_cast<uint8_t>(GroundMaterial::kTerrain)) {}
 
 GroundMaterial GroundRaster::material(double x_m, double y_m) const {
@@ -331,7 +335,10 @@ std::vector<DrawPrim> draw_prims(const Piece& piece) {
 class WorldBuilder {
  public:
   WorldBuilder(const SynthConfig& config, uint64_t seed)
-      : cfg_(config), city_(config.city), rht_(config.right_hand_traffic()), rng_(seed, 0x77'6f'72'6c'64),
+      : cfg_(config),
+        city_(config.city),
+        rht_(config.right_hand_traffic()),
+        rng_(seed, 0x77'6f'72'6c'64),
         map_(Rng(seed, 0x6d'61'70)) {
     world_.config = config;
   }
@@ -464,7 +471,8 @@ class WorldBuilder {
     std::vector<ArclinePath> paths;
     Pose2 start = prims.front().start;
     for (const Prim& p : prims) {
-      paths.push_back(p.curvature == 0.0 ? straight_path(start, p.length, rng_) : arc_path(start, p.length, p.curvature));
+      paths.push_back(p.curvature == 0.0 ? straight_path(start, p.length, rng_)
+                                         : arc_path(start, p.length, p.curvature));
       start = paths.back().end_pose;
     }
     return paths;
@@ -567,8 +575,9 @@ class WorldBuilder {
       Intersection& node = nodes_[ni];
       if (node.arms == 0) continue;
       const double h = node.half_m;
-      std::vector<Eigen::Vector2d> square = {node.centre + Eigen::Vector2d(-h, -h), node.centre + Eigen::Vector2d(h, -h),
-                                             node.centre + Eigen::Vector2d(h, h), node.centre + Eigen::Vector2d(-h, h)};
+      std::vector<Eigen::Vector2d> square = {node.centre + Eigen::Vector2d(-h, -h),
+                                             node.centre + Eigen::Vector2d(h, -h), node.centre + Eigen::Vector2d(h, h),
+                                             node.centre + Eigen::Vector2d(-h, h)};
       node.segment_token = map_.road_segment(square, true);
       const std::vector<int>& ins = in_by_node[static_cast<int>(ni)];
       const std::vector<int>& outs = out_by_node[static_cast<int>(ni)];
@@ -605,7 +614,8 @@ class WorldBuilder {
         for (int a : ins) {
           const LaneBuild& la = builds_[static_cast<size_t>(a)];
           if (la.piece == lb.piece) continue;
-          const double turn = std::fabs(geometry::wrap_angle_devkit(B.yaw - lane_end_pose(world_.lanes[static_cast<size_t>(a)]).yaw));
+          const double turn =
+              std::fabs(geometry::wrap_angle_devkit(B.yaw - lane_end_pose(world_.lanes[static_cast<size_t>(a)]).yaw));
           const double cost = (turn < kPi / 4.0 ? 0.0 : 100.0) + std::abs(la.index - lb.index);
           if (cost < best_cost) best_cost = cost, best = a;
         }
@@ -621,13 +631,13 @@ class WorldBuilder {
     const double c = std::cos(A.yaw), s = std::sin(A.yaw);
     const double fx = c * (B.x - A.x) + s * (B.y - A.y), ly = -s * (B.x - A.x) + c * (B.y - A.y);
     const double turn = geometry::wrap_angle_devkit(B.yaw - A.yaw);
-    const double radius = std::fabs(turn) < kPi / 4.0 ? kStraightRadiusM
-                                                       : std::max(2.0, 0.98 * std::min(std::fabs(fx), std::fabs(ly)));
+    const double radius =
+        std::fabs(turn) < kPi / 4.0 ? kStraightRadiusM : std::max(2.0, 0.98 * std::min(std::fabs(fx), std::fabs(ly)));
     ArclinePath path = dubins_path(A, B, radius);
     const Pose2 end = geometry::arcline_pose_at(path, path.length_m());
     if (std::hypot(end.x - B.x, end.y - B.y) > 1e-3)
-      throw InternalError("", "lane connector", strprintf("Dubins end misses the lane start by %g m",
-                                                          std::hypot(end.x - B.x, end.y - B.y)));
+      throw InternalError("", "lane connector",
+                          strprintf("Dubins end misses the lane start by %g m", std::hypot(end.x - B.x, end.y - B.y)));
     LaneInfo conn;
     conn.is_connector = true;
     conn.paths = {path};
@@ -684,9 +694,8 @@ class WorldBuilder {
           world_.poles.push_back(ScenePole{p0, 0.15, 5.5, SemanticClass::kPoleSign, 70, {60, 60, 60}});
         }
         map_.stop_line({pt(t0, in_lo), pt(t1, in_lo), pt(t1, in_hi), pt(t0, in_hi)},
-                       lights.empty() ? "PED_CROSSING" : "TRAFFIC_LIGHT", lights.empty() ? std::vector<std::string>{pc}
-                                                                                        : std::vector<std::string>{},
-                       lights, block);
+                       lights.empty() ? "PED_CROSSING" : "TRAFFIC_LIGHT",
+                       lights.empty() ? std::vector<std::string>{pc} : std::vector<std::string>{}, lights, block);
       }
     }
   }
@@ -805,8 +814,9 @@ class WorldBuilder {
                              piece_curve(piece, 0.0, L, lay.left_edge, 4.0)));
       map_.walkway(band_ring(piece_curve(piece, 0.0, L, lay.right_edge, 4.0),
                              piece_curve(piece, 0.0, L, lay.right_edge - sw, 4.0)));
-      drivable.push_back(map_.polygon(band_ring(piece_curve(piece, -piece.ext_a, L + piece.ext_b, lay.left_edge, 4.0),
-                                                piece_curve(piece, -piece.ext_a, L + piece.ext_b, lay.right_edge, 4.0))));
+      drivable.push_back(
+          map_.polygon(band_ring(piece_curve(piece, -piece.ext_a, L + piece.ext_b, lay.left_edge, 4.0),
+                                 piece_curve(piece, -piece.ext_a, L + piece.ext_b, lay.right_edge, 4.0))));
     }
     map_.drivable_area(drivable);
   }
@@ -821,7 +831,8 @@ class WorldBuilder {
     for (const SceneBox& b : world_.buildings) {
       const bool rot = std::fabs(std::sin(b.yaw_rad)) > 0.5;
       const double bx = (rot ? b.width_m : b.length_m) / 2.0, by = (rot ? b.length_m : b.width_m) / 2.0;
-      if (std::fabs(b.center_m.x() - cx) < bx + hx + 1.0 && std::fabs(b.center_m.y() - cy) < by + hy + 1.0) return false;
+      if (std::fabs(b.center_m.x() - cx) < bx + hx + 1.0 && std::fabs(b.center_m.y() - cy) < by + hy + 1.0)
+        return false;
     }
     return true;
   }
@@ -835,7 +846,8 @@ class WorldBuilder {
           for (int t = 0; t < trees; ++t) {
             const Eigen::Vector2d p(X(i) + rng_.uniform(0.25, 0.75) * B, Y(j) + rng_.uniform(0.25, 0.75) * B);
             if (world_.ground->material(p.x(), p.y()) != GroundMaterial::kVegetation) continue;
-            world_.poles.push_back(ScenePole{p, 0.3, rng_.uniform(4.0, 9.0), SemanticClass::kVegetation, 40, {60, 110, 50}});
+            world_.poles.push_back(
+                ScenePole{p, 0.3, rng_.uniform(4.0, 9.0), SemanticClass::kVegetation, 40, {60, 110, 50}});
           }
           continue;
         }
@@ -902,7 +914,8 @@ class WorldBuilder {
               const double outer = dir == 0 ? lay.fwd_outer : lay.bwd_outer;
               if (dir == 1 && !st.two_way()) continue;
               const double sign = outer >= 0.0 ? 1.0 : -1.0;
-              const double d_lane = st.two_way() ? outer : (sign > 0 ? lay.left_edge - kParkingWidthM : lay.right_edge + kParkingWidthM);
+              const double d_lane =
+                  st.two_way() ? outer : (sign > 0 ? lay.left_edge - kParkingWidthM : lay.right_edge + kParkingWidthM);
               const double d_mid = d_lane + sign * kParkingWidthM / 2.0;
               const double yaw = dir == 0 ? prim.start.yaw : geometry::wrap_angle_devkit(prim.start.yaw + kPi);
               const double sa = 3.0, sb = prim.length - 3.0;

@@ -64,8 +64,8 @@ int64_t covered_cells_window(const raster::LidarLayer& lidar, int64_t col0, int6
   int64_t n = 0;
   for (int64_t by = floor_div(row0, kBlockCells); by * kBlockCells < row1; ++by)
     for (int64_t bx = floor_div(col0, kBlockCells); bx * kBlockCells < col1; ++bx)
-      n += static_cast<int64_t>(lidar.cells().count_with_data(bx, by, local(col0, bx), local(col1, bx),
-                                                              local(row0, by), local(row1, by)));
+      n += static_cast<int64_t>(
+          lidar.cells().count_with_data(bx, by, local(col0, bx), local(col1, bx), local(row0, by), local(row1, by)));
   return n;
 }
 
@@ -114,7 +114,8 @@ void grid_crops(const raster::LidarLayer& lidar, const Region& region, const Cro
     return;
   }
   for (int64_t row = range.row_lo; row <= range.row_hi; row += o.size_px)
-    for (int64_t col = range.col_lo; col <= range.col_hi; col += o.size_px) consider(lidar, region, col, row, o, st, out);
+    for (int64_t col = range.col_lo; col <= range.col_hi; col += o.size_px)
+      consider(lidar, region, col, row, o, st, out);
 }
 
 void random_crops(const raster::LidarLayer& lidar, const Region& region, int64_t wanted, const CropOptions& o,

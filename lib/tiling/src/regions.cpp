@@ -81,7 +81,8 @@ void SplitOptions::check_relations(double crop_size_m) const {
       bad("regions", "region names without dots ('" + r.name + "')");
     if (!names.insert(r.name).second) bad("regions", "unique region names ('" + r.name + "' repeats)");
     if (!is_split_name(r.split)) bad("regions." + r.name + ".split", "train, val or test (got '" + r.split + "')");
-    if (!r.bounds.valid()) bad("regions." + r.name + ".bounds_m", "[x_west, y_south, x_east, y_north] with west < east, south < north");
+    if (!r.bounds.valid())
+      bad("regions." + r.name + ".bounds_m", "[x_west, y_south, x_east, y_north] with west < east, south < north");
     if (r.bounds.width_m() < crop_size_m || r.bounds.height_m() < crop_size_m)
       bad("regions." + r.name + ".bounds_m", "a region holding at least one crop");
   }
@@ -153,8 +154,8 @@ std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOpt
   const double res = lidar.resolution_m();
   const double x0 = static_cast<double>(e.col0) * res, y0 = static_cast<double>(e.row0) * res;
   const double w = static_cast<double>(e.col1 - e.col0) * res, h = static_cast<double>(e.row1 - e.row0) * res;
-  double block_m = options.block_size_m > 0 ? options.block_size_m
-                                            : auto_block_size_m(w, h, crop_size_m, options.buffer_m);
+  double block_m =
+      options.block_size_m > 0 ? options.block_size_m : auto_block_size_m(w, h, crop_size_m, options.buffer_m);
   block_m = std::ceil(block_m / res - 1e-9) * res;
   const int64_t nx = static_cast<int64_t>(std::ceil(w / block_m - 1e-9));
   const int64_t ny = static_cast<int64_t>(std::ceil(h / block_m - 1e-9));
@@ -170,8 +171,7 @@ std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOpt
       const double cells = static_cast<double>(block_cells * block_cells);
       if (static_cast<double>(covered_cells_in(lidar, b.bounds)) >= options.min_block_coverage * cells)
         blocks.push_back(b);
-      else
-        ++st.blocks_low_coverage;
+      else ++st.blocks_low_coverage;
     }
   const auto rank = [&](const Block& b) {
     return mix64(seed ^ mix64(static_cast<uint64_t>(b.bx) * 0x9E3779B97F4A7C15ull + static_cast<uint64_t>(b.by)));

@@ -81,8 +81,8 @@ TileRasters extract_rasters(const LocationRasters& layers, int64_t col0, int64_t
   return r;
 }
 
-Tile extract_tile(const LocationRasters& layers, const std::string& location, const Crop& crop,
-                  const std::string& key, double resolution_m, int size_px) {
+Tile extract_tile(const LocationRasters& layers, const std::string& location, const Crop& crop, const std::string& key,
+                  double resolution_m, int size_px) {
   Tile t;
   t.key = key;
   t.location = location;

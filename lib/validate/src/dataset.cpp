@@ -26,17 +26,20 @@ namespace nsg::validate {
 const std::vector<CheckInfo>& dataset_checks() {
   static const std::vector<CheckInfo> kChecks = {
       {"manifest.schema", "manifest.json validates against schemas/v1/manifest.schema.json"},
-      {"determinism.config", "the manifest's config validates against generate-config.schema.json; its seed, "
-                             "size_px, resolution_m and layout equal the manifest's"},
+      {"determinism.config",
+       "the manifest's config validates against generate-config.schema.json; its seed, "
+       "size_px, resolution_m and layout equal the manifest's"},
       {"maps.sha256", "every manifest maps/ file exists with the recorded sha256 and size"},
       {"shard.present", "every manifest shard file exists"},
       {"shard.sha256", "every shard file hashes to the manifest's sha256 and has its byte size (tar layout)"},
       {"shard.readable", "every shard is a complete tar of <key>.<suffix> members"},
       {"shard.members", "every key has exactly the files of tile_format.files"},
-      {"tile.key", "keys are <location>-<split>-<NNNNNN>, unique, of the shard's split and range, and equal "
-                   "the key inside graph.json and meta.json"},
-      {"meta.schema", "meta.json validates against tile-meta.schema.json and agrees with the shard and "
-                      "tile_format (split, location, size_px, resolution_m, bounds extent)"},
+      {"tile.key",
+       "keys are <location>-<split>-<NNNNNN>, unique, of the shard's split and range, and equal "
+       "the key inside graph.json and meta.json"},
+      {"meta.schema",
+       "meta.json validates against tile-meta.schema.json and agrees with the shard and "
+       "tile_format (split, location, size_px, resolution_m, bounds extent)"},
       {"meta.counts", "meta counts (nodes, edges, vehicle_px) and coverage fractions match the files"},
       {"raster.readable", "every .tif decodes as a georeferenced GeoTIFF"},
       {"raster.size", "every raster is tile_format.size_px square"},
@@ -67,7 +70,8 @@ void DatasetValidateOptions::validate() const {
   NSG_CHECK(!root.empty(), ConfigError, "", "DATASET", "a dataset folder");
   const auto& all = dataset_checks();
   NSG_CHECK(std::any_of(all.begin(), all.end(), [&](const CheckInfo& c) { return check_selected(checks, c.name); }),
-            ConfigError, "", "--checks", "a pattern matching at least one check (see --list-checks), got '" + checks + "'");
+            ConfigError, "", "--checks",
+            "a pattern matching at least one check (see --list-checks), got '" + checks + "'");
   NSG_CHECK(length_tolerance_m >= 0 && std::isfinite(length_tolerance_m), ConfigError, "", "length_tolerance_m",
             "a finite tolerance >= 0");
 }
@@ -155,8 +159,8 @@ class DatasetChecker {
 
   void check_manifest() {
     if (on("manifest.schema"))
-      issues_.append(SchemaValidator(schemas_ / "v1" / "manifest.schema.json")
-                         .validate(m_, "manifest.json", "manifest.schema"));
+      issues_.append(
+          SchemaValidator(schemas_ / "v1" / "manifest.schema.json").validate(m_, "manifest.json", "manifest.schema"));
     if (!on("determinism.config")) return;
     const json& config = m_.value("config", json());
     if (!config.is_object()) {
@@ -169,8 +173,9 @@ class DatasetChecker {
       const json::json_pointer a(config_ptr), b(manifest_ptr);
       if (config.contains(a) && m_.contains(b) && config.at(a) == m_.at(b)) return;
       error("determinism.config", std::string("manifest.json:") + manifest_ptr,
-            std::string("equal to config ") + config_ptr + " (" + (config.contains(a) ? config.at(a).dump() : "absent") +
-                " vs " + (m_.contains(b) ? m_.at(b).dump() : "absent") + ")");
+            std::string("equal to config ") + config_ptr + " (" +
+                (config.contains(a) ? config.at(a).dump() : "absent") + " vs " +
+                (m_.contains(b) ? m_.at(b).dump() : "absent") + ")");
     };
     differs("/seed", "/seed");
     differs("/crops/size_px", "/tile_format/size_px");
@@ -248,8 +253,8 @@ class DatasetChecker {
         error("tile.key", subject, "a key of location '" + str_of(shard, "location") + "'");
     }
     if (t.key < str_of(shard, "first_key") || t.key > str_of(shard, "last_key"))
-      error("tile.key", subject, "a key in the shard's range [" + str_of(shard, "first_key") + ", " +
-                                     str_of(shard, "last_key") + "]");
+      error("tile.key", subject,
+            "a key in the shard's range [" + str_of(shard, "first_key") + ", " + str_of(shard, "last_key") + "]");
     if (!keys_.insert(t.key).second) error("tile.key", subject, "a unique key (seen in an earlier tile)");
   }
 
@@ -258,7 +263,8 @@ class DatasetChecker {
     for (const std::string& f : files_)
       if (!t.has(f)) error("shard.members", subject + "." + f, "missing member");
     for (const auto& [suffix, bytes] : t.files)
-      if (!files_.count(suffix)) error("shard.members", subject + "." + suffix, "unexpected member (not in tile_format.files)");
+      if (!files_.count(suffix))
+        error("shard.members", subject + "." + suffix, "unexpected member (not in tile_format.files)");
   }
 
   // Parses a JSON member; a parse failure is reported under `check`.
@@ -300,7 +306,8 @@ class DatasetChecker {
     if (!r) return std::nullopt;
     const double extent = size_px_ * res_m_;
     if (!near(r->x_east - r->x_west, extent) || !near(r->y_north - r->y_south, extent))
-      error("meta.schema", subject + ":/bounds_m", "a square of size_px * resolution_m = " + format_double(extent) + " m");
+      error("meta.schema", subject + ":/bounds_m",
+            "a square of size_px * resolution_m = " + format_double(extent) + " m");
     tiles_.push_back({t.key, str_of(meta, "split"), str_of(meta, "location"), t.shard, *r});
     return r;
   }
@@ -323,7 +330,8 @@ class DatasetChecker {
     for (int64_t i = 0; i < n; ++i) {
       const json& node = nodes[i];
       const std::string at = subject + ":/nodes/" + std::to_string(i);
-      if (node["id"] != i) error("graph.indices", at + "/id", "id " + std::to_string(i) + " (its position), got " + node["id"].dump());
+      if (node["id"] != i)
+        error("graph.indices", at + "/id", "id " + std::to_string(i) + " (its position), got " + node["id"].dump());
       const double x = node["x"].get<double>(), y = node["y"].get<double>();
       const double u = node["u"].get<double>(), v = node["v"].get<double>();
       if (!bounds) continue;
@@ -334,9 +342,9 @@ class DatasetChecker {
       // Pixel tolerance: the metre tolerance in pixels plus rounding of the division.
       const double tol_px = o_.length_tolerance_m / res_m_ + 1e-6;
       if (std::abs(u - want_u) > tol_px || std::abs(v - want_v) > tol_px)
-        error("graph.pixel_coords", at, strprintf("u, v = %s, %s from x, y; got %s, %s", format_double(want_u).c_str(),
-                                                  format_double(want_v).c_str(), format_double(u).c_str(),
-                                                  format_double(v).c_str()));
+        error("graph.pixel_coords", at,
+              strprintf("u, v = %s, %s from x, y; got %s, %s", format_double(want_u).c_str(),
+                        format_double(want_v).c_str(), format_double(u).c_str(), format_double(v).c_str()));
     }
     std::set<std::pair<int64_t, int64_t>> seen;
     for (size_t k = 0; k < edges.size(); ++k) {
@@ -344,26 +352,30 @@ class DatasetChecker {
       const std::string at = subject + ":/edges/" + std::to_string(k);
       const int64_t s = e["source"].get<int64_t>(), d = e["target"].get<int64_t>();
       if (s < 0 || s >= n || d < 0 || d >= n) {
-        error("graph.indices", at, strprintf("source and target in [0, %lld), got %lld -> %lld",
-                                             static_cast<long long>(n), static_cast<long long>(s),
-                                             static_cast<long long>(d)));
+        error("graph.indices", at,
+              strprintf("source and target in [0, %lld), got %lld -> %lld", static_cast<long long>(n),
+                        static_cast<long long>(s), static_cast<long long>(d)));
         continue;
       }
-      if (s == d) error("graph.self_loops", at, "an edge between two nodes, got a self-loop on node " + std::to_string(s));
+      if (s == d)
+        error("graph.self_loops", at, "an edge between two nodes, got a self-loop on node " + std::to_string(s));
       if (!seen.insert({s, d}).second)
-        error("graph.duplicates", at, strprintf("a single edge %lld -> %lld", static_cast<long long>(s),
-                                                static_cast<long long>(d)));
+        error("graph.duplicates", at,
+              strprintf("a single edge %lld -> %lld", static_cast<long long>(s), static_cast<long long>(d)));
       const double len = std::hypot(nodes[d]["x"].get<double>() - nodes[s]["x"].get<double>(),
                                     nodes[d]["y"].get<double>() - nodes[s]["y"].get<double>());
       if (len > max_spacing_m_ + o_.length_tolerance_m)
-        error("graph.edge_length", at, "at most graph.max_spacing_m = " + format_double(max_spacing_m_) +
-                                           " m, got " + format_double(len) + " m");
+        error(
+            "graph.edge_length", at,
+            "at most graph.max_spacing_m = " + format_double(max_spacing_m_) + " m, got " + format_double(len) + " m");
     }
     if (meta && meta->contains(json::json_pointer("/counts/nodes"))) {
       if ((*meta)["counts"]["nodes"] != n)
-        error("meta.counts", t.shard + "/" + t.key + ".meta.json:/counts/nodes", strprintf("%lld (graph.json)", static_cast<long long>(n)));
+        error("meta.counts", t.shard + "/" + t.key + ".meta.json:/counts/nodes",
+              strprintf("%lld (graph.json)", static_cast<long long>(n)));
       if ((*meta)["counts"].value("edges", json()) != edges.size())
-        error("meta.counts", t.shard + "/" + t.key + ".meta.json:/counts/edges", strprintf("%zu (graph.json)", edges.size()));
+        error("meta.counts", t.shard + "/" + t.key + ".meta.json:/counts/edges",
+              strprintf("%zu (graph.json)", edges.size()));
     }
   }
 
@@ -389,20 +401,24 @@ class DatasetChecker {
       return std::nullopt;
     }
     if (r.width != size_px_ || r.height != size_px_)
-      error("raster.size", subject, strprintf("%d x %d pixels (tile_format.size_px), got %d x %d", size_px_, size_px_,
-                                              r.width, r.height));
+      error("raster.size", subject,
+            strprintf("%d x %d pixels (tile_format.size_px), got %d x %d", size_px_, size_px_, r.width, r.height));
     if (r.type != spec.type || r.bands != spec.bands)
-      error("raster.dtype", subject, strprintf("%s x %d, got %s x %d", spec.type == io::SampleType::kUInt8 ? "uint8" : "float32",
-                                               spec.bands, r.type == io::SampleType::kUInt8 ? "uint8" : "float32", r.bands));
+      error("raster.dtype", subject,
+            strprintf("%s x %d, got %s x %d", spec.type == io::SampleType::kUInt8 ? "uint8" : "float32", spec.bands,
+                      r.type == io::SampleType::kUInt8 ? "uint8" : "float32", r.bands));
     if (meta && bounds && !r.data.empty()) {  // decoded: its georeference was read
       if (georef.location != str_of(*meta, "location"))
-        error("raster.georef", subject, "the CRS of location '" + str_of(*meta, "location") + "', got '" + georef.location + "'");
+        error("raster.georef", subject,
+              "the CRS of location '" + str_of(*meta, "location") + "', got '" + georef.location + "'");
       if (!near(georef.x_west_m, bounds->x_west) || !near(georef.y_north_m, bounds->y_north))
-        error("raster.georef", subject, "north-west corner (" + format_double(bounds->x_west) + ", " +
-                                            format_double(bounds->y_north) + ") from meta bounds_m, got (" +
-                                            format_double(georef.x_west_m) + ", " + format_double(georef.y_north_m) + ")");
+        error("raster.georef", subject,
+              "north-west corner (" + format_double(bounds->x_west) + ", " + format_double(bounds->y_north) +
+                  ") from meta bounds_m, got (" + format_double(georef.x_west_m) + ", " +
+                  format_double(georef.y_north_m) + ")");
       if (std::abs(georef.resolution_m - res_m_) > 1e-9)
-        error("raster.georef", subject, "pixel size " + format_double(res_m_) + " m, got " + format_double(georef.resolution_m));
+        error("raster.georef", subject,
+              "pixel size " + format_double(res_m_) + " m, got " + format_double(georef.resolution_m));
     }
     const bool usable = r.width == size_px_ && r.height == size_px_ && r.type == spec.type && r.bands == spec.bands;
     return usable ? std::optional<io::Raster>(std::move(r)) : std::nullopt;
@@ -432,8 +448,9 @@ class DatasetChecker {
         }
       }
       if (bad > 0)
-        error("raster.nodata", base + ".vehicle.tif", strprintf("values in {-1} or [0, 1); %lld pixels are not (first: %s)",
-                                                                static_cast<long long>(bad), format_double(first_bad).c_str()));
+        error("raster.nodata", base + ".vehicle.tif",
+              strprintf("values in {-1} or [0, 1); %lld pixels are not (first: %s)", static_cast<long long>(bad),
+                        format_double(first_bad).c_str()));
     }
     auto cov = rasters.find("coverage.tif");
     if (cov == rasters.end()) return;
@@ -454,7 +471,8 @@ class DatasetChecker {
       if (sem && sem[i] != 255 && !(f & 4)) ++unflagged[2];
     }
     if (bad_flags > 0)
-      error("raster.nodata", base + ".coverage.tif", strprintf("flags in 0..7; %lld pixels are not", static_cast<long long>(bad_flags)));
+      error("raster.nodata", base + ".coverage.tif",
+            strprintf("flags in 0..7; %lld pixels are not", static_cast<long long>(bad_flags)));
     const char* layers[3] = {"lidar", "rgb", "semantic"};
     for (int k = 0; k < 3; ++k)
       if (unflagged[k] > 0)
@@ -468,8 +486,8 @@ class DatasetChecker {
       const json::json_pointer ptr("/coverage/" + std::string(layers[k]));
       const double want = static_cast<double>(counts[k]) / static_cast<double>(pixels);
       if (meta->contains(ptr) && (!meta->at(ptr).is_number() || std::abs(meta->at(ptr).get<double>() - want) > 1e-9))
-        error("meta.counts", subject + ":" + ptr.to_string(), "the coverage raster's fraction " + format_double(want) +
-                                                                  ", got " + meta->at(ptr).dump());
+        error("meta.counts", subject + ":" + ptr.to_string(),
+              "the coverage raster's fraction " + format_double(want) + ", got " + meta->at(ptr).dump());
     }
     const json::json_pointer vptr("/counts/vehicle_px");
     if (vehicle_px >= 0 && meta->contains(vptr) && meta->at(vptr) != vehicle_px)
@@ -488,7 +506,8 @@ class DatasetChecker {
         for (const TileRecord& t : tiles_)
           if (t.location == name && t.split != str_of(region, "split") && overlaps(t.bounds, *r, tol))
             error("split.disjoint", t.shard + "/" + t.key,
-                  "a " + t.split + " tile outside " + str_of(region, "split") + " region '" + str_of(region, "name") + "'");
+                  "a " + t.split + " tile outside " + str_of(region, "split") + " region '" + str_of(region, "name") +
+                      "'");
       }
     }
     // Tiles of different splits: sweep in x_west order.
@@ -515,8 +534,9 @@ class DatasetChecker {
       const std::string name = str_of(shard, "name");
       const int64_t found = found_per_shard_[name];
       if (shard.value("tiles", json()) != found)
-        error("split.counts", name + ":tiles", strprintf("%lld tiles found, manifest says %s", static_cast<long long>(found),
-                                                         shard.value("tiles", json()).dump().c_str()));
+        error("split.counts", name + ":tiles",
+              strprintf("%lld tiles found, manifest says %s", static_cast<long long>(found),
+                        shard.value("tiles", json()).dump().c_str()));
       split_tiles[str_of(shard, "split")] += found;
       ++split_shards[str_of(shard, "split")];
       location_tiles[{str_of(shard, "location"), str_of(shard, "split")}] += found;
@@ -534,14 +554,16 @@ class DatasetChecker {
               strprintf("%lld shards listed", static_cast<long long>(split_shards[split])));
     }
     if (counts.value("total_tiles", json()) != total)
-      error("split.counts", "manifest.json:/counts/total_tiles", strprintf("%lld tiles found", static_cast<long long>(total)));
+      error("split.counts", "manifest.json:/counts/total_tiles",
+            strprintf("%lld tiles found", static_cast<long long>(total)));
     for (const json& loc : m_.value("locations", json::array()))
       for (const char* split : {"train", "val", "test"}) {
         const json::json_pointer p(std::string("/counts/") + split);
         const int64_t found = location_tiles[{str_of(loc, "name"), split}];
         if (loc.contains(p) && loc.at(p) != found)
-          error("split.counts", "manifest.json:/locations/" + str_of(loc, "name") + "/counts/" + split,
-                strprintf("%lld tiles found, manifest says %s", static_cast<long long>(found), loc.at(p).dump().c_str()));
+          error(
+              "split.counts", "manifest.json:/locations/" + str_of(loc, "name") + "/counts/" + split,
+              strprintf("%lld tiles found, manifest says %s", static_cast<long long>(found), loc.at(p).dump().c_str()));
       }
   }
 

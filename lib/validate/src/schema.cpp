@@ -26,10 +26,8 @@ std::string to_pointer(const std::vector<std::string>& context) {
   for (const std::string& part : context) {
     if (part == "<root>") continue;
     std::string token = part;
-    if (token.size() >= 2 && token.front() == '[' && token.back() == ']')
-      token = token.substr(1, token.size() - 2);
-    if (token.size() >= 2 && token.front() == '"' && token.back() == '"')
-      token = token.substr(1, token.size() - 2);
+    if (token.size() >= 2 && token.front() == '[' && token.back() == ']') token = token.substr(1, token.size() - 2);
+    if (token.size() >= 2 && token.front() == '"' && token.back() == '"') token = token.substr(1, token.size() - 2);
     out += "/" + token;
   }
   return out.empty() ? "/" : out;
@@ -90,8 +88,8 @@ Issues SchemaValidator::validate(const nlohmann::json& doc, const std::string& f
   return issues;
 }
 
-Issues validate_against_schema(const fs::path& schema_path, const nlohmann::json& doc,
-                               const std::string& file_label, const std::string& check) {
+Issues validate_against_schema(const fs::path& schema_path, const nlohmann::json& doc, const std::string& file_label,
+                               const std::string& check) {
   return SchemaValidator(schema_path).validate(doc, file_label, check);
 }
 
@@ -113,8 +111,9 @@ fs::path find_schemas_dir(const fs::path& override_dir) {
 #endif
   for (const fs::path& p : tries)
     if (fs::is_regular_file(p / "v1" / "submission.schema.json")) return p;
-  throw IoError("schemas/", "", "the published schemas next to the executable or in the "
-                                "source tree (pass --schemas DIR)");
+  throw IoError("schemas/", "",
+                "the published schemas next to the executable or in the "
+                "source tree (pass --schemas DIR)");
 }
 
 }  // namespace nsg::validate

@@ -16,9 +16,7 @@
 namespace nsg::validate {
 namespace {
 
-bool finite_number(const nlohmann::json& j) {
-  return j.is_number() && std::isfinite(j.get<double>());
-}
+bool finite_number(const nlohmann::json& j) { return j.is_number() && std::isfinite(j.get<double>()); }
 
 // Sum of the lengths of the edges whose ends are valid [u, v] nodes (others are reported
 // by the schema and index checks).
@@ -52,10 +50,11 @@ void check_tile(const std::string& key, const nlohmann::json& tile, const std::s
   if (edges != nullptr && static_cast<int64_t>(edges->size()) <= limits.max_edges_per_tile)
     for (const nlohmann::json& e : *edges)
       if (e.is_array() && e.size() == 2 && e[0].is_number_unsigned() && e[1].is_number_unsigned() &&
-          e[0].get<uint64_t>() < static_cast<uint64_t>(n_nodes_all) && e[1].get<uint64_t>() < static_cast<uint64_t>(n_nodes_all))
+          e[0].get<uint64_t>() < static_cast<uint64_t>(n_nodes_all) &&
+          e[1].get<uint64_t>() < static_cast<uint64_t>(n_nodes_all))
         pairs.push_back({e[0].get<int64_t>(), e[1].get<int64_t>()});
-  check_tile_limits(n_nodes_all, edges != nullptr ? static_cast<int64_t>(edges->size()) : 0, edge_length_px(nodes, edges),
-                    path_search_work(n_nodes_all, pairs), base, limits, issues);
+  check_tile_limits(n_nodes_all, edges != nullptr ? static_cast<int64_t>(edges->size()) : 0,
+                    edge_length_px(nodes, edges), path_search_work(n_nodes_all, pairs), base, limits, issues);
   if (nodes != nullptr) {
     for (size_t k = 0; k < nodes->size(); ++k) {
       const nlohmann::json& n = (*nodes)[k];
@@ -93,9 +92,9 @@ void check_tile(const std::string& key, const nlohmann::json& tile, const std::s
     const nlohmann::json* of = std::string(name) == "node_scores" ? nodes : edges;
     const size_t want = of != nullptr ? of->size() : 0;
     if (scores.size() != want)
-      issues.error("submission.scores", base + "/" + name,
-                   std::to_string(scores.size()) + " scores for " + std::to_string(want) +
-                       (of == nodes ? " nodes" : " edges"));
+      issues.error(
+          "submission.scores", base + "/" + name,
+          std::to_string(scores.size()) + " scores for " + std::to_string(want) + (of == nodes ? " nodes" : " edges"));
     for (size_t k = 0; k < scores.size(); ++k)
       if (scores[k].is_number() && !finite_number(scores[k]))
         issues.error("submission.finite", base + "/" + name + "/" + std::to_string(k), "a finite score");
@@ -135,21 +134,27 @@ void check_tile_limits(int64_t nodes, int64_t edges, double edge_length_px, int6
                        const std::string& subject, const SubmissionLimits& limits, Issues& issues) {
   const std::string why = " (the scoring limits: score --help)";
   if (nodes > limits.max_nodes_per_tile)
-    issues.error("submission.size", subject + "/nodes",
-                 std::to_string(nodes) + " nodes; at most " + std::to_string(limits.max_nodes_per_tile) + " per tile" + why);
+    issues.error(
+        "submission.size", subject + "/nodes",
+        std::to_string(nodes) + " nodes; at most " + std::to_string(limits.max_nodes_per_tile) + " per tile" + why);
   if (edges > limits.max_edges_per_tile)
-    issues.error("submission.size", subject + "/edges",
-                 std::to_string(edges) + " edges; at most " + std::to_string(limits.max_edges_per_tile) + " per tile" + why);
+    issues.error(
+        "submission.size", subject + "/edges",
+        std::to_string(edges) + " edges; at most " + std::to_string(limits.max_edges_per_tile) + " per tile" + why);
   if (!(edge_length_px <= limits.max_edge_length_px_per_tile))  // NaN and inf included
     issues.error("submission.size", subject + "/edges",
                  strprintf("a total edge length of %.0f px; at most %.0f px per tile", edge_length_px,
-                           limits.max_edge_length_px_per_tile) + why);
-  if (nodes <= limits.max_nodes_per_tile && edges <= limits.max_edges_per_tile && path_work > limits.max_path_work_per_tile)
-    issues.error("submission.size", subject + "/edges",
-                 strprintf("a shortest-path work of %lld (per connected piece: nodes x (nodes + 2 x edges)); at most %lld "
-                           "per tile, about %lld nodes in one connected piece",
-                           static_cast<long long>(path_work), static_cast<long long>(limits.max_path_work_per_tile),
-                           static_cast<long long>(std::sqrt(static_cast<double>(limits.max_path_work_per_tile) / 3.0))) + why);
+                           limits.max_edge_length_px_per_tile) +
+                     why);
+  if (nodes <= limits.max_nodes_per_tile && edges <= limits.max_edges_per_tile &&
+      path_work > limits.max_path_work_per_tile)
+    issues.error(
+        "submission.size", subject + "/edges",
+        strprintf("a shortest-path work of %lld (per connected piece: nodes x (nodes + 2 x edges)); at most %lld "
+                  "per tile, about %lld nodes in one connected piece",
+                  static_cast<long long>(path_work), static_cast<long long>(limits.max_path_work_per_tile),
+                  static_cast<long long>(std::sqrt(static_cast<double>(limits.max_path_work_per_tile) / 3.0))) +
+            why);
 }
 
 std::string json_pointer_token(const std::string& key) {
@@ -170,9 +175,9 @@ std::string json_pointer_token(const std::string& key) {
 namespace nsg::validate {
 
 void SubmissionLimits::validate() const {
-  NSG_CHECK(max_nodes_per_tile > 0 && max_edges_per_tile > 0 && max_edge_length_px_per_tile > 0 &&
-                max_path_work_per_tile > 0, ConfigError, "",
-            "limits", "positive per-tile limits");
+  NSG_CHECK(
+      max_nodes_per_tile > 0 && max_edges_per_tile > 0 && max_edge_length_px_per_tile > 0 && max_path_work_per_tile > 0,
+      ConfigError, "", "limits", "positive per-tile limits");
   NSG_CHECK(max_file_bytes > 0 && max_json_values > 0 && max_depth > 0, ConfigError, "", "limits",
             "positive file limits");
 }
@@ -286,8 +291,9 @@ std::optional<nlohmann::json> read_submission(const std::filesystem::path& file,
 std::optional<nlohmann::json> parse_submission_text(const std::string& text, const std::string& label,
                                                     const SubmissionLimits& limits, Issues& issues) {
   if (static_cast<int64_t>(text.size()) > limits.max_file_bytes) {
-    issues.error("submission.size", label,
-                 size_problem(limits.max_file_bytes, strprintf("%.1f MiB", static_cast<double>(text.size()) / (1 << 20))));
+    issues.error(
+        "submission.size", label,
+        size_problem(limits.max_file_bytes, strprintf("%.1f MiB", static_cast<double>(text.size()) / (1 << 20))));
     return std::nullopt;
   }
   CountingSax sax(limits);
@@ -321,8 +327,10 @@ std::vector<std::string> dataset_split_keys(const std::filesystem::path& dataset
       return n;
     };
     const int64_t a = number(first), b = number(last);
-    if (a >= 0 && b >= a && b - a + 1 == tiles && first.substr(0, first.size() - 6) == last.substr(0, last.size() - 6)) {
-      for (int64_t n = a; n <= b; ++n) keys.push_back(first.substr(0, first.size() - 6) + strprintf("%06lld", static_cast<long long>(n)));
+    if (a >= 0 && b >= a && b - a + 1 == tiles &&
+        first.substr(0, first.size() - 6) == last.substr(0, last.size() - 6)) {
+      for (int64_t n = a; n <= b; ++n)
+        keys.push_back(first.substr(0, first.size() - 6) + strprintf("%06lld", static_cast<long long>(n)));
       continue;
     }
     for (const io::DatasetTile& t : ds.read_shard(shard)) keys.push_back(t.key);
@@ -341,7 +349,8 @@ SubmissionReport validate_submission(const SubmissionValidateOptions& o) {
   if (!doc) return report;
   report.parsed = true;
   const std::string label = o.submission.string();
-  report.issues.append(validate_against_schema(schemas / "v1" / "submission.schema.json", *doc, label, "submission.schema"));
+  report.issues.append(
+      validate_against_schema(schemas / "v1" / "submission.schema.json", *doc, label, "submission.schema"));
   report.issues.append(check_submission_structure(*doc, label, o.limits));
   const bool has_tiles = doc->is_object() && doc->contains("tiles") && (*doc)["tiles"].is_object();
   if (has_tiles) report.tiles = static_cast<int64_t>((*doc)["tiles"].size());

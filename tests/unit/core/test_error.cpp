@@ -18,9 +18,7 @@ TEST(Error, EmptyPartsAreLeftOut) {
   EXPECT_STREQ(ConfigError("", "", "bad").what(), "bad");
 }
 
-TEST(Error, InternalErrorExitsThree) {
-  EXPECT_EQ(InternalError("", "", "x").exit_code(), kExitInternal);
-}
+TEST(Error, InternalErrorExitsThree) { EXPECT_EQ(InternalError("", "", "x").exit_code(), kExitInternal); }
 
 TEST(Error, CheckMacroThrowsTheNamedType) {
   EXPECT_NO_THROW(NSG_CHECK(true, ParseError, "f", "r", "m"));

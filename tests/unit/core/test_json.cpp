@@ -50,7 +50,9 @@ TEST(Json, InvalidJsonNamesTheByteAndStaysPrintable) {
 
 TEST(Json, PrintableUtf8EscapesInvalidBytesOnly) {
   EXPECT_EQ(printable_utf8("caf\xc3\xa9"), "caf\xc3\xa9");
-  EXPECT_EQ(printable_utf8("a\xff" "b"), "a\\xFFb");
+  EXPECT_EQ(printable_utf8("a\xff"
+                           "b"),
+            "a\\xFFb");
   EXPECT_EQ(printable_utf8("\xe2\x82"), "\\xE2\\x82");  // truncated sequence
 }
 

@@ -58,10 +58,8 @@ TEST(Arcline, GoldenDevkitCasesAreBitIdentical) {
         for (int k = 0; k < 3; ++k) {
           if (!same_bits(got[k], want[k])) {
             char msg[256];
-            std::snprintf(msg, sizeof msg,
-                          "case %zu (%s) resolution %s pose %zu component %d: got %.17g want %.17g",
-                          c, std::string(arcline_shape_name(path.shape)).c_str(), res_text.c_str(),
-                          i, k, got[k], want[k]);
+            std::snprintf(msg, sizeof msg, "case %zu (%s) resolution %s pose %zu component %d: got %.17g want %.17g", c,
+                          std::string(arcline_shape_name(path.shape)).c_str(), res_text.c_str(), i, k, got[k], want[k]);
             FAIL() << msg;
           }
           ++compared;

@@ -85,8 +85,11 @@ TEST(Georef, NonPositiveYContinuesTheProjection) {
 TEST(Georef, ForwardReverseRoundTrip) {
   for (const LocationInfo& loc : known_locations()) {
     const AzimuthalProjection proj(loc.name);
-    for (auto [x, y] : {std::pair{0.0, 0.0}, {12.5, 3000.0}, {loc.canvas_width_m, loc.canvas_height_m},
-                        {-100.0, -250.0}, {1234.567, 89.0}}) {
+    for (auto [x, y] : {std::pair{0.0, 0.0},
+                        {12.5, 3000.0},
+                        {loc.canvas_width_m, loc.canvas_height_m},
+                        {-100.0, -250.0},
+                        {1234.567, 89.0}}) {
       const LonLat ll = proj.to_lonlat(x, y);
       const std::array<double, 2> back = proj.to_map(ll.lon_deg, ll.lat_deg);
       EXPECT_NEAR(back[0], x, 1e-6) << loc.name;

@@ -62,8 +62,7 @@ TEST(Transform, SensorToEgoToGlobalChainOnFloatPoints) {
 // sweep-like points with a real-size translation.
 TEST(Transform, ColumnsAreBitIdenticalToRows) {
   Rng rng(5);
-  const Rigid3 ego_from_sensor =
-      Rigid3::from_pose({0.985, 0.0, 1.84}, Quaternion{0.7068, -0.0154, 0.0171, -0.7069});
+  const Rigid3 ego_from_sensor = Rigid3::from_pose({0.985, 0.0, 1.84}, Quaternion{0.7068, -0.0154, 0.0171, -0.7069});
   const Rigid3 global_from_ego = Rigid3::from_pose({411.3, 1180.6, 0.0}, quaternion_from_yaw(2.1));
   for (const size_t n : {size_t{1}, size_t{7}, size_t{1001}}) {
     std::vector<float> rows(5 * n), x(n), y(n), z(n);

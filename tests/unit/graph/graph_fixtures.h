@@ -20,8 +20,7 @@ inline geometry::ArclinePath straight(double x, double y, double yaw, double len
 }
 
 // A circular arc turning left (counter-clockwise) or right, sweeping `angle_rad`.
-inline geometry::ArclinePath arc(double x, double y, double yaw, double radius_m, double angle_rad,
-                                 bool left) {
+inline geometry::ArclinePath arc(double x, double y, double yaw, double radius_m, double angle_rad, bool left) {
   geometry::ArclinePath p;
   p.start_pose = {x, y, yaw};
   p.shape = left ? geometry::ArclineShape::kLSL : geometry::ArclineShape::kRSR;

@@ -15,7 +15,8 @@ constexpr double kTile = 51.2;
 
 TEST(Clip, LaneCrossingATileCornerIsCutAtBothBorders) {
   // y = x + 45 from x = −5 to x = 20: inside for x in [0, 6.2].
-  const LaneGraph g = build_lane_graph({lane("D", {straight(-5, 40, std::atan2(1, 1), 25 * std::sqrt(2.0))})}, {}, nullptr);
+  const LaneGraph g =
+      build_lane_graph({lane("D", {straight(-5, 40, std::atan2(1, 1), 25 * std::sqrt(2.0))})}, {}, nullptr);
   const SegmentIndex index(g);
   const TileGraph t = clip_to_tile(g, index, {0, 0, kTile, kTile});
   EXPECT_NEAR(t.total_length_m(), 6.2 * std::sqrt(2.0), 1e-6);

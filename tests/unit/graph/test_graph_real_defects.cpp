@@ -1,4 +1,4 @@
-// Issue 19: the lane graph over what real maps hold (real-data.md "Map expansion v1.3"):
+// The lane graph over what real maps hold (docs/nuscenes-input.md "Map expansion v1.3"):
 // disconnected lanes are infos that --strict lets through, lanes and connectors chain in
 // any order, mm gaps between a predecessor's end and a successor's start are joined,
 // 4.4e-5 m arcline segments are harmless, dangling connectivity is skipped and reported,

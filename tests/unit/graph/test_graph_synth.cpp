@@ -1,4 +1,4 @@
-// The lane graph on the synthetic release (issue 4, "Done when"): built from the map the
+// The lane graph on the synthetic release: built from the map the
 // synth command writes, read back through the map expansion reader.
 #include <gtest/gtest.h>
 
@@ -19,8 +19,8 @@ class GraphOnSynth : public ::testing::Test {
     dir_ = new nsg::test::TempDir("graph-synth");
     const auto config = nsg::test::source_dir() / "samples/synth/tiny.json";
     location_ = nlohmann::json::parse(std::ifstream(config))["location"].get<std::string>();
-    const auto r = nsg::test::run_nsgraph({"synth", "--quiet", "--config", config.string(), "--out",
-                                           (dir_->path() / "release").string()});
+    const auto r = nsg::test::run_nsgraph(
+        {"synth", "--quiet", "--config", config.string(), "--out", (dir_->path() / "release").string()});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     map_ = new nuscenes::MapExpansion(nuscenes::load_map_expansion(dir_->path() / "release", location_));
   }

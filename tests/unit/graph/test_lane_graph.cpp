@@ -46,8 +46,7 @@ TEST(LaneGraph, QuarterCircleNodesLieOnTheCircle) {
 }
 
 TEST(LaneGraph, JointPoseBetweenPathsIsNotDuplicated) {
-  const std::vector<Node> line =
-      joined_centerline({straight(0, 0, 0, 3), straight(3, 0, 0, 3)}, 1.0);
+  const std::vector<Node> line = joined_centerline({straight(0, 0, 0, 3), straight(3, 0, 0, 3)}, 1.0);
   ASSERT_EQ(line.size(), 7u);  // 4 + 4 poses minus the repeated joint
   for (size_t i = 1; i < line.size(); ++i) EXPECT_NEAR(line[i].x_m - line[i - 1].x_m, 1.0, 1e-12);
 }

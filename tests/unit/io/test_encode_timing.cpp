@@ -1,5 +1,5 @@
 // Cost of writing one tile's five GeoTIFFs (8 bands) at deflate 1, on tile-like content
-// (DESIGN.md §8 budget: ≈ 3 ms per tile). Prints the figure; the bound only catches a
+// (docs/benchmarks.md budget: ≈ 3 ms per tile). Prints the figure; the bound only catches a
 // gross regression (e.g. a level-9 default) on a loaded 2-core machine.
 #include <gtest/gtest.h>
 
@@ -28,9 +28,8 @@ Raster make(int bands, SampleType type) {
 // vehicles, coverage flags.
 std::vector<Raster> tile_set(uint64_t seed) {
   Rng rng(seed);
-  Raster lidar = make(1, SampleType::kUInt8), rgb = make(3, SampleType::kUInt8),
-         semantic = make(1, SampleType::kUInt8), vehicle = make(1, SampleType::kFloat32),
-         coverage = make(1, SampleType::kUInt8);
+  Raster lidar = make(1, SampleType::kUInt8), rgb = make(3, SampleType::kUInt8), semantic = make(1, SampleType::kUInt8),
+         vehicle = make(1, SampleType::kFloat32), coverage = make(1, SampleType::kUInt8);
   std::vector<float> heading(kSize * kSize, -1.0f);
   for (int y = 0; y < kSize; ++y) {
     for (int x = 0; x < kSize; ++x) {
@@ -59,10 +58,10 @@ TEST(GeoTiffTiming, EightBandTileSetAtDeflateOne) {
   const auto start = std::chrono::steady_clock::now();
   for (int k = 0; k < kRepeats; ++k)
     for (const Raster& r : rasters) ASSERT_GT(encode_geotiff(r, g, o).size(), 0u);
-  const double ms = std::chrono::duration<double, std::milli>(
-                        std::chrono::steady_clock::now() - start).count() / kRepeats;
-  std::cout << "[ timing ] 8-band tile set (5 GeoTIFFs, 256x256) deflate 1: " << ms
-            << " ms per tile, " << total_bytes << " bytes\n";
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / kRepeats;
+  std::cout << "[ timing ] 8-band tile set (5 GeoTIFFs, 256x256) deflate 1: " << ms << " ms per tile, " << total_bytes
+            << " bytes\n";
   RecordProperty("ms_per_tile", std::to_string(ms));
   RecordProperty("bytes_per_tile", std::to_string(total_bytes));
   EXPECT_LT(ms, 60.0);

@@ -1,5 +1,5 @@
 // GeoTIFF encode/decode: round trips, determinism, rejection of what we do not write, and
-// GDAL's reading of the CRS and corners (DESIGN.md §6).
+// GDAL's reading of the CRS and corners (docs/dataset-format.md).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -72,19 +72,16 @@ TEST(GeoTiff, IdenticalInputGivesIdenticalBytes) {
   // … and the georef is really in the bytes.
   GeoRef moved = kBoston;
   moved.x_west_m += 0.2;
-  EXPECT_FALSE(encode_geotiff(pattern_u8(8, 8, 1), kBoston) ==
-               encode_geotiff(pattern_u8(8, 8, 1), moved));
+  EXPECT_FALSE(encode_geotiff(pattern_u8(8, 8, 1), kBoston) == encode_geotiff(pattern_u8(8, 8, 1), moved));
 }
 
 // The pipeline encodes tiles on several threads: same bytes as one thread.
 TEST(GeoTiff, ConcurrentEncodingGivesTheSameBytes) {
-  const std::vector<Raster> rasters = {pattern_u8(256, 256, 1), pattern_u8(256, 256, 3),
-                                       pattern_f32(256, 256)};
+  const std::vector<Raster> rasters = {pattern_u8(256, 256, 1), pattern_u8(256, 256, 3), pattern_f32(256, 256)};
   std::vector<std::vector<uint8_t>> serial, parallel(24);
   for (const Raster& r : rasters) serial.push_back(encode_geotiff(r, kBoston));
-  nsg::parallel_for(parallel.size(), 4, [&](size_t i) {
-    parallel[i] = encode_geotiff(rasters[i % rasters.size()], kBoston);
-  });
+  nsg::parallel_for(parallel.size(), 4,
+                    [&](size_t i) { parallel[i] = encode_geotiff(rasters[i % rasters.size()], kBoston); });
   for (size_t i = 0; i < parallel.size(); ++i) EXPECT_TRUE(parallel[i] == serial[i % rasters.size()]);
 }
 
@@ -106,8 +103,7 @@ TEST(GeoTiff, RejectsUnsupportedRastersAndOptions) {
   short_data.data.pop_back();
   EXPECT_THROW(encode_geotiff(short_data, kBoston), DataError);
   EXPECT_THROW(encode_geotiff(pattern_u8(4, 4, 1), GeoRef{"mars", 0, 0, 0.2}), ConfigError);
-  EXPECT_THROW(encode_geotiff(pattern_u8(4, 4, 1), GeoRef{"boston-seaport", 0, 0, 0.0}),
-               ConfigError);
+  EXPECT_THROW(encode_geotiff(pattern_u8(4, 4, 1), GeoRef{"boston-seaport", 0, 0, 0.0}), ConfigError);
   GeoTiffOptions bad_level;
   bad_level.deflate_level = 0;
   EXPECT_THROW(encode_geotiff(pattern_u8(4, 4, 1), kBoston, bad_level), ConfigError);
@@ -145,16 +141,15 @@ TEST(GeoTiff, CorruptInputIsAParseErrorNamingTheFile) {
 // georef to give; a 16-bit image is refused.
 TEST(GeoTiff, ForeignTiffsDecodeOrAreRefusedClearly) {
   nsg::test::TempDir dir("io-pil");
-  const auto r = nsg::test::run_program(
-      {"/usr/bin/python3", "-c",
-       "import sys\nfrom PIL import Image\n"
-       "im = Image.new('L', (5, 3))\nim.putdata(list(range(15)))\nim.save(sys.argv[1])\n"
-       "Image.new('I;16', (4, 4)).save(sys.argv[2])\n",
-       (dir / "plain.tif").string(), (dir / "deep.tif").string()});
+  const auto r =
+      nsg::test::run_program({"/usr/bin/python3", "-c",
+                              "import sys\nfrom PIL import Image\n"
+                              "im = Image.new('L', (5, 3))\nim.putdata(list(range(15)))\nim.save(sys.argv[1])\n"
+                              "Image.new('I;16', (4, 4)).save(sys.argv[2])\n",
+                              (dir / "plain.tif").string(), (dir / "deep.tif").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string plain = nsg::test::read_text(dir / "plain.tif");
-  const std::span<const uint8_t> plain_bytes(reinterpret_cast<const uint8_t*>(plain.data()),
-                                             plain.size());
+  const std::span<const uint8_t> plain_bytes(reinterpret_cast<const uint8_t*>(plain.data()), plain.size());
   const Raster d = decode_geotiff(plain_bytes, "plain.tif");
   ASSERT_EQ(d.width, 5);
   ASSERT_EQ(d.height, 3);
@@ -163,8 +158,7 @@ TEST(GeoTiff, ForeignTiffsDecodeOrAreRefusedClearly) {
   EXPECT_THROW(decode_geotiff(plain_bytes, "plain.tif", &g), ParseError);
   const std::string deep = nsg::test::read_text(dir / "deep.tif");
   try {
-    decode_geotiff(std::span(reinterpret_cast<const uint8_t*>(deep.data()), deep.size()),
-                   "deep.tif");
+    decode_geotiff(std::span(reinterpret_cast<const uint8_t*>(deep.data()), deep.size()), "deep.tif");
     FAIL() << "expected ParseError";
   } catch (const ParseError& e) {
     EXPECT_EQ(e.file(), "deep.tif");
@@ -176,8 +170,7 @@ TEST(GeoTiff, ForeignTiffsDecodeOrAreRefusedClearly) {
 TEST(GeoTiff, PillowReadsEveryLayout) {
   nsg::test::TempDir dir("io-pil-read");
   const std::vector<std::pair<std::string, Raster>> layers = {
-      {"lidar", pattern_u8(256, 256, 1)}, {"rgb", pattern_u8(256, 256, 3)},
-      {"vehicle", pattern_f32(256, 256)}};
+      {"lidar", pattern_u8(256, 256, 1)}, {"rgb", pattern_u8(256, 256, 3)}, {"vehicle", pattern_f32(256, 256)}};
   std::vector<std::string> args = {
       "/usr/bin/python3", "-c",
       "import sys\nimport numpy as np\nfrom PIL import Image\n"
@@ -195,9 +188,9 @@ TEST(GeoTiff, PillowReadsEveryLayout) {
   EXPECT_EQ(r.out, "(256, 256) uint8\n(256, 256, 3) uint8\n(256, 256) float32\n");
   for (const auto& [name, raster] : layers) {
     const std::string raw = nsg::test::read_text(dir / (name + ".raw"));
-    EXPECT_TRUE(std::equal(raw.begin(), raw.end(), raster.data.begin(), raster.data.end(),
-                           [](char a, uint8_t b) { return static_cast<uint8_t>(a) == b; }))
-        << name;
+    EXPECT_TRUE(std::equal(raw.begin(), raw.end(), raster.data.begin(), raster.data.end(), [](char a, uint8_t b) {
+      return static_cast<uint8_t>(a) == b;
+    })) << name;
   }
 }
 
@@ -212,8 +205,8 @@ std::filesystem::path write_tile(const nsg::test::TempDir& dir, const GeoRef& g)
   o.nodata = 0;
   const auto bytes = encode_geotiff(pattern_u8(256, 256, 1), g, o);
   const auto path = dir / "tile.lidar.tif";
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
-                                              static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   return path;
 }
 
@@ -258,18 +251,19 @@ TEST(GeoTiff, GdalLonLatCornersMatchDevkitFormula) {
   nsg::test::TempDir dir("io-gdal-ll");
   for (const GeoRef& g : {kBoston, GeoRef{"singapore-onenorth", 800.0, 1500.2, 0.2}}) {
     const auto path = write_tile(dir, g);
-    const auto r = nsg::test::run_program(
-        {"/bin/sh", "-c",
-         "printf '0 0\\n256 256\\n0 256\\n256 0\\n' | gdaltransform -output_xy -t_srs "
-         "'+proj=longlat +R=6378137 +no_defs' '" + path.string() + "'"});
+    const auto r =
+        nsg::test::run_program({"/bin/sh", "-c",
+                                "printf '0 0\\n256 256\\n0 256\\n256 0\\n' | gdaltransform -output_xy -t_srs "
+                                "'+proj=longlat +R=6378137 +no_defs' '" +
+                                    path.string() + "'"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     std::istringstream in(r.out);
     const std::vector<std::pair<double, double>> pixel = {{0, 0}, {256, 256}, {0, 256}, {256, 0}};
     for (const auto& [col, row] : pixel) {
       double lon = NAN, lat = NAN;
       ASSERT_TRUE(in >> lon >> lat) << r.out;
-      const auto want = geometry::map_to_lonlat(g.location, g.x_west_m + col * g.resolution_m,
-                                                g.y_north_m - row * g.resolution_m);
+      const auto want =
+          geometry::map_to_lonlat(g.location, g.x_west_m + col * g.resolution_m, g.y_north_m - row * g.resolution_m);
       EXPECT_NEAR(lon, want.lon_deg, 1e-8) << g.location << " pixel " << col << "," << row;
       EXPECT_NEAR(lat, want.lat_deg, 1e-8) << g.location << " pixel " << col << "," << row;
     }

@@ -22,9 +22,9 @@ std::vector<uint8_t> lying_tiff(uint32_t width, uint32_t height, uint16_t bands,
   };
   const uint16_t kShort = 3, kLong = 4;
   const std::vector<Entry> entries = {
-      {256, kLong, 1, width},  {257, kLong, 1, height},    {258, kShort, 1, 8},       {259, kShort, 1, 1},
-      {262, kShort, 1, 1},     {273, kLong, 1, 0},         {277, kShort, 1, bands},   {278, kLong, 1, height},
-      {279, kLong, 1, width * height * bands}};
+      {256, kLong, 1, width},  {257, kLong, 1, height}, {258, kShort, 1, 8},
+      {259, kShort, 1, 1},     {262, kShort, 1, 1},     {273, kLong, 1, 0},
+      {277, kShort, 1, bands}, {278, kLong, 1, height}, {279, kLong, 1, width * height * bands}};
   std::vector<uint8_t> out = {'I', 'I', 42, 0, 8, 0, 0, 0};
   const auto put = [&](uint32_t v, int n) {
     for (int k = 0; k < n; ++k) out.push_back(static_cast<uint8_t>(v >> (8 * k)));

@@ -21,16 +21,15 @@ namespace fs = std::filesystem;
 // Writes a tar with Python's tarfile; `members` is Python code adding members to `t`
 // (helper add(name, data, **fields) and the tarfile module in scope).
 void python_tar(const fs::path& path, const std::string& members) {
-  const auto r = nsg::test::run_program(
-      {"/usr/bin/python3", "-c",
-       "import io, sys, tarfile\n"
-       "def add(t, name, data=b'x', **fields):\n"
-       "    m = tarfile.TarInfo(name); m.size = len(data)\n"
-       "    for k, v in fields.items(): setattr(m, k, v)\n"
-       "    t.addfile(m, io.BytesIO(data))\n"
-       "with tarfile.open(sys.argv[1], 'w', format=tarfile.PAX_FORMAT) as t:\n" +
-           members,
-       path.string()});
+  const auto r = nsg::test::run_program({"/usr/bin/python3", "-c",
+                                         "import io, sys, tarfile\n"
+                                         "def add(t, name, data=b'x', **fields):\n"
+                                         "    m = tarfile.TarInfo(name); m.size = len(data)\n"
+                                         "    for k, v in fields.items(): setattr(m, k, v)\n"
+                                         "    t.addfile(m, io.BytesIO(data))\n"
+                                         "with tarfile.open(sys.argv[1], 'w', format=tarfile.PAX_FORMAT) as t:\n" +
+                                             members,
+                                         path.string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
 }
 

@@ -88,15 +88,15 @@ TEST(Tar, PythonTarfileListsMembers) {
   nsg::test::TempDir dir("io-tar-py");
   const auto members = sample_members();
   write_tar(dir / "s.tar", members);
-  const auto r = nsg::test::run_program(
-      {"/usr/bin/python3", "-c",
-       "import sys, tarfile\n"
-       "with tarfile.open(sys.argv[1]) as t:\n"
-       "    for m in t:\n"
-       "        data = t.extractfile(m).read()\n"
-       "        print(m.name, m.size, len(data), m.mtime, m.uid, m.gid, oct(m.mode),\n"
-       "              repr(m.uname), repr(m.gname), m.isfile())\n",
-       (dir / "s.tar").string()});
+  const auto r =
+      nsg::test::run_program({"/usr/bin/python3", "-c",
+                              "import sys, tarfile\n"
+                              "with tarfile.open(sys.argv[1]) as t:\n"
+                              "    for m in t:\n"
+                              "        data = t.extractfile(m).read()\n"
+                              "        print(m.name, m.size, len(data), m.mtime, m.uid, m.gid, oct(m.mode),\n"
+                              "              repr(m.uname), repr(m.gname), m.isfile())\n",
+                              (dir / "s.tar").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::string expected;
   for (const auto& m : members) {

@@ -68,17 +68,17 @@ TEST(TarIndex, GnuAndPaxArchivesOfPythonTarfile) {
   nsg::test::TempDir dir("io-tar-index-py");
   for (const std::string format : {"GNU_FORMAT", "PAX_FORMAT", "USTAR_FORMAT"}) {
     const fs::path tar = dir / (format + ".tar");
-    const auto r = nsg::test::run_program(
-        {"/usr/bin/python3", "-c",
-         "import io, sys, tarfile\n"
-         "with tarfile.open(sys.argv[1], 'w', format=getattr(tarfile, sys.argv[2])) as t:\n"
-         "    d = tarfile.TarInfo('folder'); d.type = tarfile.DIRTYPE; t.addfile(d)\n"
-         "    names = ['folder/k-test-000000.lidar.tif', 'k-test-000000.meta.json']\n"
-         "    if sys.argv[2] != 'USTAR_FORMAT': names.append('x' * 150 + '.rgb.tif')\n"
-         "    for i, n in enumerate(names):\n"
-         "        data = bytes((i * 7 + j) % 251 for j in range(1000 * i + 3))\n"
-         "        m = tarfile.TarInfo(n); m.size = len(data); t.addfile(m, io.BytesIO(data))\n",
-         tar.string(), format});
+    const auto r =
+        nsg::test::run_program({"/usr/bin/python3", "-c",
+                                "import io, sys, tarfile\n"
+                                "with tarfile.open(sys.argv[1], 'w', format=getattr(tarfile, sys.argv[2])) as t:\n"
+                                "    d = tarfile.TarInfo('folder'); d.type = tarfile.DIRTYPE; t.addfile(d)\n"
+                                "    names = ['folder/k-test-000000.lidar.tif', 'k-test-000000.meta.json']\n"
+                                "    if sys.argv[2] != 'USTAR_FORMAT': names.append('x' * 150 + '.rgb.tif')\n"
+                                "    for i, n in enumerate(names):\n"
+                                "        data = bytes((i * 7 + j) % 251 for j in range(1000 * i + 3))\n"
+                                "        m = tarfile.TarInfo(n); m.size = len(data); t.addfile(m, io.BytesIO(data))\n",
+                                tar.string(), format});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     expect_index_matches_reader(tar);
     EXPECT_EQ(index_tar(tar).front().name, "folder/k-test-000000.lidar.tif") << format;
@@ -116,11 +116,10 @@ fs::path small_dataset(const fs::path& root, int tiles_claimed_by_second = 1) {
                                               {"l-test-000001.meta.json", bytes_of(4, 4)}});
   write_tar(root / "shards/test-000001.tar", {{"l-test-000002.lidar.tif", bytes_of(30, 5)}});
   write_tar(root / "shards/train-000000.tar", {{"l-train-000000.lidar.tif", bytes_of(40, 6)}});
-  std::ofstream(root / "manifest.json")
-      << R"({"layout": "tar", "shards": [
+  std::ofstream(root / "manifest.json") << R"({"layout": "tar", "shards": [
         {"name": "test-000000", "split": "test", "file": "shards/test-000000.tar", "tiles": 2},
         {"name": "test-000001", "split": "test", "file": "shards/test-000001.tar", "tiles": )"
-      << tiles_claimed_by_second << R"(},
+                                        << tiles_claimed_by_second << R"(},
         {"name": "train-000000", "split": "train", "file": "shards/train-000000.tar", "tiles": 1}]})";
   return root;
 }

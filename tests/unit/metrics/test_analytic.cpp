@@ -38,8 +38,8 @@ const MetricParams kParams;
 TEST(Analytic, IdenticalGraphsScorePerfect) {
   const Graph g = two_lanes();
   const TileMeasurement t = measure("k", g, &g, kParams);
-  for (Metric m : {kApls, kAplsDirected, kAplsStrict, kDirectionAccuracy, kF1, kIou, kGeoF1,
-                   kTopoF1, kTopoDirectedF1, kDirectionMatchedFraction})
+  for (Metric m : {kApls, kAplsDirected, kAplsStrict, kDirectionAccuracy, kF1, kIou, kGeoF1, kTopoF1, kTopoDirectedF1,
+                   kDirectionMatchedFraction})
     EXPECT_DOUBLE_EQ(value(t, m), 1.0) << metric_name(m);
   EXPECT_DOUBLE_EQ(value(t, kChamferPx2), 0.0);
   EXPECT_DOUBLE_EQ(value(t, kChamferMeanM), 0.0);
@@ -104,8 +104,7 @@ TEST(Analytic, EmptyBoth) {
   for (int m = 0; m < kMetricCount; ++m) {
     if (m == kChamferPx2 || m == kChamferM2 || m == kChamferMeanM)
       EXPECT_DOUBLE_EQ(value(t, static_cast<Metric>(m)), 0.0);
-    else
-      EXPECT_FALSE(t.values[m].has_value()) << metric_name(m);
+    else EXPECT_FALSE(t.values[m].has_value()) << metric_name(m);
   }
 }
 

@@ -14,8 +14,8 @@ const fs::path kGolden = nsg::test::data_dir() / "golden" / "metrics";
 const std::string kSchemas = (nsg::test::source_dir() / "schemas").string();
 
 std::vector<std::string> score_args(const fs::path& submission) {
-  return {"score", "--ground-truth", (kGolden / "gt.json").string(), "--submission",
-          submission.string(), "--schemas", kSchemas};
+  return {"score",     "--ground-truth", (kGolden / "gt.json").string(), "--submission", submission.string(),
+          "--schemas", kSchemas};
 }
 
 TEST(CliScore, ReportIsWrittenAndValidatesAgainstSchema) {

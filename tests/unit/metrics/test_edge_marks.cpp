@@ -13,10 +13,10 @@ Graph east_lane() { return {{{10, 50}, {60, 50}, {110, 50}}, {{0, 1}, {1, 2}}, {
 
 TEST(EdgeMarks, CorrectWrongUnmatchedAndMissed) {
   Graph pred;
-  pred.nodes = {{10, 52}, {60, 52},   // 0->1: 2 px off, same direction: correct
-                {110, 48}, {60, 48},  // 2->3: 2 px off, westbound: wrong direction
-                {10, 150}, {60, 150}, // 4->5: 100 px away: unmatched
-                {5, 5}};              // 6->6: self-loop, dropped by cleaning
+  pred.nodes = {{10, 52},  {60, 52},   // 0->1: 2 px off, same direction: correct
+                {110, 48}, {60, 48},   // 2->3: 2 px off, westbound: wrong direction
+                {10, 150}, {60, 150},  // 4->5: 100 px away: unmatched
+                {5, 5}};               // 6->6: self-loop, dropped by cleaning
   pred.edges = {{0, 1}, {2, 3}, {4, 5}, {6, 6}};
   const MetricParams params;
   const EdgeMarks m = mark_edges(east_lane(), &pred, params);

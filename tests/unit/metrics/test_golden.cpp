@@ -56,8 +56,7 @@ TEST_F(Golden, EveryTileValueAndCount) {
     const nlohmann::json& ours = (*report_)["tiles"][key];
     for (const auto& [name, value] : tile.items()) {
       if (name == "counts") {
-        for (const auto& [count, n] : value.items())
-          EXPECT_EQ(n, ours["counts"][count]) << key << " counts." << count;
+        for (const auto& [count, n] : value.items()) EXPECT_EQ(n, ours["counts"][count]) << key << " counts." << count;
       } else {
         expect_close(value, ours[name], key + "." + name);
       }
@@ -68,14 +67,12 @@ TEST_F(Golden, EveryTileValueAndCount) {
 TEST_F(Golden, EveryAggregateValue) {
   const nlohmann::json& want = (*expected_)["aggregate"];
   const nlohmann::json& got = (*report_)["aggregate"];
-  for (const char* n : {"n_tiles", "n_missing_predictions", "n_extra_predictions"})
-    EXPECT_EQ(want[n], got[n]) << n;
+  for (const char* n : {"n_tiles", "n_missing_predictions", "n_extra_predictions"}) EXPECT_EQ(want[n], got[n]) << n;
   for (const char* group : {"mean", "pooled"})
     for (const auto& [name, value] : want[group].items())
       expect_close(value, got[group][name], std::string(group) + "." + name);
   for (const char* group : {"n_defined", "n_undefined", "sums"})
-    for (const auto& [name, value] : want[group].items())
-      EXPECT_EQ(value, got[group][name]) << group << "." << name;
+    for (const auto& [name, value] : want[group].items()) EXPECT_EQ(value, got[group][name]) << group << "." << name;
 }
 
 TEST_F(Golden, MissingTileListed) {

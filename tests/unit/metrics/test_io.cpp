@@ -13,8 +13,8 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string graph_doc(const std::string& key, double shift) {
-  nlohmann::json doc = {{"schema_version", "1"}, {"key", key}, {"nodes", nlohmann::json::array()},
-                        {"edges", nlohmann::json::array()}};
+  nlohmann::json doc = {
+      {"schema_version", "1"}, {"key", key}, {"nodes", nlohmann::json::array()}, {"edges", nlohmann::json::array()}};
   // Ids deliberately not equal to indices.
   for (int k = 0; k < 3; ++k)
     doc["nodes"].push_back({{"id", 100 - k}, {"u", 10.0 * k + shift}, {"v", 5.0}, {"x", 0.0}, {"y", 0.0}});
@@ -65,8 +65,7 @@ TEST(Io, FolderLayout) {
 TEST(Io, WebDatasetShards) {
   nsg::test::TempDir dir("metrics-tar");
   fs::create_directories(dir / "shards");
-  write_tar(dir / "shards" / "test-000000.tar",
-            {{"k0.graph.json", graph_doc("k0", 0.0)}, {"k0.meta.json", "{}"}});
+  write_tar(dir / "shards" / "test-000000.tar", {{"k0.graph.json", graph_doc("k0", 0.0)}, {"k0.meta.json", "{}"}});
   write_tar(dir / "shards" / "test-000001.tar", {{"k1.graph.json", graph_doc("k1", 1.0)}});
   write_tar(dir / "shards" / "train-000000.tar", {{"t.graph.json", "garbage"}});
   const GraphSet set = load_dataset_split(dir.path(), "test");
@@ -88,8 +87,8 @@ TEST(Io, DatasetGraphErrorsNameFileAndRecord) {
 }
 
 TEST(Io, SubmissionStructureErrorsNamePath) {
-  const nlohmann::json doc = nlohmann::json::parse(
-      R"({"schema_version":"1","tiles":{"a/b":{"nodes":[[0,0]],"edges":[[0,1]]}}})");
+  const nlohmann::json doc =
+      nlohmann::json::parse(R"({"schema_version":"1","tiles":{"a/b":{"nodes":[[0,0]],"edges":[[0,1]]}}})");
   try {
     graphs_from_submission(doc, "s.json");
     FAIL() << "expected DataError";

@@ -139,10 +139,9 @@ TEST(MetricsDoc, HasAWorkedExampleForEveryRule) {
   for (const Example& e : examples()) {
     EXPECT_TRUE(names.insert(e.name).second) << "example name used twice: " << e.name;
   }
-  for (const char* rule : {"cleaning", "zero-length-edge", "apls-gap", "apls-detour", "apls-offset",
-                           "apls-directed", "direction", "direction-two-way", "f1-iou", "chamfer",
-                           "geo-topo", "empty-both", "missing-prediction", "hallucination",
-                           "aggregation"})
+  for (const char* rule : {"cleaning", "zero-length-edge", "apls-gap", "apls-detour", "apls-offset", "apls-directed",
+                           "direction", "direction-two-way", "f1-iou", "chamfer", "geo-topo", "empty-both",
+                           "missing-prediction", "hallucination", "aggregation"})
     EXPECT_EQ(names.count(rule), 1u) << "docs/metrics.md has no worked example '" << rule << "'";
 }
 

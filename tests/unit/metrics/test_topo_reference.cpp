@@ -97,8 +97,7 @@ RefTopo reference(const Graph& gt, const Graph& pred, const MetricParams& params
   const RefSamples g = ref_samples(gt, params.geo_step_px);
   const RefSamples p = ref_samples(pred, params.geo_step_px);
   std::vector<std::tuple<int64_t, int32_t, int32_t>> cands;
-  const auto q_max = static_cast<int64_t>(
-      std::floor(params.geo_match_px * params.geo_match_px * 1e6 + 0.5));
+  const auto q_max = static_cast<int64_t>(std::floor(params.geo_match_px * params.geo_match_px * 1e6 + 0.5));
   for (size_t a = 0; a < g.pos.size(); ++a) {
     for (size_t b = 0; b < p.pos.size(); ++b) {
       const double dx = g.pos[a].u - p.pos[b].u, dy = g.pos[a].v - p.pos[b].v;
@@ -107,8 +106,7 @@ RefTopo reference(const Graph& gt, const Graph& pred, const MetricParams& params
     }
   }
   std::sort(cands.begin(), cands.end());
-  auto greedy = [&](const std::vector<bool>* in_g, const std::vector<bool>* in_p,
-                    std::vector<int32_t>* match_of_g) {
+  auto greedy = [&](const std::vector<bool>* in_g, const std::vector<bool>* in_p, std::vector<int32_t>* match_of_g) {
     std::vector<bool> used_g(g.pos.size()), used_p(p.pos.size());
     int64_t m = 0;
     for (const auto& [q, a, b] : cands) {
@@ -176,8 +174,7 @@ Graph perturbed(Rng& rng, const Graph& g, double sigma_px) {
   return out;
 }
 
-void expect_ratio(const std::optional<double>& got, double num, double den, const char* name,
-                  int trial) {
+void expect_ratio(const std::optional<double>& got, double num, double den, const char* name, int trial) {
   if (den == 0.0) {
     EXPECT_FALSE(got.has_value()) << name << " trial " << trial;
     return;
@@ -212,8 +209,8 @@ TEST(TopoReference, FastPathMatchesStraightforwardDefinition) {
     params.topo_radius_m = trial % 3 == 0 ? 40.0 : rng.uniform(0.5, 8.0);
     const bool grid = trial % 2 == 0;
     const Graph gt = random_graph(rng, grid);
-    const Graph pred = trial % 5 == 0 ? random_graph(rng, grid)
-                                      : perturbed(rng, gt, grid ? 0.0 : rng.uniform(0.0, 3.0));
+    const Graph pred =
+        trial % 5 == 0 ? random_graph(rng, grid) : perturbed(rng, gt, grid ? 0.0 : rng.uniform(0.0, 3.0));
     const TileMeasurement t = measure("k", gt, &pred, params);
     const RefTopo r = reference(gt, pred, params);
     if (!expect_matches_reference(t, r, trial)) return;
@@ -275,8 +272,8 @@ TEST(TopoReference, LatticesAndCrossingLanesMatchDefinition) {
     params.topo_radius_m = trial % 3 == 0 ? 40.0 : rng.uniform(1.0, 12.0);
     const bool grid = trial % 2 == 0;
     const Graph gt = lattice_or_crossing(rng, grid);
-    const Graph pred = trial % 4 == 0 ? lattice_or_crossing(rng, grid)
-                                      : perturbed(rng, gt, grid ? 0.0 : rng.uniform(0.0, 4.0));
+    const Graph pred =
+        trial % 4 == 0 ? lattice_or_crossing(rng, grid) : perturbed(rng, gt, grid ? 0.0 : rng.uniform(0.0, 4.0));
     const TileMeasurement t = measure("k", gt, &pred, params);
     const RefTopo r = reference(gt, pred, params);
     if (!expect_matches_reference(t, r, trial)) return;
@@ -284,7 +281,6 @@ TEST(TopoReference, LatticesAndCrossingLanesMatchDefinition) {
   }
   EXPECT_GT(nontrivial, 30);
 }
-
 
 // ---- APLS reference -------------------------------------------------------------------
 
@@ -322,9 +318,8 @@ void add_arc(Matrix& d, size_t a, size_t b, double w, bool fwd, bool bwd) {
 }
 
 // C(A -> B) as (pairs, 1 - mean), mean over ordered evaluable pairs.
-std::pair<int64_t, std::optional<double>> ref_one_sided(const CleanGraph& ga, const CleanGraph& gb,
-                                                        double snap_m, bool directed,
-                                                        const MetricParams& params) {
+std::pair<int64_t, std::optional<double>> ref_one_sided(const CleanGraph& ga, const CleanGraph& gb, double snap_m,
+                                                        bool directed, const MetricParams& params) {
   const double res = params.resolution_m;
   std::vector<Pm> a, b;
   for (const Point& p : ga.nodes) a.push_back({p.u * res, p.v * res});
@@ -402,8 +397,7 @@ std::pair<int64_t, std::optional<double>> ref_one_sided(const CleanGraph& ga, co
   return {pairs, 1.0 - cost / static_cast<double>(pairs)};
 }
 
-void expect_same(const std::optional<double>& got, const std::optional<double>& want,
-                 const char* name, int trial) {
+void expect_same(const std::optional<double>& got, const std::optional<double>& want, const char* name, int trial) {
   ASSERT_EQ(got.has_value(), want.has_value()) << name << " trial " << trial;
   if (want) {
     EXPECT_NEAR(*got, *want, 1e-12) << name << " trial " << trial;
@@ -417,8 +411,8 @@ TEST(AplsReference, FastPathMatchesAllPairsDefinition) {
     const MetricParams params;
     const bool grid = trial % 2 == 0;
     const Graph gt = random_graph(rng, grid);
-    const Graph pred = trial % 4 == 0 ? random_graph(rng, grid)
-                                      : perturbed(rng, gt, rng.uniform(0.0, grid ? 2.0 : 12.0));
+    const Graph pred =
+        trial % 4 == 0 ? random_graph(rng, grid) : perturbed(rng, gt, rng.uniform(0.0, grid ? 2.0 : 12.0));
     const TileMeasurement t = measure("k", gt, &pred, params);
     const CleanGraph g = clean_graph(gt), p = clean_graph(pred);
     struct Variant {
@@ -426,8 +420,7 @@ TEST(AplsReference, FastPathMatchesAllPairsDefinition) {
       double snap_m;
       bool directed;
     };
-    for (const Variant& v : {Variant{kApls, params.snap_m, false},
-                             Variant{kAplsDirected, params.snap_m, true},
+    for (const Variant& v : {Variant{kApls, params.snap_m, false}, Variant{kAplsDirected, params.snap_m, true},
                              Variant{kAplsStrict, params.strict_snap_m, false}}) {
       const auto [gt_pairs, c1] = ref_one_sided(g, p, v.snap_m, v.directed, params);
       const auto [pred_pairs, c2] = ref_one_sided(p, g, v.snap_m, v.directed, params);
@@ -487,8 +480,8 @@ TEST(ChamferReference, GridSearchEqualsAllPairsBitForBit) {
     const auto [p2, p1] = ref_chamfer_one_way(pred.nodes, gt.nodes);
     ASSERT_TRUE(t.values[kChamferPx2].has_value()) << "trial " << trial;
     EXPECT_EQ(*t.values[kChamferPx2], g2 + p2) << "trial " << trial;
-    const double mean_m = 0.5 * (g1 / static_cast<double>(gt.nodes.size()) +
-                                 p1 / static_cast<double>(pred.nodes.size())) * 0.2;
+    const double mean_m =
+        0.5 * (g1 / static_cast<double>(gt.nodes.size()) + p1 / static_cast<double>(pred.nodes.size())) * 0.2;
     EXPECT_EQ(*t.values[kChamferMeanM], mean_m) << "trial " << trial;
   }
 }

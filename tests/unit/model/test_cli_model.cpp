@@ -28,8 +28,9 @@ const std::vector<std::string> kTreeArgs = {"--trees", "6"};
 
 std::vector<std::string> train_args(const fs::path& model, const std::string& threads,
                                     const std::string& modalities = "all", const std::string& variant = "") {
-  std::vector<std::string> args = {"train",   "--dataset", nsg::test::e2e_dataset().string(),
-                                   "--model", model.string(), "--threads", threads, "--modalities", modalities};
+  std::vector<std::string> args = {"train",   "--dataset",    nsg::test::e2e_dataset().string(),
+                                   "--model", model.string(), "--threads",
+                                   threads,   "--modalities", modalities};
   if (!variant.empty()) args.insert(args.end(), {"--variant", variant});
   args.insert(args.end(), kTreeArgs.begin(), kTreeArgs.end());
   return args;
@@ -41,7 +42,8 @@ std::vector<std::string> train_args(const fs::path& model, const std::string& th
 fs::path trained_models() {
   const fs::path dataset = nsg::test::e2e_dataset();
   return nsg::test::cached_folder(
-      "model_e2e", nsg::test::nsgraph_build_key() + "-" + dataset.filename().string() + "-t6v2", [&](const fs::path& dir) {
+      "model_e2e", nsg::test::nsgraph_build_key() + "-" + dataset.filename().string() + "-t6v2",
+      [&](const fs::path& dir) {
         auto train = [&](const std::string& name, const std::string& threads, const std::string& modalities,
                          const std::string& variant = "") {
           const CommandResult r = run_nsgraph(train_args(dir / (name + ".yml.gz"), threads, modalities, variant));
@@ -60,7 +62,7 @@ fs::path trained_models() {
 
 std::vector<std::string> predict_args(const fs::path& model, const fs::path& out, const std::string& threads) {
   return {"predict", "--quiet", "--model", model.string(), "--dataset", nsg::test::e2e_dataset().string(),
-          "--split", "test", "--out", out.string(), "--threads", threads};
+          "--split", "test",    "--out",   out.string(),   "--threads", threads};
 }
 
 size_t split_tiles(const std::string& split) {

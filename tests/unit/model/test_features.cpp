@@ -138,8 +138,8 @@ TEST(ModelFeatures, PaintDistanceAndProfileAcrossTheLane) {
     for (int across = 30; across < 70; ++across) {
       const bool paint = across == kPaintA || across == kPaintA + 1 || across == kPaintB || across == kPaintB + 1;
       // lidar.paint_5 at the pixel itself is > 0 near paint only; the distance is exact.
-      const int dist = std::min({std::abs(across - kPaintA), std::abs(across - kPaintA - 1),
-                                 std::abs(across - kPaintB), std::abs(across - kPaintB - 1)});
+      const int dist = std::min({std::abs(across - kPaintA), std::abs(across - kPaintA - 1), std::abs(across - kPaintB),
+                                 std::abs(across - kPaintB - 1)});
       EXPECT_NEAR(feature("lidar.paint_distance", across), dist / 40.0, 1e-3) << across << (paint ? " paint" : "");
     }
     EXPECT_EQ(feature("lidar.paint_distance", kPaintA), 0.0f);
@@ -198,7 +198,7 @@ TEST(ModelFeatures, VehicleHeadingEast) {
   EXPECT_EQ(at(f, "vehicle.present", 64, 49), 1.0f);
   EXPECT_EQ(at(f, "vehicle.present", 10, 10), 0.0f);
   EXPECT_NEAR(at(f, "vehicle.density_9", 64, 49), 1.0, 1e-5);  // the 9 × 9 window is all vehicle
-  EXPECT_EQ(at(f, "vehicle.heading_x_9", 10, 10), 0.0f);     // no vehicle nearby
+  EXPECT_EQ(at(f, "vehicle.heading_x_9", 10, 10), 0.0f);       // no vehicle nearby
 }
 
 TEST(ModelFeatures, SupportFollowsCoverage) {

@@ -51,7 +51,8 @@ int components(size_t vertices, const std::vector<std::array<int, 2>>& links) {
   std::vector<int> parent(vertices);
   std::iota(parent.begin(), parent.end(), 0);
   auto find = [&](int x) {
-    while (parent[static_cast<size_t>(x)] != x) x = parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
+    while (parent[static_cast<size_t>(x)] != x)
+      x = parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
     return x;
   };
   int n = static_cast<int>(vertices);
@@ -82,7 +83,8 @@ void expect_well_formed(const SkeletonGraph& g) {
     ASSERT_GE(b.points.size(), 2u);
     EXPECT_EQ(b.points.front(), g.vertices[static_cast<size_t>(b.a)]);
     EXPECT_EQ(b.points.back(), g.vertices[static_cast<size_t>(b.b)]);
-    for (size_t k = 2; k + 1 < b.points.size(); ++k) EXPECT_LE(cv::norm(b.points[k] - b.points[k - 1]), std::sqrt(2.0) + 1e-9);
+    for (size_t k = 2; k + 1 < b.points.size(); ++k)
+      EXPECT_LE(cv::norm(b.points[k] - b.points[k - 1]), std::sqrt(2.0) + 1e-9);
   }
   for (int d : degrees(g)) EXPECT_GT(d, 0) << "an unused vertex";
 }
@@ -334,7 +336,7 @@ TEST(ModelExtraction, PostprocessDropsLowScoresLongEdgesAndIsolatedNodes) {
   const nsg::metrics::Graph input = g;
   postprocess(g, 128, paper);
   ASSERT_EQ(g.nodes.size(), 6u);
-  const std::vector<std::pair<double, double>> expected_nodes = {{10, 10}, {20, 10}, {70, 60},
+  const std::vector<std::pair<double, double>> expected_nodes = {{10, 10}, {20, 10},  {70, 60},
                                                                  {80, 60}, {10, 100}, {42, 100}};
   for (size_t i = 0; i < g.nodes.size(); ++i) {
     EXPECT_EQ(g.nodes[i].u, expected_nodes[i].first) << i;

@@ -69,7 +69,7 @@ TEST(NetGraph, GraphKeepsAcceptedPairsOrientedByTheVotes) {
   for (const auto& v : a.votes) a.mean_dir.push_back(mean_direction_px(v));
   const nsg::metrics::Graph g = net_graph(a, {{0, 1}, {1, 2}, {0, 2}}, {0.9, 0.8, 0.3}, 64, NetGraphOptions{});
   ASSERT_EQ(g.nodes.size(), 3u);
-  ASSERT_EQ(g.edges.size(), 2u);  // the pair scoring 0.3 is not an edge
+  ASSERT_EQ(g.edges.size(), 2u);                          // the pair scoring 0.3 is not an edge
   EXPECT_EQ(g.edges[0], (std::array<int64_t, 2>{1, 0}));  // westwards
   EXPECT_EQ(g.edges[1], (std::array<int64_t, 2>{2, 1}));
   EXPECT_DOUBLE_EQ(g.edge_scores[0], 0.9);

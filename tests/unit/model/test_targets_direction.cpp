@@ -85,12 +85,12 @@ TEST(ModelDirection, BinsRoundTripAndWrap) {
 }
 
 TEST(ModelDirection, MapAngleOfPixelSteps) {
-  EXPECT_NEAR(map_angle(1, 0), 0.0, 1e-12);             // east
-  EXPECT_NEAR(map_angle(0, -1), kPi / 2, 1e-12);        // up the image = north
-  EXPECT_NEAR(map_angle(-1, 0), kPi, 1e-12);            // west
-  EXPECT_NEAR(map_angle(0, 1), 3 * kPi / 2, 1e-12);     // south
-  EXPECT_NEAR(map_angle(1, -1), kPi / 4, 1e-12);        // north-east
-  EXPECT_NEAR(map_angle(1, 1e-12), 2 * kPi, 1e-9);      // just south of east: in [0, 2π)
+  EXPECT_NEAR(map_angle(1, 0), 0.0, 1e-12);          // east
+  EXPECT_NEAR(map_angle(0, -1), kPi / 2, 1e-12);     // up the image = north
+  EXPECT_NEAR(map_angle(-1, 0), kPi, 1e-12);         // west
+  EXPECT_NEAR(map_angle(0, 1), 3 * kPi / 2, 1e-12);  // south
+  EXPECT_NEAR(map_angle(1, -1), kPi / 4, 1e-12);     // north-east
+  EXPECT_NEAR(map_angle(1, 1e-12), 2 * kPi, 1e-9);   // just south of east: in [0, 2π)
   EXPECT_LT(map_angle(1, 1e-12), 2 * kPi);
 }
 

@@ -41,7 +41,8 @@ nsg::metrics::Graph lanes(const std::vector<std::vector<Pt>>& lines) {
 std::vector<Pt> every(Pt a, Pt b, double step) {
   std::vector<Pt> out;
   const double len = std::hypot(b[0] - a[0], b[1] - a[1]);
-  for (double s = 0.0; s <= len + 1e-9; s += step) out.push_back({a[0] + (b[0] - a[0]) * s / len, a[1] + (b[1] - a[1]) * s / len});
+  for (double s = 0.0; s <= len + 1e-9; s += step)
+    out.push_back({a[0] + (b[0] - a[0]) * s / len, a[1] + (b[1] - a[1]) * s / len});
   return out;
 }
 
@@ -80,7 +81,7 @@ TEST(Anchors, RidgeGivesAnchorsOnItNoCloserThanTheRadius) {
   }
   AnchorOptions o;
   const std::vector<Pt> a = detect_anchors(score, o);
-  ASSERT_GE(a.size(), 8u);   // 80 px + 60 px of ridge at 10 … 20 px spacing
+  ASSERT_GE(a.size(), 8u);  // 80 px + 60 px of ridge at 10 … 20 px spacing
   EXPECT_LE(a.size(), 18u);
   for (size_t i = 0; i < a.size(); ++i) {
     const bool on_h = std::fabs(a[i][1] - 40) <= 1 && a[i][0] >= 19 && a[i][0] <= 101;
@@ -107,8 +108,7 @@ TEST(B2, EachAnchorJoinsItsTwoNearestNeighbours) {
     EXPECT_TRUE(has(pairs, static_cast<int>(i), d[1].second)) << i;
   }
   // Nothing else: every pair is some anchor's first or second neighbour.
-  EXPECT_EQ(pairs,
-            (std::vector<Pair>{{0, 1}, {0, 2}, {1, 2}, {1, 3}, {1, 4}, {2, 3}, {2, 4}, {4, 5}, {4, 6}, {5, 6}}));
+  EXPECT_EQ(pairs, (std::vector<Pair>{{0, 1}, {0, 2}, {1, 2}, {1, 3}, {1, 4}, {2, 3}, {2, 4}, {4, 5}, {4, 6}, {5, 6}}));
   // b2's graph keeps those joins (all scores high, directions east) and orients them.
   AnchorSet s;
   s.points = {{10, 50}, {22, 50}, {34, 50}, {46, 50}};
@@ -122,7 +122,7 @@ TEST(B2, EachAnchorJoinsItsTwoNearestNeighbours) {
   x.min_piece_length_px = 0;
   const nsg::metrics::Graph g = b2_graph(s, likelihood, AnchorOptions{}, x);
   ASSERT_EQ(g.nodes.size(), 4u);
-  EXPECT_EQ(g.edges.size(), 5u);  // 0-1 0-2 1-2 1-3 2-3
+  EXPECT_EQ(g.edges.size(), 5u);                                              // 0-1 0-2 1-2 1-3 2-3
   for (const auto& e : g.edges) EXPECT_LT(g.nodes[e[0]].u, g.nodes[e[1]].u);  // eastwards
   EXPECT_EQ(g.node_scores, std::vector<double>(4, 0.9));
 }
@@ -214,7 +214,8 @@ TEST(Pairs, GraphVariantKeepsWhatTheClassifierConnects) {
   const int axis = static_cast<int>(std::find(names.begin(), names.end(), "axis_cos_end_min") - names.begin());
   const PairScorer scorer = [&](const cv::Mat& x) {
     std::vector<double> p;
-    for (int r = 0; r < x.rows; ++r) p.push_back(x.at<float>(r, skipped) == 0 && x.at<float>(r, axis) > 0.9 ? 0.8 : 0.1);
+    for (int r = 0; r < x.rows; ++r)
+      p.push_back(x.at<float>(r, skipped) == 0 && x.at<float>(r, axis) > 0.9 ? 0.8 : 0.1);
     return p;
   };
   ExtractionOptions x;

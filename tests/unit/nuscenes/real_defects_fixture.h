@@ -18,10 +18,10 @@ using OJson = nlohmann::ordered_json;
 
 // What add_real_map_defects adds (names and counts the tests assert on).
 struct RealMapDefects {
-  static constexpr const char* kIslandA = "island-a";  // lane
-  static constexpr const char* kIslandB = "island-b";  // lane, starts 3 mm after A ends
-  static constexpr const char* kIslandC = "island-c";  // connector, 4.4e-5 m + 5 m paths
-  static constexpr const char* kIslandD = "island-d";  // connector after a connector
+  static constexpr const char* kIslandA = "island-a";    // lane
+  static constexpr const char* kIslandB = "island-b";    // lane, starts 3 mm after A ends
+  static constexpr const char* kIslandC = "island-c";    // connector, 4.4e-5 m + 5 m paths
+  static constexpr const char* kIslandD = "island-d";    // connector after a connector
   static constexpr const char* kGhostOut = "ghost-out";  // dangling outgoing token
   static constexpr const char* kGhostIn = "ghost-in";    // dangling incoming token
   static constexpr size_t kExtraDrivableAreas = 300;
@@ -47,8 +47,8 @@ inline void add_node(OJson& m, const std::string& token, double x, double y) {
 }
 
 // A lane or connector of the island chain; its polygon token is null (as in queenstown).
-inline void add_island_lane(OJson& m, const std::string& token, bool connector, OJson paths,
-                            OJson incoming, OJson outgoing) {
+inline void add_island_lane(OJson& m, const std::string& token, bool connector, OJson paths, OJson incoming,
+                            OJson outgoing) {
   if (connector) {
     m["lane_connector"].push_back(OJson{{"token", token}, {"polygon_token", nullptr}});
   } else {
@@ -78,9 +78,8 @@ inline void add_defect_polygons(OJson& m) {
                                {"holes", {OJson{{"node_tokens", OJson::array()}}}}});
   const double xy[][2] = {{1, 1}, {5, 5}, {5, 1}, {1, 5}};
   for (int i = 0; i < 4; ++i) add_node(m, "bow-" + std::to_string(i), xy[i][0], xy[i][1]);
-  m["polygon"].push_back(OJson{{"token", "bowtie"},
-                               {"exterior_node_tokens", {"bow-0", "bow-1", "bow-2", "bow-3"}},
-                               {"holes", OJson::array()}});
+  m["polygon"].push_back(OJson{
+      {"token", "bowtie"}, {"exterior_node_tokens", {"bow-0", "bow-1", "bow-2", "bow-3"}}, {"holes", OJson::array()}});
   m["walkway"].push_back(OJson{{"token", "ww-bowtie"}, {"polygon_token", "bowtie"}});
   const double u[][2] = {{0, 0}, {6, 0}, {6, 6}, {4, 6}, {4, 2}, {2, 2}, {2, 6}, {0, 6}};
   OJson ring = OJson::array();

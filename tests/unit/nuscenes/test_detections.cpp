@@ -1,4 +1,4 @@
-// Detection results (nuscenes-format.md §7): parsing, per-box validation, coverage.
+// Detection results (docs/nuscenes-input.md): parsing, per-box validation, coverage.
 #include <gtest/gtest.h>
 
 #include "nsg/nuscenes/database.h"
@@ -17,7 +17,8 @@ std::string box(const std::string& sample, const std::string& name = "car", cons
 
 std::string results(const std::string& body) {
   return "{\"meta\": {\"use_camera\": false, \"use_lidar\": true, \"use_radar\": false, \"use_map\": false, "
-         "\"use_external\": false}, \"results\": {" + body + "}}";
+         "\"use_external\": false}, \"results\": {" +
+         body + "}}";
 }
 
 std::string sample_entry(const std::string& sample, const std::string& boxes) {
@@ -38,10 +39,11 @@ class Detections : public ::testing::Test {
 };
 
 TEST_F(Detections, ParsesBoxesAndMeta) {
-  const DetectionResults r = read(results(
-      sample_entry(test::kSample1, box(test::kSample1) + ", " +
-                                       box(test::kSample1, "traffic_cone", "1", "", ", \"num_pts\": 4, \"ego_translation\": [1, 2, 3]")) +
-      ", " + sample_entry(test::kSample2, "")));
+  const DetectionResults r =
+      read(results(sample_entry(test::kSample1, box(test::kSample1) + ", " +
+                                                    box(test::kSample1, "traffic_cone", "1", "",
+                                                        ", \"num_pts\": 4, \"ego_translation\": [1, 2, 3]")) +
+                   ", " + sample_entry(test::kSample2, "")));
   EXPECT_TRUE(r.meta.use_lidar);
   EXPECT_FALSE(r.meta.use_camera);
   ASSERT_EQ(r.samples.size(), 2u);

@@ -134,7 +134,6 @@ TEST(SemanticMask, RejectsRgbAndNonPng) {
   test::expect_error<ParseError>([&] { read_semantic_mask(dir / "cut.png"); }, "cut.png", {});
 }
 
-
 // Big-endian bytes of v at s[at..at+n).
 void put_be(std::string& s, size_t at, uint32_t v, int n) {
   for (int k = 0; k < n; ++k) s[at + k] = static_cast<char>((v >> (8 * (n - 1 - k))) & 0xff);

@@ -96,7 +96,8 @@ TEST(Lidar, MissingFileIsIoError) {
 }
 
 std::vector<LidarPoint> transformed(const Rigid3& tf, std::vector<LidarPoint> points) {
-  geometry::transform_points_devkit(tf, reinterpret_cast<float*>(points.data()), points.size(), kLidarPointStrideFloats);
+  geometry::transform_points_devkit(tf, reinterpret_cast<float*>(points.data()), points.size(),
+                                    kLidarPointStrideFloats);
   return points;
 }
 
@@ -138,7 +139,9 @@ TEST(Transform, UnnormalisedQuaternionIsNormalised) {
 
 class SweepOnFixture : public ::testing::Test {
  protected:
-  void SetUp() override { db_ = std::make_unique<Database>(Database::load(test::fixture_root(), test::kFixtureVersion)); }
+  void SetUp() override {
+    db_ = std::make_unique<Database>(Database::load(test::fixture_root(), test::kFixtureVersion));
+  }
   std::unique_ptr<Database> db_;
 };
 
@@ -181,8 +184,8 @@ TEST_F(SweepOnFixture, CameraRecordIsNotALidarSweep) {
 }
 
 TEST(InspectSweep, PrintsGlobalPoints) {
-  const test::CommandResult r = test::run_nsgraph(
-      {"inspect", "sweep", "--dataroot", test::fixture_root().string(), "--version", "v1.0-mini", "--token", test::kSd1});
+  const test::CommandResult r = test::run_nsgraph({"inspect", "sweep", "--dataroot", test::fixture_root().string(),
+                                                   "--version", "v1.0-mini", "--token", test::kSd1});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["token"], test::kSd1);
@@ -207,8 +210,8 @@ TEST(InspectSweep, HeadLimitsPoints) {
 }
 
 TEST(InspectSweep, FloatsPrintedShortest) {
-  const test::CommandResult r = test::run_nsgraph(
-      {"inspect", "sweep", "--dataroot", test::fixture_root().string(), "--token", test::kSd3});
+  const test::CommandResult r =
+      test::run_nsgraph({"inspect", "sweep", "--dataroot", test::fixture_root().string(), "--token", test::kSd3});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // (0.5, -1.5, 0.25) → ego (2.5, 0.5, 2.25) → yaw 180° at (102.5, 200.25): (100, 199.75, 2.25).
   EXPECT_NE(r.out.find("[100, 199.75, 2.25, 255]"), std::string::npos) << r.out;

@@ -10,8 +10,8 @@
 namespace nsg::nuscenes {
 namespace {
 
-using test::FixtureCopy;
 using test::expect_error;
+using test::FixtureCopy;
 
 void load(const FixtureCopy& f) { Database::load(f.root(), test::kFixtureVersion); }
 

@@ -17,7 +17,7 @@ class CenterlinesCli : public ::testing::Test {
  protected:
   void SetUp() override { test::write_map(root_, test::small_map_text()); }
   test::CommandResult run(std::vector<std::string> extra) {
-    std::vector<std::string> args{"inspect", "centerlines", "--dataroot", root_.path().string(),
+    std::vector<std::string> args{"inspect",    "centerlines",   "--dataroot", root_.path().string(),
                                   "--location", "boston-seaport"};
     args.insert(args.end(), extra.begin(), extra.end());
     return test::run_nsgraph(args);
@@ -81,8 +81,8 @@ TEST_F(CenterlinesCli, UnknownTokenExitsTwoNamingIt) {
 TEST_F(CenterlinesCli, BadOptionsExitTwo) {
   EXPECT_EQ(run({"--resolution", "0"}).exit_code, 2);
   EXPECT_EQ(run({"--resolution", "-1"}).exit_code, 2);
-  const test::CommandResult r = test::run_nsgraph({"inspect", "centerlines", "--dataroot",
-                                                   root_.path().string(), "--location", "mars"});
+  const test::CommandResult r =
+      test::run_nsgraph({"inspect", "centerlines", "--dataroot", root_.path().string(), "--location", "mars"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("mars"), std::string::npos) << r.err;
 }
@@ -92,15 +92,14 @@ TEST_F(CenterlinesCli, BadMapExitsTwoNamingFile) {
   const test::CommandResult old = run({});
   EXPECT_EQ(old.exit_code, 2);
   EXPECT_NE(old.err.find("maps/expansion/boston-seaport.json"), std::string::npos) << old.err;
-  test::write_map(root_, test::replace_after(test::small_map_text(), "\"token\": \"lane-a\"",
-                                             "\"poly-lane-a\"", "\"poly-none\""));
+  test::write_map(
+      root_, test::replace_after(test::small_map_text(), "\"token\": \"lane-a\"", "\"poly-lane-a\"", "\"poly-none\""));
   const test::CommandResult dangling = run({});
   EXPECT_EQ(dangling.exit_code, 2);
   EXPECT_NE(dangling.err.find("boston-seaport.json"), std::string::npos) << dangling.err;
   EXPECT_NE(dangling.err.find("lane 'lane-a'"), std::string::npos) << dangling.err;
   const test::CommandResult missing = test::run_nsgraph(
-      {"inspect", "centerlines", "--dataroot", (root_ / "nothing").string(), "--location",
-       "singapore-onenorth"});
+      {"inspect", "centerlines", "--dataroot", (root_ / "nothing").string(), "--location", "singapore-onenorth"});
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_NE(missing.err.find("singapore-onenorth.json"), std::string::npos) << missing.err;
 }

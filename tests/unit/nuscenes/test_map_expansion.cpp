@@ -183,7 +183,7 @@ TEST_F(MapFixture, DiscretizeLanesLikeTheDevkit) {
   const auto lanes = map().discretize_lanes({"lane-b", "conn-2", "lane-b", "lane-a"}, 2.0);
   ASSERT_EQ(lanes.size(), 3u);  // a dict in the devkit: duplicates collapse
   EXPECT_EQ(lanes[0].token, "lane-b");
-  EXPECT_EQ(lanes[0].poses.size(), 9u + 9u);  // two 15 m paths at 2 m, joint pose repeated
+  EXPECT_EQ(lanes[0].poses.size(), 9u + 9u);                    // two 15 m paths at 2 m, joint pose repeated
   EXPECT_NEAR(lanes[0].poses[8].x, lanes[0].poses[9].x, 1e-9);  // joint ≈ repeated
   EXPECT_NEAR(lanes[0].poses[8].y, lanes[0].poses[9].y, 1e-9);
   EXPECT_TRUE(lanes[1].poses.empty());  // conn-2 has no arcline path
@@ -232,8 +232,7 @@ TEST(MapExpansion, MissingFileIsAnIoErrorNamingIt) {
     (void)load_map_expansion(root.path(), "singapore-queenstown");
     FAIL() << "expected IoError";
   } catch (const IoError& e) {
-    EXPECT_NE(std::string(e.what()).find("maps/expansion/singapore-queenstown.json"),
-              std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("maps/expansion/singapore-queenstown.json"), std::string::npos) << e.what();
   }
 }
 

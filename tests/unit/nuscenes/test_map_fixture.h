@@ -10,9 +10,7 @@
 
 namespace nsg::test {
 
-inline std::string small_map_text() {
-  return read_text(source_dir() / "tests" / "data" / "map" / "small-map.json");
-}
+inline std::string small_map_text() { return read_text(source_dir() / "tests" / "data" / "map" / "small-map.json"); }
 
 // Writes `text` as <root>/maps/expansion/<location>.json and returns that path.
 inline std::filesystem::path write_map(const TempDir& root, const std::string& text,
@@ -31,8 +29,8 @@ inline std::string replace_once(std::string text, const std::string& from, const
 }
 
 // Replaces the first `from` that follows the first `anchor` (e.g. a field of one record).
-inline std::string replace_after(std::string text, const std::string& anchor,
-                                 const std::string& from, const std::string& to) {
+inline std::string replace_after(std::string text, const std::string& anchor, const std::string& from,
+                                 const std::string& to) {
   const size_t at = text.find(anchor);
   EXPECT_NE(at, std::string::npos) << "fixture does not contain: " << anchor;
   if (at == std::string::npos) return text;

@@ -1,5 +1,5 @@
-// Issue 19 end to end: `nsgraph generate` on a synthetic release carrying the real data's
-// quirks — a map with every map-expansion defect of real-data.md at once, a test split
+// End to end: `nsgraph generate` on a synthetic release carrying the real data's
+// quirks — a map with every map-expansion defect of docs/nuscenes-input.md at once, a test split
 // with empty instance / sample_annotation tables — completes (exit 0) and builds the lane
 // graph from the good records; what the devkit cannot load either (truncated or missing
 // sweeps, a --version folder that is not there) stops with exit 2 naming the file.
@@ -30,8 +30,8 @@ const std::string kLocation = "boston-seaport";
 fs::path tiny_release() {
   const fs::path config = test::source_dir() / "samples/synth/tiny.json";
   return test::cached_folder("release_tiny_real_defects", test::nsgraph_build_key(), [&](const fs::path& dir) {
-    const test::CommandResult r = test::run_nsgraph({"synth", "--quiet", "--config", config.string(), "--out",
-                                                     dir.string(), "--seed", "7"});
+    const test::CommandResult r =
+        test::run_nsgraph({"synth", "--quiet", "--config", config.string(), "--out", dir.string(), "--seed", "7"});
     if (r.exit_code != 0) throw std::runtime_error("synth tiny failed: " + r.err);
   });
 }
@@ -69,10 +69,11 @@ class ReleaseCopy {
     return "sweeps/LIDAR_TOP/" + names.at(0);
   }
   test::CommandResult generate(const std::string& out_name, std::vector<std::string> extra = {}) const {
-    std::vector<std::string> args{"generate",    "--quiet", "--config",
-                                  (test::source_dir() / "tests/data/generate/e2e.json").string(),
-                                  "--dataroot",  root().string(), "--out", out(out_name).string(),
-                                  "--set",       "output.layout=folder"};
+    std::vector<std::string> args{"generate",   "--quiet",
+                                  "--config",   (test::source_dir() / "tests/data/generate/e2e.json").string(),
+                                  "--dataroot", root().string(),
+                                  "--out",      out(out_name).string(),
+                                  "--set",      "output.layout=folder"};
     args.insert(args.end(), extra.begin(), extra.end());
     return test::run_nsgraph(args);
   }

@@ -1,5 +1,5 @@
-// Issue 19, "whatever the official devkit loads, nsgraph loads": the map expansion defects
-// of the real v1.3 maps (real-data.md) load, are reported in MapExpansion::issues() naming
+// "Whatever the official devkit loads, nsgraph loads": the map expansion defects
+// of the real v1.3 maps (docs/nuscenes-input.md) load, are reported in MapExpansion::issues() naming
 // the file and record, and only what the devkit refuses is refused. Through the reader and
 // through `inspect centerlines` / `inspect graph`.
 #include <gtest/gtest.h>
@@ -230,8 +230,7 @@ TEST_F(RealMapDefectsTest, InspectCenterlinesLoadsAndReportsOnStderr) {
   EXPECT_EQ(edges, nlohmann::json::parse(R"([["lane-a", "conn-1"], ["conn-1", "lane-b"],
       ["island-a", "island-b"], ["island-b", "island-c"], ["island-c", "island-d"]])"));
   EXPECT_NE(r.err.find("map.null_token " + file_.string() + ": polygon #8"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("map.dangling_connectivity " + file_.string() + ": connectivity 'lane-a'"),
-            std::string::npos)
+  EXPECT_NE(r.err.find("map.dangling_connectivity " + file_.string() + ": connectivity 'lane-a'"), std::string::npos)
       << r.err;
   EXPECT_NE(r.err.find("'ghost-out'"), std::string::npos) << r.err;
 }
@@ -252,7 +251,7 @@ TEST_F(RealMapDefectsTest, InspectGraphBuildsTheGoodRecordsAndListsTheDefects) {
   EXPECT_LE(j["max_edge_length_m"].get<double>(), 2.0 + 1e-9);
   EXPECT_EQ(j["defect_counts"]["graph.dangling_connectivity"], 2);
   EXPECT_EQ(j["defect_counts"]["map.self_intersecting_polygon"], 1);
-  EXPECT_EQ(j["defect_counts"]["map.null_token"], 5);  // polygon, road_block, drivable_area, lane, connector
+  EXPECT_EQ(j["defect_counts"]["map.null_token"], 5);             // polygon, road_block, drivable_area, lane, connector
   EXPECT_FALSE(j["defect_counts"].contains("graph.ends_apart"));  // the 3 mm gap is joined
   bool named = false;
   for (const auto& d : j["defects"]) {

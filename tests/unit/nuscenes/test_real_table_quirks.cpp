@@ -1,4 +1,4 @@
-// Issue 19, the tables and sensor files of the real release (real-data.md "Tables and
+// The tables and sensor files of the real release (docs/nuscenes-input.md "Tables and
 // sensor files"): what the devkit loads loads here (empty links, non-camera records
 // without intrinsics, dropped sweeps, empty annotation tables, the lidarseg category.json),
 // and what it cannot load (truncated or missing sweeps, a missing version folder) stops
@@ -119,8 +119,8 @@ TEST(RealTableQuirks, LidarsegCategoryJsonWithIndex) {
     if (i == 2 || i == 17) continue;  // the fixture's pedestrian and car
     char token[33];
     std::snprintf(token, sizeof token, "ca7000000000000000000000000001%02d", i);
-    categories.push_back({{"token", token}, {"name", "lidarseg.class" + std::to_string(i)},
-                          {"description", ""}, {"index", i}});
+    categories.push_back(
+        {{"token", token}, {"name", "lidarseg.class" + std::to_string(i)}, {"description", ""}, {"index", i}});
   }
   write_table_json(copy, "category", categories);
   test::write_text(copy.table("lidarseg"), "[]");
@@ -139,9 +139,9 @@ TEST(RealTableQuirks, LidarsegCategoryJsonWithIndex) {
 
 TEST(RealTableQuirks, MissingVersionFolderNamesTheFoldersFound) {
   FixtureCopy copy;
-  test::expect_error<IoError>([&] { (void)Database::load(copy.root(), "v1.0-trainval"); }, "v1.0-trainval",
-                              {"no v1.0-trainval/ under " + copy.root().string(),
-                               "found: v1.0-mini (use --version v1.0-mini)"});
+  test::expect_error<IoError>(
+      [&] { (void)Database::load(copy.root(), "v1.0-trainval"); }, "v1.0-trainval",
+      {"no v1.0-trainval/ under " + copy.root().string(), "found: v1.0-mini (use --version v1.0-mini)"});
   test::write_text(copy.root() / "v1.0-test" / "category.json", "[]");
   std::filesystem::create_directories(copy.root() / "v0.9-notes");  // no category.json: not a release
   test::expect_error<IoError>([&] { (void)Database::load(copy.root(), "v1.0-trainval"); }, "v1.0-trainval",

@@ -37,7 +37,7 @@ TEST(Token, ParsesHexShortAndEmpty) {
   EXPECT_EQ(hex.str(), "0123456789abcdef0123456789abcdef");
   EXPECT_TRUE(Token::parse("").value().empty());
   EXPECT_FALSE(Token::parse("0123456789ABCDEF0123456789abcdef"));  // uppercase
-  EXPECT_FALSE(Token::parse("4"));                                  // short only when allowed
+  EXPECT_FALSE(Token::parse("4"));                                 // short only when allowed
   EXPECT_EQ(Token::parse("4", true).value().str(), "4");
   EXPECT_NE(Token::from_string("4"), Token::from_string("3"));
   EXPECT_FALSE(Token::parse("0123456789abcdef0123456789abcde"));  // 31 chars
@@ -224,8 +224,8 @@ TEST(Tables, KeysInAnyOrderAndUnknownKeysIgnored) {
   test::TempDir dir("keys");
   test::write_text(dir / "category.json",
                    "[{\"index\": 3, \"description\": \"d\", \"extra\": {\"a\": [1, 2]}, \"name\": \"animal\", "
-                   "\"token\": \"" + test::kCar + "\"},\n{\"name\":\"n\",\"token\":\"" + test::kPed +
-                   "\",\"description\":\"\"}]");
+                   "\"token\": \"" +
+                       test::kCar + "\"},\n{\"name\":\"n\",\"token\":\"" + test::kPed + "\",\"description\":\"\"}]");
   const std::vector<Category> rows = read_table<Category>(dir / "category.json");
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_EQ(rows[0].name, "animal");

@@ -54,8 +54,11 @@ fs::path release_with_renamed_scene(const fs::path& release, const std::string& 
 }
 
 std::vector<std::string> e2e_generate_args(const fs::path& out) {
-  return {"generate", "--quiet", "--config", (source_dir() / "tests/data/generate/e2e.json").string(), "--dataroot",
-          e2e_release().string(), "--version", "v1.0-mini", "--out", out.string()};
+  return {"generate",   "--quiet",
+          "--config",   (source_dir() / "tests/data/generate/e2e.json").string(),
+          "--dataroot", e2e_release().string(),
+          "--version",  "v1.0-mini",
+          "--out",      out.string()};
 }
 
 fs::path e2e_dataset() {

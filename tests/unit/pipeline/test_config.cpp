@@ -64,7 +64,8 @@ TEST(GenerateConfig, EveryKeyRefusesABadValueNamingTheKeyAndItsSource) {
     const fs::path file = dir / ("bad-" + spec.key + ".json");
     write_text(file, doc.dump());
     std::string message = config_error([&] { pipeline::resolve_generate_config(file, {}); });
-    EXPECT_NE(message.find(file.string() + ": " + spec.key), std::string::npos) << spec.key << " " << bad << ": " << message;
+    EXPECT_NE(message.find(file.string() + ": " + spec.key), std::string::npos)
+        << spec.key << " " << bad << ": " << message;
     // Through --set.
     message = config_error([&] { pipeline::resolve_generate_config("", {{"--set", "", spec.key + "=" + bad}}); });
     EXPECT_NE(message.find("--set: " + spec.key), std::string::npos) << spec.key << " " << bad << ": " << message;
@@ -174,10 +175,19 @@ size_t compare_inspect_with_tiles(const fs::path& dataset, const std::vector<std
       const json& b = meta["bounds_m"];
       const std::string location = meta["location"].get<std::string>();
       TempDir dir("inspect-vs-generate");
-      std::vector<std::string> args = {"inspect", "layers", "--quiet", "--config",
-                                       (source_dir() / "tests/data/generate/e2e.json").string(), "--dataroot",
-                                       e2e_release().string(), "--location", location, "--out", dir.path().string(),
-                                       "--bbox", b[0].dump() + "," + b[1].dump() + "," + b[2].dump() + "," + b[3].dump()};
+      std::vector<std::string> args = {"inspect",
+                                       "layers",
+                                       "--quiet",
+                                       "--config",
+                                       (source_dir() / "tests/data/generate/e2e.json").string(),
+                                       "--dataroot",
+                                       e2e_release().string(),
+                                       "--location",
+                                       location,
+                                       "--out",
+                                       dir.path().string(),
+                                       "--bbox",
+                                       b[0].dump() + "," + b[1].dump() + "," + b[2].dump() + "," + b[3].dump()};
       args.insert(args.end(), extra.begin(), extra.end());
       const CommandResult r = run_nsgraph(args);
       EXPECT_EQ(r.exit_code, 0) << r.err;

@@ -1,4 +1,4 @@
-// `nsgraph export-cloud` on the cached synthetic release (issue 6): the PCD holds one point
+// `nsgraph export-cloud` on the cached synthetic release: the PCD holds one point
 // per covered cell of the scene's own accumulation, read back with PCL and with numpy.
 #include <gtest/gtest.h>
 #include <pcl/PCLPointCloud2.h>
@@ -121,9 +121,10 @@ TEST_F(ExportCloud, PclReadsOnePointPerCoveredCellAtTheLowestZ) {
       dark_asphalt += xyzi[i].intensity < 50;
     }
   }
-  std::printf("[ figures ] scene %s: %zu points, %zu coloured, %zu labelled; paint %zu (%zu bright), asphalt %zu "
-              "(%zu dark)\n",
-              scene_.c_str(), rgbl.size(), coloured, labelled, paint, bright_paint, asphalt, dark_asphalt);
+  std::printf(
+      "[ figures ] scene %s: %zu points, %zu coloured, %zu labelled; paint %zu (%zu bright), asphalt %zu "
+      "(%zu dark)\n",
+      scene_.c_str(), rgbl.size(), coloured, labelled, paint, bright_paint, asphalt, dark_asphalt);
   ASSERT_GT(paint, 20u);
   EXPECT_GE(static_cast<double>(bright_paint) / paint, 0.95);
   EXPECT_GE(static_cast<double>(dark_asphalt) / asphalt, 0.95);
@@ -167,8 +168,9 @@ TEST_F(ExportCloud, SceneListsAreOneLocation) {
   const std::string location = db.log[db.scene[0].log].location;
   const std::vector<nuscenes::Index> scenes = raster::scenes_at(db, location);
   EXPECT_THROW(raster::accumulate_scenes(db, {}, raster::RasterOptions{}, 1), nsg::InternalError);
-  EXPECT_THROW(raster::accumulate_scenes(db, {static_cast<nuscenes::Index>(db.scene.size())}, raster::RasterOptions{}, 1),
-               nsg::InternalError);
+  EXPECT_THROW(
+      raster::accumulate_scenes(db, {static_cast<nuscenes::Index>(db.scene.size())}, raster::RasterOptions{}, 1),
+      nsg::InternalError);
   {  // the release has one location: move its last scene to a second one
     ASSERT_GE(scenes.size(), 2u);
     Database two = db;
@@ -231,13 +233,14 @@ assert np.all(np.diff(key) > 0), 'cells sorted and unique'
 print(n, repr(float(pts['z'].astype(np.float64).sum())), int(pts['intensity'].max()), int((pts['rgb'] != 0).sum()))
 )";
   test::write_text(tmp / "read_pcd.py", script);
-  const test::CommandResult py = test::run_program({"/usr/bin/python3", (tmp / "read_pcd.py").string(),
-                                                    (tmp / "b1.pcd").string()});
+  const test::CommandResult py =
+      test::run_program({"/usr/bin/python3", (tmp / "read_pcd.py").string(), (tmp / "b1.pcd").string()});
   ASSERT_EQ(py.exit_code, 0) << py.err;
 
   pcl::PointCloud<pcl::PointXYZRGBL> b, a, c;
   pcl::PointCloud<pcl::PointXYZI> bi, ai, ci;
-  for (auto [file, rgbl, xyzi] : {std::tuple{"b1.pcd", &b, &bi}, std::tuple{"a.pcd", &a, &ai}, std::tuple{"c.pcd", &c, &ci}}) {
+  for (auto [file, rgbl, xyzi] :
+       {std::tuple{"b1.pcd", &b, &bi}, std::tuple{"a.pcd", &a, &ai}, std::tuple{"c.pcd", &c, &ci}}) {
     ASSERT_EQ(pcl::io::loadPCDFile((tmp / file).string(), *rgbl), 0) << file;
     ASSERT_EQ(pcl::io::loadPCDFile((tmp / file).string(), *xyzi), 0) << file;
   }
@@ -271,7 +274,8 @@ print(n, repr(float(pts['z'].astype(np.float64).sum())), int(pts['intensity'].ma
   EXPECT_EQ(py_max_intensity, static_cast<int>(max_intensity));
   EXPECT_EQ(py_coloured, coloured);
   std::printf("[ figures ] %zu points: binary %ju B, ascii %ju B, binary_compressed %ju B\n", b.size(),
-              static_cast<uintmax_t>(fs::file_size(tmp / "b1.pcd")), static_cast<uintmax_t>(fs::file_size(tmp / "a.pcd")),
+              static_cast<uintmax_t>(fs::file_size(tmp / "b1.pcd")),
+              static_cast<uintmax_t>(fs::file_size(tmp / "a.pcd")),
               static_cast<uintmax_t>(fs::file_size(tmp / "c.pcd")));
 }
 

@@ -1,4 +1,4 @@
-// End-to-end tests of `nsgraph generate` / `merge` on a small synthetic release (issue 6).
+// End-to-end tests of `nsgraph generate` / `merge` on a small synthetic release.
 #include <gtest/gtest.h>
 
 #include <csignal>
@@ -26,7 +26,7 @@ namespace {
 
 // Tiles of a dataset as {key → {suffix → bytes}}, read through the shards of the manifest.
 std::map<std::string, std::map<std::string, std::vector<uint8_t>>> read_tiles(const fs::path& dataset,
-                                                                               const json& manifest) {
+                                                                              const json& manifest) {
   std::map<std::string, std::map<std::string, std::vector<uint8_t>>> tiles;
   for (const json& shard : manifest["shards"]) {
     io::TarReader reader(dataset / shard["file"].get<std::string>());
@@ -248,7 +248,7 @@ TEST(Generate, KilledRunLeavesNoCorruptShardAndRerunCompletes) {
       if (e.path().extension() != ".tar") continue;
       io::TarReader reader(e.path());
       io::TarMember m;
-      EXPECT_NO_THROW(while (reader.next(m)) {}) << e.path();
+      EXPECT_NO_THROW(while (reader.next(m)){}) << e.path();
     }
   const CommandResult r = run_nsgraph(e2e_generate_args(dir.path()));
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -273,8 +273,8 @@ TEST(GenerateConfig, UnknownKeysAndBadValuesAreNamed) {
   r = run_nsgraph({"generate", "--print-config", "--set", "splits.buffer_m=10"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("splits.buffer_m"), std::string::npos) << r.err;
-  r = run_nsgraph({"generate", "--dataroot", "/nonexistent-nsg", "--version", "v1.0-mini", "--out",
-                   (dir / "out").string()});
+  r = run_nsgraph(
+      {"generate", "--dataroot", "/nonexistent-nsg", "--version", "v1.0-mini", "--out", (dir / "out").string()});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("/nonexistent-nsg"), std::string::npos) << r.err;
 }
@@ -314,8 +314,14 @@ TEST(Generate, FolderLayoutHoldsTheSameTilesAsTheShards) {
   EXPECT_TRUE(tar.tar_layout());
   EXPECT_FALSE(folder.tar_layout());
   std::map<std::string, std::map<std::string, std::vector<uint8_t>>> a, b;
-  tar.for_each_tile("", [&](const io::DatasetTile& t) { a[t.key] = t.files; return true; });
-  folder.for_each_tile("", [&](const io::DatasetTile& t) { b[t.key] = t.files; return true; });
+  tar.for_each_tile("", [&](const io::DatasetTile& t) {
+    a[t.key] = t.files;
+    return true;
+  });
+  folder.for_each_tile("", [&](const io::DatasetTile& t) {
+    b[t.key] = t.files;
+    return true;
+  });
   EXPECT_EQ(a.size(), tar.manifest()["counts"]["total_tiles"].get<size_t>());
   EXPECT_EQ(a, b);
   size_t test_tiles = 0;

@@ -1,5 +1,5 @@
-// `generate`'s scene exclusion (config scenes.exclude) and its refusal of an empty dataset
-// (issue 19), on the small synthetic releases.
+// `generate`'s scene exclusion (config scenes.exclude) and its refusal of an empty dataset,
+// on the small synthetic releases.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -16,8 +16,8 @@ namespace nsg::test {
 namespace {
 
 std::vector<std::string> generate_args(const fs::path& release, const fs::path& out, const std::string& config) {
-  return {"generate", "--config", config, "--dataroot", release.string(), "--version", "v1.0-mini",
-          "--out", out.string(), "--layout", "folder", "--no-rgb", "--no-semantic"};
+  return {"generate", "--config",   config,     "--dataroot", release.string(), "--version",    "v1.0-mini",
+          "--out",    out.string(), "--layout", "folder",     "--no-rgb",       "--no-semantic"};
 }
 
 std::string e2e_config() { return (source_dir() / "tests/data/generate/e2e.json").string(); }
@@ -126,8 +126,9 @@ TEST(GenerateConfig, SceneExcludeDefaultsToTheKnownBadScenesAndIsSettable) {
 TEST(GenerateEmpty, TinyReleaseWithTheDefaultConfigIsRefusedNamingTheFilter) {
   TempDir dir("gen-empty-tiny");
   const fs::path release = tiny_release();
-  const std::vector<std::string> base = {"generate", "--dataroot", release.string(), "--version", "v1.0-mini",
-                                         "--no-rgb", "--no-semantic", "--out", (dir / "out").string()};
+  const std::vector<std::string> base = {"generate",      "--dataroot", release.string(),
+                                         "--version",     "v1.0-mini",  "--no-rgb",
+                                         "--no-semantic", "--out",      (dir / "out").string()};
   CommandResult r = run_nsgraph(base);
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("the dataset would hold no tiles (0 train / 0 val / 0 test)"), std::string::npos) << r.err;
@@ -165,8 +166,8 @@ TEST(GenerateEmpty, EveryShareRefusesTheSameEmptyPlan) {
   std::string first_message;
   for (int i = 0; i < 2; ++i) {
     std::vector<std::string> args = generate_args(e2e_release(), dir.path(), e2e_config());
-    args.insert(args.end(), {"--set", "crops.min_lidar_coverage=1", "--shard-index", std::to_string(i),
-                             "--num-shards", "2", "--quiet"});
+    args.insert(args.end(), {"--set", "crops.min_lidar_coverage=1", "--shard-index", std::to_string(i), "--num-shards",
+                             "2", "--quiet"});
     const CommandResult r = run_nsgraph(args);
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_NE(r.err.find("train: 1 region(s)"), std::string::npos) << r.err;

@@ -1,4 +1,4 @@
-// `generate`'s peak-memory estimate and --max-memory (issue 22), on the e2e release: the
+// `generate`'s peak-memory estimate and --max-memory, on the e2e release: the
 // estimate is logged before any work, a limit below it refuses the run with exit 2 naming
 // the estimate and what would lower it, and nothing is written; a limit above it runs.
 #include <gtest/gtest.h>
@@ -17,9 +17,14 @@ namespace nsg::test {
 namespace {
 
 std::vector<std::string> args(const fs::path& out, const std::string& max_memory, const std::string& threads) {
-  return {"-v", "generate", "--config", (source_dir() / "tests/data/generate/e2e.json").string(), "--dataroot",
-          e2e_release().string(), "--version", "v1.0-mini", "--out", out.string(), "--layout", "folder",
-          "--threads", threads, "--max-memory", max_memory};
+  return {"-v",           "generate",
+          "--config",     (source_dir() / "tests/data/generate/e2e.json").string(),
+          "--dataroot",   e2e_release().string(),
+          "--version",    "v1.0-mini",
+          "--out",        out.string(),
+          "--layout",     "folder",
+          "--threads",    threads,
+          "--max-memory", max_memory};
 }
 
 // The estimate in bytes from the -v line.

@@ -1,4 +1,4 @@
-// Whole-run progress of `generate` (issue 6): off a terminal each stage ends with one plain
+// Whole-run progress of `generate`: off a terminal each stage ends with one plain
 // log line carrying its totals, counted up front from the tables; --quiet prints none.
 #include <gtest/gtest.h>
 

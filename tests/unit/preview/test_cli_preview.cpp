@@ -31,8 +31,8 @@ TEST(CliPreview, ShardMosaics) {
   EXPECT_EQ(png_size(a / "test-000000.png")[0], 2u * 12 + 4 * 484 + 3 * 12);
   EXPECT_EQ(png_size(a / "test-000002.png")[0], 2u * 12 + 2 * 484 + 12);
   // Same bytes on a second run; --split/--shard/--max-tiles narrow it down.
-  r = run_nsgraph({"preview", "--quiet", ds, "--out", b.path().string(), "--split", "test", "--shard", "1",
-                   "--max-tiles", "3"});
+  r = run_nsgraph(
+      {"preview", "--quiet", ds, "--out", b.path().string(), "--split", "test", "--shard", "1", "--max-tiles", "3"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::vector<std::string> files;
   for (const auto& e : fs::directory_iterator(b.path())) files.push_back(e.path().filename().string());
@@ -67,13 +67,13 @@ TEST(CliPreview, OverviewAndSubmission) {
     return true;
   });
   write_text(out / "sub.json", sub.dump());
-  r = run_nsgraph({"preview", "--quiet", ds.string(), "--out", out.path().string(), "--split", "test",
-                   "--submission", (out / "sub.json").string(), "--sort", "apls", "--max-tiles", "5"});
+  r = run_nsgraph({"preview", "--quiet", ds.string(), "--out", out.path().string(), "--split", "test", "--submission",
+                   (out / "sub.json").string(), "--sort", "apls", "--max-tiles", "5"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(png_size(out / "submission-test.png")[0], 2u * 12 + 5 * 484 + 4 * 12);
 
-  r = run_nsgraph({"preview", ds.string(), "--out", out.path().string(), "--submission",
-                   (out / "sub.json").string(), "--sort", "nonsense"});
+  r = run_nsgraph({"preview", ds.string(), "--out", out.path().string(), "--submission", (out / "sub.json").string(),
+                   "--sort", "nonsense"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--sort"), std::string::npos) << r.err;
   // A structurally broken submission is a data error naming the file, not a crash.

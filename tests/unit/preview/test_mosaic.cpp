@@ -92,7 +92,8 @@ TEST(Mosaic, SubmissionEqualToGroundTruth) {
   for (const auto& t : tiles) preds.push_back(tile_graph(t));
   metrics::MetricParams params;
   params.size_px = 128;
-  for (size_t i = 0; i < tiles.size(); ++i) scores.push_back(metrics::measure(tiles[i].key, preds[i], &preds[i], params));
+  for (size_t i = 0; i < tiles.size(); ++i)
+    scores.push_back(metrics::measure(tiles[i].key, preds[i], &preds[i], params));
   std::vector<CardInput> cards;
   for (size_t i = 0; i < tiles.size(); ++i) cards.push_back({&tiles[i], true, &preds[i], &scores[i]});
   cards.push_back({&tiles[0], true, nullptr, nullptr});  // missing prediction
@@ -152,7 +153,7 @@ TEST(Mosaic, SixtyFourCardsAboutFourKWide) {
   std::vector<CardInput> cards;
   for (int i = 0; i < 64; ++i) cards.push_back({&tiles[i % tiles.size()], false, nullptr, nullptr});
   const preview::Mosaic m = preview::render_mosaic("big", cards, {});
-  EXPECT_EQ(m.image.width, 2 * 12 + 8 * 484 + 7 * 12);  // 3980
+  EXPECT_EQ(m.image.width, 2 * 12 + 8 * 484 + 7 * 12);          // 3980
   EXPECT_EQ(m.cards[63].panels[0].y, m.cards[56].panels[0].y);  // 8 rows of 8
 }
 

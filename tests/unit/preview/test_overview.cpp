@@ -17,8 +17,7 @@ std::array<double, 2> clear_point(const std::array<double, 4>& region, const pre
   for (double y = region[3] - 20; y > region[1] + 4; y -= 2.0)
     for (double x = region[0] + 5; x < region[2] - 4; x += 2.0) {
       bool clear = true;
-      for (const auto& c : ov.crops)
-        clear = clear && (x < c[0] - 4 || x > c[2] + 4 || y < c[1] - 4 || y > c[3] + 4);
+      for (const auto& c : ov.crops) clear = clear && (x < c[0] - 4 || x > c[2] + 4 || y < c[1] - 4 || y > c[3] + 4);
       if (clear) return {x, y};
     }
   ADD_FAILURE() << "no clear point";
@@ -50,7 +49,7 @@ TEST(Overview, GeometryLidarAndCrops) {
   EXPECT_DOUBLE_EQ(ov.m_per_px, 0.2);
   EXPECT_NEAR(ov.x_west_m, 30 - 11.5, 1e-9);
   EXPECT_NEAR(ov.y_north_m, 220 + 11.5, 1e-9);
-  EXPECT_EQ(ov.map_rect.width, 1265);  // ceil(253 / 0.2)
+  EXPECT_EQ(ov.map_rect.width, 1265);   // ceil(253 / 0.2)
   EXPECT_EQ(ov.map_rect.height, 1065);  // ceil(213 / 0.2)
   EXPECT_EQ(ov.image.width, 16 + 1265 + 16 + 260 + 16);
   // Each crop's west edge is outlined at mid-height: black, or the region outline where

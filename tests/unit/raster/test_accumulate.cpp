@@ -48,11 +48,11 @@ TEST_F(RasterRelease, ReadsEverySweepOfTheLocation) {
     best_s = std::min(best_s, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     ASSERT_EQ(again.stats.covered_cells, s.covered_cells);
   }
-  std::printf("[ figures ] %zu sweeps (%.0f points each) in %.4f s at 1 thread = %.0f sweeps/s, %.1f M points/s; "
-              "%zu of %zu points kept; %zu covered cells in %zu blocks\n",
-              s.sweeps, static_cast<double>(s.points_read) / s.sweeps, best_s, static_cast<double>(s.sweeps) / best_s,
-              static_cast<double>(s.points_read) / best_s / 1e6, s.points_kept, s.points_read, s.covered_cells,
-              s.lidar_blocks);
+  std::printf(
+      "[ figures ] %zu sweeps (%.0f points each) in %.4f s at 1 thread = %.0f sweeps/s, %.1f M points/s; "
+      "%zu of %zu points kept; %zu covered cells in %zu blocks\n",
+      s.sweeps, static_cast<double>(s.points_read) / s.sweeps, best_s, static_cast<double>(s.sweeps) / best_s,
+      static_cast<double>(s.points_read) / best_s / 1e6, s.points_kept, s.points_read, s.covered_cells, s.lidar_blocks);
 }
 
 // Every kept point, moved back into its own sweep's sensor frame, lies outside the roof
@@ -72,7 +72,7 @@ TEST_F(RasterRelease, KeptPointsPassTheSensorFrameFilter) {
   EXPECT_EQ(checked, layers_->stats.covered_cells);
 }
 
-// Issue 5, done-when (1): lane paint is bright and asphalt dark in the lowest-z layer.
+// Lane paint is bright and asphalt dark in the lowest-z layer.
 // Truth is the material at the kept point, required to hold 6 cm around it as well: the
 // simulated LiDAR has 2 cm range noise along nearly horizontal rays, so a return within a
 // few cm of a paint edge may come from the neighbouring material.
@@ -104,10 +104,11 @@ TEST_F(RasterRelease, LanePaintIsBrightAndAsphaltDark) {
       dark_asphalt += !bright;
     }
   });
-  std::printf("[ figures ] paint cells %zu (%.2f %% bright; %zu incl. edges: %.2f %%), asphalt cells %zu "
-              "(%.2f %% dark)\n",
-              paint, 100.0 * bright_paint / paint, all_paint, 100.0 * all_bright_paint / all_paint, asphalt,
-              100.0 * dark_asphalt / asphalt);
+  std::printf(
+      "[ figures ] paint cells %zu (%.2f %% bright; %zu incl. edges: %.2f %%), asphalt cells %zu "
+      "(%.2f %% dark)\n",
+      paint, 100.0 * bright_paint / paint, all_paint, 100.0 * all_bright_paint / all_paint, asphalt,
+      100.0 * dark_asphalt / asphalt);
   ASSERT_GT(paint, 200u);
   ASSERT_GT(asphalt, 2000u);
   EXPECT_GE(static_cast<double>(bright_paint) / paint, 0.95);
@@ -184,7 +185,7 @@ void check_vehicle_layer(const VehicleLayer& layer, const std::vector<TruthBox>&
   EXPECT_GT(static_cast<double>(checked_heading), min_checked * static_cast<double>(footprint_cells));
 }
 
-// Issue 5, done-when (5), from the annotations.
+// Vehicle cells from the annotations.
 TEST_F(RasterRelease, VehicleLayerFromAnnotations) {
   std::vector<TruthBox> boxes;
   for (const auto& ann : db_->sample_annotation) {
@@ -222,7 +223,7 @@ TEST_F(RasterRelease, VehicleLayerFromDetections) {
   check_vehicle_layer(layers.vehicles, boxes, 0.2, 0.2);
 }
 
-// Issue 5, done-when (6): identical cells at 1 and 2 threads, every field of every cell.
+// Identical cells at 1 and 2 threads, every field of every cell.
 TEST_F(RasterRelease, IdenticalAtOneAndTwoThreads) {
   const auto t0 = std::chrono::steady_clock::now();
   const LocationLayers two = accumulate_location(*db_, config_->location, RasterOptions{}, 2);

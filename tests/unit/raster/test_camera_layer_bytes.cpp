@@ -90,8 +90,10 @@ TEST_F(CameraLayerBytes, HalfSizeMasksReadAsTheFullSizeMaskTheyStandFor) {
       fs::create_directories(half_root.path() / channel.path().filename());
       const std::vector<uint8_t> full_png = synth::encode_png_gray8(full.data(), m.width, m.height);
       const std::vector<uint8_t> half_png = synth::encode_png_gray8(half.data(), hw, hh);
-      write_file_atomic(full_root.path() / name, std::string_view(reinterpret_cast<const char*>(full_png.data()), full_png.size()));
-      write_file_atomic(half_root.path() / name, std::string_view(reinterpret_cast<const char*>(half_png.data()), half_png.size()));
+      write_file_atomic(full_root.path() / name,
+                        std::string_view(reinterpret_cast<const char*>(full_png.data()), full_png.size()));
+      write_file_atomic(half_root.path() / name,
+                        std::string_view(reinterpret_cast<const char*>(half_png.data()), half_png.size()));
       ++masks;
     }
   }

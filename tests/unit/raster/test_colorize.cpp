@@ -77,7 +77,7 @@ double rgb_error(const ColorCell& c, GroundMaterial m) {  // mean absolute error
   return (std::abs(c.r - t[0]) + std::abs(c.g - t[1]) + std::abs(c.b - t[2])) / 3.0;
 }
 
-// Issue 5, done-when (3), first half: RGB of covered ground cells matches the true colour.
+// RGB of covered ground cells matches the true colour.
 TEST_F(RasterRelease, RgbMatchesTheTrueGroundColour) {
   const ColorLayer& colors = this->colors();
   size_t covered = 0, ground = 0, interior = 0;
@@ -99,11 +99,12 @@ TEST_F(RasterRelease, RgbMatchesTheTrueGroundColour) {
   });
   std::sort(errors.begin(), errors.end());
   const double p95 = errors.empty() ? 0.0 : errors[errors.size() * 95 / 100];
-  std::printf("[ figures ] %zu LiDAR cells, %zu RGB-covered (%zu on the ground); mean abs RGB error %.2f (all ground), "
-              "%.2f away from material edges (%zu cells, p95 %.1f); %zu of %zu images used, %zu occluded views, "
-              "%.2f s at 1 thread\n",
-              layers_->stats.covered_cells, covered, ground, err_all / ground, err_interior / interior, interior, p95,
-              colors.stats().images_used, colors.stats().images, colors.stats().occluded_views, color_seconds_);
+  std::printf(
+      "[ figures ] %zu LiDAR cells, %zu RGB-covered (%zu on the ground); mean abs RGB error %.2f (all ground), "
+      "%.2f away from material edges (%zu cells, p95 %.1f); %zu of %zu images used, %zu occluded views, "
+      "%.2f s at 1 thread\n",
+      layers_->stats.covered_cells, covered, ground, err_all / ground, err_interior / interior, interior, p95,
+      colors.stats().images_used, colors.stats().images, colors.stats().occluded_views, color_seconds_);
   EXPECT_EQ(covered, colors.rgb_cells());
   ASSERT_GT(interior, 5000u);
   EXPECT_GT(static_cast<double>(covered), 0.3 * static_cast<double>(layers_->stats.covered_cells));
@@ -111,7 +112,7 @@ TEST_F(RasterRelease, RgbMatchesTheTrueGroundColour) {
   EXPECT_LT(err_all / ground, 14.0);
 }
 
-// Issue 5, done-when (4): semantic labels agree with the true ground class.
+// Semantic labels agree with the true ground class.
 TEST_F(RasterRelease, SemanticsMatchTheTrueGroundClass) {
   const ColorLayer& colors = this->colors();
   size_t ground = 0, agree = 0, interior = 0, agree_interior = 0;
@@ -134,7 +135,7 @@ TEST_F(RasterRelease, SemanticsMatchTheTrueGroundClass) {
   EXPECT_GE(static_cast<double>(agree_interior) / interior, 0.98);
 }
 
-// Issue 5, done-when (3), second half: ground cells under vehicles (parked in one scene,
+// Ground cells under vehicles (parked in one scene,
 // free in the other; moving cars at a key frame) are not painted with car colours: the
 // views that saw the car are rejected as occluded and another view saw the ground.
 TEST_F(RasterRelease, CellsUnderVehiclesKeepTheGroundColour) {
@@ -161,7 +162,7 @@ TEST_F(RasterRelease, CellsUnderVehiclesKeepTheGroundColour) {
 // A vehicle box at one key frame, in its own frame (x forward, y left, z up).
 struct Box3 {
   geometry::Rigid3 box_from_global;
-  Eigen::Vector3d half;  // half length, width, height (m)
+  Eigen::Vector3d half;     // half length, width, height (m)
   double cx, cy, radius_m;  // xy centre and half diagonal, for a quick bearing screen
   // Does the segment a → b cross the box? (slab test in the box frame)
   bool crosses(const Eigen::Vector3d& a_global, const Eigen::Vector3d& b_global) const {
@@ -194,7 +195,7 @@ std::vector<Box3> vehicle_boxes_at(const Database& db, nuscenes::Index sample) {
   return out;
 }
 
-// Issue 19, "true occluders still win": ground cells that a key-frame camera sees only
+// "True occluders still win": ground cells that a key-frame camera sees only
 // through a vehicle (the segment camera → point crosses the box, the point inside the
 // image) keep the ground's colour and class: that view is rejected as occluded and the
 // colour comes from a view with a clear line of sight. With the occlusion test off, the
@@ -215,7 +216,8 @@ TEST_F(RasterRelease, GroundBehindAVehicleKeepsTheGroundColour) {
     const auto& k = *db_->calibrated_sensor[sd.calibrated_sensor].camera_intrinsic;
     layers_->lidar.cells().for_each([&](CellIndex c, const LidarCell& cell) {
       if (!cell.has_data() || std::hypot(cell.x - cam.x(), cell.y - cam.y()) > radius) return;
-      if (inside_any(parked, cell.x, cell.y, 0.3) || inside_any(moving, cell.x, cell.y, 0.3)) return;  // under, not behind
+      if (inside_any(parked, cell.x, cell.y, 0.3) || inside_any(moving, cell.x, cell.y, 0.3))
+        return;  // under, not behind
       if (!on_ground(*world_, cell) || !uniform_material(*world_, cell.x, cell.y, 0.2)) return;
       const Eigen::Vector3d p(cell.x, cell.y, cell.z), q = camera_from_global.apply(p);
       if (!(q.z() > 1.0)) return;
@@ -249,10 +251,11 @@ TEST_F(RasterRelease, GroundBehindAVehicleKeepsTheGroundColour) {
   const ColorLayer blind = colorize_location(*db_, config_->location, layers_->lidar, {}, no_occlusion, 2);
   size_t blind_coloured, blind_rgb_ok, blind_class_ok;
   count_ground(blind, blind_coloured, blind_rgb_ok, blind_class_ok);
-  std::printf("[ figures ] ground seen through a vehicle in some view: %zu cells, %zu coloured, %.1f %% with the ground "
-              "colour, %.1f %% with the ground class (occlusion test off: %.1f %%, %.1f %%)\n",
-              behind.size(), coloured, 100.0 * rgb_ok / coloured, 100.0 * class_ok / coloured,
-              100.0 * blind_rgb_ok / blind_coloured, 100.0 * blind_class_ok / blind_coloured);
+  std::printf(
+      "[ figures ] ground seen through a vehicle in some view: %zu cells, %zu coloured, %.1f %% with the ground "
+      "colour, %.1f %% with the ground class (occlusion test off: %.1f %%, %.1f %%)\n",
+      behind.size(), coloured, 100.0 * rgb_ok / coloured, 100.0 * class_ok / coloured,
+      100.0 * blind_rgb_ok / blind_coloured, 100.0 * blind_class_ok / blind_coloured);
   ASSERT_GT(coloured, 200u);
   // 93.5 % / 95.7 % measured: nearly all the rest are coloured from another view, closer
   // than the one through the car (checked cell by cell while writing this test).
@@ -261,7 +264,7 @@ TEST_F(RasterRelease, GroundBehindAVehicleKeepsTheGroundColour) {
   EXPECT_LT(static_cast<double>(blind_rgb_ok) / blind_coloured, 0.6);  // 42.8 %: the cells do see cars
 }
 
-// Issue 5, done-when (2): no LiDAR cell on the path of a moving vehicle holds a body
+// No LiDAR cell on the path of a moving vehicle holds a body
 // return once the ground there was seen. Cells on the path whose kept point is above the
 // ground must have no ground return in any sweep (checked against every sweep).
 TEST_F(RasterRelease, MovingVehiclesVanishFromTheLidarLayer) {
@@ -281,12 +284,14 @@ TEST_F(RasterRelease, MovingVehiclesVanishFromTheLidarLayer) {
     if (db_->channel(db_->sample_data[i]) != "LIDAR_TOP") continue;
     for (const nuscenes::LidarPoint& p : nuscenes::load_sweep_global(*db_, i)) {
       const CellIndex c = cell_of(p.x, p.y, kRes);
-      if (raised.count({c.col, c.row}) && p.z - world_->ground->sample(p.x, p.y).height_m < 0.1) ++ground_seen_in_raised;
+      if (raised.count({c.col, c.row}) && p.z - world_->ground->sample(p.x, p.y).height_m < 0.1)
+        ++ground_seen_in_raised;
     }
   }
-  std::printf("[ figures ] moving-vehicle paths: %zu LiDAR cells, %zu hold a ground return, %zu a body return "
-              "(ground never seen there)\n",
-              path_cells, ground_cells, raised.size());
+  std::printf(
+      "[ figures ] moving-vehicle paths: %zu LiDAR cells, %zu hold a ground return, %zu a body return "
+      "(ground never seen there)\n",
+      path_cells, ground_cells, raised.size());
   ASSERT_GT(ground_cells, 100u);  // tiny.json: 12 moving-vehicle annotations
   EXPECT_EQ(ground_seen_in_raised, 0u);
 }
@@ -296,7 +301,7 @@ bool same_cell(const ColorCell& a, const ColorCell& b) {
          std::memcmp(&a.depth_m, &b.depth_m, sizeof(float)) == 0;
 }
 
-// Issue 5, done-when (6) for the camera layers.
+// Identical cells at 1 and 2 threads, for the camera layers.
 TEST_F(RasterRelease, IdenticalAtOneAndTwoThreads) {
   const ColorLayer& one = this->colors();
   const ColorLayer two = colorize_location(*db_, config_->location, layers_->lidar, {}, CameraOptions{}, 2);

@@ -34,7 +34,7 @@ TEST(LidarLayer, BinsLikeCellOfEverywhere) {
     double x = rng.uniform(-70.0, 70.0) + 1000.0, y = rng.uniform(-70.0, 70.0) - 300.0;
     if (i % 4 == 0) x = std::round(x / 0.2) * 0.2;  // on (or an ulp off) a border
     if (i % 5 == 0) y = std::round(y / 0.2) * 0.2;
-    if (i % 997 == 0) x += 9000.0;                   // outside the local block table
+    if (i % 997 == 0) x += 9000.0;  // outside the local block table
     pts.insert(pts.end(), {static_cast<float>(x), static_cast<float>(y), static_cast<float>(rng.uniform(-2.0, 2.0)),
                            static_cast<float>(rng.uniform(0.0, 255.0))});
   }
@@ -152,7 +152,7 @@ TEST(LidarLayer, ReductionIsOrderAndGroupingIndependent) {
   EXPECT_GT(compared, 9000u);
 }
 
-// merge() packs the blocks it touches (issue 22); sweeps added afterwards must land in
+// merge() packs the blocks it touches; sweeps added afterwards must land in
 // them again (the sweep loop's block table is rebuilt) and the layer stay exact.
 TEST(LidarLayer, SweepsAddedAfterAMergeLandInThePackedBlocks) {
   Rng rng(8);
@@ -181,7 +181,7 @@ TEST(LidarLayer, SweepsAddedAfterAMergeLandInThePackedBlocks) {
 }
 
 TEST(LidarLayer, RoofSquareAndRangeAreDropped) {
-  const std::vector<float> p{0.5f, 0.9f, 0, 0, 0, 0.5f, 1.0f, 0, 0, 0,  // roof / just outside
+  const std::vector<float> p{0.5f,   0.9f,   0, 0, 0, 0.5f,  1.0f, 0, 0, 0,  // roof / just outside
                              -0.99f, -0.99f, 0, 0, 0, 70.0f, 0.0f, 0, 0, 0, 59.0f, 0.0f, 0, 0, 0};
   LidarOptions options;
   const std::vector<int32_t> kept = select_sweep_points(p.data(), 5, 5, options);

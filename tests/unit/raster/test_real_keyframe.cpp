@@ -54,7 +54,8 @@ std::vector<GoldenLidarCell> golden_lidar_cells() {
   for (const std::string& line : csv_rows(golden_dir() / "lidar-cells.csv")) {
     GoldenLidarCell c;
     long long col, row, x, y, z;
-    if (std::sscanf(line.c_str(), "%lld,%lld,%d,%lld,%lld,%lld,%d", &col, &row, &c.point, &x, &y, &z, &c.intensity) != 7)
+    if (std::sscanf(line.c_str(), "%lld,%lld,%d,%lld,%lld,%lld,%d", &col, &row, &c.point, &x, &y, &z, &c.intensity) !=
+        7)
       ADD_FAILURE() << "bad golden row: " << line;
     c.col = col, c.row = row, c.x_mm = x, c.y_mm = y, c.z_mm = z;
     cells.push_back(c);
@@ -111,7 +112,8 @@ class RealKeyFrame : public ::testing::Test {
 TEST_F(RealKeyFrame, LidarCellsAreTheDevkitsCells) {
   const std::vector<GoldenLidarCell> golden = golden_lidar_cells();
   ASSERT_EQ(golden.size(), 8975u);  // the README's figure
-  std::printf("[ figures ] real key frame: %zu LiDAR cells (devkit %zu)\n", layers_->stats.covered_cells, golden.size());
+  std::printf("[ figures ] real key frame: %zu LiDAR cells (devkit %zu)\n", layers_->stats.covered_cells,
+              golden.size());
   EXPECT_EQ(layers_->stats.covered_cells, golden.size());
   size_t missing = 0, other_point = 0, moved = 0, other_intensity = 0;
   for (const GoldenLidarCell& g : golden) {
@@ -149,11 +151,12 @@ TEST_F(RealKeyFrame, RgbColoursWhatTheDevkitsCamerasSee) {
   std::sort(diffs.begin(), diffs.end());
   const double median = diffs[diffs.size() / 2];
   const double p90 = diffs[diffs.size() * 9 / 10];
-  std::printf("[ figures ] real key frame: %zu of %zu cells within %.0f m that a camera sees are coloured (%.1f %%); "
-              "colour difference to the devkit's pixels over %zu cells: median %.2f, 90th percentile %.2f levels; "
-              "%zu occluded views\n",
-              coloured, golden.size(), kNearM, 100.0 * coloured / golden.size(), diffs.size(), median, p90,
-              colors_->stats().occluded_views);
+  std::printf(
+      "[ figures ] real key frame: %zu of %zu cells within %.0f m that a camera sees are coloured (%.1f %%); "
+      "colour difference to the devkit's pixels over %zu cells: median %.2f, 90th percentile %.2f levels; "
+      "%zu occluded views\n",
+      coloured, golden.size(), kNearM, 100.0 * coloured / golden.size(), diffs.size(), median, p90,
+      colors_->stats().occluded_views);
   EXPECT_GE(static_cast<double>(coloured), 0.88 * static_cast<double>(golden.size()));
   EXPECT_LE(median, 1.0);
 
@@ -179,9 +182,9 @@ TEST_F(RealKeyFrame, RgbColoursWhatTheDevkitsCamerasSee) {
 TEST_F(RealKeyFrame, InspectLayersOnTheRealKeyFrame) {
   test::TempDir out("real_inspect_layers");
   const std::string png = (out.path() / "panels.png").string();
-  const test::CommandResult r =
-      test::run_nsgraph({"inspect", "layers", "--dataroot", real_root().string(), "--version", "v1.0-mini", "--location",
-                         "singapore-onenorth", "--out", out.path().string(), "--no-semantic", "--png", png});
+  const test::CommandResult r = test::run_nsgraph({"inspect", "layers", "--dataroot", real_root().string(), "--version",
+                                                   "v1.0-mini", "--location", "singapore-onenorth", "--out",
+                                                   out.path().string(), "--no-semantic", "--png", png});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["sweeps"], 1);

@@ -1,4 +1,4 @@
-// SparseGrid's packed blocks (issue 22): a merged grid keeps only the cells holding data
+// SparseGrid's packed blocks: a merged grid keeps only the cells holding data
 // and reads exactly like the dense grid it came from, through every accessor.
 #include <gtest/gtest.h>
 
@@ -69,8 +69,8 @@ TEST(SparseGrid, AMergedGridIsPackedAndReadsLikeTheDenseOne) {
   packed.merge(dense, keep_max);
   expect_same_cells(packed, dense);
   for (const auto& [cell, value] : truth) ASSERT_EQ(packed.find({cell.first, cell.second})->value, value);
-  EXPECT_EQ(packed.find({100000, 0}), nullptr);        // an untouched block
-  for (int64_t row = -100; row < -80; ++row)  // empty cells of packed blocks read as "no data"
+  EXPECT_EQ(packed.find({100000, 0}), nullptr);  // an untouched block
+  for (int64_t row = -100; row < -80; ++row)     // empty cells of packed blocks read as "no data"
     for (int64_t col = -130; col < -110; ++col)
       ASSERT_EQ(packed.find({col, row})->has_data(), truth.contains({col, row})) << col << "," << row;
   // 30 % filled: the packed cells plus the bitmaps take well under half the dense blocks.
@@ -113,7 +113,7 @@ TEST(SparseGrid, MergesAndWritesIntoPackedBlocksKeepEveryCell) {
   packed.merge(b, keep_max);
   packed.at({5, 5}).value = 5000;     // a packed block, unpacked by the write
   packed.at({9000, 9000}).value = 7;  // a new block
-  Grid dense;  // the same by plain writes
+  Grid dense;                         // the same by plain writes
   for (const Grid* g : {&a, &b})
     g->for_each([&](CellIndex c, const Cell& x) {
       if (x.has_data()) keep_max(dense.at(c), x);

@@ -55,8 +55,11 @@ std::vector<Sweep> random_sweeps(uint64_t seed) {
     sw.id = 1000 - 7 * s;
     const int kind = s % 6;  // 0,1: yaw only; 2: identity + borders; 3: full 3-D; 4: far sensor; 5: huge pose
     const double yaw = rng.uniform(-3.2, 3.2);
-    const Quaternion ego_rot = kind == 2 ? Quaternion{} : (kind == 3 ? random_rotation(rng) : geometry::quaternion_from_yaw(yaw));
-    const Quaternion sensor_rot = kind == 2 ? Quaternion{} : (kind == 3 ? random_rotation(rng) : geometry::quaternion_from_yaw(-std::numbers::pi / 2));
+    const Quaternion ego_rot =
+        kind == 2 ? Quaternion{} : (kind == 3 ? random_rotation(rng) : geometry::quaternion_from_yaw(yaw));
+    const Quaternion sensor_rot =
+        kind == 2 ? Quaternion{}
+                  : (kind == 3 ? random_rotation(rng) : geometry::quaternion_from_yaw(-std::numbers::pi / 2));
     const std::array<double, 3> sensor_t =
         kind == 4 ? std::array<double, 3>{500.0, -20.0, 1.8} : std::array<double, 3>{0.94, 0.0, 1.84};
     const double ex = kind == 5 ? 3.1e8 : 600.0 + 9.0 * s + rng.uniform(0.0, 1.0);
@@ -86,8 +89,8 @@ std::vector<Sweep> random_sweeps(uint64_t seed) {
         if (i % 4 == 0) fx = std::nextafter(fx, i % 8 == 0 ? 1e9f : -1e9f);
       }
       const float z = static_cast<float>(0.05 * static_cast<double>(rng.uniform_int(int64_t{-20}, int64_t{20})));
-      sw.rows.insert(sw.rows.end(), {fx, fy, z, static_cast<float>(rng.uniform(-10.0, 300.0)),
-                                     static_cast<float>(i % 32)});
+      sw.rows.insert(sw.rows.end(),
+                     {fx, fy, z, static_cast<float>(rng.uniform(-10.0, 300.0)), static_cast<float>(i % 32)});
     }
     sweeps.push_back(std::move(sw));
   }
@@ -128,20 +131,20 @@ TEST(SweepKernel, FusedEqualsPortableFieldByField) {
     std::vector<size_t> kept_portable;
     const LidarLayer portable = accumulate(sweeps, Path::kPortable, kept_portable);
     for (Path path : {Path::kFused, Path::kFusedAvx2}) {  // AVX-512 transforms where the CPU has them; AVX2 only
-    std::vector<size_t> kept_fused;
-    const LidarLayer fused = accumulate(sweeps, path, kept_fused);
-    EXPECT_EQ(kept_fused, kept_portable);
-    ASSERT_EQ(fused.cells().block_count(), portable.cells().block_count());
-    ASSERT_EQ(fused.covered_cells(), portable.covered_cells());
-    ASSERT_GT(portable.covered_cells(), 20000u);
-    size_t compared = 0;
-    portable.cells().for_each([&](CellIndex c, const LidarCell& want) {
-      const LidarCell* got = fused.cells().find(c);
-      ASSERT_NE(got, nullptr);
-      expect_same_cell(*got, want, c);
-      compared += want.has_data();
-    });
-    EXPECT_EQ(compared, portable.covered_cells());
+      std::vector<size_t> kept_fused;
+      const LidarLayer fused = accumulate(sweeps, path, kept_fused);
+      EXPECT_EQ(kept_fused, kept_portable);
+      ASSERT_EQ(fused.cells().block_count(), portable.cells().block_count());
+      ASSERT_EQ(fused.covered_cells(), portable.covered_cells());
+      ASSERT_GT(portable.covered_cells(), 20000u);
+      size_t compared = 0;
+      portable.cells().for_each([&](CellIndex c, const LidarCell& want) {
+        const LidarCell* got = fused.cells().find(c);
+        ASSERT_NE(got, nullptr);
+        expect_same_cell(*got, want, c);
+        compared += want.has_data();
+      });
+      EXPECT_EQ(compared, portable.covered_cells());
     }
   }
 }
@@ -172,7 +175,7 @@ TEST(SweepKernel, BothPathsEqualAPlainReference) {
       if (cell.lower_than(it->second)) it->second = cell;
     }
   }
-  EXPECT_GT(ties, 500u);   // the tie rule is exercised
+  EXPECT_GT(ties, 500u);  // the tie rule is exercised
   // Whole sweeps, and runs of 333 rows (not a multiple of 8: runs end mid-group; the cells
   // must still name each point by its row in the whole sweep).
   for (const auto& [path, run_rows] : {std::pair{Path::kPortable, SIZE_MAX}, std::pair{Path::kPortable, size_t{333}},
@@ -198,12 +201,11 @@ TEST(SweepKernel, BothPathsEqualAPlainReference) {
 // the rounding, or no rounding between the two transforms, also changes the bits.
 TEST(SweepKernel, KeepsTheDevkitOrderOfOperations) {
   Rigid3 crafted;
-  crafted.rotation << 1.0 + 0x1p-24, 0x1p-53, 0x1p-53, 1.0 + 0x1p-24, 0x1p-53, 0x1p-53, 1.0 + 0x1p-24, 0x1p-53,
-      0x1p-53;
+  crafted.rotation << 1.0 + 0x1p-24, 0x1p-53, 0x1p-53, 1.0 + 0x1p-24, 0x1p-53, 0x1p-53, 1.0 + 0x1p-24, 0x1p-53, 0x1p-53;
   Rigid3 shift;  // a translation that is not a float32: rounded first, then added in float32
   shift.translation = Eigen::Vector3d(1179.4673290964536, -3.0000001, 0.30000001);
   std::vector<float> rows;
-  for (int i = 0; i < 19; ++i) {  // two full groups of 8 and a tail
+  for (int i = 0; i < 19; ++i) {                       // two full groups of 8 and a tail
     const float v = static_cast<float>(1 << (i % 4));  // 1, 2, 4, 8: the tie at each scale
     rows.insert(rows.end(), {v, v, v, 10.0f, 0.0f});
   }
@@ -233,8 +235,8 @@ TEST(SweepKernel, EmptyAndTinySweeps) {
     LidarLayer layer;
     EXPECT_EQ(layer.add_sweep(nullptr, 0, 0, identity, identity, LidarOptions{}, 1, path), 0u);
     // Three rows (no full group of 8): roof, kept, beyond range.
-    const std::vector<float> rows{0.5f, 0.5f, 0.0f, 9.0f, 0.0f, 10.1f, 4.1f, -1.5f, 77.6f, 3.0f,
-                                  70.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+    const std::vector<float> rows{0.5f,  0.5f, 0.0f,  9.0f, 0.0f, 10.1f, 4.1f, -1.5f,
+                                  77.6f, 3.0f, 70.0f, 0.0f, 0.0f, 1.0f,  0.0f};
     EXPECT_EQ(layer.add_sweep(rows.data(), 3, 0, identity, identity, LidarOptions{}, 2, path), 1u);
     const LidarCell* cell = layer.cells().find(cell_of(10.1, 4.1, 0.2));
     ASSERT_NE(cell, nullptr);
@@ -312,8 +314,9 @@ TEST(SweepKernel, FindsTheFirstNonFiniteRow) {
   Rng rng(5);
   std::vector<float> clean;
   for (size_t i = 0; i < kRows; ++i)
-    clean.insert(clean.end(), {static_cast<float>(rng.uniform(-50.0, 50.0)), static_cast<float>(rng.uniform(-50.0, 50.0)),
-                               static_cast<float>(rng.uniform(-2.0, 2.0)), 9.0f, static_cast<float>(i % 32)});
+    clean.insert(clean.end(),
+                 {static_cast<float>(rng.uniform(-50.0, 50.0)), static_cast<float>(rng.uniform(-50.0, 50.0)),
+                  static_cast<float>(rng.uniform(-2.0, 2.0)), 9.0f, static_cast<float>(i % 32)});
   const Rigid3 pose = Rigid3::from_pose({600.0, 1100.0, 0.3}, geometry::quaternion_from_yaw(0.4));
   const float bad_values[] = {std::nanf(""), std::numeric_limits<float>::infinity(),
                               -std::numeric_limits<float>::infinity()};
@@ -322,12 +325,13 @@ TEST(SweepKernel, FindsTheFirstNonFiniteRow) {
     SCOPED_TRACE("path " + std::to_string(static_cast<int>(path)));
     int64_t bad_row = 7;
     LidarLayer clean_layer;
-    const size_t kept = clean_layer.add_sweep(clean.data(), kRows, kFirstRow, Rigid3{}, pose, LidarOptions{}, 1, path, &bad_row);
+    const size_t kept =
+        clean_layer.add_sweep(clean.data(), kRows, kFirstRow, Rigid3{}, pose, LidarOptions{}, 1, path, &bad_row);
     EXPECT_EQ(bad_row, -1);
     EXPECT_GT(kept, kRows / 2);
     size_t k = 0;
-    for (size_t row : {size_t{0}, size_t{7}, size_t{8}, size_t{15}, size_t{16}, size_t{2047}, size_t{2048}, size_t{3001},
-                       kRows - 2, kRows - 1}) {
+    for (size_t row : {size_t{0}, size_t{7}, size_t{8}, size_t{15}, size_t{16}, size_t{2047}, size_t{2048},
+                       size_t{3001}, kRows - 2, kRows - 1}) {
       std::vector<float> rows = clean;
       const size_t column = k % 5;  // x, y, z, intensity and ring in turn
       rows[5 * row + column] = bad_values[k % 3];
@@ -341,7 +345,8 @@ TEST(SweepKernel, FindsTheFirstNonFiniteRow) {
         thrown.add_sweep(rows.data(), kRows, kFirstRow, Rigid3{}, pose, LidarOptions{}, 1, path);
         ADD_FAILURE() << "no error for row " << row;
       } catch (const DataError& e) {
-        EXPECT_NE(std::string(e.what()).find("point " + std::to_string(kFirstRow + row)), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("point " + std::to_string(kFirstRow + row)), std::string::npos)
+            << e.what();
         EXPECT_NE(std::string(e.what()).find("finite"), std::string::npos) << e.what();
       }
     }

@@ -56,8 +56,7 @@ TEST(VehicleLayer, OverlapsKeepHighestScoreThenLatest) {
   ab.merge(b);
   ba.merge(b);
   ba.merge(a);
-  EXPECT_EQ(ab.cells().find(cell_of(10.05, 10.05, 0.2))->heading,
-            ba.cells().find(cell_of(10.05, 10.05, 0.2))->heading);
+  EXPECT_EQ(ab.cells().find(cell_of(10.05, 10.05, 0.2))->heading, ba.cells().find(cell_of(10.05, 10.05, 0.2))->heading);
 }
 
 }  // namespace

@@ -21,10 +21,20 @@ bool have_chromium() { return run_program({"sh", "-c", "command -v chromium"}).e
 
 // chromium headless on `url` with a fresh profile and nothing that reaches the network.
 CommandResult chromium(const fs::path& profile, const std::vector<std::string>& args, const std::string& url) {
-  std::vector<std::string> argv{"timeout", "120", "chromium", "--headless", "--no-sandbox", "--disable-gpu",
-                                "--disable-quic", "--no-first-run", "--disable-background-networking",
-                                "--disable-component-update", "--disable-sync", "--disable-extensions",
-                                "--user-data-dir=" + profile.string(), "--virtual-time-budget=10000"};
+  std::vector<std::string> argv{"timeout",
+                                "120",
+                                "chromium",
+                                "--headless",
+                                "--no-sandbox",
+                                "--disable-gpu",
+                                "--disable-quic",
+                                "--no-first-run",
+                                "--disable-background-networking",
+                                "--disable-component-update",
+                                "--disable-sync",
+                                "--disable-extensions",
+                                "--user-data-dir=" + profile.string(),
+                                "--virtual-time-budget=10000"};
   argv.insert(argv.end(), args.begin(), args.end());
   argv.push_back(url);
   return run_program(argv);
@@ -36,7 +46,8 @@ nlohmann::json selftest_of(const std::string& dom) {
   if (tag == std::string::npos) return nullptr;
   const size_t open = dom.find('>', tag) + 1, close = dom.find("</pre>", open);
   std::string text = dom.substr(open, close - open);
-  for (const auto& [esc, ch] : std::vector<std::pair<std::string, std::string>>{{"&lt;", "<"}, {"&gt;", ">"}, {"&amp;", "&"}})
+  for (const auto& [esc, ch] :
+       std::vector<std::pair<std::string, std::string>>{{"&lt;", "<"}, {"&gt;", ">"}, {"&amp;", "&"}})
     for (size_t p; (p = text.find(esc)) != std::string::npos;) text.replace(p, esc.size(), ch);
   if (text.empty()) return nullptr;
   return nlohmann::json::parse(text);
@@ -99,7 +110,6 @@ TEST(Browser, ReportLoadsSortsAndDrawsOverlays) {
   EXPECT_GT(std::stoi(r.out), 50) << "distinct colours in the screenshot";
 }
 
-
 // 20 000 tiles: data/tiles.js of the e2e report repeated under new keys (the table and the
 // summary need no per-tile files). The first page of the table holds 100 rows in order and
 // the summary paints within 2 s.
@@ -114,8 +124,10 @@ TEST(Browser, TwentyThousandTilesStayUsable) {
   const nlohmann::json small = read_data_script(out / "data/tiles.js");
   constexpr size_t kTiles = 20000;
   const size_t n = small["keys"].size();
-  nlohmann::json big = {{"keys", nlohmann::json::array()}, {"location", nlohmann::json::array()},
-                        {"split", nlohmann::json::array()}, {"bounds_m", nlohmann::json::array()},
+  nlohmann::json big = {{"keys", nlohmann::json::array()},
+                        {"location", nlohmann::json::array()},
+                        {"split", nlohmann::json::array()},
+                        {"bounds_m", nlohmann::json::array()},
                         {"values", nlohmann::json::object()}};
   for (size_t i = 0; i < kTiles; ++i) {
     const size_t k = i % n;
@@ -132,7 +144,8 @@ TEST(Browser, TwentyThousandTilesStayUsable) {
   write_text(out / "data/tiles.js", "NSG.receive(\"tiles\", JSON.parse('" + big.dump() + "'));\n");
   nlohmann::json summary = read_data_script(out / "data/summary.js");
   summary["n_tiles"] = kTiles;
-  write_text(out / "data/summary.js", "NSG.receive(\"summary\", " + summary.dump() + ");\n");  // an object literal works too
+  write_text(out / "data/summary.js",
+             "NSG.receive(\"summary\", " + summary.dump() + ");\n");  // an object literal works too
 
   r = chromium(dir / "profile", {"--dump-dom"},
                "file://" + fs::absolute(out / "index.html").string() + "#selftest=table:apls:desc");
@@ -150,9 +163,10 @@ TEST(Browser, TwentyThousandTilesStayUsable) {
   ASSERT_NE(first, big["keys"].end());
   EXPECT_EQ(apls[first - big["keys"].begin()].get<double>(), best);
   ASSERT_FALSE(st["first_contentful_paint_ms"].is_null()) << st.dump(1);
-  std::printf("20000 tiles: first contentful paint %.0f ms, first render %.0f ms, tiles loaded %.0f ms, table %.0f ms\n",
-              st["first_contentful_paint_ms"].get<double>(), st["first_render_ms"].get<double>(),
-              st["tiles_loaded_ms"].get<double>(), st["table_ms"].get<double>());
+  std::printf(
+      "20000 tiles: first contentful paint %.0f ms, first render %.0f ms, tiles loaded %.0f ms, table %.0f ms\n",
+      st["first_contentful_paint_ms"].get<double>(), st["first_render_ms"].get<double>(),
+      st["tiles_loaded_ms"].get<double>(), st["table_ms"].get<double>());
   EXPECT_LT(st["first_contentful_paint_ms"].get<double>(), 2000.0) << st.dump(1);
 }
 

@@ -18,8 +18,7 @@ namespace fs = std::filesystem;
 
 TEST(PairedDifference, KnownValues) {
   // Differences 1, 2, 3 (the undefined pair is skipped): mean 2, sd 1, SE 1/√3.
-  const report::PairedDifference d =
-      report::paired_difference({3.0, 5.0, std::nullopt, 7.0}, {2.0, 3.0, 1.0, 4.0});
+  const report::PairedDifference d = report::paired_difference({3.0, 5.0, std::nullopt, 7.0}, {2.0, 3.0, 1.0, 4.0});
   EXPECT_EQ(d.n, 3);
   EXPECT_DOUBLE_EQ(*d.mean, 2.0);
   EXPECT_NEAR(*d.standard_error, 1.0 / std::sqrt(3.0), 1e-15);
@@ -35,8 +34,8 @@ TEST(Report, SubmissionReportMatchesScoreAndMarksDefects) {
   const fs::path ds = e2e_dataset();
   const PerturbedSubmission sub = perturbed_submission(dir.path());
   const fs::path out = dir / "report";
-  CommandResult r = run_nsgraph({"report", "--quiet", "--dataset", ds.string(), "--submission", sub.file.string(),
-                                 "--out", out.string()});
+  CommandResult r = run_nsgraph(
+      {"report", "--quiet", "--dataset", ds.string(), "--submission", sub.file.string(), "--out", out.string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* f : {"index.html", "report.js", "report.css", "report.json", "data/summary.js", "data/tiles.js"})
     EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
@@ -158,8 +157,8 @@ TEST(Report, SameBytesAtAnyThreadCountAndRerunReplaces) {
   EXPECT_EQ(tree_hashes(dir / "1"), tree_hashes(dir / "2"));
   // A second run over an earlier report replaces it whole.
   write_text(dir / "1" / "stale.txt", "x");
-  const CommandResult r = run_nsgraph({"report", "--quiet", "--dataset", ds.string(), "--submission",
-                                       sub.file.string(), "--out", (dir / "1").string()});
+  const CommandResult r = run_nsgraph({"report", "--quiet", "--dataset", ds.string(), "--submission", sub.file.string(),
+                                       "--out", (dir / "1").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(fs::exists(dir / "1" / "stale.txt"));
   EXPECT_EQ(tree_hashes(dir / "1"), tree_hashes(dir / "2"));
@@ -170,12 +169,13 @@ TEST(Report, BadInputsFailLikeScoreAndWriteNothing) {
   const fs::path ds = e2e_dataset();
   const fs::path out = dir / "report";
   // A submission with an edge to a node that does not exist: validate's problem, exit 1.
-  write_text(dir / "bad.json",
-             R"({"schema_version": "1", "tiles": {"boston-seaport-test-000000": {"nodes": [[1, 2]], "edges": [[0, 5]]}}})");
-  CommandResult r = run_nsgraph({"report", "--dataset", ds.string(), "--submission", (dir / "bad.json").string(),
-                                 "--out", out.string()});
-  const CommandResult s = run_nsgraph({"score", "--ground-truth", ds.string(), "--submission",
-                                       (dir / "bad.json").string()});
+  write_text(
+      dir / "bad.json",
+      R"({"schema_version": "1", "tiles": {"boston-seaport-test-000000": {"nodes": [[1, 2]], "edges": [[0, 5]]}}})");
+  CommandResult r = run_nsgraph(
+      {"report", "--dataset", ds.string(), "--submission", (dir / "bad.json").string(), "--out", out.string()});
+  const CommandResult s =
+      run_nsgraph({"score", "--ground-truth", ds.string(), "--submission", (dir / "bad.json").string()});
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_EQ(s.exit_code, 1) << s.err;
   const std::string first_issue = s.err.substr(0, s.err.find('\n'));
@@ -185,8 +185,7 @@ TEST(Report, BadInputsFailLikeScoreAndWriteNothing) {
   // A dataset whose shard is gone: exit 2 naming the shard, nothing written.
   const fs::path broken = dir / "broken";
   fs::create_directories(broken);
-  for (const auto& e : fs::directory_iterator(ds))
-    fs::create_directory_symlink(e.path(), broken / e.path().filename());
+  for (const auto& e : fs::directory_iterator(ds)) fs::create_directory_symlink(e.path(), broken / e.path().filename());
   fs::remove(broken / "shards");
   fs::create_directories(broken / "shards");
   for (const auto& e : fs::directory_iterator(ds / "shards"))

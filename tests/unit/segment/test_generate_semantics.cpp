@@ -89,9 +89,9 @@ TEST(GenerateSemantics, SegmentMasksAsSemanticRoot) {
 
   // Pointed at the release's own masks, the same setting gives the reference bytes.
   TempDir own("gen-segment-own-masks");
-  const CommandResult o = run_nsgraph(with(e2e_generate_args(own.path()),
-                                           {"--threads", "2", "--set",
-                                            "camera.semantic_root=" + (e2e_release() / "semantic").string()}));
+  const CommandResult o =
+      run_nsgraph(with(e2e_generate_args(own.path()),
+                       {"--threads", "2", "--set", "camera.semantic_root=" + (e2e_release() / "semantic").string()}));
   ASSERT_EQ(o.exit_code, 0) << o.err;
   EXPECT_EQ(semantic_tiles_differing(e2e_dataset(), own.path()), 0u);
 }

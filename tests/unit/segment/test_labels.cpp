@@ -34,9 +34,9 @@ TEST(Labels, ShippedLabelSetsLoad) {
   const SegmentLabels cityscapes = load_labels(labels_dir() / "cityscapes.json");
   EXPECT_EQ(cityscapes.max_channel(), 18);  // 19 train ids
   ASSERT_TRUE(cityscapes.input.has_value());
-  EXPECT_EQ(cityscapes.class_of(0), 0);   // road
-  EXPECT_EQ(cityscapes.class_of(13), 8);  // car
-  EXPECT_EQ(cityscapes.class_of(10), 13); // sky
+  EXPECT_EQ(cityscapes.class_of(0), 0);    // road
+  EXPECT_EQ(cityscapes.class_of(13), 8);   // car
+  EXPECT_EQ(cityscapes.class_of(10), 13);  // sky
   const SegmentLabels vistas = load_labels(labels_dir() / "mapillary-vistas-v1.2.json");
   EXPECT_EQ(vistas.max_channel(), 65);  // 66 classes
   EXPECT_EQ(vistas.class_of(24), 1);    // Lane Marking - General → lane_marking
@@ -74,7 +74,7 @@ TEST(Labels, TheDocumentedExampleLoads) {
 TEST(Labels, BuiltinLidarsegEqualsTheShippedFile) {
   const SegmentLabels shipped = load_labels(labels_dir() / "nuscenes-lidarseg.json");
   EXPECT_EQ(builtin_lidarseg_labels().class_of_channel, shipped.class_of_channel);
-  EXPECT_EQ(builtin_lidarseg_labels().table()[24], 0);    // flat.driveable_surface → road
+  EXPECT_EQ(builtin_lidarseg_labels().table()[24], 0);     // flat.driveable_surface → road
   EXPECT_EQ(builtin_lidarseg_labels().table()[0], kVoid);  // noise
   EXPECT_EQ(builtin_lidarseg_labels().table()[200], kVoid);
 }
@@ -98,7 +98,7 @@ TEST(Labels, UnknownClassNamesTheFileAndChannel) {
 
 TEST(Labels, SchemaViolationsNameTheFile) {
   EXPECT_NE(parse_error({{"schema_version", "1"}}).find("bad-labels.json"), std::string::npos);  // no classes
-  EXPECT_NE(parse_error({{"schema_version", "1"}, {"classes", {{"x1", "road"}}}}), "");             // not a channel
+  EXPECT_NE(parse_error({{"schema_version", "1"}, {"classes", {{"x1", "road"}}}}), "");          // not a channel
   EXPECT_NE(parse_error({{"schema_version", "1"}, {"classes", {{"0", "road"}}}, {"input", {{"width", 8}}}}), "");
   EXPECT_EQ(parse_error({{"schema_version", "1"}, {"classes", {{"0", "road"}, {"7", "void"}}}}), "");
 }

@@ -50,8 +50,8 @@ TEST(SegmentRun, SameBytesAtOneAndTwoThreadsAndAcrossShares) {
   EXPECT_EQ(tree_hashes(one.path()), reference);
   TempDir shared("segment_shares");
   for (int i = 0; i < 3; ++i) {
-    const CommandResult r = run_nsgraph(
-        segment_args(release, shared.path(), {"--threads", "2", "--shard-index", std::to_string(i), "--num-shards", "3"}));
+    const CommandResult r = run_nsgraph(segment_args(
+        release, shared.path(), {"--threads", "2", "--shard-index", std::to_string(i), "--num-shards", "3"}));
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   EXPECT_EQ(tree_hashes(shared.path()), reference);
@@ -103,7 +103,8 @@ TEST(SegmentRun, NotAnOnnxFileNamesIt) {
 TEST(SegmentRun, AnOutputThatIsNotNchwNamesTheModel) {
   TempDir dir("segment_flat");
   std::vector<std::string> args = segment_args(tiny_release(), dir / "out");
-  args[std::find(args.begin(), args.end(), "--model") - args.begin() + 1] = (segment_data() / "flat-output.onnx").string();
+  args[std::find(args.begin(), args.end(), "--model") - args.begin() + 1] =
+      (segment_data() / "flat-output.onnx").string();
   const CommandResult r = run_nsgraph(args);
   expect_input_error(r, "flat-output.onnx");
   EXPECT_NE(r.err.find("N×C×h×w"), std::string::npos) << r.err;
@@ -112,8 +113,10 @@ TEST(SegmentRun, AnOutputThatIsNotNchwNamesTheModel) {
 TEST(SegmentRun, BadLabelsNameTheFile) {
   TempDir dir("segment_bad_labels");
   const std::string input = R"("input": {"width": 64, "height": 36})";
-  write_text(dir / "unknown-class.json", R"({"schema_version": "1", )" + input + R"(, "classes": {"0": "road", "1": "tree"}})");
-  write_text(dir / "channel-outside.json", R"({"schema_version": "1", )" + input + R"(, "classes": {"0": "road", "40": "car"}})");
+  write_text(dir / "unknown-class.json",
+             R"({"schema_version": "1", )" + input + R"(, "classes": {"0": "road", "1": "tree"}})");
+  write_text(dir / "channel-outside.json",
+             R"({"schema_version": "1", )" + input + R"(, "classes": {"0": "road", "40": "car"}})");
   write_text(dir / "no-input.json", R"({"schema_version": "1", "classes": {"0": "road"}})");
   for (const char* file : {"unknown-class.json", "channel-outside.json", "no-input.json"}) {
     std::vector<std::string> args = segment_args(tiny_release(), dir / "out");

@@ -62,9 +62,12 @@ TEST_F(SemanticAgreement, SegmentMasksAgreeWithTheReleaseMasks) {
     agree += o->semantic == t.semantic;
     if (o->semantic != t.semantic) ++confusions[{t.semantic, o->semantic}];
   });
-  const auto name = [](int c) { return c == 255 ? std::string("void") : segment::class_names().at(static_cast<size_t>(c)); };
+  const auto name = [](int c) {
+    return c == 255 ? std::string("void") : segment::class_names().at(static_cast<size_t>(c));
+  };
   for (const auto& [pair, n] : confusions)
-    if (n * 200 > covered) std::printf("  %s taken for %s: %zu cells\n", name(pair.first).c_str(), name(pair.second).c_str(), n);
+    if (n * 200 > covered)
+      std::printf("  %s taken for %s: %zu cells\n", name(pair.first).c_str(), name(pair.second).c_str(), n);
   ASSERT_GT(covered, 10000u);
   const double fraction = static_cast<double>(agree) / static_cast<double>(covered);
   std::printf("segment masks vs release masks: %zu of %zu covered cells agree (%.1f %%)\n", agree, covered,
@@ -80,7 +83,8 @@ TEST_F(SemanticAgreement, LidarsegAgreesWithTheMaskLayer) {
   constexpr std::array<uint8_t, 6> kShared = {0, 3, 5, 6, 7, 8};  // road sidewalk terrain vegetation building car
   std::array<size_t, 14> both{}, agree{};
   truth.cells().for_each([&](CellIndex c, const ColorCell& t) {
-    if (!(t.flags & kCoverageSemantic) || std::find(kShared.begin(), kShared.end(), t.semantic) == kShared.end()) return;
+    if (!(t.flags & kCoverageSemantic) || std::find(kShared.begin(), kShared.end(), t.semantic) == kShared.end())
+      return;
     const ColorCell* l = lidarseg.cells().find(c);
     if (l == nullptr || !(l->flags & kCoverageSemantic)) return;
     ++both[t.semantic];

@@ -17,19 +17,18 @@
 namespace nsg::synth {
 namespace {
 
-// Global → image exactly as map_pointcloud_to_image does it (nuscenes-format.md §4.5),
+// Global → image exactly as map_pointcloud_to_image does it (docs/nuscenes-input.md),
 // given the ego pose and the camera calibration as separate transforms.
 struct DevkitProjection {
   bool visible = false;
   double u = 0, v = 0, depth = 0;
 };
 DevkitProjection devkit_project(const Eigen::Vector3d& p_global, const geometry::Rigid3& global_from_ego,
-                                const geometry::Rigid3& ego_from_cam, const Eigen::Matrix3d& k,
-                                int width, int height) {
+                                const geometry::Rigid3& ego_from_cam, const Eigen::Matrix3d& k, int width, int height) {
   Eigen::Vector3d p = p_global - global_from_ego.translation;  // step 5
-  p = global_from_ego.rotation.transpose() * p;                  // step 6
-  p = p - ego_from_cam.translation;                              // step 7
-  p = ego_from_cam.rotation.transpose() * p;                     // step 8
+  p = global_from_ego.rotation.transpose() * p;                // step 6
+  p = p - ego_from_cam.translation;                            // step 7
+  p = ego_from_cam.rotation.transpose() * p;                   // step 8
   DevkitProjection r;
   r.depth = p.z();
   const Eigen::Vector3d q = k * p;
@@ -84,8 +83,7 @@ TEST(CameraSim, DevkitProjectedGroundPointsLandOnTheirMaterial) {
     for (double y = -40.0; y <= 60.0; y += 0.5) {
       const double fx = std::fmod(x + 1000.0, 2.0), fy = std::fmod(y + 1000.0, 2.0);
       if (fx < 0.25 || fx > 1.75 || fy < 0.25 || fy > 1.75) continue;
-      const DevkitProjection pr =
-          devkit_project({x, y, 0.0}, global_from_ego, ego_from_cam, k, 1600, 900);
+      const DevkitProjection pr = devkit_project({x, y, 0.0}, global_from_ego, ego_from_cam, k, 1600, 900);
       if (!pr.visible || pr.depth > 15.0) continue;
       const long u = std::lround(pr.u), v = std::lround(pr.v);
       const size_t i = static_cast<size_t>(v) * 1600 + static_cast<size_t>(u);
@@ -185,8 +183,7 @@ TEST(CameraSim, BoxFacesAreClassedAndShadedByNormal) {
 TEST(CameraSim, LabelNoiseFlipsTheRequestedFractionInBlobs) {
   const SceneSnapshot scene = test::small_city(240.0);
   const geometry::Rigid3 cam =
-      geometry::Rigid3::from_pose({2.0, 3.0, 0.0}, geometry::quaternion_from_yaw(0.2)) *
-      test::ego_from_cam_front();
+      geometry::Rigid3::from_pose({2.0, 3.0, 0.0}, geometry::quaternion_from_yaw(0.2)) * test::ego_from_cam_front();
   const Eigen::Matrix3d k = small_intrinsic(0.25);
   CameraSimOptions clean;
   clean.width_px = 400;
@@ -210,8 +207,7 @@ TEST(CameraSim, LabelNoiseFlipsTheRequestedFractionInBlobs) {
   for (int y = 1; y + 1 < h; ++y)
     for (int x = 1; x + 1 < w; ++x) {
       const size_t i = static_cast<size_t>(y) * w + x;
-      if (flipped[i] && (flipped[i - 1] || flipped[i + 1] || flipped[i - w] || flipped[i + w]))
-        ++with_neighbour;
+      if (flipped[i] && (flipped[i - 1] || flipped[i + 1] || flipped[i - w] || flipped[i + w])) ++with_neighbour;
     }
   EXPECT_GT(static_cast<double>(with_neighbour), 0.8 * n_flipped);
   for (uint8_t cls : b.classes) EXPECT_LT(cls, 14);
@@ -246,8 +242,7 @@ TEST(CameraSim, OptionsValidationNamesTheField) {
   }
   const SceneSnapshot scene = test::flat_road_with_stripe();
   Rng rng(1);
-  EXPECT_THROW(render_camera(scene, geometry::Rigid3{}, Eigen::Matrix3d::Zero(), CameraSimOptions{}, rng),
-               ConfigError);
+  EXPECT_THROW(render_camera(scene, geometry::Rigid3{}, Eigen::Matrix3d::Zero(), CameraSimOptions{}, rng), ConfigError);
 }
 
 TEST(CameraSim, FullSizeTimingOnSmallCity) {
@@ -258,8 +253,7 @@ TEST(CameraSim, FullSizeTimingOnSmallCity) {
     return inner(x, y);
   };
   const geometry::Rigid3 cam =
-      geometry::Rigid3::from_pose({3.0, 3.0, 0.0}, geometry::quaternion_from_yaw(0.3)) *
-      test::ego_from_cam_front();
+      geometry::Rigid3::from_pose({3.0, 3.0, 0.0}, geometry::quaternion_from_yaw(0.3)) * test::ego_from_cam_front();
   const SceneRaycaster caster(scene);
   Rng rng(12);
   const double t0 = test::thread_cpu_ms();

@@ -47,21 +47,21 @@ TEST(ImageEncode, JpegHasJfif101HeaderBaselineAnd420) {
   const std::vector<uint8_t> jpg = encode_jpeg(image);
   ASSERT_GT(jpg.size(), 100u);
   // SOI, then APP0 "JFIF\0" version 1.01, units 0, density 1:1, no thumbnail.
-  const uint8_t head[] = {0xFF, 0xD8, 0xFF, 0xE0, 0x00, 0x10, 'J', 'F', 'I', 'F', 0x00,
-                          0x01, 0x01, 0x00, 0x00, 0x01, 0x00, 0x01, 0x00, 0x00};
+  const uint8_t head[] = {0xFF, 0xD8, 0xFF, 0xE0, 0x00, 0x10, 'J',  'F',  'I',  'F',
+                          0x00, 0x01, 0x01, 0x00, 0x00, 0x01, 0x00, 0x01, 0x00, 0x00};
   ASSERT_EQ(std::memcmp(jpg.data(), head, sizeof(head)), 0);
   EXPECT_EQ(find_marker(jpg, 0xE1), std::string::npos) << "no EXIF";
   EXPECT_EQ(find_marker(jpg, 0xC2), std::string::npos) << "not progressive";
   const size_t sof = find_marker(jpg, 0xC0);
   ASSERT_NE(sof, std::string::npos) << "baseline SOF0";
   const uint8_t* f = &jpg[sof + 4];
-  EXPECT_EQ(f[0], 8);                       // precision
-  EXPECT_EQ(f[1] << 8 | f[2], 900);         // height
-  EXPECT_EQ(f[3] << 8 | f[4], 1600);        // width
-  ASSERT_EQ(f[5], 3);                       // components
-  EXPECT_EQ(f[7], 0x22);                    // Y: 2x2 → 4:2:0
-  EXPECT_EQ(f[10], 0x11);                   // Cb
-  EXPECT_EQ(f[13], 0x11);                   // Cr
+  EXPECT_EQ(f[0], 8);                 // precision
+  EXPECT_EQ(f[1] << 8 | f[2], 900);   // height
+  EXPECT_EQ(f[3] << 8 | f[4], 1600);  // width
+  ASSERT_EQ(f[5], 3);                 // components
+  EXPECT_EQ(f[7], 0x22);              // Y: 2x2 → 4:2:0
+  EXPECT_EQ(f[10], 0x11);             // Cb
+  EXPECT_EQ(f[13], 0x11);             // Cr
   // libjpeg quality 80 scales the standard tables by 40 %: luma DC 16 → 6.
   const size_t dqt = find_marker(jpg, 0xDB);
   ASSERT_NE(dqt, std::string::npos);

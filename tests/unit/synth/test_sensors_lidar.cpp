@@ -201,8 +201,8 @@ TEST(LidarSim, SweepTimingOnSmallCity) {
     ++ground_calls;
     return inner(x, y);
   };
-  const geometry::Rigid3 global_from_ego = geometry::Rigid3::from_pose(
-      {3.0, 3.0, 0.0}, geometry::quaternion_from_yaw(0.3));
+  const geometry::Rigid3 global_from_ego =
+      geometry::Rigid3::from_pose({3.0, 3.0, 0.0}, geometry::quaternion_from_yaw(0.3));
   const geometry::Rigid3 pose = global_from_ego * test::ego_from_lidar_top();
   Rng rng(11);
   const double t0 = test::thread_cpu_ms();

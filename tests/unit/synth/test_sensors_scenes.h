@@ -20,8 +20,7 @@ inline SceneSnapshot flat_road_with_stripe(double stripe_x_m = 3.0, double half_
   SceneSnapshot scene;
   scene.ground = [=](double x, double) {
     GroundSample s;
-    s.material = std::abs(x - stripe_x_m) < half_width_m ? GroundMaterial::kPaintWhite
-                                                         : GroundMaterial::kAsphalt;
+    s.material = std::abs(x - stripe_x_m) < half_width_m ? GroundMaterial::kPaintWhite : GroundMaterial::kAsphalt;
     s.height_m = 0.0;
     return s;
   };
@@ -62,8 +61,7 @@ inline SceneSnapshot small_city(double size_m = 480.0) {
       const double across = along_x ? ay : ax, along = along_x ? x : y;
       const bool in_junction = ax < kRoadHalf && ay < kRoadHalf;
       const bool dash = std::fmod(std::abs(along), 6.0) < 3.0;
-      s.material = (!in_junction && across < 0.075 && dash) ? GroundMaterial::kPaintWhite
-                                                            : GroundMaterial::kAsphalt;
+      s.material = (!in_junction && across < 0.075 && dash) ? GroundMaterial::kPaintWhite : GroundMaterial::kAsphalt;
     } else if (a < kRoadHalf + kCurb) {
       s = {GroundMaterial::kCurbTop, 0.15};
     } else if (a < kRoadHalf + kWalk) {
@@ -106,12 +104,11 @@ inline SceneSnapshot small_city(double size_m = 480.0) {
   return scene;
 }
 
-// The nuScenes CAM_FRONT calibration of log n015 (nuscenes-format.md §3) and its K.
+// The nuScenes CAM_FRONT calibration of log n015 (docs/nuscenes-input.md) and its K.
 inline geometry::Rigid3 ego_from_cam_front() {
   return geometry::Rigid3::from_pose(
       {1.70079118954, 0.0159456324149, 1.51095763913},
-      geometry::Quaternion{0.4998015430569128, -0.5030316162024876, 0.4997798114386805,
-                           -0.49737083824542755});
+      geometry::Quaternion{0.4998015430569128, -0.5030316162024876, 0.4997798114386805, -0.49737083824542755});
 }
 inline Eigen::Matrix3d cam_front_intrinsic() {
   Eigen::Matrix3d k;
@@ -121,8 +118,7 @@ inline Eigen::Matrix3d cam_front_intrinsic() {
 inline geometry::Rigid3 ego_from_lidar_top() {
   return geometry::Rigid3::from_pose(
       {0.943713, 0.0, 1.84023},
-      geometry::Quaternion{0.7077955119163518, -0.006492242056004365, 0.010646214713995808,
-                           -0.7063073142877817});
+      geometry::Quaternion{0.7077955119163518, -0.006492242056004365, 0.010646214713995808, -0.7063073142877817});
 }
 
 }  // namespace nsg::synth::test

@@ -16,9 +16,7 @@
 namespace nsg::synth {
 namespace {
 
-SynthConfig tiny_config() {
-  return SynthConfig::from_file(test::source_dir() / "samples" / "synth" / "tiny.json");
-}
+SynthConfig tiny_config() { return SynthConfig::from_file(test::source_dir() / "samples" / "synth" / "tiny.json"); }
 
 TEST(WorldConfig, UnknownKeyIsRejectedNamingIt) {
   try {
@@ -76,10 +74,12 @@ TEST(WorldLaneGraph, ArclineEndsMeetOutgoingStarts) {
     for (int o : a.outgoing) {
       const LaneInfo& b = w.lanes[static_cast<size_t>(o)];
       const std::vector<geometry::Pose2> pb = geometry::discretize_lane(b.paths, 0.5);
-      EXPECT_LE(std::hypot(pa.back().x - pb.front().x, pa.back().y - pb.front().y), 0.01) << a.token << " -> " << b.token;
+      EXPECT_LE(std::hypot(pa.back().x - pb.front().x, pa.back().y - pb.front().y), 0.01)
+          << a.token << " -> " << b.token;
       EXPECT_LE(std::fabs(geometry::wrap_angle_devkit(pa.back().yaw - pb.front().yaw)), 1e-3);
       EXPECT_NE(std::find(b.incoming.begin(), b.incoming.end(), static_cast<int>(i)), b.incoming.end());
-      if (b.is_connector && std::fabs(geometry::wrap_angle_devkit(b.paths.back().end_pose.yaw - b.paths.front().start_pose.yaw)) > 1.0)
+      if (b.is_connector &&
+          std::fabs(geometry::wrap_angle_devkit(b.paths.back().end_pose.yaw - b.paths.front().start_pose.yaw)) > 1.0)
         ++turns;
       ++edges;
     }
@@ -166,9 +166,9 @@ TEST(WorldMap, EveryLayerPresentAndReferencesResolve) {
   const World w = build_world(tiny_config(), 7);
   const nlohmann::json map = nlohmann::json::parse(w.map_json);
   EXPECT_EQ(map["version"], "1.3");
-  for (const char* layer : {"polygon", "line", "node", "drivable_area", "road_segment", "road_block", "lane",
-                            "ped_crossing", "walkway", "stop_line", "carpark_area", "road_divider", "lane_divider",
-                            "traffic_light", "lane_connector"}) {
+  for (const char* layer :
+       {"polygon", "line", "node", "drivable_area", "road_segment", "road_block", "lane", "ped_crossing", "walkway",
+        "stop_line", "carpark_area", "road_divider", "lane_divider", "traffic_light", "lane_connector"}) {
     ASSERT_TRUE(map.contains(layer)) << layer;
     EXPECT_FALSE(map[layer].empty()) << layer;
   }
@@ -190,8 +190,8 @@ TEST(WorldMap, EveryLayerPresentAndReferencesResolve) {
     polys.insert(p["token"].get<std::string>());
     for (const auto& t : p["exterior_node_tokens"]) EXPECT_TRUE(nodes.count(t)) << t;
   }
-  for (const char* layer : {"road_segment", "road_block", "lane", "ped_crossing", "walkway", "stop_line",
-                            "carpark_area", "lane_connector"})
+  for (const char* layer :
+       {"road_segment", "road_block", "lane", "ped_crossing", "walkway", "stop_line", "carpark_area", "lane_connector"})
     for (const auto& r : map[layer]) EXPECT_TRUE(polys.count(r["polygon_token"])) << layer;
   for (const char* layer : {"road_divider", "lane_divider", "traffic_light"})
     for (const auto& r : map[layer]) EXPECT_TRUE(lines.count(r["line_token"])) << layer;

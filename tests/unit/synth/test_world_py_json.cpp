@@ -21,11 +21,12 @@ TEST(WorldPyJson, FloatsAreWrittenLikePythonRepr) {
 }
 
 TEST(WorldPyJson, Indent0AndCompactStyles) {
-  const PyJson rec = PyJson::array({PyJson{{"token", "a"}, {"n", 3}, {"v", PyJson::array({1.0, 0.5})},
-                                           {"e", PyJson::array()}, {"b", true}}});
+  const PyJson rec = PyJson::array(
+      {PyJson{{"token", "a"}, {"n", 3}, {"v", PyJson::array({1.0, 0.5})}, {"e", PyJson::array()}, {"b", true}}});
   EXPECT_EQ(py_json_dump(rec, PyJsonStyle::kIndent0),
             "[\n{\n\"token\": \"a\",\n\"n\": 3,\n\"v\": [\n1.0,\n0.5\n],\n\"e\": [],\n\"b\": true\n}\n]");
-  EXPECT_EQ(py_json_dump(rec, PyJsonStyle::kCompact), "[{\"token\": \"a\", \"n\": 3, \"v\": [1.0, 0.5], \"e\": [], \"b\": true}]");
+  EXPECT_EQ(py_json_dump(rec, PyJsonStyle::kCompact),
+            "[{\"token\": \"a\", \"n\": 3, \"v\": [1.0, 0.5], \"e\": [], \"b\": true}]");
 }
 
 }  // namespace

@@ -141,8 +141,8 @@ TEST(WorldRelease, LoadsWithTheToolkitReader) {
   for (const auto& sd : db.sample_data) {
     EXPECT_TRUE(fs::is_regular_file(db.file_path(sd))) << sd.filename;
     if (sd.fileformat == "jpg") {
-      const fs::path png = tiny_release() / "semantic" / db.channel(sd) /
-                           fs::path(sd.filename).filename().replace_extension(".png");
+      const fs::path png =
+          tiny_release() / "semantic" / db.channel(sd) / fs::path(sd.filename).filename().replace_extension(".png");
       EXPECT_TRUE(fs::is_regular_file(png)) << png;
       EXPECT_EQ(sd.width, 1600);
       EXPECT_EQ(sd.height, 900);
@@ -173,9 +173,9 @@ TEST(WorldRelease, TablesArePythonIndent0Style) {
   const nlohmann::ordered_json j = nlohmann::ordered_json::parse(text);
   std::vector<std::string> keys;
   for (auto it = j[0].begin(); it != j[0].end(); ++it) keys.push_back(it.key());
-  EXPECT_EQ(keys, (std::vector<std::string>{"token", "sample_token", "ego_pose_token", "calibrated_sensor_token",
-                                            "timestamp", "fileformat", "is_key_frame", "height", "width", "filename",
-                                            "prev", "next"}));
+  EXPECT_EQ(keys,
+            (std::vector<std::string>{"token", "sample_token", "ego_pose_token", "calibrated_sensor_token", "timestamp",
+                                      "fileformat", "is_key_frame", "height", "width", "filename", "prev", "next"}));
   const std::string ego = read_file(tiny_release() / "v1.0-mini" / "ego_pose.json");
   EXPECT_NE(ego.find("\"timestamp\": 15"), std::string::npos);
   EXPECT_NE(ego.find(",\n0.0\n]"), std::string::npos);  // translation z written as 0.0
@@ -186,7 +186,7 @@ TEST(WorldRelease, TablesArePythonIndent0Style) {
   EXPECT_NE(cal.find("[\n1266.417203046554,\n0.0,\n816.2670197447984\n]"), std::string::npos);
 }
 
-// The timing rules of real data (nuscenes-format.md §3), checked on any release.
+// The timing rules of real data (docs/nuscenes-input.md), checked on any release.
 void check_timing_rules(const Database& db, const std::vector<std::string>& channels) {
   std::map<std::string, std::vector<Index>> by_scene_channel;
   for (Index i = 0; i < static_cast<Index>(db.sample_data.size()); ++i) {
@@ -243,7 +243,8 @@ TEST(WorldRelease, TimingRules) {
   check_timing_rules(tiny_db(), {"LIDAR_TOP", "CAM_FRONT", "CAM_BACK"});
   // 20 Hz LiDAR: 10 sweeps per key-frame interval, 4 samples.
   size_t sweeps = 0;
-  for (const auto& sd : tiny_db().sample_data) sweeps += sd.fileformat == "pcd" && tiny_db().sample[sd.sample].scene == 0;
+  for (const auto& sd : tiny_db().sample_data)
+    sweeps += sd.fileformat == "pcd" && tiny_db().sample[sd.sample].scene == 0;
   EXPECT_EQ(sweeps, 31u);
 }
 
@@ -287,7 +288,8 @@ TEST(WorldRelease, LanePaintSeenByLidarIsBright) {
       for (double dx : {-0.04, 0.04})
         for (double dy : {-0.04, 0.04}) uniform &= g.material(p.x + dx, p.y + dy) == m;
       if (!uniform) continue;
-      if (m == GroundMaterial::kPaintWhite || m == GroundMaterial::kPaintYellow || m == GroundMaterial::kCrosswalkPaint) {
+      if (m == GroundMaterial::kPaintWhite || m == GroundMaterial::kPaintYellow ||
+          m == GroundMaterial::kCrosswalkPaint) {
         EXPECT_GE(p.intensity, 0.6 * lidar_ground_intensity(m)) << p.x << "," << p.y;
         ++paint;
       } else if (m == GroundMaterial::kAsphalt) {
@@ -311,7 +313,8 @@ TEST(WorldRelease, ParkedCarPointsLieInsideTheirBox) {
   for (const auto& ann : db.sample_annotation) {
     if (ann.attributes.empty() || ann.attributes[0] != parked_attr || ann.num_lidar_pts < 5) continue;
     int inside = 0;
-    for (const auto& p : key_sweep_global(db, ann.sample)) inside += inside_box(ann, Eigen::Vector3d(p.x, p.y, p.z), 0.0);
+    for (const auto& p : key_sweep_global(db, ann.sample))
+      inside += inside_box(ann, Eigen::Vector3d(p.x, p.y, p.z), 0.0);
     EXPECT_GE(inside, 1);
     EXPECT_NEAR(inside, ann.num_lidar_pts, 2 + 0.02 * ann.num_lidar_pts);
     ++checked;
@@ -358,7 +361,8 @@ TEST(WorldRelease, GroundPointsProjectToTheExpectedCameraClass) {
       same += mask.at(pu, pv) == static_cast<uint8_t>(ground_class(m));
       const std::array<uint8_t, 3> base = ground_base_rgb(m);
       double diff = 0.0;
-      for (int c = 0; c < 3; ++c) diff += std::fabs(static_cast<double>(rgb.at(pu, pv)[c]) - base[static_cast<size_t>(c)]);
+      for (int c = 0; c < 3; ++c)
+        diff += std::fabs(static_cast<double>(rgb.at(pu, pv)[c]) - base[static_cast<size_t>(c)]);
       colour += diff / 3.0 < 40.0;
     }
   }
@@ -369,7 +373,8 @@ TEST(WorldRelease, GroundPointsProjectToTheExpectedCameraClass) {
 
 TEST(WorldRelease, DetectionsListEverySample) {
   const Database& db = tiny_db();
-  const nlohmann::json det = nlohmann::json::parse(read_file(tiny_release() / "detections" / "synthetic_detector.json"));
+  const nlohmann::json det =
+      nlohmann::json::parse(read_file(tiny_release() / "detections" / "synthetic_detector.json"));
   ASSERT_TRUE(det.contains("meta"));
   EXPECT_EQ(det["results"].size(), db.sample.size());
   size_t boxes = 0;

@@ -1,5 +1,5 @@
 // `nsgraph validate DATASET`: the clean e2e dataset has no problem; each deliberately
-// corrupted copy fails with the expected check (issue 7).
+// corrupted copy fails with the expected check.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -113,7 +113,8 @@ void expect_only(const Issues& issues, const std::string& check) {
 }
 
 // Re-encodes a raster of the tile with `change` applied to its pixels / georef.
-void reencode(TileFiles& files, const std::string& suffix, const std::function<void(io::Raster&, io::GeoRef&)>& change) {
+void reencode(TileFiles& files, const std::string& suffix,
+              const std::function<void(io::Raster&, io::GeoRef&)>& change) {
   io::GeoRef georef;
   io::Raster r = io::decode_geotiff(files.at(suffix), suffix, &georef);
   change(r, georef);
@@ -160,10 +161,10 @@ TEST(ValidateDataset, ChecksHaveDottedUniqueNames) {
     EXPECT_TRUE(names.insert(c.name).second) << c.name;
   }
   EXPECT_GE(names.size(), 20u);
-  for (const char* want : {"manifest.schema", "shard.sha256", "shard.members", "raster.size", "raster.dtype",
-                           "raster.nodata", "raster.georef", "graph.schema", "graph.indices", "graph.edge_length",
-                           "graph.in_tile", "graph.self_loops", "graph.duplicates", "split.disjoint", "split.counts",
-                           "determinism.config"})
+  for (const char* want :
+       {"manifest.schema", "shard.sha256", "shard.members", "raster.size", "raster.dtype", "raster.nodata",
+        "raster.georef", "graph.schema", "graph.indices", "graph.edge_length", "graph.in_tile", "graph.self_loops",
+        "graph.duplicates", "split.disjoint", "split.counts", "determinism.config"})
     EXPECT_TRUE(names.count(want)) << want;
   EXPECT_TRUE(validate::check_selected("graph.*,shard.sha256", "graph.in_tile"));
   EXPECT_TRUE(validate::check_selected("graph.*,shard.sha256", "shard.sha256"));
@@ -253,9 +254,8 @@ TEST(ValidateDataset, SelfLoop) {
 
 TEST(ValidateDataset, DuplicateEdge) {
   DatasetCopy d;
-  d.edit_tile(d.shard("test")["name"], "", [&](TileFiles& f) {
-    add_to_graph(f, [&](json& g) { g["edges"].push_back(g["edges"][0]); });
-  });
+  d.edit_tile(d.shard("test")["name"], "",
+              [&](TileFiles& f) { add_to_graph(f, [&](json& g) { g["edges"].push_back(g["edges"][0]); }); });
   expect_only(d.validate(), "graph.duplicates");
 }
 
@@ -285,9 +285,8 @@ TEST(ValidateDataset, TruncatedGraphJson) {
 
 TEST(ValidateDataset, GraphWithWrongTypes) {
   DatasetCopy d;
-  d.edit_tile(d.shard("test")["name"], "", [](TileFiles& f) {
-    edit_json(f, "graph.json", [](json& g) { g["nodes"][0]["x"] = "east"; });
-  });
+  d.edit_tile(d.shard("test")["name"], "",
+              [](TileFiles& f) { edit_json(f, "graph.json", [](json& g) { g["nodes"][0]["x"] = "east"; }); });
   expect_only(d.validate(), "graph.schema");
 }
 
@@ -424,9 +423,8 @@ TEST(ValidateDataset, ConfigWithUnknownKey) {
 
 TEST(ValidateDataset, MetaOfAnotherSplit) {
   DatasetCopy d;
-  d.edit_tile(d.shard("test")["name"], "", [](TileFiles& f) {
-    edit_json(f, "meta.json", [](json& m) { m["split"] = "train"; });
-  });
+  d.edit_tile(d.shard("test")["name"], "",
+              [](TileFiles& f) { edit_json(f, "meta.json", [](json& m) { m["split"] = "train"; }); });
   EXPECT_TRUE(checks_of(d.validate()).count("meta.schema"));
 }
 

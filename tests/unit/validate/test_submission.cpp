@@ -265,7 +265,8 @@ TEST_F(Submission, OneGigabyteSparseFile) {
 TEST_F(Submission, CliExitCodesAndMessages) {
   const fs::path good = tmp / "good.json";
   write_text(good, sub.dump());
-  const CommandResult ok = run_nsgraph({"validate", "--submission", good.string(), "--dataset", e2e_dataset().string()});
+  const CommandResult ok =
+      run_nsgraph({"validate", "--submission", good.string(), "--dataset", e2e_dataset().string()});
   EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
   EXPECT_NE(ok.out.find("(10 tiles, 0 missing)"), std::string::npos) << ok.out;
 

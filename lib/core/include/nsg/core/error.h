@@ -6,7 +6,7 @@
 
 namespace nsg {
 
-// Process exit codes shared by every command (DESIGN.md §2).
+// Process exit codes shared by every command (docs/architecture.md).
 enum ExitCode : int { kExitOk = 0, kExitProblems = 1, kExitInput = 2, kExitInternal = 3 };
 
 class Error : public std::runtime_error {
@@ -54,14 +54,13 @@ class InternalError : public Error {
 };
 
 // Formats "file: record: expected" leaving out empty parts.
-std::string format_error_message(const std::string& file, const std::string& record,
-                                 const std::string& expected);
+std::string format_error_message(const std::string& file, const std::string& record, const std::string& expected);
 
 }  // namespace nsg
 
 // Throws ErrorType(file, record, message) when cond is false. For data checks in lib/
 // (never assert(), which vanishes in release builds).
-#define NSG_CHECK(cond, ErrorType, file, record, message) \
-  do {                                                    \
+#define NSG_CHECK(cond, ErrorType, file, record, message)      \
+  do {                                                         \
     if (!(cond)) throw ErrorType((file), (record), (message)); \
   } while (0)

@@ -59,9 +59,9 @@ class Issues {
 
  private:
   struct Overflow {
-    size_t listed = 0;         // issues of the check kept
-    size_t more = 0;           // issues of the check beyond the cap
-    size_t summary = 0;        // index in items_ of the "… and K more" issue
+    size_t listed = 0;   // issues of the check kept
+    size_t more = 0;     // issues of the check beyond the cap
+    size_t summary = 0;  // index in items_ of the "… and K more" issue
   };
   std::vector<Issue> items_;
   size_t limit_per_check_ = 0;

@@ -40,10 +40,10 @@ struct Range {
   bool contains(double v) const;
   std::string describe() const;  // "in (0, 10]", "≥ 0", "1, 2 or 4"; "" when unbounded
 };
-Range at_least(double min);                   // [min, ∞)
-Range above(double min);                      // (min, ∞)
-Range between(double lo, double hi);          // [lo, hi]
-Range above_up_to(double lo, double hi);      // (lo, hi]
+Range at_least(double min);               // [min, ∞)
+Range above(double min);                  // (min, ∞)
+Range between(double lo, double hi);      // [lo, hi]
+Range above_up_to(double lo, double hi);  // (lo, hi]
 Range one_of(std::vector<double> values);
 
 // What listings, schemas and messages read of a declaration.
@@ -77,10 +77,22 @@ struct Option {
   // Checks `value` against the spec and stores it; ConfigError("", key or a path below it, …).
   std::function<void(Owner&, const Json&, const Spec&)> set;
 
-  Option& unit(std::string u) { spec.unit = std::move(u); return *this; }
-  Option& range(Range r) { spec.range = std::move(r); return *this; }
-  Option& help(std::string d) { spec.description = std::move(d); return *this; }
-  Option& non_empty() { spec.non_empty = true; return *this; }
+  Option& unit(std::string u) {
+    spec.unit = std::move(u);
+    return *this;
+  }
+  Option& range(Range r) {
+    spec.range = std::move(r);
+    return *this;
+  }
+  Option& help(std::string d) {
+    spec.description = std::move(d);
+    return *this;
+  }
+  Option& non_empty() {
+    spec.non_empty = true;
+    return *this;
+  }
   // Runs `f` after every set: a value that also sets a derived field.
   Option& then(std::function<void(Owner&)> f) {
     set = [s = set, f = std::move(f)](Owner& o, const Json& v, const Spec& sp) {
@@ -96,34 +108,39 @@ template <typename Owner>
 class Table {
  public:
   Option<Owner>& number(std::string key, double Owner::*field) {
-    return add(std::move(key), "number", [field](const Owner& o) { return OrderedJson(o.*field); },
-               [field](Owner& o, const Json& v, const Spec& s) { o.*field = read_number(v, s); });
+    return add(
+        std::move(key), "number", [field](const Owner& o) { return OrderedJson(o.*field); },
+        [field](Owner& o, const Json& v, const Spec& s) { o.*field = read_number(v, s); });
   }
   template <typename Int>
   Option<Owner>& integer(std::string key, Int Owner::*field) {
     static_assert(std::is_integral_v<Int>);
-    return add(std::move(key), "integer", [field](const Owner& o) { return OrderedJson(o.*field); },
-               [field](Owner& o, const Json& v, const Spec& s) {
-                 if constexpr (std::is_unsigned_v<Int>) {
-                   o.*field = static_cast<Int>(read_unsigned(v, s));
-                 } else {
-                   const int64_t x = read_integer(v, s);
-                   if (x < std::numeric_limits<Int>::min() || x > std::numeric_limits<Int>::max()) reject(v, s);
-                   o.*field = static_cast<Int>(x);
-                 }
-               });
+    return add(
+        std::move(key), "integer", [field](const Owner& o) { return OrderedJson(o.*field); },
+        [field](Owner& o, const Json& v, const Spec& s) {
+          if constexpr (std::is_unsigned_v<Int>) {
+            o.*field = static_cast<Int>(read_unsigned(v, s));
+          } else {
+            const int64_t x = read_integer(v, s);
+            if (x < std::numeric_limits<Int>::min() || x > std::numeric_limits<Int>::max()) reject(v, s);
+            o.*field = static_cast<Int>(x);
+          }
+        });
   }
   Option<Owner>& boolean(std::string key, bool Owner::*field) {
-    return add(std::move(key), "boolean", [field](const Owner& o) { return OrderedJson(o.*field); },
-               [field](Owner& o, const Json& v, const Spec& s) { o.*field = read_boolean(v, s); });
+    return add(
+        std::move(key), "boolean", [field](const Owner& o) { return OrderedJson(o.*field); },
+        [field](Owner& o, const Json& v, const Spec& s) { o.*field = read_boolean(v, s); });
   }
   Option<Owner>& text(std::string key, std::string Owner::*field) {
-    return add(std::move(key), "string", [field](const Owner& o) { return OrderedJson(o.*field); },
-               [field](Owner& o, const Json& v, const Spec& s) { o.*field = read_string(v, s); });
+    return add(
+        std::move(key), "string", [field](const Owner& o) { return OrderedJson(o.*field); },
+        [field](Owner& o, const Json& v, const Spec& s) { o.*field = read_string(v, s); });
   }
   Option<Owner>& path(std::string key, std::filesystem::path Owner::*field) {
-    return add(std::move(key), "string", [field](const Owner& o) { return OrderedJson((o.*field).string()); },
-               [field](Owner& o, const Json& v, const Spec& s) { o.*field = read_string(v, s); });
+    return add(
+        std::move(key), "string", [field](const Owner& o) { return OrderedJson((o.*field).string()); },
+        [field](Owner& o, const Json& v, const Spec& s) { o.*field = read_string(v, s); });
   }
   // An enum written as one of `names`.
   template <typename E>

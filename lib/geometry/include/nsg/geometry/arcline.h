@@ -1,6 +1,6 @@
 #pragma once
 // Arcline (Dubins) paths of the nuScenes map expansion and the devkit's discretization,
-// reproduced bit for bit (nuscenes-format.md §5.2–5.3; arcline.cpp is built with
+// reproduced bit for bit (docs/nuscenes-input.md; arcline.cpp is built with
 // -ffp-contract=off and evaluates every expression in the devkit's order).
 #include <array>
 #include <string>

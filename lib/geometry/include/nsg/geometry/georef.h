@@ -1,5 +1,5 @@
 #pragma once
-// Georeferencing of the four nuScenes map locations (nuscenes-format.md §1, §6; DESIGN.md §6).
+// Georeferencing of the four nuScenes map locations (docs/nuscenes-input.md; docs/dataset-format.md).
 // Map frame: metres east (x) and north (y) of the location's south-west corner. The
 // devkit converts to lat/lon on a sphere of radius 6 378 137 m with the great-circle
 // destination from the origin (distance √(x²+y²), bearing atan(x/y)); that is exactly the
@@ -16,10 +16,10 @@ inline constexpr double kDevkitEarthRadiusM = 6378137.0;
 
 struct LocationInfo {
   std::string_view name;
-  double origin_lat_deg;   // south-west corner of the map
+  double origin_lat_deg;  // south-west corner of the map
   double origin_lon_deg;
-  double canvas_width_m;   // = canvas_edge[0]
-  double canvas_height_m;  // = canvas_edge[1]
+  double canvas_width_m;                  // = canvas_edge[0]
+  double canvas_height_m;                 // = canvas_edge[1]
   std::string_view semantic_prior_token;  // stem of maps/<token>.png
 };
 

@@ -41,9 +41,8 @@ struct Rigid3 {
 // Applies target_from_source to `count` float32 points stored as rows of `stride_floats`
 // floats starting at `xyz` (x, y, z first), the way the devkit does on its float32
 // arrays: rotation as a float64 product rounded to float32, then the translation cast to
-// float32 and added in float32 arithmetic (nuscenes-format.md §4.4).
-void transform_points_devkit(const Rigid3& target_from_source, float* xyz, size_t count,
-                             size_t stride_floats);
+// float32 and added in float32 arithmetic (docs/nuscenes-input.md).
+void transform_points_devkit(const Rigid3& target_from_source, float* xyz, size_t count, size_t stride_floats);
 
 // The same operations on points stored as columns (x[i], y[i], z[i]): bit-identical to
 // transform_points_devkit, and vectorized (an AVX2 clone is picked at run time where the

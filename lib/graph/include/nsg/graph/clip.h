@@ -1,5 +1,5 @@
 #pragma once
-// Clipping the lane graph to an axis-aligned tile (DESIGN.md §4 "Clipping", §5 pixel
+// Clipping the lane graph to an axis-aligned tile (docs/architecture.md; docs/dataset-format.md for the pixel
 // coordinates): edges inside are kept, an edge crossing the border is cut at the border
 // with a new node there, direction is kept.
 #include <array>
@@ -48,7 +48,6 @@ TileGraph clip_to_tile(const LaneGraph& graph, const SegmentIndex& index, const 
 
 // Liang–Barsky: the parameter range [t0, t1] of segment a→b inside the closed box, or
 // false when it misses (or only touches a single point).
-bool clip_segment(double ax, double ay, double bx, double by, const TileBounds& box, double* t0,
-                  double* t1);
+bool clip_segment(double ax, double ay, double bx, double by, const TileBounds& box, double* t0, double* t1);
 
 }  // namespace nsg::graph

@@ -12,7 +12,6 @@ std::vector<LaneSource> lane_sources(const nuscenes::MapExpansion& map);
 
 // build_lane_graph over lane_sources(map), after the map's own load defects
 // (map.issues(), appended first to `issues`); defects name the map file.
-LaneGraph build_lane_graph(const nuscenes::MapExpansion& map, const LaneGraphOptions& options,
-                           Issues* issues);
+LaneGraph build_lane_graph(const nuscenes::MapExpansion& map, const LaneGraphOptions& options, Issues* issues);
 
 }  // namespace nsg::graph

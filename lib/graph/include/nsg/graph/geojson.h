@@ -1,5 +1,5 @@
 #pragma once
-// GeoJSON export of a lane graph for QGIS (DESIGN.md §6): WGS 84 lon/lat through the
+// GeoJSON export of a lane graph for QGIS (docs/dataset-format.md): WGS 84 lon/lat through the
 // devkit's projection of the location, one LineString feature per directed edge (first
 // coordinate = source) with its lane token.
 #include <ostream>

@@ -1,5 +1,5 @@
 #pragma once
-// The directed lane graph of one location (DESIGN.md §4 "Lane graph"): every lane and lane
+// The directed lane graph of one location (docs/architecture.md): every lane and lane
 // connector discretized exactly like the devkit, joined per lane without duplicated joint
 // poses, resampled along arc length to evenly spaced nodes at most `max_spacing_m` apart,
 // and joined across connectivity (the end node of A is the start node of B).
@@ -29,11 +29,11 @@ struct LaneSource {
 };
 
 struct LaneGraphOptions {
-  double max_spacing_m = 2.0;         // cap on the distance between consecutive nodes
-  double source_resolution_m = 0.5;   // devkit discretization before resampling
-  double join_tolerance_m = 0.05;     // lane ends closer than this become one node
-  bool strict = false;                // map defects become errors
-  void validate() const;              // the declared checks; ConfigError naming the key
+  double max_spacing_m = 2.0;        // cap on the distance between consecutive nodes
+  double source_resolution_m = 0.5;  // devkit discretization before resampling
+  double join_tolerance_m = 0.05;    // lane ends closer than this become one node
+  bool strict = false;               // map defects become errors
+  void validate() const;             // the declared checks; ConfigError naming the key
 };
 // The config keys graph.* (nsg/core/options.h).
 const options::Table<LaneGraphOptions>& lane_graph_option_table();
@@ -46,15 +46,15 @@ struct Node {
 struct Edge {
   int32_t source = -1;  // node index
   int32_t target = -1;
-  int32_t lane = -1;    // index into LaneGraph::lanes
+  int32_t lane = -1;  // index into LaneGraph::lanes
 };
 
 struct Lane {
   std::string token;
   bool is_connector = false;
-  double length_m = 0.0;       // polyline length of the joined discretization
-  std::vector<int32_t> nodes;  // node chain from start to end (after joining)
-  std::vector<int32_t> successors;    // lane indices from `outgoing` that resolved
+  double length_m = 0.0;            // polyline length of the joined discretization
+  std::vector<int32_t> nodes;       // node chain from start to end (after joining)
+  std::vector<int32_t> successors;  // lane indices from `outgoing` that resolved
 };
 
 struct LaneGraph {
@@ -73,8 +73,8 @@ struct LaneGraph {
 // warnings, isolated lanes as infos (checks "graph.*"). Edges to unknown tokens are left
 // out, every other edge kept. With options.strict the first warning throws DataError
 // naming `map_label` and the token.
-LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGraphOptions& options,
-                           Issues* issues, const std::string& map_label = "");
+LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGraphOptions& options, Issues* issues,
+                           const std::string& map_label = "");
 
 // --strict: throws DataError(map_label, subject, …) naming the first issue that is not an
 // info and how many there are; returns if all are infos.
@@ -86,7 +86,6 @@ std::vector<Node> resample_polyline(const std::vector<Node>& polyline, double ma
 
 // The joined centerline of one lane: devkit discretization of each path, without the
 // repeated joint pose between consecutive paths.
-std::vector<Node> joined_centerline(const std::vector<geometry::ArclinePath>& paths,
-                                    double resolution_m);
+std::vector<Node> joined_centerline(const std::vector<geometry::ArclinePath>& paths, double resolution_m);
 
 }  // namespace nsg::graph

@@ -18,16 +18,16 @@ struct ProjectionOptions {
 };
 
 struct ProjectedPoint {
-  int32_t input = -1;         // index of the input point
-  int32_t lane = -1;          // lane index in the graph
-  int32_t edge = -1;          // edge index in the graph
+  int32_t input = -1;  // index of the input point
+  int32_t lane = -1;   // lane index in the graph
+  int32_t edge = -1;   // edge index in the graph
   double x_m = 0.0, y_m = 0.0;
   double along_lane_m = 0.0;  // arc length from the lane's start to the projection
   double distance_m = 0.0;    // from the input point
 };
 
 struct AdaptiveGroundTruth {
-  std::vector<ProjectedPoint> points;  // projected inputs, ordered by lane then along the lane
+  std::vector<ProjectedPoint> points;                    // projected inputs, ordered by lane then along the lane
   std::vector<std::pair<int32_t, int32_t>> connections;  // directed, indices into points
 
   // Whether points[a] → points[b] is a connection.
@@ -35,7 +35,6 @@ struct AdaptiveGroundTruth {
 };
 
 AdaptiveGroundTruth project_onto_lanes(const LaneGraph& graph, const SegmentIndex& index,
-                                       const std::vector<Node>& points,
-                                       const ProjectionOptions& options);
+                                       const std::vector<Node>& points, const ProjectionOptions& options);
 
 }  // namespace nsg::graph

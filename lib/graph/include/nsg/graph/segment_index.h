@@ -11,9 +11,9 @@
 namespace nsg::graph {
 
 struct NearestEdge {
-  int32_t edge = -1;         // −1 when nothing within the search radius
+  int32_t edge = -1;  // −1 when nothing within the search radius
   double distance_m = 0.0;
-  double t = 0.0;            // position on the edge, 0 = source, 1 = target
+  double t = 0.0;               // position on the edge, 0 = source, 1 = target
   double x_m = 0.0, y_m = 0.0;  // the closest point
 };
 

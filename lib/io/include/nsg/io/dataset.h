@@ -1,5 +1,5 @@
 #pragma once
-// Reading a NuScenesGraph dataset (DESIGN.md §5) for validate, preview, score and the
+// Reading a NuScenesGraph dataset (docs/dataset-format.md) for validate, preview, score and the
 // model: the manifest, and the tiles of a split streamed shard by shard (tar or folder
 // layout) as raw member bytes plus their decoded graph and meta.
 #include <cstdint>
@@ -17,7 +17,7 @@ namespace nsg::io {
 
 struct DatasetTile {
   std::string key;
-  std::string shard;  // manifest shard name, e.g. "test-000000"
+  std::string shard;                                  // manifest shard name, e.g. "test-000000"
   std::map<std::string, std::vector<uint8_t>> files;  // suffix ("lidar.tif", "meta.json", …) → bytes
   bool has(const std::string& suffix) const { return files.count(suffix) > 0; }
   // Decoders; ParseError naming "<key>.<suffix>" when missing or malformed.

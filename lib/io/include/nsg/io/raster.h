@@ -1,5 +1,5 @@
 #pragma once
-// In-memory rasters and their GeoTIFF encoding (DESIGN.md §5, §6). libtiff and libgeotiff
+// In-memory rasters and their GeoTIFF encoding (docs/dataset-format.md). libtiff and libgeotiff
 // stay behind this interface.
 #include <cstddef>
 #include <cstdint>
@@ -38,16 +38,15 @@ struct GeoRef {
 };
 
 struct GeoTiffOptions {
-  int deflate_level = 1;           // 1 (fast) … 9 (small)
-  std::optional<double> nodata;    // written as the GDAL_NODATA tag when set
-  void validate() const;           // throws ConfigError
+  int deflate_level = 1;         // 1 (fast) … 9 (small)
+  std::optional<double> nodata;  // written as the GDAL_NODATA tag when set
+  void validate() const;         // throws ConfigError
 };
 
 // Encodes uint8 1- or 3-band or float32 1-band rasters as a deflate GeoTIFF in memory,
-// with the location's azimuthal-equidistant CRS (DESIGN.md §6). Identical input gives
+// with the location's azimuthal-equidistant CRS (docs/dataset-format.md). Identical input gives
 // identical bytes (no time stamps or software tags).
-std::vector<uint8_t> encode_geotiff(const Raster& raster, const GeoRef& georef,
-                                    const GeoTiffOptions& options = {});
+std::vector<uint8_t> encode_geotiff(const Raster& raster, const GeoRef& georef, const GeoTiffOptions& options = {});
 
 // Decodes what encode_geotiff writes (uint8 1/3-band, float32 1-band, strips, contiguous
 // samples, any compression libtiff knows). Throws ParseError naming `name` otherwise. If
@@ -55,8 +54,7 @@ std::vector<uint8_t> encode_geotiff(const Raster& raster, const GeoRef& georef,
 // pixels; georef->location is the known location whose origin matches the file's
 // ProjCenterLat/Long keys, or "" if none does.
 // Images larger than 4096 x 4096 pixels are refused from the header, before allocating.
-Raster decode_geotiff(std::span<const uint8_t> bytes, const std::string& name,
-                      GeoRef* georef = nullptr);
+Raster decode_geotiff(std::span<const uint8_t> bytes, const std::string& name, GeoRef* georef = nullptr);
 
 // What a GeoTIFF's header says, read without decoding a pixel (ParseError as above), so a
 // reader can check it against the expected tile format before allocating anything.

@@ -11,9 +11,9 @@
 namespace nsg::io {
 
 struct TarIndexEntry {
-  std::string name;         // member name (pax "path" / GNU long name when present)
-  uint64_t offset = 0;      // byte offset of the member's data in the file
-  uint64_t size = 0;        // bytes of data
+  std::string name;     // member name (pax "path" / GNU long name when present)
+  uint64_t offset = 0;  // byte offset of the member's data in the file
+  uint64_t size = 0;    // bytes of data
 };
 
 // The regular-file members of a ustar / pax / GNU tar, in archive order (what TarReader
@@ -32,7 +32,6 @@ void check_tar_member_type(const std::string& file, const std::string& name, cha
 
 // Reads [offset, offset + size) of an open file descriptor, looping over short reads.
 // Throws IoError naming `file_label` and `record` on an error or a short file.
-void read_at(int fd, uint64_t offset, void* out, size_t size, const std::string& file_label,
-             const std::string& record);
+void read_at(int fd, uint64_t offset, void* out, size_t size, const std::string& file_label, const std::string& record);
 
 }  // namespace nsg::io

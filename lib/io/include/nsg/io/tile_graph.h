@@ -1,5 +1,5 @@
 #pragma once
-// Reading a tile's <key>.graph.json (DESIGN.md §5) back into the graph module's type,
+// Reading a tile's <key>.graph.json (docs/dataset-format.md) back into the graph module's type,
 // node ids turned into indices.
 #include <string>
 

@@ -1,5 +1,5 @@
 #pragma once
-// The members of a tile (DESIGN.md §5), declared once: the writer, `validate`, `inspect
+// The members of a tile (docs/dataset-format.md), declared once: the writer, `validate`, `inspect
 // layers`, `preview` and the Python package (nsgraph.LAYERS) read this list instead of
 // restating names, files, dtypes, no-data values and coverage bits.
 #include <cstdint>
@@ -13,14 +13,14 @@
 namespace nsg::io {
 
 struct TileMember {
-  std::string name;     // "lidar"; the file is <key>.<file>
-  std::string file;     // "lidar.tif"
-  bool raster = true;   // GeoTIFF; else JSON
+  std::string name;    // "lidar"; the file is <key>.<file>
+  std::string file;    // "lidar.tif"
+  bool raster = true;  // GeoTIFF; else JSON
   SampleType dtype = SampleType::kUInt8;
   int bands = 1;
-  std::string unit;                 // what a value means
-  std::optional<double> nodata;     // the no-data value (GDAL_NODATA tag); none for coverage and JSON
-  uint8_t coverage_bit = 0;         // the bit of coverage.tif set where this layer has data; 0 = none
+  std::string unit;              // what a value means
+  std::optional<double> nodata;  // the no-data value (GDAL_NODATA tag); none for coverage and JSON
+  uint8_t coverage_bit = 0;      // the bit of coverage.tif set where this layer has data; 0 = none
   std::string description;
 };
 

@@ -1,7 +1,7 @@
 #pragma once
 // Which edges of one tile the direction test matched, for drawing (the report's tile view):
 // every predicted edge is correct, matched with the wrong direction, or unmatched, by the
-// rule of `direction_accuracy` (METRICS.md "Direction accuracy"), so the marks add up to
+// rule of `direction_accuracy` (docs/metrics.md "Direction accuracy"), so the marks add up to
 // the tile's direction counts. GT edges no predicted edge comes near (the same rule seen
 // from the GT side) are marked missed. Not a metric: a picture of where the errors are.
 #include <cstdint>

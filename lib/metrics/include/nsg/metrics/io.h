@@ -24,8 +24,7 @@ nlohmann::json read_json_file(const std::filesystem::path& path);
 // built). Returns nullopt with the problem in `issues` when the limits refuse it or the
 // text is not JSON (e.g. truncated); throws IoError (unreadable) naming the file.
 std::optional<nlohmann::json> read_submission_file(const std::filesystem::path& path,
-                                                   const validate::SubmissionLimits& limits,
-                                                   Issues& issues);
+                                                   const validate::SubmissionLimits& limits, Issues& issues);
 
 // One dataset graph document {schema_version, key, nodes: [{id, u, v, x, y}],
 // edges: [{source, target, lane_token}]}: ids become indices. Throws ParseError /

@@ -15,25 +15,54 @@ namespace nsg::metrics {
 
 // Per-tile metrics, in report order. Names: metric_name().
 enum Metric : int {
-  kApls, kAplsGtToPred, kAplsPredToGt,
-  kAplsDirected, kAplsDirectedGtToPred, kAplsDirectedPredToGt,
-  kAplsStrict, kAplsStrictGtToPred, kAplsStrictPredToGt,
-  kDirectionAccuracy, kDirectionAccuracyLengthWeighted, kDirectionMatchedFraction,
-  kF1, kIou,
-  kChamferPx2, kChamferM2, kChamferMeanM,
-  kGeoPrecision, kGeoRecall, kGeoF1,
-  kTopoPrecision, kTopoRecall, kTopoF1,
-  kTopoDirectedPrecision, kTopoDirectedRecall, kTopoDirectedF1,
+  kApls,
+  kAplsGtToPred,
+  kAplsPredToGt,
+  kAplsDirected,
+  kAplsDirectedGtToPred,
+  kAplsDirectedPredToGt,
+  kAplsStrict,
+  kAplsStrictGtToPred,
+  kAplsStrictPredToGt,
+  kDirectionAccuracy,
+  kDirectionAccuracyLengthWeighted,
+  kDirectionMatchedFraction,
+  kF1,
+  kIou,
+  kChamferPx2,
+  kChamferM2,
+  kChamferMeanM,
+  kGeoPrecision,
+  kGeoRecall,
+  kGeoF1,
+  kTopoPrecision,
+  kTopoRecall,
+  kTopoF1,
+  kTopoDirectedPrecision,
+  kTopoDirectedRecall,
+  kTopoDirectedF1,
   kMetricCount
 };
 // Per-tile integer counts. Names: count_name().
 enum Count : int {
   kMissingPrediction,
-  kGtSelfLoopsDropped, kGtDuplicateEdgesDropped, kPredSelfLoopsDropped, kPredDuplicateEdgesDropped,
-  kGtPx, kPredPx, kInterPx, kUnionPx,
-  kGeoGtSamples, kGeoPredSamples, kGeoMatched, kTopoSeeds,
-  kAplsGtPairs, kAplsPredPairs,
-  kDirectionPredEdges, kDirectionMatched, kDirectionCorrect,
+  kGtSelfLoopsDropped,
+  kGtDuplicateEdgesDropped,
+  kPredSelfLoopsDropped,
+  kPredDuplicateEdgesDropped,
+  kGtPx,
+  kPredPx,
+  kInterPx,
+  kUnionPx,
+  kGeoGtSamples,
+  kGeoPredSamples,
+  kGeoMatched,
+  kTopoSeeds,
+  kAplsGtPairs,
+  kAplsPredPairs,
+  kDirectionPredEdges,
+  kDirectionMatched,
+  kDirectionCorrect,
   kCountCount
 };
 const char* metric_name(int metric);
@@ -51,8 +80,7 @@ struct TileMeasurement {
 // Scores one tile. `pred` == nullptr means the tile is missing from the submission: it is
 // scored as an empty prediction and counted (missing_prediction = 1). Throws DataError
 // naming the key when either graph exceeds the scoring limits (validate::SubmissionLimits).
-TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pred,
-                        const MetricParams& params);
+TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pred, const MetricParams& params);
 
 // Mergeable sums over tiles. Merge tiles (and shards) in key order for bit-identical
 // output regardless of threads.
@@ -76,8 +104,7 @@ struct AggregateReport {
   MetricValues mean{};  // macro mean over tiles where defined
   std::array<int64_t, kMetricCount> n_defined{};
   std::array<int64_t, kMetricCount> n_undefined{};
-  std::optional<double> pooled_f1, pooled_iou, pooled_geo_precision, pooled_geo_recall,
-      pooled_geo_f1;
+  std::optional<double> pooled_f1, pooled_iou, pooled_geo_precision, pooled_geo_recall, pooled_geo_f1;
   Counts sums{};
 };
 AggregateReport finalize(const Aggregate& aggregate);

@@ -19,11 +19,11 @@ struct AnchorOptions {
   // learnt score stays a ridge along lanes (features cannot see where along a lane the
   // GT put its nodes) while it peaks at nodes features do see (ends, junctions).
   double target_sigma_px = 4.0;
-  double smooth_sigma_px = 1.0;      // Gaussian on the score map before picking
-  double min_score = 0.5;            // candidates below this are not anchors (the paper's cut)
-  double nms_radius_px = 10.0;       // no two anchors closer: the GT spacing, 2 m
-  int neighbours = 2;                // b2: each anchor joined to this many nearest anchors
-  void validate() const;             // ConfigError naming the field
+  double smooth_sigma_px = 1.0;  // Gaussian on the score map before picking
+  double min_score = 0.5;        // candidates below this are not anchors (the paper's cut)
+  double nms_radius_px = 10.0;   // no two anchors closer: the GT spacing, 2 m
+  int neighbours = 2;            // b2: each anchor joined to this many nearest anchors
+  void validate() const;         // ConfigError naming the field
 };
 
 // The anchor target at (u, v): exp(−d²/2σ²), d = distance to the nearest node of `truth`

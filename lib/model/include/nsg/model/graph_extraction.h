@@ -33,7 +33,7 @@ struct ExtractionOptions {
   // at its anchors runs across the lanes (a skeleton bridge), not along one; removed.
   // 90 = off.
   double max_direction_angle_deg = 45.0;
-  void validate() const;            // ConfigError naming the field
+  void validate() const;  // ConfigError naming the field
 };
 
 // The skeleton as branches between vertices (ends and junctions). Every branch's polyline

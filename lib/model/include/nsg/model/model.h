@@ -1,5 +1,5 @@
 #pragma once
-// The reference model (issues 10, 23): per-pixel features → random forests (OpenCV ml):
+// The reference model: per-pixel features → random forests (OpenCV ml):
 //   centreline head — regression of the centreline likelihood exp(−d²/2σ²) from the
 //                     distance d to the nearest lane (the paper's B1 idea, softened);
 //   LaneDirNet head — 19-class direction classifier (18 bins of 20° + background);
@@ -37,11 +37,11 @@ struct ModelOptions {
   Modalities modalities;
   ForestOptions centre{32, 14, 5};
   ForestOptions direction{40, 18, 3};
-  ForestOptions anchor{24, 14, 5};       // b2, graph
-  ForestOptions connection{60, 14, 3};   // graph
-  AnchorOptions anchors;                 // b2, graph
-  PairOptions pairs;                     // graph
-  double sigma_px = 2.0;  // width of the soft centreline target
+  ForestOptions anchor{24, 14, 5};      // b2, graph
+  ForestOptions connection{60, 14, 3};  // graph
+  AnchorOptions anchors;                // b2, graph
+  PairOptions pairs;                    // graph
+  double sigma_px = 2.0;                // width of the soft centreline target
   // Pixels sampled per training tile: near a centreline, around it, far from it, and for
   // the direction head on lanes plus background.
   int centre_samples_near = 200, centre_samples_around = 200, centre_samples_far = 150;
@@ -84,12 +84,12 @@ class LaneModel {
   LaneModel& operator=(LaneModel&&) noexcept;
 
   // Trains on every tile of `split`; progress on stderr when `progress`.
-  static LaneModel train(const io::Dataset& dataset, const std::string& split, const ModelOptions& options,
-                         int threads, bool progress, TrainReport* report);
+  static LaneModel train(const io::Dataset& dataset, const std::string& split, const ModelOptions& options, int threads,
+                         bool progress, TrainReport* report);
   // FileStorage (.yml.gz or .yml); written to a temp name and renamed.
   void save(const std::filesystem::path& path) const;
   // ParseError naming the file when it is not a model of this format version. Files
-  // without a variant (written before issue 23) load as b1.
+  // without a variant (written before the variants existed) load as b1.
   static LaneModel load(const std::filesystem::path& path);
 
   TilePrediction predict(const TileInput& tile) const;

@@ -18,15 +18,15 @@
 namespace nsg::model {
 
 struct NetGraphOptions {
-  int stride_px = 4;                 // one output cell = stride × stride pixels
-  double anchor_threshold = 0.3;     // heatmap peaks below are not anchors
-  double nms_radius_px = 6.0;        // no two anchors closer (the GT spacing is ≤ 10 px)
-  int vote_radius_cells = 1;         // direction votes summed over (2r + 1)² cells
-  double pair_radius_px = 30.0;      // candidate pairs: anchors at most 6 m apart
-  int segment_samples = 5;           // pooling points from one anchor to the other, ends included
-  double min_connection_score = 0.5; // the relationship head's decision
+  int stride_px = 4;                                    // one output cell = stride × stride pixels
+  double anchor_threshold = 0.3;                        // heatmap peaks below are not anchors
+  double nms_radius_px = 6.0;                           // no two anchors closer (the GT spacing is ≤ 10 px)
+  int vote_radius_cells = 1;                            // direction votes summed over (2r + 1)² cells
+  double pair_radius_px = 30.0;                         // candidate pairs: anchors at most 6 m apart
+  int segment_samples = 5;                              // pooling points from one anchor to the other, ends included
+  double min_connection_score = 0.5;                    // the relationship head's decision
   ExtractionOptions extraction = default_extraction();  // the shared post-processing
-  void validate() const;             // ConfigError naming the field
+  void validate() const;                                // ConfigError naming the field
 
   // The paper's post-processing, with the node-score cut at the anchor threshold (node
   // scores are heatmap peaks, not centreline likelihoods).

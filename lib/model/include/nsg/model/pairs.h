@@ -15,8 +15,8 @@
 namespace nsg::model {
 
 struct PairOptions {
-  double radius_px = 30.0;             // candidate pairs: anchors at most 6 m apart
-  double min_connection_score = 0.5;   // the classifier's decision: below, no edge
+  double radius_px = 30.0;            // candidate pairs: anchors at most 6 m apart
+  double min_connection_score = 0.5;  // the classifier's decision: below, no edge
   // Adaptive ground truth: anchors farther than this from every GT lane are not projected
   // (their pairs are negatives); connectivity followed this far through lanes without anchors.
   double label_max_distance_px = 10.0;
@@ -38,8 +38,8 @@ std::vector<std::string> pair_feature_names();
 // predicted lane direction at both ends, the two ends' direction agreement and
 // confidence, each end's neighbour rank of the other, and the anchors the segment skips.
 // Symmetric in the two ends (min / max), since direction comes from LaneDirNet later.
-cv::Mat pair_features(const AnchorSet& anchors, const std::vector<std::array<int, 2>>& pairs,
-                      const cv::Mat& likelihood, const cv::Mat& anchor_score);
+cv::Mat pair_features(const AnchorSet& anchors, const std::vector<std::array<int, 2>>& pairs, const cv::Mat& likelihood,
+                      const cv::Mat& anchor_score);
 
 // A tile's ground-truth graph as lanes for the projection: maximal chains between nodes
 // that are not simple pass-throughs (in = out = 1), successors across shared end nodes,

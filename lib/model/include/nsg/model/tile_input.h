@@ -1,5 +1,5 @@
 #pragma once
-// One tile's BEV layers as OpenCV images (DESIGN.md §5), the model's only input.
+// One tile's BEV layers as OpenCV images (docs/dataset-format.md), the model's only input.
 #include <string>
 
 #include <opencv2/core.hpp>

@@ -1,5 +1,5 @@
 #pragma once
-// Camera JPEG decoding (nuscenes-format.md §4.3) with libturbojpeg's scaled decode; the
+// Camera JPEG decoding (docs/nuscenes-input.md) with libturbojpeg's scaled decode; the
 // library type stays behind a pimpl.
 #include <cstdint>
 #include <filesystem>

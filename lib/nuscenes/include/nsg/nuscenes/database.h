@@ -1,7 +1,7 @@
 #pragma once
 // One nuScenes release (dataroot + version) loaded into typed tables with every link
 // resolved to a row index once, and the devkit's load-time requirements checked
-// (nuscenes-format.md §3): all 13 table files exist, every map PNG exists, every log is
+// (docs/nuscenes-input.md): all 13 table files exist, every map PNG exists, every log is
 // listed by some map record, and every foreign key points to an existing record.
 #include <filesystem>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// nuScenes detection results (nuscenes-format.md §7): {"meta": {...}, "results":
+// nuScenes detection results (docs/nuscenes-input.md): {"meta": {...}, "results":
 // {sample_token: [box, ...]}}, read with simdjson on-demand and validated box by box.
 #include <array>
 #include <cstdint>
@@ -18,7 +18,16 @@ class Database;
 
 // The 10 detection classes, in the devkit's order.
 enum class DetectionClass : std::uint8_t {
-  kCar, kTruck, kBus, kTrailer, kConstructionVehicle, kPedestrian, kMotorcycle, kBicycle, kTrafficCone, kBarrier
+  kCar,
+  kTruck,
+  kBus,
+  kTrailer,
+  kConstructionVehicle,
+  kPedestrian,
+  kMotorcycle,
+  kBicycle,
+  kTrafficCone,
+  kBarrier
 };
 inline constexpr size_t kDetectionClassCount = 10;
 const char* detection_class_name(DetectionClass c);

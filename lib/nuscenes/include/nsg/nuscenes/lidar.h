@@ -1,5 +1,5 @@
 #pragma once
-// LiDAR sweeps (`.pcd.bin`, nuscenes-format.md §4.1) and the sweep → global chain (§4.4).
+// LiDAR sweeps (`.pcd.bin`, docs/nuscenes-input.md) and the sweep → global chain.
 #include <cstddef>
 #include <filesystem>
 #include <vector>

@@ -1,9 +1,9 @@
 #pragma once
-// The nuScenes map expansion v1.3 (`maps/expansion/<location>.json`, nuscenes-format.md §5):
+// The nuScenes map expansion v1.3 (`maps/expansion/<location>.json`, docs/nuscenes-input.md):
 // every layer in typed records, in file order, with token → index maps and every
 // reference the devkit resolves at load checked (plus node references of lines and
 // polygons). Parsed with simdjson on-demand: real maps are up to ~100 MB.
-// Whatever the devkit loads loads here too (real-data.md "Map expansion v1.3"): a JSON null
+// Whatever the devkit loads loads here too (docs/nuscenes-input.md "Map expansion v1.3"): a JSON null
 // where a token is expected reads as "" (a null link then finds the record whose own token
 // is null, like the devkit's lookup of None), and null tokens, "" links, lines without
 // nodes, empty holes and self-intersecting rings are reported in issues(), not thrown.
@@ -124,8 +124,8 @@ struct Lane {
 
 struct LaneConnector {
   std::string token;
-  std::string polygon_token;        // optional; a rough placeholder in real maps
-  MapIndex polygon = kNoMapIndex;   // kNoMapIndex if absent or not a polygon (devkit ignores it)
+  std::string polygon_token;       // optional; a rough placeholder in real maps
+  MapIndex polygon = kNoMapIndex;  // kNoMapIndex if absent or not a polygon (devkit ignores it)
 };
 
 struct PedCrossing {
@@ -184,8 +184,8 @@ struct TrafficLight {
   std::string token;
   std::string line_token;
   MapIndex line = kNoMapIndex;
-  std::string traffic_light_type;     // optional: VERTICAL / HORIZONTAL
-  std::string from_road_block_token;  // optional
+  std::string traffic_light_type;       // optional: VERTICAL / HORIZONTAL
+  std::string from_road_block_token;    // optional
   std::vector<TrafficLightItem> items;  // optional
   MapPose6 pose;                        // optional
 };
@@ -265,8 +265,7 @@ class MapExpansion {
   // The devkit's discretize_lanes(tokens, r): one entry per distinct token, in the given
   // order; a token without arcline paths gives no poses. `layer` is kLane unless the token
   // is a lane connector.
-  std::vector<Centerline> discretize_lanes(const std::vector<std::string>& tokens,
-                                           double resolution_m) const;
+  std::vector<Centerline> discretize_lanes(const std::vector<std::string>& tokens, double resolution_m) const;
   // The devkit's discretize_centerlines(r): all lanes then all lane connectors, file order.
   std::vector<Centerline> discretize_centerlines(double resolution_m) const;
   // One record's centerline (the poses of discretize_lanes for that token).
@@ -331,7 +330,7 @@ struct CenterlinesJsonOptions {
 // key (dangling, devkit #415/#885) gives no edge and an issue "map.dangling_connectivity"
 // in `issues` (if given). One centerline is discretized at a time (no document in memory).
 // ConfigError naming any token that is neither a lane nor a lane connector.
-void write_centerlines_json(const MapExpansion& map, const CenterlinesJsonOptions& options,
-                            std::ostream& out, Issues* issues = nullptr);
+void write_centerlines_json(const MapExpansion& map, const CenterlinesJsonOptions& options, std::ostream& out,
+                            Issues* issues = nullptr);
 
 }  // namespace nsg::nuscenes

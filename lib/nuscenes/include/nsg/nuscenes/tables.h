@@ -1,5 +1,5 @@
 #pragma once
-// Typed records of the 13 nuScenes tables (nuscenes-format.md §3). Fields read from the
+// Typed records of the 13 nuScenes tables (docs/nuscenes-input.md). Fields read from the
 // files keep their JSON names; `*_token` fields hold the link as read and the matching
 // Index field (no suffix) its row once Database resolved it (kNoIndex for empty links).
 // Fields marked "derived" are computed at load like the devkit does; they are not in files.
@@ -51,15 +51,15 @@ struct CalibratedSensor {
   Token token;
   Token sensor_token;
   Index sensor = kNoIndex;
-  Vec3 translation{};      // sensor origin in the ego frame, m
-  Quaternion rotation;     // sensor → ego
+  Vec3 translation{};                       // sensor origin in the ego frame, m
+  Quaternion rotation;                      // sensor → ego
   std::optional<Matrix3> camera_intrinsic;  // cameras only ([] in the file otherwise)
 };
 
 struct EgoPose {
   Token token;
   std::int64_t timestamp_us = 0;
-  Vec3 translation{};  // ego origin in the global frame, m
+  Vec3 translation{};   // ego origin in the global frame, m
   Quaternion rotation;  // ego → global
 };
 
@@ -144,8 +144,8 @@ struct SampleAnnotation {
   Index visibility = kNoIndex;
   std::vector<Token> attribute_tokens;
   std::vector<Index> attributes;
-  Vec3 translation{};  // box centre, global m
-  Vec3 size{};         // [width, length, height] m
+  Vec3 translation{};   // box centre, global m
+  Vec3 size{};          // [width, length, height] m
   Quaternion rotation;  // box → global
   Token prev_token;
   Index prev = kNoIndex;

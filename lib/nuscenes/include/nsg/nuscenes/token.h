@@ -1,5 +1,5 @@
 #pragma once
-// Table tokens (nuscenes-format.md §3): 32 lowercase hex chars, stored as 16 bytes; the
+// Table tokens (docs/nuscenes-input.md): 32 lowercase hex chars, stored as 16 bytes; the
 // visibility table uses short tokens "1".."4"; "" is an empty link. Tokens are resolved
 // to int32 row indices once at load (kNoIndex for empty links).
 #include <array>

@@ -53,9 +53,9 @@ struct GenerateConfig {
   std::vector<ExcludedScene> exclude_scenes = default_excluded_scenes();  // [] = keep every scene
   uint64_t seed = 1;
   double resolution_m = 0.2;
-  raster::RasterOptions raster;        // LiDAR filters, detections file, camera options
+  raster::RasterOptions raster;  // LiDAR filters, detections file, camera options
   graph::LaneGraphOptions graph;
-  tiling::SplitOptions splits;         // ratios, buffer, automatic blocks (regions: below)
+  tiling::SplitOptions splits;                                 // ratios, buffer, automatic blocks (regions: below)
   std::map<std::string, std::vector<tiling::Region>> regions;  // explicit regions per location
   tiling::CropOptions crops;
   OutputOptions output;
@@ -80,8 +80,7 @@ const options::Table<GenerateConfig>& generate_option_table();
 void apply_config_json(GenerateConfig& config, const nlohmann::json& doc, const std::string& source,
                        options::Origins* origins = nullptr);
 // Reads a config document over `base` and checks the relations.
-GenerateConfig config_from_json(const nlohmann::json& doc, const std::string& file_label,
-                                GenerateConfig base = {});
+GenerateConfig config_from_json(const nlohmann::json& doc, const std::string& file_label, GenerateConfig base = {});
 // Parses a config file (ParseError naming it) and applies it.
 void apply_config_file(GenerateConfig& config, const std::filesystem::path& file, options::Origins* origins = nullptr);
 GenerateConfig load_generate_config(const std::filesystem::path& file);

@@ -1,5 +1,5 @@
 #pragma once
-// `nsgraph export-cloud` (issue 6): the accumulated lowest-z ground cloud of ONE scene as a
+// `nsgraph export-cloud`: the accumulated lowest-z ground cloud of ONE scene as a
 // PCD file for PCL tools — per 0.2 m cell the lowest point of the scene's sweeps (global map
 // metres), its intensity, and the RGB / semantic class the camera stage gives it from the
 // scene's own key frames. PCL types stay out of this header (only pcd_writer.cpp sees them).

@@ -1,5 +1,5 @@
 #pragma once
-// `generate` and `merge` (DESIGN.md §4, §5, §7): a release in, NuScenesGraph shards,
+// `generate` and `merge` (docs/architecture.md): a release in, NuScenesGraph shards,
 // maps and a manifest out — in one process or as `count` shares of a cluster job.
 //
 // A run is a list of work items in a stable order: per location (in config order), its
@@ -48,12 +48,12 @@ class EmptyDatasetError : public Error {
 struct GenerateSummary {
   std::vector<std::string> locations;
   std::vector<std::string> excluded_scenes;  // names left out by scenes.exclude (present in the release)
-  size_t sweeps = 0;           // LiDAR sweeps accumulated (every share reads all)
-  size_t images = 0;           // camera images decoded for this share's tiles
-  size_t tiles_written = 0;    // by this share, this run
-  size_t items_done = 0;       // work items finished by this share, this run
-  size_t items_skipped = 0;    // verified from an earlier run
-  size_t tiles_planned = 0;    // whole run
+  size_t sweeps = 0;                         // LiDAR sweeps accumulated (every share reads all)
+  size_t images = 0;                         // camera images decoded for this share's tiles
+  size_t tiles_written = 0;                  // by this share, this run
+  size_t items_done = 0;                     // work items finished by this share, this run
+  size_t items_skipped = 0;                  // verified from an earlier run
+  size_t tiles_planned = 0;                  // whole run
   bool manifest_written = false;
   StageTimes seconds;
 };
@@ -61,7 +61,7 @@ struct GenerateSummary {
 struct GenerateRun {
   std::filesystem::path out;
   ShareSpec share;
-  int threads = 0;        // 0 = all cores; results do not depend on it
+  int threads = 0;  // 0 = all cores; results do not depend on it
   bool progress = true;
   bool allow_empty = false;  // write a dataset of 0 tiles instead of throwing EmptyDatasetError
   // Refuse to start (ConfigError naming the estimate and what would lower it) when the

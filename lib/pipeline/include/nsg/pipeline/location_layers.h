@@ -47,9 +47,9 @@ raster::ColorLayer camera_layers(const nuscenes::Database& db, const GenerateCon
 // One window of a location's layers (inspect layers), cut like a tile: the whole chain
 // above over the location's scenes, camera layers over the window only.
 struct WindowLayers {
-  tiling::CellWindow window;     // cells [col0, col1) × [row0, row1)
+  tiling::CellWindow window;  // cells [col0, col1) × [row0, row1)
   double resolution_m = 0.2;
-  tiling::TileRasters rasters;   // width × height of the window
+  tiling::TileRasters rasters;  // width × height of the window
   tiling::RasterCounts counts;
   raster::AccumulateStats stats;
   size_t lidar_layer_bytes = 0;

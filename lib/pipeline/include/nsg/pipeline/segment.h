@@ -1,5 +1,5 @@
 #pragma once
-// `nsgraph segment` (issue 20): runs a semantic-segmentation model (ONNX, OpenCV dnn) on
+// `nsgraph segment`: runs a semantic-segmentation model (ONNX, OpenCV dnn) on
 // every key-frame camera image of a release — the images `generate` colours from — and
 // writes class-id masks of our classes (samples/semantic-classes.json, 255 = void) where
 // `generate` reads them: <out>/<CHANNEL>/<jpeg basename>.png, so that
@@ -22,9 +22,9 @@ namespace nsg::pipeline {
 struct SegmentOptions {
   std::filesystem::path dataroot;
   std::string version = "v1.0-trainval";
-  std::filesystem::path model;   // .onnx
-  std::filesystem::path labels;  // schemas/v1/segment-labels.schema.json
-  std::filesystem::path out;     // mask root
+  std::filesystem::path model;        // .onnx
+  std::filesystem::path labels;       // schemas/v1/segment-labels.schema.json
+  std::filesystem::path out;          // mask root
   std::vector<std::string> channels;  // camera channels; empty = every camera
   std::filesystem::path schemas_dir;  // empty = validate::find_schemas_dir()
   ShareSpec share;
@@ -38,11 +38,11 @@ struct SegmentOptions {
 };
 
 struct SegmentSummary {
-  size_t images = 0;    // key-frame camera images of the selected channels (whole run)
-  size_t mine = 0;      // this share's
-  size_t written = 0;   // masks written this run
-  size_t skipped = 0;   // valid masks already there
-  double seconds = 0.0; // wall time of the images written
+  size_t images = 0;     // key-frame camera images of the selected channels (whole run)
+  size_t mine = 0;       // this share's
+  size_t written = 0;    // masks written this run
+  size_t skipped = 0;    // valid masks already there
+  double seconds = 0.0;  // wall time of the images written
   double images_per_s() const { return seconds > 0.0 ? static_cast<double>(written) / seconds : 0.0; }
 };
 

@@ -17,8 +17,8 @@ struct SplitStats {
   int64_t lane_segments = 0;      // directed graph edges over all tiles
   double lane_length_km = 0.0;
   int64_t vehicle_px = 0;
-  double vehicle_area_km2 = 0.0;  // vehicle pixels × pixel area (overlaps counted per tile)
-  std::set<int> semantic_classes; // class ids present in the semantic layers
+  double vehicle_area_km2 = 0.0;   // vehicle pixels × pixel area (overlaps counted per tile)
+  std::set<int> semantic_classes;  // class ids present in the semantic layers
   double mean_coverage_lidar = 0.0, mean_coverage_rgb = 0.0, mean_coverage_semantic = 0.0;
 };
 

@@ -1,5 +1,5 @@
 #pragma once
-// The files of one tile (DESIGN.md §5), in the member order of io::tile_members(): lidar,
+// The files of one tile (docs/dataset-format.md), in the member order of io::tile_members(): lidar,
 // rgb, semantic, vehicle, coverage GeoTIFFs, then graph.json and meta.json — all sharing
 // the tile key.
 #include <cstdint>

@@ -1,5 +1,5 @@
 #pragma once
-// Previews people can look at (issue 9): per-shard mosaics of a dataset's tiles (every
+// Previews people can look at: per-shard mosaics of a dataset's tiles (every
 // layer with the lane graph on top), per-location overviews (LiDAR coverage, split regions,
 // crop footprints, lane graph, scale bar, north arrow) and submission overlays (GT vs
 // prediction with the tile's scores, sortable worst first). Images are plain RGB buffers;
@@ -88,8 +88,8 @@ struct Mosaic {
 };
 
 struct MosaicOptions {
-  int panel_px = 240;   // side of one layer panel; 8 cards of 2 panels ≈ 4K px wide
-  int max_columns = 8;  // cards per row
+  int panel_px = 240;     // side of one layer panel; 8 cards of 2 panels ≈ 4K px wide
+  int max_columns = 8;    // cards per row
   void validate() const;  // throws ConfigError
 };
 
@@ -113,9 +113,9 @@ struct OverviewOptions {
 struct Overview {
   std::string location;
   Image image;
-  Rect map_rect;                 // where the map is drawn
-  double x_west_m = 0.0;         // map metres at map_rect's left edge
-  double y_north_m = 0.0;        // map metres at map_rect's top edge
+  Rect map_rect;           // where the map is drawn
+  double x_west_m = 0.0;   // map metres at map_rect's left edge
+  double y_north_m = 0.0;  // map metres at map_rect's top edge
   double m_per_px = 1.0;
   std::vector<std::array<double, 4>> crops;  // bounds_m of every tile drawn
   std::vector<LegendEntry> legend;
@@ -132,15 +132,15 @@ Overview render_overview(const io::Dataset& dataset, const std::string& location
 // Two BEV panels side by side (`inspect layers --png`): LiDAR intensity and camera RGB of
 // one raster window, row 0 north, no data dark, with a scale bar.
 struct LayerPanelsInput {
-  int width = 0, height = 0;    // raster pixels
-  std::vector<uint8_t> lidar;   // width × height, 0 = no data
-  std::vector<uint8_t> rgb;     // width × height × 3, 0,0,0 = no data
-  std::string title;            // a caption line over both panels ("" = none)
+  int width = 0, height = 0;   // raster pixels
+  std::vector<uint8_t> lidar;  // width × height, 0 = no data
+  std::vector<uint8_t> rgb;    // width × height × 3, 0,0,0 = no data
+  std::string title;           // a caption line over both panels ("" = none)
 };
 struct LayerPanelsOptions {
-  int max_panel_px = 900;      // longest side of one panel (upscaled by at most 4×)
-  double resolution_m = 0.2;   // raster metres per pixel, for the scale bar
-  void validate() const;       // throws ConfigError
+  int max_panel_px = 900;     // longest side of one panel (upscaled by at most 4×)
+  double resolution_m = 0.2;  // raster metres per pixel, for the scale bar
+  void validate() const;      // throws ConfigError
 };
 // Throws InternalError when the rasters do not have the stated size.
 Image render_layer_panels(const LayerPanelsInput& input, const LayerPanelsOptions& options);
@@ -178,7 +178,6 @@ struct PreviewOptions {
 // Writes <out>/<shard>.png per shard, or <out>/overview-<location>.png per location, or
 // <out>/submission-<split|all>.png; returns the files written, in order.
 std::vector<std::filesystem::path> write_previews(const std::filesystem::path& dataset,
-                                                  const std::filesystem::path& out_dir,
-                                                  const PreviewOptions& options);
+                                                  const std::filesystem::path& out_dir, const PreviewOptions& options);
 
 }  // namespace nsg::preview

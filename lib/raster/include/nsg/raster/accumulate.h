@@ -1,5 +1,5 @@
 #pragma once
-// The raster stage over one location of a release (DESIGN.md §4 "LiDAR", "Vehicles"):
+// The raster stage over one location of a release (docs/architecture.md, "Vehicles"):
 // every LIDAR_TOP sweep (key and non-key) of every scene at the location is read,
 // filtered in the sensor frame, moved to the global frame with the sweep's own ego pose
 // and binned lowest-z; vehicle boxes come from a detection results file or from the
@@ -38,12 +38,12 @@ struct RasterOptions {
 
 struct AccumulateStats {
   size_t scenes = 0;
-  size_t sweeps = 0;          // sample_data files read (key and non-key)
+  size_t sweeps = 0;  // sample_data files read (key and non-key)
   size_t points_read = 0;
-  size_t points_kept = 0;     // after the roof square and the range filter
-  size_t vehicle_boxes = 0;   // boxes rasterized (after class / score filtering)
-  size_t covered_cells = 0;   // LiDAR cells holding a point
-  size_t lidar_blocks = 0;    // allocated 64×64 blocks of the LiDAR layer
+  size_t points_kept = 0;    // after the roof square and the range filter
+  size_t vehicle_boxes = 0;  // boxes rasterized (after class / score filtering)
+  size_t covered_cells = 0;  // LiDAR cells holding a point
+  size_t lidar_blocks = 0;   // allocated 64×64 blocks of the LiDAR layer
 };
 
 struct LocationLayers {

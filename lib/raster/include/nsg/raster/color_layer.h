@@ -1,5 +1,5 @@
 #pragma once
-// The camera layers (DESIGN.md §4 "RGB and semantics"): every kept LiDAR point of a
+// The camera layers (docs/architecture.md): every kept LiDAR point of a
 // location is coloured from the key-frame camera images near it. A view is usable when the
 // point projects inside the image (devkit bounds 1 < u < W−1, 1 < v < H−1) with depth >
 // min_depth_m and no LiDAR return of that key frame hides it; the closest usable view
@@ -49,8 +49,8 @@ struct CameraOptions {
   // lidarseg label → our class (a labels file, schemas/v1/segment-labels.schema.json);
   // empty = the built-in copy of samples/semantic-labels/nuscenes-lidarseg.json.
   std::filesystem::path lidarseg_labels;
-  double view_radius_m = 40.0;          // key-frame ego poses farther (in xy) from the point are not considered
-  double min_depth_m = 1.0;             // devkit min_dist
+  double view_radius_m = 40.0;  // key-frame ego poses farther (in xy) from the point are not considered
+  double min_depth_m = 1.0;     // devkit min_dist
   // Occlusion: the view is rejected when a LiDAR return of the image's key frame is closer
   // by more than occlusion_margin_m and stands above the point's line of sight: it projects
   // within ± occlusion_side_px sideways (0 = one step between the sweep's columns in the
@@ -64,7 +64,7 @@ struct CameraOptions {
   int occlusion_side_px = 0;
   double occlusion_height_m = 0.05;
   double occlusion_margin_m = 0.15;
-  int jpeg_scale_denom = 2;  // 1, 2 or 4 (turbojpeg scaled decode)
+  int jpeg_scale_denom = 2;                 // 1, 2 or 4 (turbojpeg scaled decode)
   std::string lidar_channel = "LIDAR_TOP";  // the key-frame sweep used for occlusion (set by lidar.channel)
   // The declared checks (raster_options.h) for options built in code; ConfigError naming the
   // key (both rgb and semantic off is valid).

@@ -20,7 +20,7 @@ struct LidarOptions {
   double resolution_m = 0.2;
   double roof_half_size_m = 1.0;  // drop |x| < this and |y| < this in the sensor frame (devkit remove_close)
   double max_range_m = 60.0;      // drop points farther (in the sensor's xy plane)
-  void validate() const;  // the declared checks (raster_options.h); ConfigError naming the key
+  void validate() const;          // the declared checks (raster_options.h); ConfigError naming the key
 };
 
 // "Lowest" between two cells' kept points: z, then the source (sweep, point) ids, so equal
@@ -35,10 +35,10 @@ bool lower_point(const Cell& a, const Cell& b) {
 // The kept point of a cell; "lowest" as lower_point.
 struct LidarCell {
   float z = std::numeric_limits<float>::infinity();  // +inf = no data
-  float x = 0.0f, y = 0.0f;  // global position of the kept point
+  float x = 0.0f, y = 0.0f;                          // global position of the kept point
   uint8_t intensity = 0;
-  int32_t sweep = -1;        // a stable sweep id (sample_data index in the database)
-  int32_t point = -1;        // index of the point in its sweep file
+  int32_t sweep = -1;  // a stable sweep id (sample_data index in the database)
+  int32_t point = -1;  // index of the point in its sweep file
 
   bool has_data() const { return sweep >= 0; }
   bool lower_than(const LidarCell& o) const { return lower_point(*this, o); }
@@ -50,8 +50,7 @@ class LidarLayer {
 
   // Adds one sweep already filtered and in the global frame: xyz (float32, stride
   // `stride` floats per point, intensity at offset 3) with the original point indices.
-  void add_points(const float* xyzi, size_t count, size_t stride, int32_t sweep_id,
-                  const int32_t* point_ids = nullptr);
+  void add_points(const float* xyzi, size_t count, size_t stride, int32_t sweep_id, const int32_t* point_ids = nullptr);
   // The same for points stored as columns (the sweep loop's layout: vectorized binning).
   struct Columns {
     const float* x = nullptr;
@@ -85,7 +84,7 @@ class LidarLayer {
                    const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id,
                    SweepPath path = SweepPath::kAuto, int64_t* first_non_finite_row = nullptr);
   // Lowest-wins union with another layer of the same resolution. Leaves the blocks it
-  // touches packed (a finished layer's form, issue 22); adding sweeps afterwards unpacks
+  // touches packed (a finished layer's form); adding sweeps afterwards unpacks
   // the blocks they reach.
   void merge(const LidarLayer& other);
 
@@ -94,9 +93,9 @@ class LidarLayer {
   size_t covered_cells() const { return covered_cells_; }
 
  private:
-  size_t add_sweep_portable(const float* rows5, size_t count, int32_t first_row, const geometry::Rigid3& ego_from_sensor,
-                            const geometry::Rigid3& global_from_ego, const LidarOptions& options, int32_t sweep_id,
-                            int64_t& bad_row);
+  size_t add_sweep_portable(const float* rows5, size_t count, int32_t first_row,
+                            const geometry::Rigid3& ego_from_sensor, const geometry::Rigid3& global_from_ego,
+                            const LidarOptions& options, int32_t sweep_id, int64_t& bad_row);
   // Defined in sweep_kernel_avx2.cpp (compiled for any x86-64; the kernels carry
   // target("avx2") attributes and run only after the CPU check).
   size_t add_sweep_fused(const float* rows5, size_t count, int32_t first_row, const geometry::Rigid3& ego_from_sensor,
@@ -138,7 +137,6 @@ class LidarLayer {
 
 // Keeps the points of a sweep (float32 × `stride`, sensor frame) outside the roof square
 // and within range; returns their indices (so cells can name their source point).
-std::vector<int32_t> select_sweep_points(const float* points, size_t count, size_t stride,
-                                         const LidarOptions& options);
+std::vector<int32_t> select_sweep_points(const float* points, size_t count, size_t stride, const LidarOptions& options);
 
 }  // namespace nsg::raster

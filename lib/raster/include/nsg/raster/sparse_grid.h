@@ -1,12 +1,12 @@
 #pragma once
-// Sparse square blocks of cells over a location's map frame (DESIGN.md §4, §8): a block
+// Sparse square blocks of cells over a location's map frame (docs/architecture.md): a block
 // is allocated only when data falls into it, so memory grows with the covered area,
 // never with the map canvas. Cell (col, row) covers [col·res, (col+1)·res) ×
 // [row·res, (row+1)·res) in map metres (column = floor(x / res), row = floor(y / res)).
 //
 // A block is either dense (all kBlockCells² cells: what writers and the sweep kernel
 // need) or packed (an occupancy bitmap and only the cells holding data: what a finished
-// layer keeps, issue 22: a city's LiDAR blocks are ~30 % filled). Writes unpack a block;
+// layer keeps: a city's LiDAR blocks are ~30 % filled). Writes unpack a block;
 // merge() leaves the blocks it touches packed. Readers see the same cells either way.
 #include <algorithm>
 #include <array>
@@ -28,8 +28,7 @@ struct CellIndex {
 };
 
 inline CellIndex cell_of(double x_m, double y_m, double resolution_m) {
-  return {static_cast<int64_t>(std::floor(x_m / resolution_m)),
-          static_cast<int64_t>(std::floor(y_m / resolution_m))};
+  return {static_cast<int64_t>(std::floor(x_m / resolution_m)), static_cast<int64_t>(std::floor(y_m / resolution_m))};
 }
 
 // A sparse grid of T. T must be default-constructible into its "no data" state; packing
@@ -155,8 +154,8 @@ class SparseGrid {
 
  private:
   struct Block {
-    std::vector<T> dense;   // kBlockCells² cells row-major; empty when packed
-    std::vector<T> packed;  // the cells holding data, row-major (packed blocks)
+    std::vector<T> dense;                          // kBlockCells² cells row-major; empty when packed
+    std::vector<T> packed;                         // the cells holding data, row-major (packed blocks)
     std::array<uint64_t, kBlockCells> occupied{};  // bit c of word r: cell (c, r) is in `packed`
     std::array<uint16_t, kBlockCells> before{};    // packed cells in rows above r
 

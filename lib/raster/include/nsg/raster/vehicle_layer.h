@@ -1,5 +1,5 @@
 #pragma once
-// The vehicle layer (DESIGN.md §4 "Vehicles"): each box footprint filled with its heading
+// The vehicle layer (docs/architecture.md): each box footprint filled with its heading
 // = clockwise bearing of the box's forward axis from map north (+y) / 2π, in [0, 1);
 // −1 where no box. Overlaps: the higher score wins, then the later `order` (annotations
 // use score 1 and the key-frame order, so the latest key frame wins).
@@ -17,7 +17,7 @@ struct VehicleBox {
   double length_m = 0.0;  // along the forward axis
   double width_m = 0.0;
   double score = 1.0;
-  int64_t order = 0;      // tie-break: larger wins (e.g. key-frame timestamp)
+  int64_t order = 0;  // tie-break: larger wins (e.g. key-frame timestamp)
 };
 
 struct VehicleCell {

@@ -18,13 +18,13 @@
 namespace nsg::report {
 
 struct ReportOptions {
-  std::string split;                    // "" = "test" with a submission, every split without
-  std::filesystem::path submission;     // "" = dataset report (stats per split, no scores)
-  std::filesystem::path baseline;       // a second submission to compare with (needs submission)
-  std::filesystem::path schemas;        // schemas folder ("" = installed/source)
-  int threads = 1;                      // 0 = all cores; the bytes written do not depend on it
-  int overview_max_px = 1600;           // longest side of a location's background image
-  void validate() const;                // throws ConfigError
+  std::string split;                 // "" = "test" with a submission, every split without
+  std::filesystem::path submission;  // "" = dataset report (stats per split, no scores)
+  std::filesystem::path baseline;    // a second submission to compare with (needs submission)
+  std::filesystem::path schemas;     // schemas folder ("" = installed/source)
+  int threads = 1;                   // 0 = all cores; the bytes written do not depend on it
+  int overview_max_px = 1600;        // longest side of a location's background image
+  void validate() const;             // throws ConfigError
 };
 
 struct ReportResult {

@@ -31,7 +31,7 @@ struct ModelInput {
 };
 
 struct SegmentLabels {
-  std::string file;                   // where it came from, for messages
+  std::string file;  // where it came from, for messages
   std::optional<ModelInput> input;
   std::vector<uint8_t> class_of_channel;  // our class id per channel up to the highest named one
   // Our class id of a channel (kVoid beyond the named ones).

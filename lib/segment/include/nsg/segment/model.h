@@ -26,8 +26,8 @@ class SegmentationModel {
   SegmentationModel(SegmentationModel&&) noexcept;
   SegmentationModel& operator=(SegmentationModel&&) noexcept;
 
-  int channels() const;                       // C
-  std::pair<int, int> output_size() const;    // (w, h) of the output
+  int channels() const;                     // C
+  std::pair<int, int> output_size() const;  // (w, h) of the output
   // The class-id mask of `image` (interleaved RGB) at 1/scale_denom of its size (sides
   // rounded up; 1 = the image's size), nearest from the model's output.
   void segment(const nuscenes::RgbImage& image, nuscenes::GrayImage& mask, int scale_denom = 1);

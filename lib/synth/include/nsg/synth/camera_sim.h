@@ -1,7 +1,7 @@
 #pragma once
 // Camera simulation: renders an RGB image and a per-pixel semantic class image of a
 // SceneSnapshot by casting one ray per pixel centre (the exact inverse of the devkit's
-// projection, nuscenes-format.md §4.5).
+// projection, docs/nuscenes-input.md).
 #include <array>
 #include <cstdint>
 #include <string_view>
@@ -22,8 +22,8 @@ struct CameraSimOptions {
   double max_depth_m = 250.0;
   // Added: sensor noise, uniform in ±pixel_noise (per channel, 0..255 scale).
   double pixel_noise = 2.0;
-  RaycastOptions raycast;         // added: ground band and marching steps
-  void validate() const;          // ConfigError naming the bad field
+  RaycastOptions raycast;  // added: ground band and marching steps
+  void validate() const;   // ConfigError naming the bad field
 };
 
 struct CameraImage {
@@ -41,12 +41,10 @@ struct CameraImage {
 // noise changes only `classes`, never `rgb`. Single-threaded; the Rng is consumed in
 // pixel order (one draw per pixel when pixel_noise > 0, then the label-noise blobs).
 CameraImage render_camera(const SceneSnapshot& scene, const geometry::Rigid3& global_from_camera,
-                          const Eigen::Matrix3d& intrinsic, const CameraSimOptions& options,
-                          Rng& rng);
+                          const Eigen::Matrix3d& intrinsic, const CameraSimOptions& options, Rng& rng);
 // Same with a ray caster built once for the snapshot (reuse it for the six cameras).
 CameraImage render_camera(const SceneRaycaster& caster, const geometry::Rigid3& global_from_camera,
-                          const Eigen::Matrix3d& intrinsic, const CameraSimOptions& options,
-                          Rng& rng);
+                          const Eigen::Matrix3d& intrinsic, const CameraSimOptions& options, Rng& rng);
 
 // The colour the renderer gives a ground material before texture and noise; tests and
 // the world check pixels against it.

@@ -16,9 +16,9 @@ struct CityConfig {
   int blocks_y = 2;
   double block_size_m = 90.0;  // street centre to street centre
   double lane_width_m = 3.5;
-  int max_lanes_per_direction = 2;  // 1..3
-  double one_way_fraction = 0.25;   // of interior streets
-  double parking_fraction = 0.5;    // streets with a parking strip along both curbs
+  int max_lanes_per_direction = 2;     // 1..3
+  double one_way_fraction = 0.25;      // of interior streets
+  double parking_fraction = 0.5;       // streets with a parking strip along both curbs
   double ring_corner_radius_m = 30.0;  // the perimeter ring road's rounded corners
   double sidewalk_width_m = 3.0;
   double park_fraction = 0.2;        // blocks that are parks (vegetation, no buildings)
@@ -75,8 +75,8 @@ struct DetectionsConfig {
   double yaw_noise_rad = 0.05;
   double miss_rate = 0.1;
   double false_positives_per_sample = 0.5;
-  double score_true_mean = 0.75;   // scores of true positives ~ N(mean, 0.1) clamped
-  double score_false_mean = 0.3;   // scores of false positives
+  double score_true_mean = 0.75;  // scores of true positives ~ N(mean, 0.1) clamped
+  double score_false_mean = 0.3;  // scores of false positives
   void validate() const;
 };
 

@@ -17,14 +17,14 @@ namespace nsg::synth {
 // What a ray hit (or that it hit nothing: `hit == false`).
 struct RayHit {
   bool hit = false;
-  double range_m = 0.0;                    // distance along the unit direction
-  Eigen::Vector3d point_m = Eigen::Vector3d::Zero();   // global frame
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();   // unit, facing the ray origin side
+  double range_m = 0.0;                               // distance along the unit direction
+  Eigen::Vector3d point_m = Eigen::Vector3d::Zero();  // global frame
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit, facing the ray origin side
   enum class Kind : uint8_t { kNone, kGround, kBox, kPole } kind = Kind::kNone;
   GroundMaterial material = GroundMaterial::kTerrain;  // valid for kGround
   SemanticClass cls = SemanticClass::kSkyOther;
-  uint8_t lidar_intensity = 0;             // object base intensity (boxes, poles)
-  std::array<uint8_t, 3> rgb{0, 0, 0};     // object base colour (boxes, poles)
+  uint8_t lidar_intensity = 0;          // object base intensity (boxes, poles)
+  std::array<uint8_t, 3> rgb{0, 0, 0};  // object base colour (boxes, poles)
 };
 
 struct RaycastOptions {
@@ -51,12 +51,11 @@ class SceneRaycaster {
 
   // `direction` need not be unit length; ranges are along the normalised direction.
   // Returns the first hit with range in (min_range_m, max_range_m].
-  RayHit cast(const Eigen::Vector3d& origin_m, const Eigen::Vector3d& direction,
-              double max_range_m, double min_range_m = 1e-6) const;
+  RayHit cast(const Eigen::Vector3d& origin_m, const Eigen::Vector3d& direction, double max_range_m,
+              double min_range_m = 1e-6) const;
 
   // The ground alone (heightfield march), up to max_range_m; for tests and diagnostics.
-  RayHit cast_ground(const Eigen::Vector3d& origin_m, const Eigen::Vector3d& unit_dir,
-                     double max_range_m) const;
+  RayHit cast_ground(const Eigen::Vector3d& origin_m, const Eigen::Vector3d& unit_dir, double max_range_m) const;
 
   size_t object_count() const { return objects_.size(); }
 
@@ -68,12 +67,10 @@ class SceneRaycaster {
     double cos_yaw = 1.0, sin_yaw = 0.0;
     double z_min = 0.0, z_max = 0.0;
   };
-  RayHit cast_objects(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
-                      double t_min, double t_max) const;
-  bool intersect(const Object& object, const Eigen::Vector3d& origin,
-                 const Eigen::Vector3d& dir, double t_min, double t_max, RayHit& hit) const;
-  bool clip_to_bounds(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
-                      double& t_min, double& t_max) const;
+  RayHit cast_objects(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t_min, double t_max) const;
+  bool intersect(const Object& object, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t_min,
+                 double t_max, RayHit& hit) const;
+  bool clip_to_bounds(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double& t_min, double& t_max) const;
 
   const SceneSnapshot& scene_;
   RaycastOptions options_;
@@ -86,16 +83,16 @@ class SceneRaycaster {
   std::vector<uint32_t> cell_items_;
 };
 
-struct LidarSimOptions {            // defaults = the real 32-beam Velodyne HDL-32E of nuScenes
+struct LidarSimOptions {  // defaults = the real 32-beam Velodyne HDL-32E of nuScenes
   int beams = 32;
   double elevation_min_deg = -30.67, elevation_max_deg = 10.67;
-  int points_per_sweep = 34720;     // before misses; azimuth steps = points / beams
+  int points_per_sweep = 34720;  // before misses; azimuth steps = points / beams
   double max_range_m = 100.0, range_noise_m = 0.02;
-  int roof_points = 8000;           // self-returns from the ego roof within |x|<1,|y|<1 (sensor frame)
+  int roof_points = 8000;  // self-returns from the ego roof within |x|<1,|y|<1 (sensor frame)
   // Added: depth of the simulated roof plane below the sensor (self-returns lie on it).
   double roof_depth_m = 0.35;
-  RaycastOptions raycast;           // added: ground band and marching steps
-  void validate() const;            // ConfigError naming the bad field
+  RaycastOptions raycast;  // added: ground band and marching steps
+  void validate() const;   // ConfigError naming the bad field
 };
 
 // Intensity (0..255) a LiDAR return from ground `material` gets before noise; paint is
@@ -108,15 +105,13 @@ double lidar_ground_intensity(GroundMaterial material);
 // lowest elevation); misses (no hit ≤ max range) omitted. The first `roof_points` firings
 // of the lowest rings return from the ego roof (plane z = −roof_depth_m, |x|,|y| < 1).
 // The spin starts facing +y (forward) and turns clockwise seen from above (towards +x).
-std::vector<float> simulate_lidar_sweep(const SceneSnapshot& scene,
-                                        const geometry::Rigid3& global_from_sensor,
+std::vector<float> simulate_lidar_sweep(const SceneSnapshot& scene, const geometry::Rigid3& global_from_sensor,
                                         const LidarSimOptions& options, Rng& rng);
 // Same with a ray caster built once for the snapshot (reuse it for several sensors).
 // `lidarseg_labels`, when given, receives one nuScenes-lidarseg label per returned point
 // (lidarseg_label() of what the ray hit; the roof returns are vehicle.ego); the random
 // draws, and so the points, are the same with or without it.
-std::vector<float> simulate_lidar_sweep(const SceneRaycaster& caster,
-                                        const geometry::Rigid3& global_from_sensor,
+std::vector<float> simulate_lidar_sweep(const SceneRaycaster& caster, const geometry::Rigid3& global_from_sensor,
                                         const LidarSimOptions& options, Rng& rng,
                                         std::vector<uint8_t>* lidarseg_labels = nullptr);
 

@@ -59,7 +59,7 @@ struct SceneBox {
   double width_m = 1.0;      // along y
   double height_m = 1.0;     // along z
   SemanticClass cls = SemanticClass::kBuilding;
-  uint8_t lidar_intensity = 30;                // 0..255
+  uint8_t lidar_intensity = 30;               // 0..255
   std::array<uint8_t, 3> rgb{128, 128, 128};  // base colour for the camera
 };
 

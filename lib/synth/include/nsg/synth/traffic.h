@@ -36,8 +36,8 @@ struct Agent {
   double length_m = 4.5, width_m = 1.9, height_m = 1.6;
   std::array<uint8_t, 3> rgb{150, 20, 20};
   uint8_t lidar_intensity = 40;
-  Route route;            // moving vehicles
-  double start_m = 0.0;   // distance along the route (or sidewalk) at t = 0
+  Route route;           // moving vehicles
+  double start_m = 0.0;  // distance along the route (or sidewalk) at t = 0
   double speed_mps = 0.0;
   geometry::Pose2 fixed;  // parked cars; pedestrians: sidewalk start
   double walk_length_m = 0.0;

@@ -1,5 +1,5 @@
 #pragma once
-// Crop sampling inside split regions (DESIGN.md §4 "Splits"): crops are aligned to the
+// Crop sampling inside split regions (docs/architecture.md): crops are aligned to the
 // 0.2 m cell grid, lie wholly inside one region and are kept only when enough of their
 // cells hold LiDAR. Train crops go to random positions (a count per km² of covered area,
 // or a total); val/test crops to a non-overlapping grid (random on request).
@@ -29,15 +29,15 @@ struct CropOptions {
   double random_per_km2 = 1500.0;
   int64_t random_total = 0;
   int attempts_per_crop = 20;  // random draws per wanted crop before giving up
-  void validate() const;  // the declared checks; ConfigError naming the key
+  void validate() const;       // the declared checks; ConfigError naming the key
 };
 // The config keys crops.* (nsg/core/options.h).
 const options::Table<CropOptions>& crop_option_table();
 
 struct Crop {
-  std::string region;   // Region::name
+  std::string region;  // Region::name
   std::string split;
-  int64_t col0 = 0;     // south-west cell of the crop (cells [col0, col0+size) × [row0, row0+size))
+  int64_t col0 = 0;  // south-west cell of the crop (cells [col0, col0+size) × [row0, row0+size))
   int64_t row0 = 0;
   double lidar_coverage = 0.0;
   RectM bounds(double resolution_m, int size_px) const;

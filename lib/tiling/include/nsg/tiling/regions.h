@@ -1,5 +1,5 @@
 #pragma once
-// Split regions of a location (DESIGN.md §4 "Splits"): named rectangles assigned to
+// Split regions of a location (docs/architecture.md): named rectangles assigned to
 // train / val / test, either given explicitly or cut automatically into square blocks of
 // the LiDAR-covered extent and assigned by a seeded hash with target ratios. Regions of
 // different splits are at least `buffer_m` apart, so no pixel of a test crop is ever
@@ -79,11 +79,11 @@ struct CellWindow {
 // What plan_regions did with the ground it was given, so a run that ends with few or no
 // crops can say which filter took them (generate's empty-dataset message).
 struct RegionStats {
-  bool explicit_regions = false;   // regions came from the config (the counts below stay 0)
-  bool no_lidar = false;           // no cell holds LiDAR: nothing to cut into blocks
-  double block_size_m = 0.0;       // automatic blocks: the edge used
-  int64_t blocks = 0;              // automatic blocks on the grid over the covered extent
-  int64_t blocks_low_coverage = 0; // of them, below min_block_coverage
+  bool explicit_regions = false;    // regions came from the config (the counts below stay 0)
+  bool no_lidar = false;            // no cell holds LiDAR: nothing to cut into blocks
+  double block_size_m = 0.0;        // automatic blocks: the edge used
+  int64_t blocks = 0;               // automatic blocks on the grid over the covered extent
+  int64_t blocks_low_coverage = 0;  // of them, below min_block_coverage
   // Per split (kSplitNames order): blocks assigned, and of them dropped as smaller than a
   // crop once the buffers to other splits were cut off.
   std::array<int64_t, 3> blocks_assigned{};
@@ -106,8 +106,8 @@ CellWindow covered_window(const raster::LidarLayer& lidar);
 // way to val/test, val to test — so different splits never come closer than the buffer.
 // Blocks too small for one crop after that are dropped.
 // `stats` (optional) receives the counts above.
-std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOptions& options,
-                                 double crop_size_m, uint64_t seed, RegionStats* stats = nullptr);
+std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOptions& options, double crop_size_m,
+                                 uint64_t seed, RegionStats* stats = nullptr);
 
 // The smallest distance between regions of different splits (infinity when one split only).
 double min_split_gap_m(const std::vector<Region>& regions);

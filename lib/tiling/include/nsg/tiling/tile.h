@@ -1,5 +1,5 @@
 #pragma once
-// One tile (DESIGN.md §5): the five rasters of a crop, row 0 = north, column 0 = west,
+// One tile (docs/dataset-format.md): the five rasters of a crop, row 0 = north, column 0 = west,
 // its clipped lane graph and the figures of its meta file.
 #include <cstdint>
 #include <string>
@@ -24,7 +24,7 @@ namespace nsg::tiling {
 inline constexpr uint8_t kSemanticNoData = 255;
 
 struct TileRasters {
-  int size_px = 0;                // width = height of a tile; for other windows see width/height
+  int size_px = 0;  // width = height of a tile; for other windows see width/height
   int width_px = 0, height_px = 0;
   std::vector<uint8_t> lidar;     // size²: intensity of the kept point; 0 = no data
   std::vector<uint8_t> rgb;       // size² × 3; 0,0,0 = no data
@@ -53,7 +53,7 @@ std::string tile_key(const std::string& location, const std::string& split, int6
 // The layers of one location, as the raster stage produced them.
 struct LocationRasters {
   const raster::LidarLayer* lidar = nullptr;
-  const raster::ColorLayer* color = nullptr;      // may be null: no RGB / semantics
+  const raster::ColorLayer* color = nullptr;  // may be null: no RGB / semantics
   const raster::VehicleLayer* vehicles = nullptr;
   const graph::LaneGraph* graph = nullptr;
   const graph::SegmentIndex* graph_index = nullptr;
@@ -72,7 +72,7 @@ TileRasters extract_rasters(const LocationRasters& layers, int64_t col0, int64_t
 
 // Cuts a crop out of the location layers. A cell with RGB but a zero colour is stored as
 // (0, 0, 1) so that 0,0,0 keeps meaning "no data".
-Tile extract_tile(const LocationRasters& layers, const std::string& location, const Crop& crop,
-                  const std::string& key, double resolution_m, int size_px);
+Tile extract_tile(const LocationRasters& layers, const std::string& location, const Crop& crop, const std::string& key,
+                  double resolution_m, int size_px);
 
 }  // namespace nsg::tiling

@@ -1,6 +1,6 @@
 #pragma once
-// `nsgraph validate DATASET` (issue 7): the published schemas plus named structural checks
-// of a generated dataset (DESIGN.md §5). Each problem is an Issue whose check is a dotted
+// `nsgraph validate DATASET`: the published schemas plus named structural checks
+// of a generated dataset (docs/dataset-format.md). Each problem is an Issue whose check is a dotted
 // name (see dataset_checks()) and whose subject names the shard, tile key and field.
 #include <filesystem>
 #include <string>

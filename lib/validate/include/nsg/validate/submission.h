@@ -1,5 +1,5 @@
 #pragma once
-// Structural checks of a submission beyond its schema (issue 7): node indices in range,
+// Structural checks of a submission beyond its schema: node indices in range,
 // finite coordinates, score arrays as long as what they score, size limits that protect
 // the scorer. Each problem names the tile key and the JSON path.
 #include <array>
@@ -68,7 +68,7 @@ std::vector<std::string> dataset_split_keys(const std::filesystem::path& dataset
 
 struct SubmissionValidateOptions {
   std::filesystem::path submission;
-  std::filesystem::path dataset;      // "" = no key checks
+  std::filesystem::path dataset;  // "" = no key checks
   std::string split = "test";
   std::filesystem::path schemas_dir;  // "" = find_schemas_dir()
   SubmissionLimits limits;
