@@ -1,9 +1,9 @@
 // The scorer on random well-formed graphs (any node positions, any edges between valid
 // indices, self-loops and duplicates included) up to 60 nodes and 120 edges: every metric
-// must finish within libFuzzer's -timeout and only ever return values in their ranges. The
-// sizes keep one input well inside the timeout under ASan + UBSan (random edges across the
-// whole tile make TOPO's sample graphs dense and its cost superlinear: instrumented, on the
-// 2-core machine, one input of 120 nodes / 240 edges took 9.7 s, of 60 / 120 0.3 s); the time bound at the scorer's
+// must finish within libFuzzer's -timeout and only ever return values in their ranges.
+// Why so small: random edges across the whole tile make TOPO's sample graphs dense and its
+// cost superlinear; instrumented (ASan + UBSan) on the 2-core machine one input of
+// 120 nodes / 240 edges took 9.7 s, of 60 / 120 0.3 s. The time bound at the scorer's
 // limits is the bench's job (bench/adversarial/score.sh).
 #include <cmath>
 #include <cstdlib>
