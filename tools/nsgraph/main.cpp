@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
+#include "nsg/core/options.h"
 #include "nsg/core/version.h"
 
 namespace {
@@ -29,22 +30,6 @@ std::vector<std::string> command_names(CLI::App& app) {
   return names;
 }
 
-// Edit distance, for "did you mean" (names are short).
-size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
 // The first word that is not a global flag names the command. Checked before CLI11 parses:
 // with an unknown command CLI11 would treat the rest as extras and act on global flags
 // among them (`nsgraph generat --version v1.0-mini` printed the program version, exit 0).
@@ -59,7 +44,7 @@ bool check_command_word(CLI::App& app, int argc, char** argv) {
     std::string hint;
     size_t best = 3;  // suggest only close names
     for (const std::string& n : names) {
-      const size_t d = edit_distance(word, n);
+      const size_t d = nsg::options::edit_distance(word, n);
       if (d < best) {
         best = d;
         hint = " (did you mean '" + n + "'?)";
