@@ -309,12 +309,23 @@ std::vector<uint8_t> encode_geotiff(const Raster& raster, const GeoRef& georef, 
   return out;
 }
 
-RasterHeader read_geotiff_header(std::span<const uint8_t> bytes, const std::string& name) {
-  MemFile mem;
+namespace {
+
+// Opens `bytes` for reading through `mem` (which must outlive the handle); a ParseError
+// naming `name` when libtiff refuses them.
+TiffPtr open_for_reading(std::span<const uint8_t> bytes, const std::string& name, MemFile& mem) {
   mem.in = bytes;
   TiffPtr tif = open_tiff(name, "r", mem);
   NSG_CHECK(tif != nullptr, ParseError, name, "TIFF header",
             "a TIFF file" + (mem.error.empty() ? std::string() : " (libtiff: " + mem.error + ")"));
+  return tif;
+}
+
+}  // namespace
+
+RasterHeader read_geotiff_header(std::span<const uint8_t> bytes, const std::string& name) {
+  MemFile mem;
+  TiffPtr tif = open_for_reading(bytes, name, mem);
   const Layout l = read_layout(tif.get(), name);
   return {static_cast<int>(l.width), static_cast<int>(l.height), l.bands,
           l.bits == 32 ? SampleType::kFloat32 : SampleType::kUInt8};
@@ -334,10 +345,7 @@ void check_raster_header(const RasterHeader& got, const RasterHeader& want, cons
 
 Raster decode_geotiff(std::span<const uint8_t> bytes, const std::string& name, GeoRef* georef) {
   MemFile mem;
-  mem.in = bytes;
-  TiffPtr tif = open_tiff(name, "r", mem);
-  NSG_CHECK(tif != nullptr, ParseError, name, "TIFF header",
-            "a TIFF file" + (mem.error.empty() ? std::string() : " (libtiff: " + mem.error + ")"));
+  TiffPtr tif = open_for_reading(bytes, name, mem);
   const Layout l = read_layout(tif.get(), name);
   NSG_CHECK(l.width <= kMaxSidePx && l.height <= kMaxSidePx, ParseError, name, "ImageWidth/ImageLength",
             "an image of at most " + std::to_string(kMaxSidePx) + " x " + std::to_string(kMaxSidePx) + " pixels, got " +

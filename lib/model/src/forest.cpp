@@ -7,6 +7,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "nsg/core/error.h"
+#include "nsg/core/progress.h"
+#include "nsg/model/tile_input.h"
 
 namespace nsg::model::detail {
 
@@ -164,6 +166,22 @@ void for_each_tile_parallel(const io::Dataset& dataset, const std::string& split
     pool.parallel_for(tiles.size(), [&](size_t i) { fn(base + i, tiles[i]); });
     base += tiles.size();
   }
+}
+
+metrics::GraphSet predict_split(const io::Dataset& dataset, const std::string& split, ThreadPool& pool, bool progress,
+                                const std::function<metrics::Graph(const TileInput&)>& predict) {
+  const size_t total = split_tile_count(dataset, split);
+  std::vector<std::pair<std::string, metrics::Graph>> slots(total);
+  Progress bar("predict " + split, total, progress);
+  for_each_tile_parallel(dataset, split, pool, [&](size_t i, const io::DatasetTile& tile) {
+    NSG_CHECK(i < total, DataError, (dataset.root() / "manifest.json").string(), "split " + split,
+              "tile counts that match the shards");
+    slots[i] = {tile.key, predict(tile_input_from_dataset(tile))};
+    bar.advance();
+  });
+  metrics::GraphSet out;
+  for (auto& [key, g] : slots) out.emplace(std::move(key), std::move(g));
+  return out;
 }
 
 }  // namespace nsg::model::detail

@@ -45,5 +45,9 @@ size_t split_tile_count(const io::Dataset& dataset, const std::string& split);
 // in parallel (results must go to per-index slots).
 void for_each_tile_parallel(const io::Dataset& dataset, const std::string& split, ThreadPool& pool,
                             const std::function<void(size_t, const io::DatasetTile&)>& fn);
+// Every tile of the split through `predict` on `pool` (a progress bar), keyed by tile key:
+// what `nsgraph predict` writes, for the forests and the ONNX network alike.
+metrics::GraphSet predict_split(const io::Dataset& dataset, const std::string& split, ThreadPool& pool, bool progress,
+                                const std::function<metrics::Graph(const TileInput&)>& predict);
 
 }  // namespace nsg::model::detail

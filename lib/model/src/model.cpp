@@ -357,18 +357,8 @@ metrics::GraphSet predict_dataset(const LaneModel& model, const io::Dataset& dat
                                   int threads, bool progress) {
   cv::setNumThreads(1);
   ThreadPool pool(resolve_threads(threads));
-  const size_t total = detail::split_tile_count(dataset, split);
-  std::vector<std::pair<std::string, metrics::Graph>> slots(total);
-  Progress bar("predict " + split, total, progress);
-  detail::for_each_tile_parallel(dataset, split, pool, [&](size_t i, const io::DatasetTile& tile) {
-    NSG_CHECK(i < total, DataError, (dataset.root() / "manifest.json").string(), "split " + split,
-              "tile counts that match the shards");
-    slots[i] = {tile.key, model.predict(tile_input_from_dataset(tile)).graph};
-    bar.advance();
-  });
-  metrics::GraphSet out;
-  for (auto& [key, g] : slots) out.emplace(std::move(key), std::move(g));
-  return out;
+  return detail::predict_split(dataset, split, pool, progress,
+                               [&](const TileInput& input) { return model.predict(input).graph; });
 }
 
 }  // namespace nsg::model

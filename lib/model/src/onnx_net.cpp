@@ -154,18 +154,8 @@ metrics::GraphSet predict_dataset_onnx(const fs::path& dense_onnx, const io::Dat
   OnnxLaneNet net = OnnxLaneNet::load(dense_onnx);
   cv::setNumThreads(resolve_threads(threads));
   ThreadPool pool(1);  // one network: tiles one after another, OpenCV's threads inside
-  const size_t total = detail::split_tile_count(dataset, split);
-  std::vector<std::pair<std::string, metrics::Graph>> slots(total);
-  Progress bar("predict " + split, total, progress);
-  detail::for_each_tile_parallel(dataset, split, pool, [&](size_t i, const io::DatasetTile& tile) {
-    NSG_CHECK(i < total, DataError, (dataset.root() / "manifest.json").string(), "split " + split,
-              "tile counts that match the shards");
-    slots[i] = {tile.key, net.predict(tile_input_from_dataset(tile))};
-    bar.advance();
-  });
-  metrics::GraphSet out;
-  for (auto& [key, g] : slots) out.emplace(std::move(key), std::move(g));
-  return out;
+  return detail::predict_split(dataset, split, pool, progress,
+                               [&](const TileInput& input) { return net.predict(input); });
 }
 
 }  // namespace nsg::model
