@@ -38,6 +38,8 @@ nlohmann::json parse_json_strict(std::string_view text, const std::string& label
     throw ParseError(label, r.record, r.expected + suffix);
   } catch (const nlohmann::json::parse_error& e) {
     throw ParseError(label, "byte " + std::to_string(e.byte), "valid JSON" + suffix + ": " + printable_utf8(e.what()));
+  } catch (const nlohmann::json::exception& e) {  // e.g. a number beyond double (1e777): out_of_range
+    throw ParseError(label, "", "valid JSON" + suffix + ": " + printable_utf8(e.what()));
   }
 }
 
