@@ -79,6 +79,12 @@ std::string read_gray8(std::FILE* f, GrayImage& out, std::vector<png_bytep>& row
 }  // namespace
 
 GrayImage read_semantic_mask(const std::filesystem::path& file) {
+  GrayImage out;
+  read_semantic_mask(file, out);
+  return out;
+}
+
+void read_semantic_mask(const std::filesystem::path& file, GrayImage& out) {
   std::FILE* f = std::fopen(file.c_str(), "rb");
   if (f == nullptr) throw IoError(file.string(), "", std::string("cannot open PNG: ") + std::strerror(errno));
   unsigned char signature[8] = {0};
@@ -88,12 +94,10 @@ GrayImage read_semantic_mask(const std::filesystem::path& file) {
     throw ParseError(file.string(), "", "a PNG file (bad signature)");
   }
   std::rewind(f);
-  GrayImage out;
   std::vector<png_bytep> rows;
   const std::string problem = read_gray8(f, out, rows);
   std::fclose(f);
   if (!problem.empty()) throw ParseError(file.string(), "", "expected " + problem);
-  return out;
 }
 
 }  // namespace nsg::nuscenes

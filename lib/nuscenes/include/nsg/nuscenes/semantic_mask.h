@@ -17,5 +17,7 @@ struct GrayImage {
 // Throws IoError if unreadable, ParseError naming the file if it is not a valid PNG or
 // not 8-bit single-channel grayscale (no palette, no alpha, no 16-bit).
 GrayImage read_semantic_mask(const std::filesystem::path& file);
+// The same into `out`, whose buffer is reused (a reader of many masks keeps one).
+void read_semantic_mask(const std::filesystem::path& file, GrayImage& out);
 
 }  // namespace nsg::nuscenes
