@@ -9,7 +9,10 @@
 # Targets (exit 1 when one is missed; BENCH_REPORT_ONLY=1 only reports):
 #   RGB only:        camera stage ≥ 0.75 × the JPEG decode-only rate
 #   RGB + semantics: camera stage ≥ 250 images/s per core
-#   LiDAR:           LiDAR stage ≥ 0.50 × the page-cache read rate of the same sweeps
+#   LiDAR:           LiDAR stage ≥ 0.50 × the page-cache read rate of the same sweeps (each
+#                    file read whole into a buffer of its own, as numpy.fromfile reads them)
+# It also writes OUT_DIR/forecast.md: the time of a full trainval build from these per-core
+# rates (docs/benchmarks.md says how it is derived).
 #   NSG_BENCH_CAMERA_ROUNDS  rounds (default 3)
 set -euo pipefail
 exe=$1 out=$2 release=$3 floor=$4
@@ -34,7 +37,9 @@ for i in $(seq "$rounds"); do
 done
 rm -rf "$work/generate"
 
-"$py" - "$work" "$rounds" "$out/camera.json" <<'PY' | tee "$out/camera.txt"
+# Mean size of a key-frame JPEG of the release (MB), for the forecast's bytes to read.
+jpeg_mb=$(find "$release/samples" -path '*CAM_*' -name '*.jpg' -printf '%s\n' | awk '{s += $1; n++} END {printf "%.4f", n ? s / n / 1e6 : 0.2}')
+"$py" - "$work" "$rounds" "$out/camera.json" "$jpeg_mb" <<'PY' | tee "$out/camera.txt"
 import json, os, re, statistics, sys
 work, rounds, out = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 
@@ -68,6 +73,7 @@ result = {
     "mask_ms": med("mask_ms", lambda r, k: r["floor"][k]),
     "mask_width_px": per_round[0]["floor"]["mask_width_px"],
     "sweep_read_per_s": med("sweeps_per_s", lambda r, k: r["floor"][k]),
+    "sweep_copy_per_s": med("sweeps_copy_per_s", lambda r, k: r["floor"][k]),
     "camera_rgb_per_s": med("images_per_s", lambda r, k: r["rgb"][k]),
     "camera_sem_per_s": med("images_per_s", lambda r, k: r["sem"][k]),
     "lidar_sweeps_per_s": med("sweeps_per_s", lambda r, k: r["rgb"][k]),
@@ -83,13 +89,37 @@ json.dump(result, open(out, "w"), indent=1)
 r = result
 print(f"decode only:  JPEG 1/2 {r['jpeg_ms']:.2f} ms ({r['jpeg_decode_per_s']:.0f}/s), mask {r['mask_ms']:.2f} ms "
       f"({r['mask_width_px']} px wide), JPEG + mask {r['jpeg_mask_decode_per_s']:.0f} images/s; "
-      f"sweeps read {r['sweep_read_per_s']:.0f}/s")
+      f"sweeps read {r['sweep_read_per_s']:.0f}/s (bare copy into a kept buffer {r['sweep_copy_per_s']:.0f}/s)")
 print(f"camera stage: RGB only {r['camera_rgb_per_s']:.0f} images/s = {r['rgb_ratio']:.2f} of decode; "
       f"RGB + semantics {r['camera_sem_per_s']:.0f} images/s = "
       + (f"{r['sem_ratio']:.2f} of decode" if r["sem_ratio"] else "no masks"))
 print(f"LiDAR stage:  {r['lidar_sweeps_per_s']:.0f} sweeps/s = {r['lidar_ratio']:.2f} of the page-cache read rate")
 for name, value, target, _ in targets:
   print(f"{'PASS' if value >= target else 'FAIL'} {name}: {value:.2f} (target ≥ {target:g})")
+
+# Forecast of a full build of the real trainval release from these per-core rates.
+# Work: 34 149 key frames x 6 cameras; LiDAR sweeps: LIDAR_TOP's share of the 2 631 083
+# sample_data (20 Hz of 20 + 6 x 12 + 5 x 13 Hz); bytes: 34 720-point sweeps (20 B a point)
+# and the bench world's mean key-frame JPEG. Perfect scaling over cores; the inputs read
+# at an assumed 1 GB/s from storage (the page cache holds none of them at this size).
+images, sweeps = 34149 * 6, round(2631083 * 20 / (20 + 6 * 12 + 5 * 13))
+jpeg_mb = float(sys.argv[4]) if len(sys.argv) > 4 else 0.2
+read_gb = (sweeps * 34720 * 20 / 1e9) + images * jpeg_mb / 1e3
+cam_s, lidar_s = images / r["camera_sem_per_s"], sweeps / r["lidar_sweeps_per_s"]
+io_s = read_gb  # at 1 GB/s
+lines = ["| cores | camera (RGB + semantics) | LiDAR | CPU both | reading the inputs at 1 GB/s | bound by |",
+         "|---:|---:|---:|---:|---:|---|"]
+fmt = lambda sec: f"{sec / 60:.1f} min" if sec >= 60 else f"{sec:.0f} s"
+for cores in (1, 8, 64):
+  cpu = (cam_s + lidar_s) / cores
+  bound = "storage" if io_s > cpu else ("camera stage" if cam_s >= lidar_s else "LiDAR stage")
+  lines.append(f"| {cores} | {fmt(cam_s / cores)} | {fmt(lidar_s / cores)} | {fmt(cpu)} | {fmt(io_s)} | {bound} |")
+head = (f"Trainval: {images} key-frame images, ≈ {sweeps} LiDAR sweeps, ≈ {read_gb:.0f} GB to read; per core "
+        f"{r['camera_sem_per_s']:.0f} images/s (RGB + semantics) and {r['lidar_sweeps_per_s']:.0f} sweeps/s "
+        f"(bench/camera.sh, median of {rounds} rounds). The camera stage is "
+        f"{100 * cam_s / (cam_s + lidar_s):.0f} % of the CPU time of the two stages.")
+open(os.path.join(os.path.dirname(out), "forecast.md"), "w").write(head + "\n\n" + "\n".join(lines) + "\n")
+print("\nforecast (bench-out/forecast.md):\n" + head + "\n" + "\n".join(lines))
 PY
 if [ "${BENCH_REPORT_ONLY:-}" != 1 ] && grep -q '^FAIL ' "$out/camera.txt"; then
   exit 1

@@ -197,17 +197,20 @@ inline long round_half_away(double x) {
   return whole + static_cast<long>(fraction >= 0.5) - static_cast<long>(fraction <= -0.5);  // no branch to mispredict
 }
 
+// `denom`: camera.jpeg_scale_denom, a power of two (1, 2 or 4), so multiplying by its
+// inverse is exactly the division.
 void sample_rgb(const nuscenes::RgbImage& img, int denom, Candidate& c) {
   // Scaled pixel k averages full pixels [k·d, k·d + d − 1]; pixel centres are integer u, v.
-  const double off = (denom - 1) / 2.0;
-  const double xs = std::clamp((c.u - off) / denom, 0.0, img.width - 1.0);
-  const double ys = std::clamp((c.v - off) / denom, 0.0, img.height - 1.0);
+  const double off = (denom - 1) / 2.0, inverse = 1.0 / denom;
+  const double xs = std::clamp((c.u - off) * inverse, 0.0, img.width - 1.0);
+  const double ys = std::clamp((c.v - off) * inverse, 0.0, img.height - 1.0);
   const int x0 = static_cast<int>(xs), y0 = static_cast<int>(ys);
   const int x1 = std::min(x0 + 1, img.width - 1), y1 = std::min(y0 + 1, img.height - 1);
   const double fx = xs - x0, fy = ys - y0;
+  const uint8_t *p00 = img.at(x0, y0), *p10 = img.at(x1, y0), *p01 = img.at(x0, y1), *p11 = img.at(x1, y1);
   for (int k = 0; k < 3; ++k) {
-    const double top = img.at(x0, y0)[k] * (1 - fx) + img.at(x1, y0)[k] * fx;
-    const double bottom = img.at(x0, y1)[k] * (1 - fx) + img.at(x1, y1)[k] * fx;
+    const double top = p00[k] * (1 - fx) + p10[k] * fx;
+    const double bottom = p01[k] * (1 - fx) + p11[k] * fx;
     c.rgb[k] = static_cast<uint8_t>(std::clamp(round_half_away(top * (1 - fy) + bottom * fy), 0L, 255L));
   }
 }
@@ -238,6 +241,12 @@ int mask_scale_denom(const nuscenes::GrayImage& mask, const ViewGeometry& view) 
   return 0;
 }
 
+// A target's pixel and depth in one image, before the occlusion test.
+struct ViewPixel {
+  uint32_t target;
+  double u, v, depth;
+};
+
 // One worker's buffers, kept from image to image: the decoder, the decoded image and mask
 // and the shadow cells (≈ 1.8 MB at 1600 × 900 with ½-scale decoding, which fresh
 // allocations fault in page by page for every image).
@@ -247,6 +256,7 @@ struct ImageScratch {
   nuscenes::GrayImage mask;
   std::vector<float> shadow_depth;
   std::vector<uint32_t> row_start, order;  // order_by_rows' buffers
+  std::vector<ViewPixel> pixels;           // the views before the occlusion test
 };
 
 // `sweep`: the job's key-frame sweep (nullptr: none, no occlusion test).
@@ -255,9 +265,10 @@ ImageResult process_image(const Database& db, const ImageJob& job, const Occlusi
                           ImageScratch& scratch) {
   ImageResult out;
   const ViewGeometry view = detail::view_geometry(db, job.camera);
-  ShadowBuffer shadows(view, options, scratch.shadow_depth);
-  if (sweep != nullptr) shadows.add_sweep(*sweep, view);
-
+  // The views this image could win, before the occlusion test (which needs the shadow
+  // buffer: built only when there is a view to test, after them).
+  std::vector<ViewPixel>& pixels = scratch.pixels;
+  pixels.clear();
   const double r = options.view_radius_m, r2 = r * r;
   const auto visit_block = [&](size_t begin, size_t end) {
     for (size_t t = begin; t < end; ++t) {
@@ -267,16 +278,7 @@ ImageResult process_image(const Database& db, const ImageJob& job, const Occlusi
       double depth, u, v;
       if (!view.project(p.x, p.y, p.z, options.min_depth_m, depth, u, v) || !view.inside(u, v)) continue;
       if (!best[t].beaten_by(static_cast<float>(depth), job.order)) continue;  // another image saw it better
-      if (shadows.closest(u, v) < depth - options.occlusion_margin_m) {
-        ++out.occluded;
-        continue;
-      }
-      out.candidates.push_back({static_cast<uint32_t>(t),
-                                static_cast<float>(depth),
-                                static_cast<float>(u),
-                                static_cast<float>(v),
-                                {0, 0, 0},
-                                255});
+      pixels.push_back({static_cast<uint32_t>(t), u, v, depth});
     }
   };
   const double block_m = kBlockCells * index.resolution_m;
@@ -289,6 +291,18 @@ ImageResult process_image(const Database& db, const ImageJob& job, const Occlusi
       if (!view.misses_box(block.lo, block.hi, options.min_depth_m, 1.0, view.width - 1.0, 1.0, view.height - 1.0))
         visit_block(block.begin, block.end);
     }
+  }
+  if (pixels.empty()) return out;
+
+  ShadowBuffer shadows(view, options, scratch.shadow_depth);
+  if (sweep != nullptr) shadows.add_sweep(*sweep, view);
+  for (const ViewPixel& x : pixels) {
+    if (shadows.closest(x.u, x.v) < x.depth - options.occlusion_margin_m) {
+      ++out.occluded;
+      continue;
+    }
+    out.candidates.push_back(
+        {x.target, static_cast<float>(x.depth), static_cast<float>(x.u), static_cast<float>(x.v), {0, 0, 0}, 255});
   }
   if (out.candidates.empty()) return out;
 
