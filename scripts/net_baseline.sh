@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # LaneGraphNet's row of `make baselines` (scripts/baselines.sh calls it; NSG_SKIP_NET=1 skips
-# it there): trains the PyTorch network on the demo train split (seed 1, 2 threads), exports
+# it there): trains the PyTorch network on the demo train split (seed 1, 1 thread), exports
 # it to ONNX and runs `nsgraph predict --model net.onnx` (OpenCV dnn + the C++
 # post-processing) on the test split, then scores it. Writes demo-out/baselines/net.{onnx,
 # pairs.onnx,json,score.json,time.json} and the training run in demo-out/baselines/net-run/.
-# NSG_NET_EPOCHS sets the epochs (default 6).
+# NSG_NET_EPOCHS sets the epochs (default: the trainer's).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 # shellcheck source=scripts/model_runs.sh
@@ -13,8 +13,8 @@ ensure_demo_dataset
 export PYTHONPATH="$root/${1:-build}/python${PYTHONPATH:+:$PYTHONPATH}"
 printf '\n== net (LaneGraphNet, PyTorch → ONNX)\n'
 start=$(date +%s%N)
-"$py" -m nsgraph.models.train --dataset "$out/dataset" --split train --out "$dir/net-run" --seed 1 --threads 2 \
-  --epochs "${NSG_NET_EPOCHS:-6}" --resume
+"$py" -m nsgraph.models.train --dataset "$out/dataset" --split train --out "$dir/net-run" --seed 1 --threads 1 \
+  ${NSG_NET_EPOCHS:+--epochs "$NSG_NET_EPOCHS"} --resume
 "$py" -m nsgraph.models.export --model "$dir/net-run/model.pt" --out "$dir/net.onnx"
 mid=$(date +%s%N)
 "$exe" predict -q --model "$dir/net.onnx" --dataset "$out/dataset" --split test --out "$dir/net.json"

@@ -24,8 +24,13 @@ def run_module(module, *args):
     return r
 
 
+# nsgraph.torch's flips, no traffic-reversing mirror and direction weight 1: the smoke model the C++ / Python comparison was built
+# on. With the trainer's defaults, the raised-bias model below has a near-tie between
+# neighbouring heat cells that the two runtimes round to different multiples of 1/4096 on
+# one tile (an anchor chain shifted by a cell): the shared rounding narrows such ties but
+# cannot remove them (docs/lanegraphnet.md).
 TRAIN = ("--split", "train", "--epochs", "2", "--max-tiles", "4", "--batch-size", "2", "--threads", "1",
-         "--own-anchors-from", "0", "--quiet")
+         "--own-anchors-from", "0", "--flips", "--no-mirror", "--direction-weight", "1", "--quiet")
 
 
 def same_weights(a, b):
@@ -78,6 +83,26 @@ class NetTest(unittest.TestCase):
         y = labels.connection_labels(g, g["nodes_px"], pairs)
         self.assertGreater(y.sum(), 0)
         self.assertLess(y.sum(), len(y))
+
+    def test_random_crop(self):
+        # Training on crops: rasters and labels of the window, the graph moved with it.
+        from nsgraph.models import train
+        full = train.NetDataset(self.root, "train", seed=1)
+        cropped = train.NetDataset(self.root, "train", seed=1)
+        cropped.crop_px = 64
+        i = max(range(len(full)), key=lambda k: len(full.tiles[k]["graph"]["edges"]))
+        a, b = full[i], cropped[i]
+        self.assertEqual(tuple(b["inputs"]["rgb"].shape), (3, 64, 64))
+        self.assertEqual(tuple(b["direction"].shape), (16, 16))
+        self.assertEqual(b["size"], 64)
+        u0, v0 = (np.asarray(full.tiles[i]["graph"]["nodes_px"]) - b["graph"]["nodes_px"])[0]
+        self.assertEqual((u0, v0), (int(u0), int(v0)))
+        su, sv = slice(int(u0), int(u0) + 64), slice(int(v0), int(v0) + 64)
+        self.assertTrue(torch.equal(b["inputs"]["lidar"], a["inputs"]["lidar"][:, sv, su]))
+        self.assertTrue(((b["anchors"] >= 0) & (b["anchors"] <= 63)).all())
+        if u0 % 4 == 0 and v0 % 4 == 0:  # cell-aligned window: the same direction labels
+            self.assertTrue(torch.equal(b["direction"], a["direction"][int(v0) // 4:int(v0) // 4 + 16,
+                                                                      int(u0) // 4:int(u0) // 4 + 16]))
 
     def test_onnx_cpp_predict_equals_python(self):
         # A model whose heads fire (after a few steps they barely do): anchor prior and pair
