@@ -1,5 +1,5 @@
 """LaneGraphNet smoke run on the e2e dataset: train a few steps (seeded: twice the same
-weights; a stopped run resumed gives them too) → export to ONNX → `nsgraph predict` through
+weights; a stopped run resumed gives them too) → calibrate the pair cut → export to ONNX → `nsgraph predict` through
 OpenCV dnn → the same graphs as the Python predictor → scored. Plus the PyTorch pair
 pooling against the C++ one the predictors use."""
 import os
@@ -83,6 +83,25 @@ class NetTest(unittest.TestCase):
         y = labels.connection_labels(g, g["nodes_px"], pairs)
         self.assertGreater(y.sum(), 0)
         self.assertLess(y.sum(), len(y))
+
+    def test_calibrate(self):
+        # The head's cut chosen on training tiles: a shift from the grid baked into the last
+        # bias; a second run starts from the uncalibrated head, so it is idempotent.
+        from nsgraph.models import calibrate
+        model = os.path.join(self.tmp.name, "calibrated.pt")
+        torch.save(torch.load(os.path.join(self.run_a, "model.pt")), model)
+        bias = torch.load(model)["head"][calibrate.LAST_BIAS].clone()
+        report = calibrate.calibrate(model, self.root, "train", every=2)
+        self.assertIn(report["shift"], calibrate.SHIFTS)
+        self.assertEqual(report["tiles"], (len(nsgraph.Dataset(self.root, "train")) + 1) // 2)
+        state = torch.load(model)
+        self.assertEqual(state["pair_logit_shift"], report["shift"])
+        torch.testing.assert_close(state["head"][calibrate.LAST_BIAS], bias + report["shift"])
+        best = report["mean_apls_topo_f1"][f"{report['shift']:+.2f}"]
+        self.assertTrue(all(sum(best) >= sum(v) for v in report["mean_apls_topo_f1"].values()))
+        again = calibrate.calibrate(model, self.root, "train", every=2)
+        self.assertEqual(again["mean_apls_topo_f1"], report["mean_apls_topo_f1"])
+        torch.testing.assert_close(torch.load(model)["head"][calibrate.LAST_BIAS], bias + report["shift"])
 
     def test_random_crop(self):
         # Training on crops: rasters and labels of the window, the graph moved with it.
