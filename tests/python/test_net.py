@@ -103,6 +103,26 @@ class NetTest(unittest.TestCase):
         self.assertEqual(again["mean_apls_topo_f1"], report["mean_apls_topo_f1"])
         torch.testing.assert_close(torch.load(model)["head"][calibrate.LAST_BIAS], bias + report["shift"])
 
+    def test_mirror_keeps_the_traffic_side(self):
+        # Mirrored east-west with the traffic reversed: an edge (du, dv) becomes (du, −dv)
+        # (mirrored: (−du, dv), then reversed), a heading h becomes 1 − h + ½; twice = identity.
+        from nsgraph.models import train
+        ds = nsgraph.Dataset(self.root, "train")
+        i = max(range(len(ds)), key=lambda k: (bool((ds[k]["vehicle"] >= 0).any()), len(ds[k]["graph"]["edges"])))
+        tile, once = ds[i], train.mirror_keeping_traffic_side(ds[i])
+        n0, e0 = np.asarray(tile["graph"]["nodes_px"]), np.asarray(tile["graph"]["edges"])
+        n1, e1 = np.asarray(once["graph"]["nodes_px"]), np.asarray(once["graph"]["edges"])
+        v0, v1 = n0[e0[:, 1]] - n0[e0[:, 0]], n1[e1[:, 1]] - n1[e1[:, 0]]
+        np.testing.assert_allclose(v1, v0 * [1.0, -1.0], atol=1e-9)
+        np.testing.assert_array_equal(once["rgb"], tile["rgb"][:, ::-1])
+        has = tile["vehicle"] >= 0
+        self.assertTrue(has.any())
+        np.testing.assert_allclose(once["vehicle"][:, ::-1][has], (1.5 - tile["vehicle"][has]) % 1.0, atol=1e-6)
+        twice = train.mirror_keeping_traffic_side(once)
+        np.testing.assert_allclose(twice["graph"]["nodes_px"], n0)
+        np.testing.assert_array_equal(twice["graph"]["edges"], e0)
+        np.testing.assert_allclose(twice["vehicle"], tile["vehicle"], atol=1e-6)
+
     def test_random_crop(self):
         # Training on crops: rasters and labels of the window, the graph moved with it.
         from nsgraph.models import train
