@@ -1,7 +1,8 @@
 """LaneGraphNet smoke run on the e2e dataset: train a few steps (seeded: twice the same
-weights; a stopped run resumed gives them too) → calibrate the pair cut → export to ONNX → `nsgraph predict` through
-OpenCV dnn → the same graphs as the Python predictor → scored. Plus the PyTorch pair
-pooling against the C++ one the predictors use."""
+weights; a stopped run resumed gives them too) → calibrate the pair cut → export to ONNX →
+`nsgraph predict` through OpenCV dnn → the same graphs as the Python predictor → scored.
+Plus the PyTorch pair pooling against the C++ one the predictors use, the labels, the
+training crops and the traffic-keeping mirror."""
 import os
 import subprocess
 import sys
@@ -24,8 +25,8 @@ def run_module(module, *args):
     return r
 
 
-# nsgraph.torch's flips, no traffic-reversing mirror and direction weight 1: the smoke model the C++ / Python comparison was built
-# on. With the trainer's defaults, the raised-bias model below has a near-tie between
+# nsgraph.torch's flips, no traffic-reversing mirror and direction weight 1: the smoke model
+# the C++ / Python comparison was built on. With the trainer's defaults, the raised-bias model below has a near-tie between
 # neighbouring heat cells that the two runtimes round to different multiples of 1/4096 on
 # one tile (an anchor chain shifted by a cell): the shared rounding narrows such ties but
 # cannot remove them (docs/lanegraphnet.md).

@@ -284,9 +284,9 @@ def main(argv=None):
     save(os.path.join(a.out, "model.pt"), {"net": net.state_dict(), "head": head.state_dict(), "tile_size_px": size,
                                            "stride_px": STRIDE, "seed": a.seed})
     report = {"dataset": os.path.abspath(a.dataset), "split": a.split, "tiles": n, "epochs": a.epochs, "steps": step,
-              "batch_size": a.batch_size, "crop_px": a.crop,
-              "direction_weight": a.direction_weight, "lr": a.lr,
-              "mirror": data.mirror, "flips": a.flips, "seed": a.seed, "threads": a.threads, "train_seconds": round(seconds, 1)}
+              "batch_size": a.batch_size, "crop_px": a.crop, "direction_weight": a.direction_weight, "lr": a.lr,
+              "mirror": data.mirror, "flips": a.flips, "seed": a.seed, "threads": a.threads,
+              "train_seconds": round(seconds, 1)}
     with open(os.path.join(a.out, "train.json"), "w") as f:
         json.dump(report, f, indent=1)
     if not a.quiet:
