@@ -59,6 +59,16 @@ class NetTest(unittest.TestCase):
         run_module("nsgraph.models.train", "--dataset", self.root, "--out", run_b, *TRAIN, "--resume")
         self.assertTrue(same_weights(os.path.join(self.run_a, "model.pt"), os.path.join(run_b, "model.pt")))
 
+    def test_crops_and_mirror_are_seeded(self):
+        # The trainer's defaults (random crops, traffic-keeping mirror) repeat too.
+        args = ("--split", "train", "--epochs", "1", "--max-tiles", "4", "--batch-size", "2", "--crop", "64",
+                "--own-anchors-from", "0", "--quiet")
+        runs = [os.path.join(self.tmp.name, f"crop{k}") for k in (1, 2)]
+        for run in runs:
+            run_module("nsgraph.models.train", "--dataset", self.root, "--out", run, *args)
+        self.assertTrue(same_weights(*(os.path.join(r, "model.pt") for r in runs)))
+        self.assertFalse(same_weights(os.path.join(self.run_a, "model.pt"), os.path.join(runs[0], "model.pt")))
+
     def test_pair_pooling_matches_cpp(self):
         rng = np.random.default_rng(3)
         feats = rng.normal(size=(lanegraphnet.PAIR_FEATURES, 32, 32)).astype(np.float32)
