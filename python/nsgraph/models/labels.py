@@ -92,9 +92,9 @@ def connection_labels(graph, points, pairs):
 
 
 def jittered_nodes(nodes_px, size_px, rng, drop=0.1, sigma_px=1.0):
-    """Training anchors near the ground truth: each node kept with 1 − drop, moved by
-    N(0, σ²) per axis, clipped into the tile."""
+    """Training anchors near the ground truth: each node inside the tile kept with
+    1 − drop, moved by N(0, σ²) per axis, clipped into the tile."""
     n = np.asarray(nodes_px, np.float64).reshape(-1, 2)
-    keep = rng.random(len(n)) >= drop
+    keep = (rng.random(len(n)) >= drop) & (n >= -0.5).all(1) & (n < size_px - 0.5).all(1)
     moved = n + rng.normal(0.0, sigma_px, n.shape)
     return np.clip(moved[keep], 0.0, size_px - 1.0)

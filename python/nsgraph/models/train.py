@@ -18,7 +18,8 @@ import torch
 from torch.nn import functional as F
 
 from .. import _nsgraph
-from ..torch import Augment, TorchDataset
+from ..dataset import LAYERS
+from ..torch import Augment, TorchDataset, _transform
 from . import labels as L
 from .lanegraphnet import (DIRECTION_CLASSES, STRIDE, TILE_MULTIPLE, LaneGraphNet, PairHead, encode_inputs,
                            pair_inputs)
@@ -26,8 +27,45 @@ from .lanegraphnet import (DIRECTION_CLASSES, STRIDE, TILE_MULTIPLE, LaneGraphNe
 PAIR_RADIUS_PX = _nsgraph.net_graph_options()["pair_radius_px"]
 
 
+def mirror_keeping_traffic_side(tile):
+    """The tile mirrored east-west with the traffic reversed: a plain mirror image drives on
+    the other side of the road (the yellow line moves to the right of the travel
+    direction, the road edge to its left), so the edges and the vehicle headings are
+    reversed too and the markings keep saying which way the lanes go."""
+    _transform(tile, "flip_u")
+    graph = dict(tile["graph"])
+    graph["edges"] = np.ascontiguousarray(np.asarray(graph["edges"])[:, ::-1])
+    tile["graph"] = graph
+    if "vehicle" in tile:
+        v = tile["vehicle"].copy()
+        has = v >= 0
+        v[has] = ((v[has].astype(np.float64) + 0.5) % 1.0).astype(np.float32)
+        tile["vehicle"] = v
+    return tile
+
+
+def random_crop(tile, crop_px, rng):
+    """The tile cut to a random crop_px × crop_px window (rasters and graph coordinates;
+    nodes outside the window stay, so lanes crossing its border keep their direction)."""
+    h, w = tile["coverage"].shape
+    u0, v0 = int(rng.integers(0, w - crop_px + 1)), int(rng.integers(0, h - crop_px + 1))
+    for m in LAYERS:
+        if m in tile:
+            tile[m] = np.ascontiguousarray(tile[m][v0:v0 + crop_px, u0:u0 + crop_px])
+    graph = dict(tile["graph"])
+    graph["nodes_px"] = np.asarray(graph["nodes_px"], np.float64) - (u0, v0)
+    tile["graph"] = graph
+    return tile
+
+
 class NetDataset(TorchDataset):
-    """nsgraph.torch's dataset and augmentations, yielding the network's inputs and labels."""
+    """nsgraph.torch's dataset and augmentations, yielding the network's inputs and labels
+    (on a random crop_px window of each tile when crop_px is set: cheaper steps, more of
+    them — the network is fully convolutional; mirrored with the traffic reversed, half of
+    the time, when mirror is set)."""
+
+    crop_px = 0
+    mirror = False
 
     def __getitem__(self, i):
         tile = self.tiles[i]
@@ -37,6 +75,11 @@ class NetDataset(TorchDataset):
         if size % TILE_MULTIPLE or tile["coverage"].shape[1] != size:
             raise ValueError(f"tile {tile['key']}: LaneGraphNet needs square tiles whose side is a multiple of "
                              f"{TILE_MULTIPLE} px, got {tile['coverage'].shape}")
+        if self.mirror and np.random.default_rng([self.seed, self.epoch, int(i), 3]).random() < 0.5:
+            mirror_keeping_traffic_side(tile)
+        if 0 < self.crop_px < size:
+            random_crop(tile, self.crop_px, np.random.default_rng([self.seed, self.epoch, int(i), 2]))
+            size = self.crop_px
         graph = {k: tile["graph"][k] for k in ("nodes_px", "edges", "lane_tokens")}
         heat, offset, mask = L.anchor_targets(graph["nodes_px"], size)
         jitter_rng = np.random.default_rng([self.seed, self.epoch, int(i), 1])
@@ -139,24 +182,35 @@ def parse_args(argv=None):
     p.add_argument("--dataset", required=True, help="dataset folder (manifest.json) from nsgraph generate")
     p.add_argument("--split", default="train")
     p.add_argument("--out", required=True, help="run folder: checkpoint.pt, model.pt, train.json")
-    p.add_argument("--epochs", type=int, default=8)
-    p.add_argument("--batch-size", type=int, default=4)
+    p.add_argument("--epochs", type=int, default=60)
+    p.add_argument("--batch-size", type=int, default=8)
     p.add_argument("--lr", type=float, default=3e-3)
+    p.add_argument("--crop", type=int, default=128,
+                   help="train on random CROP × CROP px windows of the tiles (a multiple of 64; 0 = whole tiles)")
+    p.add_argument("--direction-weight", type=float, default=2.0, help="weight of LaneDirNet's loss")
     p.add_argument("--max-tiles", type=int, default=0, help="use only the first N tiles (0 = all)")
     p.add_argument("--max-steps", type=int, default=0, help="stop after N steps in total (0 = all epochs)")
     p.add_argument("--own-anchors-from", type=int, default=1,
                    help="epoch from which the relationship head also trains on the network's own anchors")
     p.add_argument("--seed", type=int, default=1)
-    p.add_argument("--threads", type=int, default=2, help="torch threads (fixed: results depend on it)")
+    p.add_argument("--threads", type=int, default=1,
+                   help="torch threads (fixed: results depend on it; 1 is fastest on a shared 2-core machine, "
+                        "where OpenMP's spinning barriers waste the other core)")
     p.add_argument("--resume", action="store_true", help="continue from OUT/checkpoint.pt")
     p.add_argument("--stop-after", type=int, default=0,
                    help="end this run after N epochs (a checkpoint to --resume from; 0 = train to the end)")
     p.add_argument("--no-augment", action="store_true")
+    p.add_argument("--flips", action="store_true",
+                   help="nsgraph.torch's mirror flips (off: they swap the traffic side, edges kept)")
+    p.add_argument("--no-mirror", action="store_true",
+                   help="no mirroring with the traffic reversed (on by default, half of the tiles)")
     p.add_argument("--quiet", action="store_true")
     a = p.parse_args(argv)
     for name in ("epochs", "batch_size", "threads"):
         if getattr(a, name) < 1:
             p.error(f"--{name.replace('_', '-')}: expected ≥ 1")
+    if a.crop < 0 or a.crop % TILE_MULTIPLE:
+        p.error(f"--crop {a.crop}: expected 0 or a multiple of {TILE_MULTIPLE}")
     return a
 
 
@@ -165,10 +219,16 @@ def main(argv=None):
     torch.manual_seed(a.seed)
     torch.use_deterministic_algorithms(True)
     torch.set_num_threads(a.threads)
+    torch.set_flush_denormal(True)
     os.makedirs(a.out, exist_ok=True)
+    # nsgraph.torch's flips mirror the road but keep the edges' direction: the mirrored road
+    # drives on the other side, which teaches LaneDirNet that markings say nothing about
+    # direction (--flips, off by default); the trainer's own mirror reverses the traffic too.
     augment = None if a.no_augment else Augment(dropout={"rgb": 0.05, "semantic": 0.05, "vehicle": 0.1},
-                                                 brightness=0.1, contrast=0.1, flips=True, rot90=True)
+                                                 brightness=0.1, contrast=0.1, flips=a.flips, rot90=True)
     data = NetDataset(a.dataset, a.split, augment=augment, seed=a.seed)
+    data.crop_px = a.crop
+    data.mirror = not a.no_augment and not a.no_mirror
     n = len(data) if a.max_tiles <= 0 else min(a.max_tiles, len(data))
     if n == 0:
         sys.exit(f"{a.dataset}: split '{a.split}' has no tiles")
@@ -203,7 +263,7 @@ def main(argv=None):
                 break
             batch = collate([data[i] for i in order[s * a.batch_size:(s + 1) * a.batch_size]])
             parts = losses(net, head, batch, use_own_anchors=epoch >= a.own_anchors_from)
-            loss = parts["heat"] + parts["offset"] + parts["direction"] + parts["pairs"]
+            loss = parts["heat"] + parts["offset"] + a.direction_weight * parts["direction"] + parts["pairs"]
             opt.zero_grad()
             loss.backward()
             torch.nn.utils.clip_grad_norm_(params, 5.0)
@@ -224,7 +284,9 @@ def main(argv=None):
     save(os.path.join(a.out, "model.pt"), {"net": net.state_dict(), "head": head.state_dict(), "tile_size_px": size,
                                            "stride_px": STRIDE, "seed": a.seed})
     report = {"dataset": os.path.abspath(a.dataset), "split": a.split, "tiles": n, "epochs": a.epochs, "steps": step,
-              "batch_size": a.batch_size, "seed": a.seed, "threads": a.threads, "train_seconds": round(seconds, 1)}
+              "batch_size": a.batch_size, "crop_px": a.crop, "direction_weight": a.direction_weight, "lr": a.lr,
+              "mirror": data.mirror, "flips": a.flips, "seed": a.seed, "threads": a.threads,
+              "train_seconds": round(seconds, 1)}
     with open(os.path.join(a.out, "train.json"), "w") as f:
         json.dump(report, f, indent=1)
     if not a.quiet:
