@@ -11,7 +11,7 @@
 #   RGB + semantics: camera stage ≥ 250 images/s per core
 #   LiDAR:           LiDAR stage ≥ 0.50 × the page-cache read rate of the same sweeps (each
 #                    file read whole into a buffer of its own, as numpy.fromfile reads them)
-# It also writes OUT_DIR/forecast.md: the time of a full trainval build from these per-core
+# It also writes OUT_DIR/forecast.txt: the time of a full trainval build from these per-core
 # rates (docs/benchmarks.md says how it is derived).
 #   NSG_BENCH_CAMERA_ROUNDS  rounds (default 3)
 set -euo pipefail
@@ -118,8 +118,8 @@ head = (f"Trainval: {images} key-frame images, ≈ {sweeps} LiDAR sweeps, ≈ {r
         f"{r['camera_sem_per_s']:.0f} images/s (RGB + semantics) and {r['lidar_sweeps_per_s']:.0f} sweeps/s "
         f"(bench/camera.sh, median of {rounds} rounds). The camera stage is "
         f"{100 * cam_s / (cam_s + lidar_s):.0f} % of the CPU time of the two stages.")
-open(os.path.join(os.path.dirname(out), "forecast.md"), "w").write(head + "\n\n" + "\n".join(lines) + "\n")
-print("\nforecast (bench-out/forecast.md):\n" + head + "\n" + "\n".join(lines))
+open(os.path.join(os.path.dirname(out), "forecast.txt"), "w").write(head + "\n\n" + "\n".join(lines) + "\n")
+print("\nforecast (bench-out/forecast.txt):\n" + head + "\n" + "\n".join(lines))
 PY
 if [ "${BENCH_REPORT_ONLY:-}" != 1 ] && grep -q '^FAIL ' "$out/camera.txt"; then
   exit 1
