@@ -42,10 +42,18 @@ struct Target {
   CellIndex cell;
 };
 
-// A LiDAR block's targets: their [begin, end) range and the box around them.
-struct TargetBlock {
+// A run of targets: their [begin, end) range and the box around them.
+struct TargetRange {
   size_t begin = 0, end = 0;
-  float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};  // x, y, z bounds of the block's targets
+  float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};  // x, y, z bounds of the range's targets
+};
+
+// A LiDAR block's targets, in parts of kPartCells² cells (the frustum test skips the
+// parts outside a camera's view inside a block it sees in part).
+constexpr int kPartCells = 16;
+struct TargetBlock {
+  TargetRange all;
+  std::vector<TargetRange> parts;  // the non-empty parts, in order
 };
 
 // The targets sorted by LiDAR block, with each block's range and bounds, so an image
@@ -89,15 +97,34 @@ void visit_targets(const LidarLayer& lidar, const std::vector<CellRect>& regions
   });
 }
 
-TargetBlock bound_block(const std::vector<Target>& targets, size_t begin) {
-  TargetBlock block{begin, targets.size(), {}, {}};
+TargetRange bound_range(const std::vector<Target>& targets, size_t begin, size_t end) {
+  TargetRange range{begin, end, {}, {}};
   const Target& first = targets[begin];
-  for (int a = 0; a < 3; ++a) block.lo[a] = block.hi[a] = (&first.x)[a];
-  for (size_t t = begin; t < targets.size(); ++t) {
+  for (int a = 0; a < 3; ++a) range.lo[a] = range.hi[a] = (&first.x)[a];
+  for (size_t t = begin; t < end; ++t) {
     for (int a = 0; a < 3; ++a) {
-      block.lo[a] = std::min(block.lo[a], (&targets[t].x)[a]);
-      block.hi[a] = std::max(block.hi[a], (&targets[t].x)[a]);
+      range.lo[a] = std::min(range.lo[a], (&targets[t].x)[a]);
+      range.hi[a] = std::max(range.hi[a], (&targets[t].x)[a]);
     }
+  }
+  return range;
+}
+
+// Orders the block's targets [begin, end) part by part and bounds each part. (The order
+// of the targets does not show in the layer: each is a cell of its own.)
+TargetBlock bound_block(std::vector<Target>& targets, size_t begin) {
+  const auto part_of = [](const Target& t) {
+    const auto in_block = [](int64_t i) { return static_cast<int>(((i % kBlockCells) + kBlockCells) % kBlockCells); };
+    return (in_block(t.cell.row) / kPartCells) * (kBlockCells / kPartCells) + in_block(t.cell.col) / kPartCells;
+  };
+  std::stable_sort(targets.begin() + static_cast<std::ptrdiff_t>(begin), targets.end(),
+                   [&](const Target& a, const Target& b) { return part_of(a) < part_of(b); });
+  TargetBlock block{bound_range(targets, begin, targets.size()), {}};
+  for (size_t first = begin; first < targets.size();) {
+    size_t last = first;
+    while (last < targets.size() && part_of(targets[last]) == part_of(targets[first])) ++last;
+    block.parts.push_back(bound_range(targets, first, last));
+    first = last;
   }
   return block;
 }
@@ -287,9 +314,13 @@ ImageResult process_image(const Database& db, const ImageJob& job, const Occlusi
     for (int64_t bx = block_floor(view.ego_x - r); bx <= block_floor(view.ego_x + r); ++bx) {
       const auto it = index.blocks.find({by, bx});
       if (it == index.blocks.end()) continue;
+      const auto seen = [&](const TargetRange& range) {
+        return !view.misses_box(range.lo, range.hi, options.min_depth_m, 1.0, view.width - 1.0, 1.0, view.height - 1.0);
+      };
       const TargetBlock& block = it->second;
-      if (!view.misses_box(block.lo, block.hi, options.min_depth_m, 1.0, view.width - 1.0, 1.0, view.height - 1.0))
-        visit_block(block.begin, block.end);
+      if (!seen(block.all)) continue;
+      for (const TargetRange& part : block.parts)
+        if (seen(part)) visit_block(part.begin, part.end);
     }
   }
   if (pixels.empty()) return out;
