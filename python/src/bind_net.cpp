@@ -47,6 +47,7 @@ py::dict options_dict() {
   d["pair_radius_px"] = o.pair_radius_px;
   d["segment_samples"] = o.segment_samples;
   d["min_connection_score"] = o.min_connection_score;
+  d["shortcut_radius_px"] = o.shortcut_radius_px;
   d["min_node_score"] = o.extraction.min_node_score;
   d["min_edge_score"] = o.extraction.min_edge_score;
   return d;

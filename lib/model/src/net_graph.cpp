@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <numeric>
 
@@ -19,6 +20,7 @@ void NetGraphOptions::validate() const {
   NSG_CHECK(segment_samples >= 3 && segment_samples <= 64, ConfigError, "", "segment_samples", "in [3, 64]");
   NSG_CHECK(min_connection_score >= 0.0 && min_connection_score <= 1.0, ConfigError, "", "min_connection_score",
             "in [0, 1]");
+  NSG_CHECK(shortcut_radius_px >= 0.0, ConfigError, "", "shortcut_radius_px", "≥ 0 (0 = off)");
   extraction.validate();
 }
 
@@ -168,6 +170,39 @@ cv::Mat net_pair_inputs(const std::vector<cv::Mat>& features, const std::vector<
   return out;
 }
 
+std::vector<bool> non_shortcut_pairs(const std::vector<std::array<double, 2>>& points,
+                                     const std::vector<std::array<int, 2>>& pairs, double radius_px) {
+  std::vector<bool> keep(pairs.size(), true);
+  if (radius_px <= 0.0) return keep;
+  std::vector<std::vector<int>> neighbours(points.size());
+  for (const auto& p : pairs) {
+    neighbours[static_cast<size_t>(p[0])].push_back(p[1]);
+    neighbours[static_cast<size_t>(p[1])].push_back(p[0]);
+  }
+  for (auto& n : neighbours) std::sort(n.begin(), n.end());
+  std::vector<int> common;
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    const auto& a = points[static_cast<size_t>(pairs[k][0])];
+    const auto& c = points[static_cast<size_t>(pairs[k][1])];
+    const double du = c[0] - a[0], dv = c[1] - a[1], length2 = du * du + dv * dv;
+    if (length2 <= 0.0) continue;
+    const auto& na = neighbours[static_cast<size_t>(pairs[k][0])];
+    const auto& nc = neighbours[static_cast<size_t>(pairs[k][1])];
+    common.clear();
+    std::set_intersection(na.begin(), na.end(), nc.begin(), nc.end(), std::back_inserter(common));
+    for (int m : common) {
+      const auto& b = points[static_cast<size_t>(m)];
+      const double t = ((b[0] - a[0]) * du + (b[1] - a[1]) * dv) / length2;
+      if (t <= 0.0 || t >= 1.0) continue;
+      if (std::hypot(a[0] + t * du - b[0], a[1] + t * dv - b[1]) <= radius_px) {
+        keep[k] = false;
+        break;
+      }
+    }
+  }
+  return keep;
+}
+
 metrics::Graph net_graph(const AnchorSet& anchors, const std::vector<std::array<int, 2>>& pairs,
                          const std::vector<double>& pair_scores, int tile_size_px, const NetGraphOptions& o) {
   o.validate();
@@ -186,6 +221,15 @@ metrics::Graph net_graph(const AnchorSet& anchors, const std::vector<std::array<
     kept.pairs.push_back(pairs[k]);
     kept_scores.push_back(pair_scores[k]);
   }
+  const std::vector<bool> keep = non_shortcut_pairs(kept.nodes, kept.pairs, o.shortcut_radius_px);
+  size_t n = 0;
+  for (size_t k = 0; k < keep.size(); ++k)
+    if (keep[k]) {
+      kept.pairs[n] = kept.pairs[k];
+      kept_scores[n++] = kept_scores[k];
+    }
+  kept.pairs.resize(n);
+  kept_scores.resize(n);
   // The rule and the direction angle as for the forests; the likelihood only feeds edge
   // scores, replaced by the pair scores.
   const cv::Mat no_likelihood = cv::Mat::zeros(tile_size_px, tile_size_px, CV_32F);

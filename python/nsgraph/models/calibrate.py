@@ -26,7 +26,7 @@ from ..scoring import score_tile
 from .lanegraphnet import encode_inputs
 from .predict import load
 
-SHIFTS = (-0.7, 0.0, 0.35, 0.7, 1.05, 1.4, 1.75, 2.1, 2.8)   # added to the pair logit
+SHIFTS = (-0.7, 0.0, 0.35, 0.7, 1.05, 1.4, 1.75, 2.1, 2.45, 2.8, 3.5)   # added to the pair logit
 LAST_BIAS = "mlp.4.bias"                                       # PairHead's output layer
 
 

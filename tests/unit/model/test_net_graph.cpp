@@ -77,4 +77,33 @@ TEST(NetGraph, GraphKeepsAcceptedPairsOrientedByTheVotes) {
   EXPECT_THROW(net_graph(a, {{0, 3}}, {0.9}, 64, NetGraphOptions{}), nsg::DataError);
 }
 
+TEST(NetGraph, ShortcutsAcrossAnIntermediateAnchorAreRemoved) {
+  // a → b → c along one lane, b 1 px off the segment a–c; d 8 px off a–e's segment.
+  const std::vector<std::array<double, 2>> pts = {{10, 10}, {20, 11}, {30, 10}, {40, 18}, {50, 10}};
+  const std::vector<std::array<int, 2>> pairs = {{0, 1}, {1, 2}, {0, 2}, {2, 3}, {3, 4}, {2, 4}};
+  EXPECT_EQ(non_shortcut_pairs(pts, pairs, 6.0), (std::vector<bool>{true, true, false, true, true, true}));
+  EXPECT_EQ(non_shortcut_pairs(pts, pairs, 10.0), (std::vector<bool>{true, true, false, true, true, false}));
+  EXPECT_EQ(non_shortcut_pairs(pts, pairs, 0.0), std::vector<bool>(6, true));  // off
+  // Only pairs accepted with both ends count: without b → c, a → c is a connection of its own.
+  EXPECT_EQ(non_shortcut_pairs(pts, {{0, 1}, {0, 2}}, 6.0), (std::vector<bool>{true, true}));
+
+  AnchorSet a;
+  a.points = {{10.0, 10.0}, {20.0, 11.0}, {30.0, 10.0}};
+  a.scores = {0.9, 0.9, 0.9};
+  Votes east{};
+  east[0] = 1.0f;  // 0–20°
+  a.votes = {east, east, east};
+  for (const auto& v : a.votes) a.mean_dir.push_back(mean_direction_px(v));
+  const nsg::metrics::Graph g = net_graph(a, {{0, 1}, {1, 2}, {0, 2}}, {0.9, 0.8, 0.95}, 128, NetGraphOptions{});
+  ASSERT_EQ(g.edges.size(),
+            2u);  // a → c accepted by the head (0.95), removed as a shortcut (128 px tile: 20 px edges allowed)
+  EXPECT_EQ(g.edges[0], (std::array<int64_t, 2>{0, 1}));
+  EXPECT_EQ(g.edges[1], (std::array<int64_t, 2>{1, 2}));
+  NetGraphOptions off;
+  off.shortcut_radius_px = 0.0;
+  EXPECT_EQ(net_graph(a, {{0, 1}, {1, 2}, {0, 2}}, {0.9, 0.8, 0.95}, 128, off).edges.size(), 3u);
+  off.shortcut_radius_px = -1.0;
+  EXPECT_THROW(off.validate(), nsg::ConfigError);
+}
+
 }  // namespace

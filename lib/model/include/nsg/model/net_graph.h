@@ -18,13 +18,18 @@
 namespace nsg::model {
 
 struct NetGraphOptions {
-  int stride_px = 4;                                    // one output cell = stride × stride pixels
-  double anchor_threshold = 0.3;                        // heatmap peaks below are not anchors
-  double nms_radius_px = 6.0;                           // no two anchors closer (the GT spacing is ≤ 10 px)
-  int vote_radius_cells = 1;                            // direction votes summed over (2r + 1)² cells
-  double pair_radius_px = 30.0;                         // candidate pairs: anchors at most 6 m apart
-  int segment_samples = 5;                              // pooling points from one anchor to the other, ends included
-  double min_connection_score = 0.5;                    // the relationship head's decision
+  int stride_px = 4;                  // one output cell = stride × stride pixels
+  double anchor_threshold = 0.3;      // heatmap peaks below are not anchors
+  double nms_radius_px = 6.0;         // no two anchors closer (the GT spacing is ≤ 10 px)
+  int vote_radius_cells = 1;          // direction votes summed over (2r + 1)² cells
+  double pair_radius_px = 30.0;       // candidate pairs: anchors at most 6 m apart
+  int segment_samples = 5;            // pooling points from one anchor to the other, ends included
+  double min_connection_score = 0.5;  // the relationship head's decision
+  // An accepted pair (a, c) is a shortcut when a third anchor b, accepted with both, lies
+  // within this distance of the segment a–c (projecting inside it): the head accepts a→c
+  // as well as a→b→c along one lane, and a→c would add a connection the lane does not
+  // have. Shortcuts are removed (0 = off). Chosen on training tiles (docs/lanegraphnet.md).
+  double shortcut_radius_px = 6.0;
   ExtractionOptions extraction = default_extraction();  // the shared post-processing
   void validate() const;                                // ConfigError naming the field
 
@@ -66,9 +71,15 @@ float sample_clamped(const cv::Mat& map, double cu, double cv);
 cv::Mat net_pair_inputs(const std::vector<cv::Mat>& features, const std::vector<std::array<double, 2>>& points,
                         const std::vector<std::array<int, 2>>& pairs, const NetGraphOptions& options);
 
-// The graph: pairs scoring ≥ min_connection_score, oriented by the paper's rule from the
-// anchors' votes; node scores = anchor scores, edge scores = pair scores; then the shared
-// post-processing.
+// The accepted pairs without their shortcuts (see shortcut_radius_px): every pair is
+// judged against the accepted set as given, so the result does not depend on its order.
+// Returns a mask over `pairs`.
+std::vector<bool> non_shortcut_pairs(const std::vector<std::array<double, 2>>& points,
+                                     const std::vector<std::array<int, 2>>& pairs, double radius_px);
+
+// The graph: pairs scoring ≥ min_connection_score that are not shortcuts, oriented by the
+// paper's rule from the anchors' votes; node scores = anchor scores, edge scores = pair
+// scores; then the shared post-processing.
 metrics::Graph net_graph(const AnchorSet& anchors, const std::vector<std::array<int, 2>>& pairs,
                          const std::vector<double>& pair_scores, int tile_size_px, const NetGraphOptions& options);
 
