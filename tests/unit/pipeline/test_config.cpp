@@ -108,10 +108,18 @@ TEST(GenerateConfig, SchemaSampleAndDocsEqualWhatTheDeclarationsGive) {
   ASSERT_EQ(defaults.exit_code, 0) << defaults.err;
   EXPECT_EQ(json::parse(defaults.out), json::parse(read_file(source_dir() / "samples/generate.json")))
       << "regenerate: nsgraph generate --print-config > samples/generate.json";
-  const CommandResult md = run_nsgraph({"generate", "--list-options", "--format", "md"});
-  ASSERT_EQ(md.exit_code, 0) << md.err;
-  EXPECT_EQ(md.out, read_file(source_dir() / "docs/options.md"))
-      << "regenerate: nsgraph generate --list-options --format md > docs/options.md";
+  // docs/options.md: a title, then each command's section as its --format md prints it.
+  std::string sections;
+  for (const char* command : {"generate", "synth", "train"}) {
+    const CommandResult md = run_nsgraph({command, "--list-options", "--format", "md"});
+    ASSERT_EQ(md.exit_code, 0) << md.err;
+    sections += (sections.empty() ? "" : "\n") + md.out;
+  }
+  const std::string doc = read_file(source_dir() / "docs/options.md");
+  const size_t first = doc.find("## `nsgraph generate` options");
+  ASSERT_NE(first, std::string::npos);
+  EXPECT_EQ(doc.substr(first), sections) << "regenerate the sections: nsgraph <generate|synth|train> --list-options "
+                                            "--format md, joined by an empty line, after the title";
 }
 
 TEST(GenerateConfig, CheckOfACodeBuiltConfigUsesTheDeclarations) {
