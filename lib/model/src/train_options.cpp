@@ -203,6 +203,7 @@ const Table<ModelOptions>& model_option_table() {
 const Table<TrainConfig>& train_option_table() {
   static const Table<TrainConfig> table = [] {
     Table<TrainConfig> t;
+    options::schema_version_option(t);
     t.text("split", &TrainConfig::split).non_empty().help("Split of the dataset to train on");
     t.include(&TrainConfig::model, model_option_table());
     return t;

@@ -144,12 +144,7 @@ const options::Table<OutputOptions>& output_option_table() {
 const options::Table<GenerateConfig>& generate_option_table() {
   static const options::Table<GenerateConfig> table = [] {
     options::Table<GenerateConfig> t;
-    t.shape(
-         "schema_version", "\"1\"", {{"const", "1"}}, [](const GenerateConfig&) { return ordered_json("1"); },
-         [](GenerateConfig&, const json& v, const Spec& s) {
-           if (v != "1") options::reject(v, s);
-         })
-        .help("Version of this format");
+    options::schema_version_option(t);
     t.text("dataroot", &GenerateConfig::dataroot)
         .help("nuScenes dataroot (\"\" in a config file: given by --dataroot)");
     t.text("version", &GenerateConfig::version).help("Release version, e.g. v1.0-trainval or v1.0-mini");

@@ -296,6 +296,7 @@ const std::vector<std::string>& all_camera_channels() {
 const Table<SynthConfig>& synth_option_table() {
   static const Table<SynthConfig> table = [] {
     Table<SynthConfig> t;
+    options::schema_version_option(t);
     t.choice("location", &SynthConfig::location,
              std::vector<std::pair<std::string, std::string>>{{"singapore-onenorth", "singapore-onenorth"},
                                                               {"singapore-hollandvillage", "singapore-hollandvillage"},

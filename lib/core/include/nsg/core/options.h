@@ -264,6 +264,18 @@ std::string list_options(const std::vector<Spec>& specs, const OrderedJson& defa
 // The value at a dotted key of a nested document (null when absent).
 OrderedJson value_at(const OrderedJson& doc, const std::string& dotted_key);
 
+// "schema_version": the format's version "1" (optional in a file; any other value is refused).
+template <typename Owner>
+Option<Owner>& schema_version_option(Table<Owner>& t) {
+  return t
+      .shape(
+          "schema_version", "\"1\"", {{"const", "1"}}, [](const Owner&) { return OrderedJson("1"); },
+          [](Owner&, const Json& v, const Spec& s) {
+            if (v != "1") reject(v, s);
+          })
+      .help("Version of this format");
+}
+
 template <typename Owner>
 OrderedJson Table<Owner>::to_json(const Owner& owner) const {
   OrderedJson doc = OrderedJson::object();
