@@ -1,5 +1,5 @@
-// Scoring (metrics::score, the CLI's submission checks) and the submission writer
-// (model::write_submission) for nsgraph.score / score_tile / write_submission.
+// Scoring (metrics::score_submission, the CLI's sequence) and the submission writer
+// (metrics::write_submission) for nsgraph.score / score_tile / write_submission.
 #include <filesystem>
 #include <optional>
 
@@ -9,8 +9,8 @@
 #include "nsg/core/json.h"
 #include "nsg/metrics/io.h"
 #include "nsg/metrics/score.h"
+#include "nsg/metrics/score_submission.h"
 #include "nsg/metrics/submission_input.h"
-#include "nsg/model/model.h"
 
 namespace nsg::py_bind {
 namespace {
@@ -38,14 +38,6 @@ metrics::CheckedSubmission checked_submission(const std::string& source, bool is
   return metrics::check_submission_text(source, label, schemas_dir);
 }
 
-// The ground truth as `nsgraph score --ground-truth` takes it (a dataset folder and its
-// split, or a submission-format file), or a submission-format document in memory.
-metrics::GraphSet ground_truth(const std::string& source, bool is_path, const std::string& split,
-                               const std::string& label) {
-  if (is_path) return metrics::load_ground_truth(source, split);
-  return metrics::graphs_from_submission(parse_json(source, label), label);
-}
-
 metrics::Graph graph_arg(const Points& nodes, const Pairs& edges, const std::string& what) {
   metrics::Graph g;
   for (const auto& p : points_arg(nodes, what + " nodes")) g.nodes.push_back({p[0], p[1]});
@@ -67,27 +59,29 @@ metrics::ScoreOptions score_options(const std::string& params_json, int threads)
   return o;
 }
 
+// A source as nsgraph.score passes it: a path, or submission-format JSON text.
+metrics::ScoreSource score_source(const std::string& source, bool is_path, const std::string& label) {
+  if (is_path) return {source, std::nullopt, label};
+  return metrics::ScoreSource::memory(source, label);
+}
+
 // (report dict, []) or (None, issues) when the submission has problems (the CLI's exit 1).
 py::tuple score(const std::string& gt, bool gt_is_path, const std::string& sub, bool sub_is_path,
                 const std::string& split, const std::string& params_json, int threads, const std::string& schemas_dir,
                 const std::string& gt_label, const std::string& sub_label) {
-  const metrics::ScoreOptions options = score_options(params_json, threads);
-  metrics::ScoreReport report;
-  Issues issues;
+  metrics::SubmissionScoreOptions options;
+  options.score = score_options(params_json, threads);
+  options.split = split;
+  options.schemas_dir = schemas_dir;
+  metrics::ScoredSubmission scored;
   {
     py::gil_scoped_release release;
-    metrics::CheckedSubmission checked = checked_submission(sub, sub_is_path, sub_label, schemas_dir);
-    issues = std::move(checked.issues);
-    if (issues.empty()) {
-      const metrics::GraphSet truth = ground_truth(gt, gt_is_path, split, gt_label);
-      report = metrics::score(truth, checked.graphs, options);
-      report.ground_truth = gt_label;
-      report.submission = sub_label;
-      report.split = split;
-    }
+    scored = metrics::score_submission(score_source(gt, gt_is_path, gt_label),
+                                       score_source(sub, sub_is_path, sub_label), options);
   }
-  if (!issues.empty()) return py::make_tuple(py::none(), issues_to_py(issues), printable_utf8(issues.format()));
-  return py::make_tuple(json_to_py(metrics::report_to_json(report)), py::list(), "");
+  if (!scored.scored())
+    return py::make_tuple(py::none(), issues_to_py(scored.issues), printable_utf8(scored.issues.format()));
+  return py::make_tuple(json_to_py(metrics::report_to_json(scored.report)), py::list(), "");
 }
 
 py::object score_tile(const Points& gt_nodes, const Pairs& gt_edges, std::optional<Points> pred_nodes,
@@ -104,7 +98,7 @@ py::object score_tile(const Points& gt_nodes, const Pairs& gt_edges, std::option
   return json_to_py(metrics::measurement_to_json(m));
 }
 
-// Writes with the reference model's writer, then checks the file like `nsgraph score`
+// Writes with the writer `nsgraph predict` uses, then checks the file like `nsgraph score`
 // would; a file with problems is removed and the issues returned.
 py::tuple write_submission(const std::string& path, const std::vector<std::string>& keys,
                            const std::vector<Points>& nodes, const std::vector<Pairs>& edges,
@@ -121,7 +115,7 @@ py::tuple write_submission(const std::string& path, const std::vector<std::strin
   Issues issues;
   {
     py::gil_scoped_release release;
-    model::write_submission(graphs, path);
+    metrics::write_submission(graphs, path);
     issues = metrics::check_submission_file(path, schemas_dir).issues;
     if (!issues.empty()) fs::remove(path);
   }

@@ -9,6 +9,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
 #include "nsg/core/strings.h"
+#include "nsg/metrics/io.h"
 #include "nsg/model/model.h"
 #include "nsg/model/onnx_net.h"
 
@@ -40,7 +41,7 @@ int run_predict(const PredictCliOptions& o, const Context& ctx) {
                                        ? model::predict_dataset(*forest, dataset, o.split, o.threads, !ctx.quiet)
                                        : model::predict_dataset_onnx(o.model, dataset, o.split, o.threads, !ctx.quiet);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  model::write_submission(graphs, o.out);
+  metrics::write_submission(graphs, o.out);
   size_t nodes = 0, edges = 0;
   for (const auto& [key, g] : graphs) {
     nodes += g.nodes.size();

@@ -12,7 +12,7 @@
 #include "nsg/core/strings.h"
 #include "nsg/metrics/io.h"
 #include "nsg/metrics/score.h"
-#include "nsg/metrics/submission_input.h"
+#include "nsg/metrics/score_submission.h"
 
 namespace nsg::cli {
 namespace {
@@ -20,41 +20,26 @@ namespace {
 struct ScoreCliOptions {
   std::string ground_truth;
   std::string submission;
-  std::string split = "test";
   std::string out;              // JSON report file ("" = none)
   std::string format = "json";  // what stdout prints: json | md | csv
-  std::string schemas;          // schemas folder override
-  int threads = 1;
+  metrics::SubmissionScoreOptions lib;
 
   void validate() const {
     NSG_CHECK(format == "json" || format == "md" || format == "csv", ConfigError, "", "--format",
               "json, md or csv, got '" + format + "'");
-    NSG_CHECK(!split.empty(), ConfigError, "", "--split", "a split name");
   }
 };
 
 int run_score(const ScoreCliOptions& o) {
   o.validate();
-  metrics::ScoreOptions options;
-  options.threads = o.threads;
-  options.validate();
-
-  // Read within validate's limits, schema and structural checks (shared with the Python
-  // binding, nsg/metrics/submission_input.h).
-  metrics::CheckedSubmission checked = metrics::check_submission_file(o.submission, o.schemas);
-  const Issues& issues = checked.issues;
-  if (!issues.empty()) {
-    std::fputs(issues.format().c_str(), stderr);
-    log::error(strprintf("%zu problem(s) in submission %s; not scored", issues.size(), o.submission.c_str()));
+  const metrics::ScoredSubmission scored = metrics::score_submission(metrics::ScoreSource::file(o.ground_truth),
+                                                                     metrics::ScoreSource::file(o.submission), o.lib);
+  if (!scored.scored()) {
+    std::fputs(scored.issues.format().c_str(), stderr);
+    log::error(strprintf("%zu problem(s) in submission %s; not scored", scored.issues.size(), o.submission.c_str()));
     return kExitProblems;
   }
-  const metrics::GraphSet pred = std::move(checked.graphs);
-  const metrics::GraphSet gt = metrics::load_ground_truth(o.ground_truth, o.split);
-
-  metrics::ScoreReport report = metrics::score(gt, pred, options);
-  report.ground_truth = o.ground_truth;
-  report.submission = o.submission;
-  report.split = o.split;
+  const metrics::ScoreReport& report = scored.report;
 
   const nlohmann::json json = metrics::report_to_json(report);
   if (!o.out.empty()) write_file_atomic(o.out, json.dump(1) + "\n");
@@ -83,14 +68,14 @@ void add_score_command(CLI::App& parent, Context& ctx) {
   cmd->add_option("--submission", opts->submission,
                   "Submission JSON (schemas/v1/submission.schema.json): a file, or a pipe / /dev/stdin")
       ->required();
-  cmd->add_option("--split", opts->split, "Split of a dataset ground truth")->capture_default_str();
+  cmd->add_option("--split", opts->lib.split, "Split of a dataset ground truth")->capture_default_str();
   cmd->add_option("--out", opts->out, "Write the JSON report here (atomically)");
   cmd->add_option("--format", opts->format, "What stdout prints: json, md (paper-style table) or csv (per tile)")
       ->capture_default_str();
-  cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores); output does not depend on it")
+  cmd->add_option("--threads", opts->lib.score.threads, "Worker threads (0 = all cores); output does not depend on it")
       ->capture_default_str();
-  cmd->add_option("--schemas", opts->schemas, "Folder of the published schemas (default: installed/source)");
-  const validate::SubmissionLimits limits;
+  cmd->add_option("--schemas", opts->lib.schemas_dir, "Folder of the published schemas (default: installed/source)");
+  const validate::SubmissionLimits& limits = opts->lib.limits;
   cmd->footer(strprintf(
       "Limits (a submission beyond them is refused, exit 1, before scoring): a file or stream (--submission may be a\n"
       "pipe, e.g. /dev/stdin) of at most %lld MiB; per tile at most %lld nodes, %lld edges and %.0f px of total edge\n"

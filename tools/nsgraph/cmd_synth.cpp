@@ -1,9 +1,11 @@
 // `nsgraph synth`: writes a synthetic nuScenes-format release from a world config.
 #include <chrono>
 #include <cstdio>
+#include <iostream>
 #include <optional>
 
 #include "commands.h"
+#include "options_listing.h"
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
 #include "nsg/core/strings.h"
@@ -16,14 +18,33 @@ namespace {
 
 struct SynthCommandOptions {
   std::string config_path;
+  std::vector<std::string> settings;  // --set key=value, in order
   std::string out_dir;
   std::optional<uint64_t> seed;
   int threads = 0;
+  bool print_config = false;
+  bool list_options = false;
+  std::string format = "text";
 };
 
 int run_synth(const SynthCommandOptions& o, const Context& ctx) {
-  synth::SynthConfig config = synth::SynthConfig::from_file(o.config_path);
-  if (o.seed) config.seed = *o.seed;
+  if (o.list_options) {
+    std::cout << list_options_text(
+        "synth",
+        "Every key of a synthetic world config (samples/synth/*.json), as declared by the options structs; a file "
+        "may give any subset.",
+        synth::synth_option_table().specs(), synth::synth_option_table().to_json(synth::SynthConfig{}),
+        synth::synth_config_schema(), o.format);
+    return kExitOk;
+  }
+  options::Origins origins;
+  synth::SynthConfig config = synth::resolve_synth_config(o.config_path, o.settings, &origins);
+  if (o.seed) synth::synth_option_table().set(config, "seed", *o.seed, "--seed", &origins);
+  if (o.print_config) {
+    std::cout << config.to_json() << "\n";
+    return kExitOk;
+  }
+  if (o.out_dir.empty()) throw ConfigError("", "--out", "an output dataroot folder");
   synth::SynthRunOptions run;
   run.out_dir = o.out_dir;
   run.threads = o.threads;
@@ -46,9 +67,15 @@ int run_synth(const SynthCommandOptions& o, const Context& ctx) {
 void add_synth_command(CLI::App& parent, Context& ctx) {
   auto opts = std::make_shared<SynthCommandOptions>();
   CLI::App* cmd = parent.add_subcommand("synth", "Write a synthetic nuScenes-format release from a world config");
-  cmd->add_option("--config", opts->config_path, "World config JSON (samples/synth/*.json)")->required();
-  cmd->add_option("--out", opts->out_dir, "Output dataroot folder")->required();
+  cmd->add_option("--config", opts->config_path, "World config JSON (samples/synth/*.json; default: the defaults)");
+  cmd->add_option("--set", opts->settings, "Any config key: key=value (repeatable; --list-options lists the keys)");
+  cmd->add_option("--out", opts->out_dir, "Output dataroot folder");
   cmd->add_option("--seed", opts->seed, "Seed (overrides the config's \"seed\")");
+  cmd->add_flag("--print-config", opts->print_config, "Print the resolved world config and exit");
+  cmd->add_flag("--list-options", opts->list_options,
+                "List every config key (key, type, default, unit, description) and exit");
+  cmd->add_option("--format", opts->format, "--list-options as text, md (docs/options.md), json or schema")
+      ->check(CLI::IsMember({"text", "md", "json", "schema"}));
   cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
   cmd->callback([opts, &ctx]() { ctx.run = [opts, &ctx]() { return run_synth(*opts, ctx); }; });
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "nsg/core/files.h"
 #include "nsg/core/strings.h"
 
 namespace nsg::options {
@@ -275,6 +276,37 @@ std::string list_options(const std::vector<Spec>& specs, const OrderedJson& defa
        << s.description << "\n";
   }
   return os.str();
+}
+
+Json parse_config_text(const std::string& text, const std::string& source) {
+  try {
+    return Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    throw ParseError(source, "byte " + std::to_string(e.byte), "valid JSON (" + std::string(e.what()) + ")");
+  }
+}
+
+Json read_config_file(const std::filesystem::path& file) { return parse_config_text(read_file(file), file.string()); }
+
+std::pair<std::string, Json> parse_assignment(const std::string& assignment, const std::string& example) {
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw ConfigError("--set", assignment, "key=value (e.g. " + example + "; --list-options lists the keys)");
+  const std::string text = assignment.substr(eq + 1);
+  Json value;
+  try {
+    value = Json::parse(text);
+  } catch (const Json::parse_error&) {
+    value = text;  // anything else is a string
+  }
+  return {assignment.substr(0, eq), value};
+}
+
+void rethrow_from_origin(const ConfigError& e, const Origins& origins) {
+  std::string source = "defaults";
+  for (const auto& [key, from] : origins)
+    if (key == e.record() || starts_with(key, e.record() + ".") || starts_with(e.record(), key + ".")) source = from;
+  throw ConfigError(source, e.record(), e.expected());
 }
 
 }  // namespace nsg::options

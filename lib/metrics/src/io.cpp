@@ -8,6 +8,7 @@
 #include <memory>
 #include <unordered_map>
 
+#include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
 #include "nsg/core/json.h"
@@ -204,6 +205,29 @@ GraphSet load_ground_truth(const fs::path& path, const std::string& split, const
                     "a ground truth within the submission limits: " + issues.items().front().message);
   }
   return graphs_from_submission(*doc, path.string());
+}
+
+void write_submission(const metrics::GraphSet& graphs, const std::filesystem::path& path) {
+  // Coordinates rounded to 1/1000 px: well below any metric's resolution, smaller files.
+  auto round3 = [](double x) { return std::round(x * 1000.0) / 1000.0; };
+  nlohmann::json tiles = nlohmann::json::object();
+  for (const auto& [key, g] : graphs) {
+    nlohmann::json nodes = nlohmann::json::array(), edges = nlohmann::json::array();
+    for (const auto& n : g.nodes) nodes.push_back({round3(n.u), round3(n.v)});
+    for (const auto& e : g.edges) edges.push_back({e[0], e[1]});
+    nlohmann::json t = {{"nodes", nodes}, {"edges", edges}};
+    if (!g.node_scores.empty()) {
+      t["node_scores"] = nlohmann::json::array();
+      for (double s : g.node_scores) t["node_scores"].push_back(round3(s));
+    }
+    if (!g.edge_scores.empty()) {
+      t["edge_scores"] = nlohmann::json::array();
+      for (double s : g.edge_scores) t["edge_scores"].push_back(round3(s));
+    }
+    tiles[key] = std::move(t);
+  }
+  const nlohmann::json doc = {{"schema_version", "1"}, {"tiles", tiles}};
+  write_file_atomic(path, doc.dump() + "\n");
 }
 
 }  // namespace nsg::metrics

@@ -12,16 +12,6 @@
 
 namespace nsg::model {
 
-void AnchorOptions::validate() const {
-  NSG_CHECK(target_sigma_px > 0.0 && target_sigma_px <= 20.0, ConfigError, "", "anchor.target_sigma_px",
-            "in (0, 20] px");
-  NSG_CHECK(smooth_sigma_px >= 0.0 && smooth_sigma_px <= 10.0, ConfigError, "", "anchor.smooth_sigma_px",
-            "in [0, 10] px");
-  NSG_CHECK(min_score > 0.0 && min_score < 1.0, ConfigError, "", "anchor.min_score", "a score in (0, 1)");
-  NSG_CHECK(nms_radius_px >= 1.0 && nms_radius_px <= 64.0, ConfigError, "", "anchor.nms_radius_px", "in [1, 64] px");
-  NSG_CHECK(neighbours >= 1 && neighbours <= 8, ConfigError, "", "anchor.neighbours", "1 … 8");
-}
-
 float anchor_target(const metrics::Graph& truth, double u, double v, double sigma_px) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& n : truth.nodes) best = std::min(best, (n.u - u) * (n.u - u) + (n.v - v) * (n.v - v));

@@ -80,21 +80,6 @@ cv::Mat drop_small_components(const cv::Mat& mask, int min_px) {
 
 }  // namespace
 
-void ExtractionOptions::validate() const {
-  NSG_CHECK(smooth_sigma_px >= 0.0 && smooth_sigma_px <= 10.0, ConfigError, "", "smooth_sigma_px", "in [0, 10] px");
-  NSG_CHECK(max_direction_angle_deg > 0.0 && max_direction_angle_deg <= 90.0, ConfigError, "",
-            "max_direction_angle_deg", "in (0, 90] (90 = off)");
-  NSG_CHECK(min_piece_length_px >= 0.0, ConfigError, "", "min_piece_length_px", "≥ 0");
-  NSG_CHECK(threshold > 0.0 && threshold < 1.0, ConfigError, "", "threshold", "a likelihood in (0, 1)");
-  NSG_CHECK(min_component_px >= 0, ConfigError, "", "min_component_px", "≥ 0");
-  NSG_CHECK(min_spur_px >= 0.0, ConfigError, "", "min_spur_px", "≥ 0");
-  NSG_CHECK(simplify_tolerance_px >= 0.0, ConfigError, "", "simplify_tolerance_px", "≥ 0");
-  NSG_CHECK(anchor_spacing_px >= 1.0, ConfigError, "", "anchor_spacing_px", "≥ 1 px");
-  NSG_CHECK(min_node_score >= 0.0 && min_node_score <= 1.0, ConfigError, "", "min_node_score", "in [0, 1]");
-  NSG_CHECK(min_edge_score >= 0.0 && min_edge_score <= 1.0, ConfigError, "", "min_edge_score", "in [0, 1]");
-  NSG_CHECK(max_edge_fraction > 0.0 && max_edge_fraction <= 1.5, ConfigError, "", "max_edge_fraction", "in (0, 1.5]");
-}
-
 double sample_bilinear(const cv::Mat& map, double u, double v) { return sample(map, u, v); }
 
 cv::Mat thin(const cv::Mat& mask) {

@@ -208,30 +208,6 @@ void train_connection(LaneModel::Impl& m, const io::Dataset& dataset, const std:
 
 }  // namespace
 
-void ForestOptions::validate(const std::string& field) const {
-  NSG_CHECK(trees >= 1 && trees <= 1000, ConfigError, "", field + ".trees", "1 … 1000");
-  NSG_CHECK(max_depth >= 1 && max_depth <= 40, ConfigError, "", field + ".max_depth", "1 … 40");
-  NSG_CHECK(min_samples >= 1, ConfigError, "", field + ".min_samples", "≥ 1");
-}
-
-void ModelOptions::validate() const {
-  modalities.validate();
-  centre.validate("centre");
-  direction.validate("direction");
-  anchor.validate("anchor");
-  connection.validate("connection");
-  anchors.validate();
-  pairs.validate();
-  NSG_CHECK(sigma_px > 0.0 && sigma_px < 20.0, ConfigError, "", "sigma_px", "in (0, 20) px");
-  for (int k : {centre_samples_near, centre_samples_around, centre_samples_far, direction_samples_lane,
-                direction_samples_background}) {
-    NSG_CHECK(k >= 0 && k <= 100000, ConfigError, "", "samples per tile", "0 … 100000");
-  }
-  NSG_CHECK(predict_stride_px >= 1 && predict_stride_px <= 4, ConfigError, "", "predict_stride_px", "1 … 4");
-  NSG_CHECK(holdout_every == 0 || holdout_every >= 2, ConfigError, "", "holdout_every", "0 (none) or ≥ 2");
-  extraction.validate();
-}
-
 LaneModel::LaneModel() : impl_(std::make_unique<Impl>()) {}
 LaneModel::~LaneModel() = default;
 LaneModel::LaneModel(LaneModel&&) noexcept = default;

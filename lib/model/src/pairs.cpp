@@ -12,15 +12,6 @@
 
 namespace nsg::model {
 
-void PairOptions::validate() const {
-  NSG_CHECK(radius_px >= 2.0 && radius_px <= 128.0, ConfigError, "", "pairs.radius_px", "in [2, 128] px");
-  NSG_CHECK(min_connection_score >= 0.0 && min_connection_score <= 1.0, ConfigError, "", "pairs.min_connection_score",
-            "in [0, 1]");
-  NSG_CHECK(label_max_distance_px > 0.0, ConfigError, "", "pairs.label_max_distance_px", "> 0 px");
-  NSG_CHECK(label_max_follow_px >= 0.0, ConfigError, "", "pairs.label_max_follow_px", "≥ 0 px");
-  NSG_CHECK(train_tile_every >= 1, ConfigError, "", "pairs.train_tile_every", "≥ 1");
-}
-
 std::vector<std::array<int, 2>> candidate_pairs(const std::vector<std::array<double, 2>>& anchors, double radius_px) {
   std::vector<std::array<int, 2>> pairs;
   const double r2 = radius_px * radius_px;

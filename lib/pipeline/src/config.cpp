@@ -50,11 +50,7 @@ void GenerateConfig::check_relations(const options::Origins& origins) const {
     for (const auto& [location, list] : regions) split_options_for(location).check_relations(crop_size_m());
     splits.check_relations(crop_size_m());
   } catch (const ConfigError& e) {
-    // The value came from the source that set the key (or a key below it) last.
-    std::string source = "defaults";
-    for (const auto& [key, from] : origins)
-      if (key == e.record() || starts_with(key, e.record() + ".") || starts_with(e.record(), key + ".")) source = from;
-    throw ConfigError(source, e.record(), e.expected());
+    options::rethrow_from_origin(e, origins);  // the value came from the source that set the key last
   }
 }
 
@@ -148,12 +144,7 @@ const options::Table<OutputOptions>& output_option_table() {
 const options::Table<GenerateConfig>& generate_option_table() {
   static const options::Table<GenerateConfig> table = [] {
     options::Table<GenerateConfig> t;
-    t.shape(
-         "schema_version", "\"1\"", {{"const", "1"}}, [](const GenerateConfig&) { return ordered_json("1"); },
-         [](GenerateConfig&, const json& v, const Spec& s) {
-           if (v != "1") options::reject(v, s);
-         })
-        .help("Version of this format");
+    options::schema_version_option(t);
     t.text("dataroot", &GenerateConfig::dataroot)
         .help("nuScenes dataroot (\"\" in a config file: given by --dataroot)");
     t.text("version", &GenerateConfig::version).help("Release version, e.g. v1.0-trainval or v1.0-mini");
@@ -249,14 +240,7 @@ GenerateConfig config_from_json(const json& doc, const std::string& file, Genera
 }
 
 void apply_config_file(GenerateConfig& config, const std::filesystem::path& file, options::Origins* origins) {
-  const std::string text = read_file(file);
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw ParseError(file.string(), "byte " + std::to_string(e.byte), "valid JSON (" + std::string(e.what()) + ")");
-  }
-  apply_config_json(config, doc, file.string(), origins);
+  apply_config_json(config, options::read_config_file(file), file.string(), origins);
 }
 
 GenerateConfig load_generate_config(const std::filesystem::path& file) {
@@ -283,11 +267,8 @@ void apply_value(GenerateConfig& config, const std::string& key, const std::stri
 }
 
 void apply_setting(GenerateConfig& config, const std::string& assignment, options::Origins* origins) {
-  const size_t eq = assignment.find('=');
-  if (eq == std::string::npos || eq == 0)
-    throw ConfigError("--set", assignment,
-                      "key=value (e.g. crops.min_lidar_coverage=0.4; --list-options lists the keys)");
-  apply_value(config, assignment.substr(0, eq), assignment.substr(eq + 1), "--set", origins);
+  const auto [key, value] = options::parse_assignment(assignment, "crops.min_lidar_coverage=0.4");
+  generate_option_table().set(config, key, value, "--set", origins);
 }
 
 GenerateConfig resolve_generate_config(const std::filesystem::path& file, const std::vector<ConfigAssignment>& values,

@@ -17,17 +17,6 @@
 
 namespace nsg::report::detail {
 
-// --- scoring.cpp: what `nsgraph score` does, in one call (so it can be swapped for a
-// library entry point without touching the report).
-struct ScoredSubmission {
-  Issues issues;             // non-empty: the submission was refused, nothing scored
-  metrics::GraphSet graphs;  // the submission's tiles
-  metrics::ScoreReport report;
-};
-ScoredSubmission score_submission(const std::filesystem::path& dataset, const std::string& split,
-                                  const std::filesystem::path& submission, const std::filesystem::path& schemas,
-                                  int threads);
-
 // --- tile_pages.cpp: one pass over the tiles of the report.
 struct TileInputs {
   const metrics::GraphSet* prediction = nullptr;  // null = dataset report

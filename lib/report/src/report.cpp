@@ -8,6 +8,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
 #include "nsg/core/strings.h"
+#include "nsg/metrics/score_submission.h"
 
 namespace nsg::report {
 namespace {
@@ -82,10 +83,15 @@ ReportResult write_report(const fs::path& dataset_root, const fs::path& out, con
   const std::string split = !options.split.empty() ? options.split : scored ? "test" : "";
 
   ReportResult result;
-  detail::ScoredSubmission sub, base;
+  metrics::ScoredSubmission sub, base;
+  metrics::SubmissionScoreOptions scoring;
+  scoring.split = split;
+  scoring.schemas_dir = options.schemas;
+  scoring.score.threads = options.threads;
+  const metrics::ScoreSource truth = metrics::ScoreSource::file(dataset_root);
   if (scored) {
     log::info("report: scoring " + options.submission.string());
-    sub = detail::score_submission(dataset_root, split, options.submission, options.schemas, options.threads);
+    sub = metrics::score_submission(truth, metrics::ScoreSource::file(options.submission), scoring);
     if (!sub.issues.empty()) {
       result.issues = std::move(sub.issues);
       result.rejected = options.submission.string();
@@ -93,7 +99,7 @@ ReportResult write_report(const fs::path& dataset_root, const fs::path& out, con
     }
     if (!options.baseline.empty()) {
       log::info("report: scoring the baseline " + options.baseline.string());
-      base = detail::score_submission(dataset_root, split, options.baseline, options.schemas, options.threads);
+      base = metrics::score_submission(truth, metrics::ScoreSource::file(options.baseline), scoring);
       if (!base.issues.empty()) {
         result.issues = std::move(base.issues);
         result.rejected = options.baseline.string();

@@ -14,6 +14,7 @@
 #include "nsg/io/raster.h"
 #include "nsg/io/tile_members.h"
 #include "nsg/pipeline/config.h"
+#include "options_test.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -23,53 +24,19 @@ using nlohmann::ordered_json;
 namespace nsg::test {
 namespace {
 
-// A value the declaration of `spec` refuses (out of range where there is a range, else
-// of the wrong type), as JSON text.
-std::string bad_value(const options::Spec& spec) {
-  const options::Range& r = spec.range;
-  if (spec.type == "number" || spec.type == "integer") {
-    if (!r.only.empty()) return "3";
-    if (r.min) return options::OrderedJson(*r.min - 1).dump();
-    if (r.max) return options::OrderedJson(*r.max + 1).dump();
-    return "\"many\"";
-  }
-  if (spec.type == "boolean") return "\"yes\"";
-  if (spec.type == "string") return spec.non_empty ? "\"\"" : "7";
-  if (spec.type == "choice") return "\"nowhere\"";
-  if (spec.key == "schema_version") return "\"2\"";
-  return "7";  // shapes: arrays and objects
-}
-
-// The message of the ConfigError `resolve` throws ("" if none).
-std::string config_error(const std::function<void()>& resolve) {
-  try {
-    resolve();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 // Through the command line's own resolver (the CLI adds only argument parsing, checked in
 // MessagesNameTheFileKeyAndFlag): fast enough for every key.
 TEST(GenerateConfig, EveryKeyRefusesABadValueNamingTheKeyAndItsSource) {
-  TempDir dir("config-bad");
   const std::vector<options::Spec> specs = pipeline::generate_option_table().specs();
   ASSERT_GT(specs.size(), 40u);
-  for (const options::Spec& spec : specs) {
-    const std::string bad = bad_value(spec);
-    // Through a config file.
-    ordered_json doc = ordered_json::object();
-    options::insert_at(doc, spec.key, ordered_json::parse(bad));
-    const fs::path file = dir / ("bad-" + spec.key + ".json");
-    write_text(file, doc.dump());
-    std::string message = config_error([&] { pipeline::resolve_generate_config(file, {}); });
-    EXPECT_NE(message.find(file.string() + ": " + spec.key), std::string::npos)
-        << spec.key << " " << bad << ": " << message;
-    // Through --set.
-    message = config_error([&] { pipeline::resolve_generate_config("", {{"--set", "", spec.key + "=" + bad}}); });
-    EXPECT_NE(message.find("--set: " + spec.key), std::string::npos) << spec.key << " " << bad << ": " << message;
-  }
+  expect_every_key_refused_naming_it(
+      specs,
+      [](const fs::path& file, const std::vector<std::string>& settings) {
+        std::vector<pipeline::ConfigAssignment> values;
+        for (const std::string& s : settings) values.push_back({"--set", "", s});
+        pipeline::resolve_generate_config(file, values);
+      },
+      "generate");
   // And two of them through the binary, exit code included.
   const CommandResult r = run_nsgraph({"generate", "--print-config", "--set", "camera.occlusion_window_px=600"});
   EXPECT_EQ(r.exit_code, 2);
@@ -141,10 +108,18 @@ TEST(GenerateConfig, SchemaSampleAndDocsEqualWhatTheDeclarationsGive) {
   ASSERT_EQ(defaults.exit_code, 0) << defaults.err;
   EXPECT_EQ(json::parse(defaults.out), json::parse(read_file(source_dir() / "samples/generate.json")))
       << "regenerate: nsgraph generate --print-config > samples/generate.json";
-  const CommandResult md = run_nsgraph({"generate", "--list-options", "--format", "md"});
-  ASSERT_EQ(md.exit_code, 0) << md.err;
-  EXPECT_EQ(md.out, read_file(source_dir() / "docs/options.md"))
-      << "regenerate: nsgraph generate --list-options --format md > docs/options.md";
+  // docs/options.md: a title, then each command's section as its --format md prints it.
+  std::string sections;
+  for (const char* command : {"generate", "synth", "train"}) {
+    const CommandResult md = run_nsgraph({command, "--list-options", "--format", "md"});
+    ASSERT_EQ(md.exit_code, 0) << md.err;
+    sections += (sections.empty() ? "" : "\n") + md.out;
+  }
+  const std::string doc = read_file(source_dir() / "docs/options.md");
+  const size_t first = doc.find("## `nsgraph generate` options");
+  ASSERT_NE(first, std::string::npos);
+  EXPECT_EQ(doc.substr(first), sections) << "regenerate the sections: nsgraph <generate|synth|train> --list-options "
+                                            "--format md, joined by an empty line, after the title";
 }
 
 TEST(GenerateConfig, CheckOfACodeBuiltConfigUsesTheDeclarations) {

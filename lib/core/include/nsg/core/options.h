@@ -244,6 +244,18 @@ void insert_at(OrderedJson& doc, const std::string& dotted_key, OrderedJson valu
 // ConfigError from a setter, re-thrown naming the source (and the key when it named none).
 [[noreturn]] void rethrow_with_source(const ConfigError& e, const std::string& source, const std::string& key);
 
+// A config document: JSON text parsed (ParseError naming `source` and the byte), or a
+// file read and parsed (IoError / ParseError naming the file).
+Json parse_config_text(const std::string& text, const std::string& source);
+Json read_config_file(const std::filesystem::path& file);
+// "key=value" as --set takes it: the key and the value parsed as JSON (numbers, booleans,
+// arrays, objects, "quoted text"), else the text itself as a string. ConfigError naming
+// --set and `example` ("crops.min_lidar_coverage=0.4") without an '='.
+std::pair<std::string, Json> parse_assignment(const std::string& assignment, const std::string& example);
+// A check across keys (ConfigError naming one key) re-thrown naming the source that set
+// that key, or a key above or below it, last ("defaults" when none did).
+[[noreturn]] void rethrow_from_origin(const ConfigError& e, const Origins& origins);
+
 // The JSON Schema (draft-07) of a config made of `specs`: nested objects, no other keys.
 OrderedJson config_schema(const std::vector<Spec>& specs, const std::string& id, const std::string& title,
                           const std::string& description);
@@ -251,6 +263,18 @@ OrderedJson config_schema(const std::vector<Spec>& specs, const std::string& id,
 std::string list_options(const std::vector<Spec>& specs, const OrderedJson& defaults, const std::string& format);
 // The value at a dotted key of a nested document (null when absent).
 OrderedJson value_at(const OrderedJson& doc, const std::string& dotted_key);
+
+// "schema_version": the format's version "1" (optional in a file; any other value is refused).
+template <typename Owner>
+Option<Owner>& schema_version_option(Table<Owner>& t) {
+  return t
+      .shape(
+          "schema_version", "\"1\"", {{"const", "1"}}, [](const Owner&) { return OrderedJson("1"); },
+          [](Owner&, const Json& v, const Spec& s) {
+            if (v != "1") reject(v, s);
+          })
+      .help("Version of this format");
+}
 
 template <typename Owner>
 OrderedJson Table<Owner>::to_json(const Owner& owner) const {

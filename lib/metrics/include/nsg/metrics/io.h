@@ -1,5 +1,5 @@
 #pragma once
-// Reading graph sets: the submission format (schemas/v1/submission.schema.json) and a
+// Reading and writing graph sets: the submission format (schemas/v1/submission.schema.json) and a
 // dataset's tiles of one split, as folders (tiles/<split>/<key>/<key>.graph.json) or
 // WebDataset shards (shards/<split>-NNNNNN.tar, members <key>.graph.json).
 #include <filesystem>
@@ -25,6 +25,9 @@ nlohmann::json read_json_file(const std::filesystem::path& path);
 // text is not JSON (e.g. truncated); throws IoError (unreadable) naming the file.
 std::optional<nlohmann::json> read_submission_file(const std::filesystem::path& path,
                                                    const validate::SubmissionLimits& limits, Issues& issues);
+// Writes a submission document (schemas/v1/submission.schema.json), node and edge scores
+// included, coordinates and scores rounded to 1/1000; written to a temp name and renamed.
+void write_submission(const GraphSet& graphs, const std::filesystem::path& path);
 
 // One dataset graph document {schema_version, key, nodes: [{id, u, v, x, y}],
 // edges: [{source, target, lane_token}]}: ids become indices. Throws ParseError /

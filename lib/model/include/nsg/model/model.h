@@ -104,7 +104,5 @@ class LaneModel {
 // Predicts every tile of `split` (tiles in parallel; results in manifest order).
 metrics::GraphSet predict_dataset(const LaneModel& model, const io::Dataset& dataset, const std::string& split,
                                   int threads, bool progress);
-// A submission document (schemas/v1/submission.schema.json) with node and edge scores.
-void write_submission(const metrics::GraphSet& graphs, const std::filesystem::path& path);
 
 }  // namespace nsg::model

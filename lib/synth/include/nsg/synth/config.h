@@ -1,12 +1,15 @@
 #pragma once
 // The world config of `nsgraph synth` (samples/synth/*.json): everything that shapes the
-// synthetic release except the seed. Parsed strictly: unknown keys and out-of-range values
-// are ConfigErrors naming the key.
+// synthetic release. Each key is declared once (synth_option_table, nsg/core/options.h):
+// reading a file, --set, unknown keys with a "did you mean", range errors naming the key
+// and its source, --list-options and schemas/v1/synth-config.schema.json come from there.
 #include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "nsg/core/options.h"
 
 namespace nsg::synth {
 
@@ -23,7 +26,6 @@ struct CityConfig {
   double sidewalk_width_m = 3.0;
   double park_fraction = 0.2;        // blocks that are parks (vegetation, no buildings)
   double ground_resolution_m = 0.1;  // cell size of the ground material raster
-  void validate() const;
 };
 
 struct TrafficConfig {
@@ -32,7 +34,6 @@ struct TrafficConfig {
   double parked_occupancy = 0.6;  // fraction of parking slots taken
   int pedestrians_per_scene = 10;
   double annotation_range_m = 50.0;  // objects annotated within this distance of the ego
-  void validate() const;
 };
 
 struct ScenesConfig {
@@ -40,7 +41,6 @@ struct ScenesConfig {
   int samples_per_scene = 6;  // key frames (2 Hz) per scene
   double ego_speed_mps = 8.0;
   int64_t first_timestamp_us = 1532402927647951;
-  void validate() const;
 };
 
 struct LidarConfig {
@@ -53,12 +53,13 @@ struct LidarConfig {
   // nuScenes-lidarseg for every key-frame sweep: lidarseg.json and one
   // lidarseg/<version>/<sd_token>_lidarseg.bin of per-point labels (the ray caster's hit).
   bool lidarseg = true;
-  void validate() const;
 };
 
 struct CameraConfig {
   double rate_hz = 12.0;
-  std::vector<std::string> channels;  // subset of the six CAM_* channels; default all six
+  // A subset of the six CAM_* channels, in the real sensor table's order by default.
+  std::vector<std::string> channels = {"CAM_FRONT", "CAM_FRONT_RIGHT", "CAM_FRONT_LEFT",
+                                       "CAM_BACK",  "CAM_BACK_LEFT",   "CAM_BACK_RIGHT"};
   int width_px = 1600;
   int height_px = 900;
   int jpeg_quality = 80;
@@ -66,7 +67,6 @@ struct CameraConfig {
   // Class masks at 1/n of the image's size (sides rounded up; pixel k = the class at full
   // pixel k·n): 2 is what `segment` writes by default and what generate samples at.
   int mask_scale_denom = 1;
-  void validate() const;
 };
 
 struct DetectionsConfig {
@@ -77,7 +77,6 @@ struct DetectionsConfig {
   double false_positives_per_sample = 0.5;
   double score_true_mean = 0.75;  // scores of true positives ~ N(mean, 0.1) clamped
   double score_false_mean = 0.3;  // scores of false positives
-  void validate() const;
 };
 
 struct SynthConfig {
@@ -93,13 +92,27 @@ struct SynthConfig {
   DetectionsConfig detections;
 
   bool right_hand_traffic() const { return location == "boston-seaport"; }
+  // Every value through its declaration, then the checks across keys; ConfigError naming
+  // the key.
   void validate() const;
+  // The checks across keys (the street grid fits its blocks and the map, the roof points
+  // fit the sweep); ConfigError naming the key and the source that set it (`origins`).
+  void check_relations(const options::Origins& origins = {}) const;
   // Parses JSON text; `file` names the source in errors.
   static SynthConfig from_json_text(const std::string& text, const std::string& file);
   static SynthConfig from_file(const std::filesystem::path& path);
-  // The resolved config as JSON (2-space indent), for logs and docs.
+  // The resolved config as JSON (2-space indent, declaration order).
   std::string to_json() const;
 };
+
+// The declaration of every key of a world config.
+const options::Table<SynthConfig>& synth_option_table();
+// The JSON Schema of a world config (schemas/v1/synth-config.schema.json).
+options::OrderedJson synth_config_schema();
+// Defaults, then the file ("" = none), then each --set "key=value" in order, then the
+// checks across keys. Errors name the key and the file or --set it came from.
+SynthConfig resolve_synth_config(const std::filesystem::path& file, const std::vector<std::string>& settings,
+                                 options::Origins* origins = nullptr);
 
 // The six camera channels in the order of the real sensor table.
 const std::vector<std::string>& all_camera_channels();

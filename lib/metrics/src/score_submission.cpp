@@ -1,0 +1,38 @@
+#include "nsg/metrics/score_submission.h"
+
+#include "nsg/core/error.h"
+#include "nsg/core/json.h"
+#include "nsg/metrics/io.h"
+#include "nsg/metrics/submission_input.h"
+
+namespace nsg::metrics {
+
+void SubmissionScoreOptions::validate() const {
+  score.validate();
+  NSG_CHECK(!split.empty(), ConfigError, "", "split", "a split name");
+}
+
+ScoredSubmission score_submission(const ScoreSource& ground_truth, const ScoreSource& submission,
+                                  const SubmissionScoreOptions& options) {
+  options.validate();
+  ScoredSubmission out;
+  CheckedSubmission checked =
+      submission.text ? check_submission_text(*submission.text, submission.label, options.schemas_dir, options.limits)
+                      : check_submission_file(submission.path, options.schemas_dir, options.limits);
+  if (!checked.issues.empty()) {
+    out.issues = std::move(checked.issues);
+    return out;
+  }
+  out.graphs = std::move(checked.graphs);
+  const GraphSet truth =
+      ground_truth.text
+          ? graphs_from_submission(parse_json_strict(*ground_truth.text, ground_truth.label), ground_truth.label)
+          : load_ground_truth(ground_truth.path, options.split, options.limits);
+  out.report = score(truth, out.graphs, options.score);
+  out.report.ground_truth = ground_truth.label;
+  out.report.submission = submission.label;
+  out.report.split = options.split;
+  return out;
+}
+
+}  // namespace nsg::metrics

@@ -1,0 +1,87 @@
+// The train config's declarations: every key read from a file, a flag or --set with its
+// range checked once, errors naming the key and its source, and the listing, schema and
+// sample generated from the declarations.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "nsg/core/files.h"
+#include "nsg/model/train_options.h"
+#include "options_test.h"
+#include "test_support.h"
+
+namespace nsg::test {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+TEST(TrainConfig, EveryKeyRefusesABadValueNamingTheKeyAndItsSource) {
+  const std::vector<options::Spec> specs = model::train_option_table().specs();
+  ASSERT_GT(specs.size(), 40u);
+  expect_every_key_refused_naming_it(
+      specs,
+      [](const fs::path& file, const std::vector<std::string>& settings) {
+        model::resolve_train_config(file, {}, settings);
+      },
+      "train");
+  // Through the binary: a flag names itself and its key.
+  CommandResult r = run_nsgraph({"train", "--print-config", "--trees", "0"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--trees: centre_forest.trees: an integer in [1, 1000] (got 0)"), std::string::npos) << r.err;
+  r = run_nsgraph({"train", "--print-config", "--set", "extraction.treshold=0.3"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("did you mean 'extraction.threshold'"), std::string::npos) << r.err;
+}
+
+TEST(TrainConfig, FileThenFlagsThenSet) {
+  TempDir dir("train-config");
+  write_text(dir / "train.json", R"({"variant": "b2", "seed": 5, "anchors": {"neighbours": 3}})");
+  const CommandResult r = run_nsgraph({"train", "--print-config", "--config", (dir / "train.json").string(), "--seed",
+                                       "6", "--set", "seed=7", "--trees", "9"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json c = json::parse(r.out);
+  EXPECT_EQ(c["variant"], "b2");
+  EXPECT_EQ(c["seed"], 7);
+  EXPECT_EQ(c["anchors"]["neighbours"], 3);
+  EXPECT_EQ(c["connection_forest"]["trees"], 9);
+  // A code-built ModelOptions is checked by the same declarations.
+  model::ModelOptions o;
+  o.pairs.radius_px = 1.0;
+  try {
+    o.validate();
+    FAIL() << "no ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.record(), "pairs.radius_px");
+  }
+}
+
+TEST(TrainConfig, ListingSchemaAndSampleEqualTheDeclarations) {
+  const CommandResult list = run_nsgraph({"train", "--list-options", "--format", "json"});
+  ASSERT_EQ(list.exit_code, 0) << list.err;
+  std::set<std::string> listed;
+  for (const json& o : json::parse(list.out)) listed.insert(o["key"].get<std::string>());
+  const CommandResult printed = run_nsgraph({"train", "--print-config"});
+  ASSERT_EQ(printed.exit_code, 0) << printed.err;
+  std::set<std::string> leaves;
+  std::function<void(const json&, const std::string&)> walk = [&](const json& node, const std::string& path) {
+    if (listed.count(path) || !node.is_object()) {
+      leaves.insert(path);
+      return;
+    }
+    for (const auto& [k, v] : node.items()) walk(v, path.empty() ? k : path + "." + k);
+  };
+  walk(json::parse(printed.out), "");
+  EXPECT_EQ(leaves, listed);
+  EXPECT_EQ(json::parse(printed.out), json::parse(read_file(source_dir() / "samples/train.json")))
+      << "regenerate: nsgraph train --print-config > samples/train.json";
+  const CommandResult schema = run_nsgraph({"train", "--list-options", "--format", "schema"});
+  ASSERT_EQ(schema.exit_code, 0) << schema.err;
+  EXPECT_EQ(json::parse(schema.out), json::parse(read_file(source_dir() / "schemas/v1/train-config.schema.json")))
+      << "regenerate: nsgraph train --list-options --format schema > schemas/v1/train-config.schema.json";
+  // The sample parses as a config file.
+  EXPECT_NO_THROW(model::resolve_train_config(source_dir() / "samples/train.json", {}, {}));
+}
+
+}  // namespace
+}  // namespace nsg::test
