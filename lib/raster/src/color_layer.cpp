@@ -2,10 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <map>
-#include <numbers>
-#include <thread>
 #include <utility>
 
 #include "nsg/core/error.h"
