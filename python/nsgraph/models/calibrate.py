@@ -23,8 +23,7 @@ import torch
 from .. import _nsgraph
 from ..dataset import Dataset
 from ..scoring import score_tile
-from .lanegraphnet import encode_inputs
-from .predict import load
+from .predict import anchors_and_pair_inputs, load
 
 SHIFTS = (-0.7, 0.0, 0.35, 0.7, 1.05, 1.4, 1.75, 2.1, 2.45, 2.8, 3.5)   # added to the pair logit
 LAST_BIAS = "mlp.4.bias"                                       # PairHead's output layer
@@ -32,12 +31,8 @@ LAST_BIAS = "mlp.4.bias"                                       # PairHead's outp
 
 def tile_candidates(dense, pairs_head, tile):
     """Anchors, pairs and the head's logits of one tile (what net_graph needs)."""
-    inputs = {k: torch.from_numpy(v)[None] for k, v in encode_inputs(tile).items()}
-    size = int(tile["coverage"].shape[0])
+    a, x, size = anchors_and_pair_inputs(dense, tile)
     with torch.no_grad():
-        heat, offset, direction, feats = (t[0].numpy() for t in dense(**inputs))
-        a = _nsgraph.net_anchors(heat[0], offset, direction, size)
-        x = _nsgraph.net_pair_inputs(feats, a["points"], a["pairs"])
         logits = pairs_head.head(torch.from_numpy(x))[:, 0].double() if len(x) else torch.zeros(0, dtype=torch.float64)
     return a, logits, size
 

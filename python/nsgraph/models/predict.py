@@ -26,14 +26,21 @@ def load(path):
     return DenseExport(net).eval(), PairExport(head).eval()
 
 
-def predict_tile(dense, pairs_head, tile):
-    """{nodes (N, 2) u, v; edges (E, 2); node_scores; edge_scores} of one dataset tile."""
+def anchors_and_pair_inputs(dense, tile):
+    """The dense heads on one dataset tile: (anchors as net_anchors gives them, the candidate
+    pairs' inputs (P, 65) for the relationship head, the tile's side in px)."""
     inputs = {k: torch.from_numpy(v)[None] for k, v in encode_inputs(tile).items()}
     size = int(tile["coverage"].shape[0])
     with torch.no_grad():
         heat, offset, direction, feats = (t[0].numpy() for t in dense(**inputs))
-        a = _nsgraph.net_anchors(heat[0], offset, direction, size)
-        x = _nsgraph.net_pair_inputs(feats, a["points"], a["pairs"])
+    a = _nsgraph.net_anchors(heat[0], offset, direction, size)
+    return a, _nsgraph.net_pair_inputs(feats, a["points"], a["pairs"]), size
+
+
+def predict_tile(dense, pairs_head, tile):
+    """{nodes (N, 2) u, v; edges (E, 2); node_scores; edge_scores} of one dataset tile."""
+    a, x, size = anchors_and_pair_inputs(dense, tile)
+    with torch.no_grad():
         scores = pairs_head(torch.from_numpy(x))[:, 0].double().numpy() if len(x) else np.zeros(0)
     return _nsgraph.net_graph(a["points"], a["scores"], a["votes"], a["pairs"], scores, size)
 
