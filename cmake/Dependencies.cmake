@@ -44,6 +44,7 @@ add_library(nsg::dep::eigen ALIAS Eigen3::Eigen)
 
 nsg_alias_pkg(crypto libcrypto)
 nsg_alias_pkg(turbojpeg libturbojpeg)
+nsg_alias_pkg(jpeg libjpeg)  # libjpeg-turbo's libjpeg API: decoding a band of rows
 nsg_alias_pkg(png libpng)
 nsg_alias_pkg(tiff libtiff-4)
 nsg_alias_pkg(archive libarchive)

@@ -2,6 +2,13 @@
 
 #include <turbojpeg.h>
 
+// jpeglib.h needs FILE and size_t declared first.
+#include <csetjmp>
+#include <cstdio>
+#include <jpeglib.h>
+
+#include <algorithm>
+
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
 
@@ -10,10 +17,99 @@ namespace {
 // nuScenes cameras are 1600 x 900; the header is checked before any pixel buffer is
 // allocated, so a small file claiming a huge image costs nothing.
 constexpr int kMaxJpegSidePx = 4096;
+
+// libjpeg reports an error through error_exit, which must not return: it jumps back to
+// the setjmp of the call in progress, which returns false (no exception crosses C frames;
+// the functions holding a setjmp have only trivially destructible locals). Warnings
+// (corrupt data the library would guess around) are errors too, as TJFLAG_STOPONWARNING
+// makes them for whole images.
+struct JpegErrors {
+  jpeg_error_mgr mgr;  // first: libjpeg sees a jpeg_error_mgr*
+  std::jmp_buf jump;
+  char message[JMSG_LENGTH_MAX];
+};
+
+void on_jpeg_error(j_common_ptr info) {
+  auto* errors = reinterpret_cast<JpegErrors*>(info->err);
+  (*info->err->format_message)(info, errors->message);
+  std::longjmp(errors->jump, 1);
+}
+
+void on_jpeg_message(j_common_ptr info, int level) {
+  if (level < 0) on_jpeg_error(info);  // a warning; levels ≥ 0 are traces
+}
+
+// The band decoder's libjpeg state, kept from image to image.
+struct BandDecoder {
+  jpeg_decompress_struct info{};
+  JpegErrors errors{};
+  bool created = false;
+};
+
+bool create_band_decoder(BandDecoder& d) {
+  d.info.err = jpeg_std_error(&d.errors.mgr);
+  d.errors.mgr.error_exit = on_jpeg_error;
+  d.errors.mgr.emit_message = on_jpeg_message;
+  if (setjmp(d.errors.jump)) return false;
+  jpeg_create_decompress(&d.info);
+  d.created = true;
+  return true;
+}
+
+// Reads the header of `data` and sets the whole decode's parameters (TurboJPEG's for
+// TJPF_RGB: RGB out, the accurate integer DCT, fancy upsampling) at 1/denom. Fills the
+// full and scaled sizes.
+bool read_band_header(BandDecoder& d, const std::uint8_t* data, size_t size, int denom, int& full_w, int& full_h,
+                      int& out_w, int& out_h) {
+  if (setjmp(d.errors.jump)) return false;
+  jpeg_mem_src(&d.info, data, static_cast<unsigned long>(size));
+  jpeg_read_header(&d.info, TRUE);
+  d.info.out_color_space = JCS_EXT_RGB;
+  d.info.dct_method = JDCT_ISLOW;
+  d.info.do_fancy_upsampling = TRUE;
+  d.info.scale_num = 1;
+  d.info.scale_denom = static_cast<unsigned int>(denom);
+  jpeg_calc_output_dimensions(&d.info);
+  full_w = static_cast<int>(d.info.image_width);
+  full_h = static_cast<int>(d.info.image_height);
+  out_w = static_cast<int>(d.info.output_width);
+  out_h = static_cast<int>(d.info.output_height);
+  return true;
+}
+
+// Decodes rows [first, end) (0 ≤ first ≤ end ≤ height, first < height) into `pixels`
+// (out_w × height × 3).
+// The rows below the band are skipped up to the last one, which is decoded: skipping to
+// the very end would leave their entropy-coded data unread, and a corrupt tail unnoticed.
+bool decode_band(BandDecoder& d, std::uint8_t* pixels, int first, int end) {
+  if (setjmp(d.errors.jump)) return false;
+  jpeg_start_decompress(&d.info);
+  const size_t stride = static_cast<size_t>(d.info.output_width) * 3;
+  const auto height = static_cast<JDIMENSION>(d.info.output_height);
+  if (first > 0) jpeg_skip_scanlines(&d.info, static_cast<JDIMENSION>(first));
+  const auto read_rows = [&](JDIMENSION stop) {
+    JSAMPROW rows[16];  // a few rows a call: one row a call costs more than the decode
+    while (d.info.output_scanline < stop) {
+      JDIMENSION n = 0;
+      for (; n < 16 && d.info.output_scanline + n < stop; ++n) rows[n] = pixels + (d.info.output_scanline + n) * stride;
+      jpeg_read_scanlines(&d.info, rows, n);
+    }
+  };
+  read_rows(static_cast<JDIMENSION>(end));
+  if (d.info.output_scanline + 1 < height) jpeg_skip_scanlines(&d.info, height - 1 - d.info.output_scanline);
+  read_rows(height);
+  jpeg_finish_decompress(&d.info);
+  return true;
+}
+
 }  // namespace
 
 struct JpegDecoder::Impl {
   tjhandle handle = nullptr;
+  BandDecoder band;
+  ~Impl() {
+    if (band.created) jpeg_destroy_decompress(&band.info);
+  }
 };
 
 int scaled_dimension(int full, JpegScale scale) {
@@ -60,6 +156,33 @@ void JpegDecoder::decode(const std::uint8_t* data, size_t size, JpegScale scale,
 void JpegDecoder::decode_file(const std::filesystem::path& file, JpegScale scale, RgbImage& out) {
   const std::string bytes = read_file(file);
   decode(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), scale, out, file.string());
+}
+
+void JpegDecoder::decode_file_rows(const std::filesystem::path& file, JpegScale scale, RowBand band, RgbImage& out) {
+  const std::string bytes = read_file(file);
+  const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
+  BandDecoder& d = impl_->band;
+  if (!d.created && !create_band_decoder(d))
+    throw InternalError("", "", std::string("jpeg_create_decompress failed: ") + d.errors.message);
+  const auto fail = [&](const char* what) {
+    jpeg_abort_decompress(&d.info);  // back to a state that takes the next image
+    return ParseError(file.string(), "", std::string("a valid JPEG image (") + what + ": " + d.errors.message + ")");
+  };
+  int full_w = 0, full_h = 0;
+  if (bytes.empty() ||
+      !read_band_header(d, data, bytes.size(), static_cast<int>(scale), full_w, full_h, out.width, out.height))
+    throw fail("header");
+  if (full_w <= 0 || full_h <= 0 || full_w > kMaxJpegSidePx || full_h > kMaxJpegSidePx) {
+    jpeg_abort_decompress(&d.info);
+    throw ParseError(file.string(), "JPEG header",
+                     "a camera image of at most " + std::to_string(kMaxJpegSidePx) + " x " +
+                         std::to_string(kMaxJpegSidePx) + " pixels, got " + std::to_string(full_w) + " x " +
+                         std::to_string(full_h));
+  }
+  out.pixels.resize(static_cast<size_t>(out.width) * out.height * 3);
+  int first = std::clamp(band.first, 0, out.height), end = std::clamp(band.end, first, out.height);
+  if (first == end) first = end = 0;  // no rows wanted: the data is still checked
+  if (!decode_band(d, out.pixels.data(), first, end)) throw fail("decode");
 }
 
 RgbImage JpegDecoder::decode_file(const std::filesystem::path& file, JpegScale scale) {

@@ -42,6 +42,12 @@ struct LaneResult {
   LidarLayer lidar;
   VehicleLayer vehicles;
   size_t sweeps = 0, points_read = 0, points_kept = 0, boxes = 0;
+
+  void clear() {
+    lidar.clear();
+    vehicles.clear();
+    sweeps = points_read = points_kept = boxes = 0;
+  }
 };
 
 // Folds a lane's scene into the shared result.
@@ -227,7 +233,7 @@ LocationLayers accumulate_scenes(const Database& db, const std::vector<Index>& s
     else add_annotation_boxes(db, work[k], out);
     const std::lock_guard<std::mutex> lock(fold_mutex);
     fold(out, shared);
-    out = LaneResult(res);  // frees the scene's blocks (and the block table that pointed at them)
+    out.clear();  // the scene's blocks go; their storage stays for the lane's next scene
   });
 
   LocationLayers layers{std::move(shared.lidar), std::move(shared.vehicles), {}};

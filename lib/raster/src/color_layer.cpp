@@ -221,22 +221,45 @@ inline long round_half_away(double x) {
   return whole + static_cast<long>(fraction >= 0.5) - static_cast<long>(fraction <= -0.5);  // no branch to mispredict
 }
 
-// `denom`: camera.jpeg_scale_denom, a power of two (1, 2 or 4), so multiplying by its
-// inverse is exactly the division.
-void sample_rgb(const nuscenes::RgbImage& img, int denom, Candidate& c) {
+// Where a candidate's colour is sampled in the image decoded at 1/denom (width × height):
+// the top-left of the four pixels blended, and the weights. `denom`: camera.jpeg_scale_denom,
+// a power of two (1, 2 or 4), so multiplying by its inverse is exactly the division.
+struct ScaledSample {
+  int x0, y0;
+  double fx, fy;
+};
+ScaledSample scaled_sample(const Candidate& c, int denom, int width, int height) {
   // Scaled pixel k averages full pixels [k·d, k·d + d − 1]; pixel centres are integer u, v.
   const double off = (denom - 1) / 2.0, inverse = 1.0 / denom;
-  const double xs = std::clamp((c.u - off) * inverse, 0.0, img.width - 1.0);
-  const double ys = std::clamp((c.v - off) * inverse, 0.0, img.height - 1.0);
+  const double xs = std::clamp((c.u - off) * inverse, 0.0, width - 1.0);
+  const double ys = std::clamp((c.v - off) * inverse, 0.0, height - 1.0);
   const int x0 = static_cast<int>(xs), y0 = static_cast<int>(ys);
-  const int x1 = std::min(x0 + 1, img.width - 1), y1 = std::min(y0 + 1, img.height - 1);
-  const double fx = xs - x0, fy = ys - y0;
-  const uint8_t *p00 = img.at(x0, y0), *p10 = img.at(x1, y0), *p01 = img.at(x0, y1), *p11 = img.at(x1, y1);
+  return {x0, y0, xs - x0, ys - y0};
+}
+
+void sample_rgb(const nuscenes::RgbImage& img, int denom, Candidate& c) {
+  const ScaledSample s = scaled_sample(c, denom, img.width, img.height);
+  const int x1 = std::min(s.x0 + 1, img.width - 1), y1 = std::min(s.y0 + 1, img.height - 1);
+  const double fx = s.fx, fy = s.fy;
+  const uint8_t *p00 = img.at(s.x0, s.y0), *p10 = img.at(x1, s.y0), *p01 = img.at(s.x0, y1), *p11 = img.at(x1, y1);
   for (int k = 0; k < 3; ++k) {
     const double top = p00[k] * (1 - fx) + p10[k] * fx;
     const double bottom = p01[k] * (1 - fx) + p11[k] * fx;
     c.rgb[k] = static_cast<uint8_t>(std::clamp(round_half_away(top * (1 - fy) + bottom * fy), 0L, 255L));
   }
+}
+
+// The rows of the image decoded at 1/denom that sample_rgb reads for `candidates`: the
+// decoder skips the others (ground points project below the horizon, so about half the
+// image is never read).
+nuscenes::RowBand sampled_rows(const std::vector<Candidate>& candidates, int denom, int width, int height) {
+  nuscenes::RowBand band{height, 0};
+  for (const Candidate& c : candidates) {
+    const int y0 = scaled_sample(c, denom, width, height).y0;
+    band.first = std::min(band.first, y0);
+    band.end = std::max(band.end, std::min(y0 + 1, height - 1) + 1);
+  }
+  return band;
 }
 
 // The candidates' indices in image-row order (a counting sort on the full-size row):
@@ -338,10 +361,12 @@ ImageResult process_image(const Database& db, const ImageJob& job, const Occlusi
   const fs::path jpeg = db.file_path(db.sample_data[job.camera]);
   if (options.rgb) {
     nuscenes::RgbImage& img = scratch.image;
-    scratch.decoder.decode_file(jpeg, static_cast<nuscenes::JpegScale>(options.jpeg_scale_denom), img);
     const auto scale = static_cast<nuscenes::JpegScale>(options.jpeg_scale_denom);
-    if (img.width != nuscenes::scaled_dimension(view.width, scale) ||
-        img.height != nuscenes::scaled_dimension(view.height, scale))
+    const int width = nuscenes::scaled_dimension(view.width, scale),
+              height = nuscenes::scaled_dimension(view.height, scale);
+    scratch.decoder.decode_file_rows(jpeg, scale, sampled_rows(out.candidates, options.jpeg_scale_denom, width, height),
+                                     img);
+    if (img.width != width || img.height != height)
       throw DataError(
           jpeg.string(), "",
           "an image of the sample_data's size " + std::to_string(view.width) + "×" + std::to_string(view.height));

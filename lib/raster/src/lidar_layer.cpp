@@ -204,16 +204,21 @@ size_t LidarLayer::add_sweep(const float* rows5, size_t count, int32_t first_row
 void LidarLayer::merge(const LidarLayer& other) {
   if (other.resolution_m_ != resolution_m_)
     throw InternalError("", "", "merging LiDAR layers of different resolutions");
-  cells_.merge(other.cells_, [&](LidarCell& current, const LidarCell& cell) {
-    if (!current.has_data() || cell.lower_than(current)) {
-      covered_cells_ += !current.has_data();
-      current = cell;
-    }
+  covered_cells_ += cells_.merge(other.cells_, [](LidarCell& current, const LidarCell& cell) {
+    if (!current.has_data() || cell.lower_than(current)) current = cell;
   });
   // The merge packed the blocks it touched: the sweep loop's block pointers are stale.
   table_.cells.clear();
   table_.z.clear();
   table_.z_used = 0;
+}
+
+void LidarLayer::clear() {
+  cells_.clear();
+  covered_cells_ = 0;
+  table_.cells.clear();  // the next sweep recentres it
+  table_.z.clear();
+  table_.z_used = 0;  // the z copies are kept for reuse
 }
 
 }  // namespace nsg::raster

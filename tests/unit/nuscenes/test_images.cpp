@@ -91,6 +91,112 @@ TEST(Jpeg, CorruptDataNamesTheFile) {
   EXPECT_EQ(decoder.decode_file(dir / "ok.jpg", JpegScale::kQuarter).width, 16);
 }
 
+// A width×height JPEG of a busy pattern (every 8×8 block different, chroma too), 4:2:0
+// like nuScenes: the band decode must match the whole decode byte for byte, fancy
+// upsampling across the band's edges included.
+std::string encode_textured_jpeg(int width, int height) {
+  std::vector<unsigned char> rgb(static_cast<size_t>(width) * height * 3);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int k = 0; k < 3; ++k)
+        rgb[(static_cast<size_t>(y) * width + x) * 3 + k] =
+            static_cast<unsigned char>((x * (7 + k) + y * (13 - k) + x * y / (3 + k)) % 256);
+  tjhandle h = tjInitCompress();
+  unsigned char* jpeg = nullptr;
+  unsigned long size = 0;
+  const int rc = tjCompress2(h, rgb.data(), width, 0, height, TJPF_RGB, &jpeg, &size, TJSAMP_420, 85, 0);
+  std::string out = rc == 0 ? std::string(reinterpret_cast<char*>(jpeg), size) : std::string();
+  tjFree(jpeg);
+  tjDestroy(h);
+  return out;
+}
+
+// Rows [first, end) of `band` equal those of `whole` (same size).
+void expect_band_rows(const RgbImage& whole, const RgbImage& band, RowBand rows, const std::string& what) {
+  ASSERT_EQ(band.width, whole.width) << what;
+  ASSERT_EQ(band.height, whole.height) << what;
+  const size_t stride = static_cast<size_t>(whole.width) * 3;
+  for (int y = rows.first; y < rows.end; ++y)
+    ASSERT_TRUE(std::equal(whole.at(0, y), whole.at(0, y) + stride, band.at(0, y))) << what << ": row " << y;
+}
+
+TEST(Jpeg, BandEqualsTheWholeDecodeAtEachScale) {
+  test::TempDir dir("jpeg");
+  const std::string jpeg = encode_textured_jpeg(203, 157);  // odd sizes: partial MCUs at the edges
+  ASSERT_FALSE(jpeg.empty());
+  test::write_text(dir / "busy.jpg", jpeg);
+  JpegDecoder decoder;
+  RgbImage band;
+  for (JpegScale scale : {JpegScale::kFull, JpegScale::kHalf, JpegScale::kQuarter}) {
+    const RgbImage whole = decoder.decode_file(dir / "busy.jpg", scale);
+    const int h = whole.height;
+    // Bands starting and ending inside and on iMCU rows, one row, the whole image.
+    for (const RowBand rows : {RowBand{0, h}, RowBand{0, 1}, RowBand{h - 1, h}, RowBand{1, 2}, RowBand{7, 9},
+                               RowBand{8, 16}, RowBand{h / 2, h}, RowBand{h / 3, 2 * h / 3}, RowBand{15, h - 3}}) {
+      decoder.decode_file_rows(dir / "busy.jpg", scale, rows, band);
+      expect_band_rows(whole, band, rows,
+                       "scale 1/" + std::to_string(static_cast<int>(scale)) + " rows " + std::to_string(rows.first) +
+                           "–" + std::to_string(rows.end));
+    }
+  }
+}
+
+TEST(Jpeg, BandEqualsTheWholeDecodeOnTheRealKeyFrame) {
+  const std::filesystem::path samples =
+      test::source_dir() / "tests" / "data" / "real" / "scene-0061-keyframe" / "samples";
+  JpegDecoder decoder;
+  RgbImage band;
+  size_t images = 0;
+  for (const auto& dir : std::filesystem::directory_iterator(samples)) {
+    if (dir.path().filename().string().rfind("CAM_", 0) != 0) continue;
+    for (const auto& f : std::filesystem::directory_iterator(dir.path())) {
+      const RgbImage whole = decoder.decode_file(f.path(), JpegScale::kHalf);
+      const RowBand rows{whole.height / 2 - 5, whole.height - 40};  // below the horizon, as the camera stage asks
+      decoder.decode_file_rows(f.path(), JpegScale::kHalf, rows, band);
+      expect_band_rows(whole, band, rows, f.path().filename().string());
+      ++images;
+    }
+  }
+  EXPECT_EQ(images, 6u);
+}
+
+TEST(Jpeg, BandRejectsWhatTheWholeDecodeRejects) {
+  test::TempDir dir("jpeg");
+  const std::string jpeg = encode_textured_jpeg(64, 480);
+  // Cut in the lower part of the image: a band of the top rows does not need those rows,
+  // but their data is still read, so the damage is found as a whole decode finds it.
+  test::write_text(dir / "truncated.jpg", jpeg.substr(0, jpeg.size() * 3 / 4));
+  test::write_text(dir / "garbage.jpg", "this is not a jpeg at all");
+  test::write_text(dir / "empty.jpg", "");
+  JpegDecoder decoder;
+  RgbImage image;
+  test::expect_error<ParseError>([&] { decoder.decode_file(dir / "truncated.jpg"); }, "truncated.jpg", {"JPEG"});
+  for (const RowBand rows : {RowBand{0, 8}, RowBand{100, 120}, RowBand{5, 5}, RowBand{240, 240}})
+    test::expect_error<ParseError>(
+        [&] { decoder.decode_file_rows(dir / "truncated.jpg", JpegScale::kHalf, rows, image); }, "truncated.jpg",
+        {"a valid JPEG image (decode: "});
+  test::expect_error<ParseError>(
+      [&] {
+        decoder.decode_file_rows(dir / "garbage.jpg", JpegScale::kHalf, {0, 10}, image);
+      },
+      "garbage.jpg", {"JPEG", "header"});
+  test::expect_error<ParseError>(
+      [&] {
+        decoder.decode_file_rows(dir / "empty.jpg", JpegScale::kHalf, {0, 10}, image);
+      },
+      "empty.jpg", {"JPEG"});
+  test::expect_error<IoError>(
+      [&] {
+        decoder.decode_file_rows(dir / "missing.jpg", JpegScale::kHalf, {0, 10}, image);
+      },
+      "missing.jpg", {});
+  // The decoder stays usable after each error.
+  test::write_text(dir / "ok.jpg", jpeg);
+  decoder.decode_file_rows(dir / "ok.jpg", JpegScale::kHalf, {10, 20}, image);
+  EXPECT_EQ(image.width, 32);
+  EXPECT_EQ(image.height, 240);
+}
+
 // Writes an 8-bit PNG with the simplified libpng API; format PNG_FORMAT_GRAY or _RGB.
 void write_png(const std::filesystem::path& file, int width, int height, png_uint_32 format,
                const std::vector<std::uint8_t>& pixels) {

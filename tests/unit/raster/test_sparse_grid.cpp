@@ -127,5 +127,37 @@ TEST(SparseGrid, MergesAndWritesIntoPackedBlocksKeepEveryCell) {
   expect_same_cells(again, dense);
 }
 
+// merge() returns the cells that were empty and hold data now: all of a new block's,
+// and in a block both grids have, only those the other grid adds.
+TEST(SparseGrid, MergeCountsTheCellsItCovers) {
+  Grid a, b;
+  const Truth in_a = random_cells(4, 0.25, a);
+  const Truth in_b = random_cells(5, 0.25, b);
+  b.at({20000, 0}).value = 1;  // a block only b has
+  Grid merged;
+  EXPECT_EQ(merged.merge(a, keep_max), in_a.size());
+  size_t added = 1;
+  for (const auto& [cell, value] : in_b) added += !in_a.contains(cell);
+  EXPECT_EQ(merged.merge(b, keep_max), added);
+  EXPECT_EQ(merged.merge(b, keep_max), 0u);  // nothing new the second time
+}
+
+// A cleared grid is empty, and the blocks it writes next (on kept storage) start empty.
+TEST(SparseGrid, AClearedGridReusesItsStorageForEmptyBlocks) {
+  Grid grid;
+  random_cells(6, 0.5, grid);
+  const size_t bytes = grid.memory_bytes(), blocks = grid.block_count();
+  grid.clear();
+  EXPECT_EQ(grid.block_count(), 0u);
+  EXPECT_EQ(grid.find({0, 0}), nullptr);
+  EXPECT_EQ(grid.memory_bytes(), blocks * Grid::kCells * sizeof(Cell));  // the storage is kept...
+  Grid fresh;
+  random_cells(8, 0.1, grid);  // ...and reused: no cell of the first fill shows
+  random_cells(8, 0.1, fresh);
+  ASSERT_EQ(grid.block_count(), blocks);
+  expect_same_cells(grid, fresh);
+  EXPECT_EQ(grid.memory_bytes(), bytes);  // the same blocks again: nothing new allocated
+}
+
 }  // namespace
 }  // namespace nsg::raster

@@ -1,6 +1,7 @@
 #pragma once
-// Camera JPEG decoding (docs/nuscenes-input.md) with libturbojpeg's scaled decode; the
-// library type stays behind a pimpl.
+// Camera JPEG decoding (docs/nuscenes-input.md) with libjpeg-turbo's scaled decode (its
+// TurboJPEG API for whole images, its libjpeg API for a band of rows); the library types
+// stay behind a pimpl.
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -23,6 +24,12 @@ struct RgbImage {
 // Size a full-resolution width/height decodes to at `scale`.
 int scaled_dimension(int full, JpegScale scale);
 
+// Rows [first, end) of a decoded (scaled) image.
+struct RowBand {
+  int first = 0;
+  int end = 0;
+};
+
 // A reusable decoder (one per thread: not thread-safe). Errors name the file.
 class JpegDecoder {
  public:
@@ -35,6 +42,12 @@ class JpegDecoder {
   // ParseError(file, "", ...) on corrupt or truncated data.
   void decode_file(const std::filesystem::path& file, JpegScale scale, RgbImage& out);
   RgbImage decode_file(const std::filesystem::path& file, JpegScale scale = JpegScale::kFull);
+  // Decodes only the rows `band` of the scaled image (clamped to it) into `out`, sized as
+  // the whole image; rows outside the band hold no defined values. The band's bytes are a
+  // whole decode's: libjpeg-turbo skips the inverse DCT, upsampling and colour conversion
+  // of the rows above and below it, not their entropy decoding, so data that a whole
+  // decode rejects is rejected here too, wherever in the file it lies.
+  void decode_file_rows(const std::filesystem::path& file, JpegScale scale, RowBand band, RgbImage& out);
   // Decodes bytes in memory; `name` is used in error messages.
   void decode(const std::uint8_t* data, size_t size, JpegScale scale, RgbImage& out, const std::string& name);
   // Full-resolution width and height from the header only.

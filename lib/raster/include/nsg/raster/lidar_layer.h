@@ -87,6 +87,9 @@ class LidarLayer {
   // touches packed (a finished layer's form); adding sweeps afterwards unpacks
   // the blocks they reach.
   void merge(const LidarLayer& other);
+  // Empties the layer but keeps its storage for the next sweeps (a lane's scratch layer,
+  // refilled scene after scene, faults its memory in once).
+  void clear();
 
   const SparseGrid<LidarCell>& cells() const { return cells_; }
   double resolution_m() const { return resolution_m_; }

@@ -105,7 +105,7 @@ class SparseGrid {
     size_t bytes = 0;
     for (const auto& [k, block] : blocks_)
       bytes += sizeof(Block) + (block->dense.capacity() + block->packed.capacity()) * sizeof(T);
-    return bytes;
+    return bytes + spare_.size() * kCells * sizeof(T);
   }
 
   // Visits every cell of every allocated block in a fixed order (blocks by (by, bx),
@@ -130,26 +130,43 @@ class SparseGrid {
   }
 
   // Folds `other` in block by block: combine(T& into, const T& from) for each cell of
-  // `other` holding data. The blocks touched are left packed (a finished layer's form);
-  // cursors and block_data pointers into this grid are invalid afterwards.
+  // `other` holding data. combine(T{}, from) must give `from` (an empty cell takes the
+  // other's): a block new to this grid is copied, not combined. The blocks touched are
+  // left packed (a finished layer's form); cursors and block_data pointers into this grid
+  // are invalid afterwards. Returns the cells that held no data here and do now.
   template <typename Combine>
-  void merge(const SparseGrid& other, Combine&& combine) {
+  size_t merge(const SparseGrid& other, Combine&& combine) {
     std::vector<T> from_buffer, into_buffer(kCells);
+    size_t newly_covered = 0;
     for (const auto& [k, from_block] : other.blocks_) {
       const T* from = from_block->cells(from_buffer);
       auto [it, added] = blocks_.try_emplace(k);
       std::unique_ptr<Block>& slot = it->second;
-      if (added) slot = std::make_unique<Block>();  // packed, empty
-      T* into = slot->is_packed() ? slot->expand(into_buffer.data()) : slot->dense.data();
-      size_t combined = 0;
-      for (size_t i = 0; i < kCells; ++i)
-        if (from[i].has_data()) combine(into[i], from[i]), ++combined;
-      if (added && combined == 0) {  // as with at(): a block only where data fell
-        blocks_.erase(it);
+      if (added) {
+        slot = std::make_unique<Block>();
+        slot->pack(from);
+        if (slot->packed.empty()) blocks_.erase(it);  // as with at(): a block only where data fell
+        else newly_covered += slot->packed.size();
         continue;
+      }
+      T* into = slot->is_packed() ? slot->expand(into_buffer.data()) : slot->dense.data();
+      for (size_t i = 0; i < kCells; ++i) {
+        if (!from[i].has_data()) continue;
+        const bool had_data = into[i].has_data();
+        combine(into[i], from[i]);
+        newly_covered += !had_data && into[i].has_data();
       }
       slot->pack(into);
     }
+    return newly_covered;
+  }
+
+  // Drops every block but keeps the dense blocks' storage for the next writes (a layer
+  // refilled scene after scene then allocates, and faults in, its memory once).
+  void clear() {
+    for (auto& [k, block] : blocks_)
+      if (!block->is_packed()) spare_.push_back(std::move(block->dense));
+    blocks_.clear();
   }
 
  private:
@@ -210,7 +227,15 @@ class SparseGrid {
 
   T* dense_block(BlockKey k) {
     std::unique_ptr<Block>& block = blocks_[k];
-    if (!block) block = std::make_unique<Block>();
+    if (!block) {
+      block = std::make_unique<Block>();
+      if (!spare_.empty()) {  // a new block: reuse kept storage (empty cells, not packed)
+        block->dense = std::move(spare_.back());
+        spare_.pop_back();
+        std::fill(block->dense.begin(), block->dense.end(), T{});
+        return block->dense.data();
+      }
+    }
     if (block->is_packed()) block->unpack();
     return block->dense.data();
   }
@@ -220,6 +245,7 @@ class SparseGrid {
   }
 
   std::map<BlockKey, std::unique_ptr<Block>> blocks_;
+  std::vector<std::vector<T>> spare_;  // dense storage kept by clear(), kCells each
 };
 
 }  // namespace nsg::raster

@@ -41,6 +41,8 @@ class VehicleLayer {
   void add_box(const VehicleBox& box);
   // Order-free union (the overlap rule); leaves the blocks it touches packed.
   void merge(const VehicleLayer& other);
+  // Empties the layer, keeping its storage for the next boxes.
+  void clear() { cells_.clear(); }
   const SparseGrid<VehicleCell>& cells() const { return cells_; }
 
  private:
