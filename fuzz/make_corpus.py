@@ -128,6 +128,7 @@ def images(release, out):
         jpeg = open(os.path.join(folder, sorted(os.listdir(folder))[0]), "rb").read()
         if len(jpeg) < 65536:
             put(out, "images", "jpeg", b"\x01" + jpeg)
+            put(out, "images", "jpeg-band", b"\x03" + jpeg)  # rows 0-40 at 1/2
     for root, _, files in os.walk(release):
         pngs = sorted(f for f in files if f.endswith(".png"))
         if pngs:

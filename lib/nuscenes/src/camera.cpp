@@ -160,21 +160,25 @@ void JpegDecoder::decode_file(const std::filesystem::path& file, JpegScale scale
 
 void JpegDecoder::decode_file_rows(const std::filesystem::path& file, JpegScale scale, RowBand band, RgbImage& out) {
   const std::string bytes = read_file(file);
-  const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
+  decode_rows(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), scale, band, out, file.string());
+}
+
+void JpegDecoder::decode_rows(const std::uint8_t* data, size_t size, JpegScale scale, RowBand band, RgbImage& out,
+                              const std::string& name) {
   BandDecoder& d = impl_->band;
   if (!d.created && !create_band_decoder(d))
     throw InternalError("", "", std::string("jpeg_create_decompress failed: ") + d.errors.message);
   const auto fail = [&](const char* what) {
     jpeg_abort_decompress(&d.info);  // back to a state that takes the next image
-    return ParseError(file.string(), "", std::string("a valid JPEG image (") + what + ": " + d.errors.message + ")");
+    return ParseError(name, "", std::string("a valid JPEG image (") + what + ": " + d.errors.message + ")");
   };
+  if (size == 0) throw ParseError(name, "", "a valid JPEG image (header: the file is empty)");
   int full_w = 0, full_h = 0;
-  if (bytes.empty() ||
-      !read_band_header(d, data, bytes.size(), static_cast<int>(scale), full_w, full_h, out.width, out.height))
+  if (!read_band_header(d, data, size, static_cast<int>(scale), full_w, full_h, out.width, out.height))
     throw fail("header");
   if (full_w <= 0 || full_h <= 0 || full_w > kMaxJpegSidePx || full_h > kMaxJpegSidePx) {
     jpeg_abort_decompress(&d.info);
-    throw ParseError(file.string(), "JPEG header",
+    throw ParseError(name, "JPEG header",
                      "a camera image of at most " + std::to_string(kMaxJpegSidePx) + " x " +
                          std::to_string(kMaxJpegSidePx) + " pixels, got " + std::to_string(full_w) + " x " +
                          std::to_string(full_h));

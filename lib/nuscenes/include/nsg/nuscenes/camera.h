@@ -48,6 +48,9 @@ class JpegDecoder {
   // of the rows above and below it, not their entropy decoding, so data that a whole
   // decode rejects is rejected here too, wherever in the file it lies.
   void decode_file_rows(const std::filesystem::path& file, JpegScale scale, RowBand band, RgbImage& out);
+  // The same for bytes in memory; `name` is used in error messages.
+  void decode_rows(const std::uint8_t* data, size_t size, JpegScale scale, RowBand band, RgbImage& out,
+                   const std::string& name);
   // Decodes bytes in memory; `name` is used in error messages.
   void decode(const std::uint8_t* data, size_t size, JpegScale scale, RgbImage& out, const std::string& name);
   // Full-resolution width and height from the header only.
