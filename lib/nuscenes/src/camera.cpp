@@ -18,6 +18,14 @@ namespace {
 // allocated, so a small file claiming a huge image costs nothing.
 constexpr int kMaxJpegSidePx = 4096;
 
+// The full size a header claims, checked before any pixel buffer is allocated.
+void check_camera_size(const std::string& name, int width, int height) {
+  NSG_CHECK(width > 0 && height > 0 && width <= kMaxJpegSidePx && height <= kMaxJpegSidePx, ParseError, name,
+            "JPEG header",
+            "a camera image of at most " + std::to_string(kMaxJpegSidePx) + " x " + std::to_string(kMaxJpegSidePx) +
+                " pixels, got " + std::to_string(width) + " x " + std::to_string(height));
+}
+
 // libjpeg reports an error through error_exit, which must not return: it jumps back to
 // the setjmp of the call in progress, which returns false (no exception crosses C frames;
 // the functions holding a setjmp have only trivially destructible locals). Warnings
@@ -78,8 +86,7 @@ bool read_band_header(BandDecoder& d, const std::uint8_t* data, size_t size, int
 }
 
 // Decodes rows [first, end) (0 ≤ first ≤ end ≤ height, first < height) into `pixels`
-// (out_w × height × 3).
-// The rows below the band are skipped up to the last one, which is decoded: skipping to
+// (out_w × height × 3). The rows below the band are skipped up to the last one, which is decoded: skipping to
 // the very end would leave their entropy-coded data unread, and a corrupt tail unnoticed.
 bool decode_band(BandDecoder& d, std::uint8_t* pixels, int first, int end) {
   if (setjmp(d.errors.jump)) return false;
@@ -133,10 +140,7 @@ std::pair<int, int> JpegDecoder::read_size(const std::uint8_t* data, size_t size
                                        &subsampling, &colorspace) != 0) {
     throw ParseError(name, "", std::string("a JPEG image (header: ") + tjGetErrorStr2(impl_->handle) + ")");
   }
-  NSG_CHECK(width > 0 && height > 0 && width <= kMaxJpegSidePx && height <= kMaxJpegSidePx, ParseError, name,
-            "JPEG header",
-            "a camera image of at most " + std::to_string(kMaxJpegSidePx) + " x " + std::to_string(kMaxJpegSidePx) +
-                " pixels, got " + std::to_string(width) + " x " + std::to_string(height));
+  check_camera_size(name, width, height);
   return {width, height};
 }
 
@@ -173,16 +177,16 @@ void JpegDecoder::decode_rows(const std::uint8_t* data, size_t size, JpegScale s
     return ParseError(name, "", std::string("a valid JPEG image (") + what + ": " + d.errors.message + ")");
   };
   if (size == 0) throw ParseError(name, "", "a valid JPEG image (header: the file is empty)");
-  int full_w = 0, full_h = 0;
-  if (!read_band_header(d, data, size, static_cast<int>(scale), full_w, full_h, out.width, out.height))
-    throw fail("header");
-  if (full_w <= 0 || full_h <= 0 || full_w > kMaxJpegSidePx || full_h > kMaxJpegSidePx) {
+  int full_w = 0, full_h = 0, width = 0, height = 0;
+  if (!read_band_header(d, data, size, static_cast<int>(scale), full_w, full_h, width, height)) throw fail("header");
+  try {
+    check_camera_size(name, full_w, full_h);
+  } catch (const ParseError&) {
     jpeg_abort_decompress(&d.info);
-    throw ParseError(name, "JPEG header",
-                     "a camera image of at most " + std::to_string(kMaxJpegSidePx) + " x " +
-                         std::to_string(kMaxJpegSidePx) + " pixels, got " + std::to_string(full_w) + " x " +
-                         std::to_string(full_h));
+    throw;
   }
+  out.width = width;
+  out.height = height;
   out.pixels.resize(static_cast<size_t>(out.width) * out.height * 3);
   int first = std::clamp(band.first, 0, out.height), end = std::clamp(band.end, first, out.height);
   if (first == end) first = end = 0;  // no rows wanted: the data is still checked

@@ -265,6 +265,19 @@ TEST(Jpeg, HeaderClaimingAHugeImageIsRefusedBeforeDecoding) {
   JpegDecoder decoder;
   test::expect_error<ParseError>([&] { decoder.decode_file(dir / "huge.jpg", JpegScale::kFull); }, "huge.jpg",
                                  {"at most 4096 x 4096", "65000 x 65000"});
+  // The band decoder checks the same header before allocating, and leaves `image` as it was.
+  RgbImage image;
+  test::expect_error<ParseError>(
+      [&] {
+        decoder.decode_file_rows(dir / "huge.jpg", JpegScale::kHalf, {0, 10}, image);
+      },
+      "huge.jpg", {"at most 4096 x 4096", "65000 x 65000"});
+  EXPECT_EQ(image.width, 0);
+  EXPECT_TRUE(image.pixels.empty());
+  // ...and takes the next image.
+  test::write_text(dir / "ok.jpg", encode_test_jpeg(16, 16));
+  decoder.decode_file_rows(dir / "ok.jpg", JpegScale::kHalf, {0, 8}, image);
+  EXPECT_EQ(image.width, 8);
 }
 
 TEST(SemanticMask, HeaderClaimingAHugeMaskIsRefusedBeforeReading) {
