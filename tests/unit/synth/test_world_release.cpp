@@ -114,8 +114,9 @@ TEST(WorldRelease, WritesLidarsegForEveryKeyFrameSweep) {
     for (size_t p = 0; p < points.size(); ++p) {
       ++counts[labels[p]];
       // The roof returns (|x|, |y| < 1 m in the sensor frame) are the ego vehicle.
-      if (std::abs(points[p].x) < 1.0f && std::abs(points[p].y) < 1.0f && points[p].z < 0.0f)
+      if (std::abs(points[p].x) < 1.0f && std::abs(points[p].y) < 1.0f && points[p].z < 0.0f) {
         EXPECT_EQ(labels[p], 31) << p;
+      }
     }
   }
   EXPECT_EQ(index.labelled_sweeps(), key_sweeps);
