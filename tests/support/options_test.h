@@ -1,11 +1,12 @@
 #pragma once
 // Checks shared by the tests of declared configs (generate, synth, train): every key fed
 // a bad value through a config file and through --set must be refused by a message that
-// names the key and the source it came from.
+// names the key and the source it came from; the listing covers the resolved config.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,34 @@ inline void expect_every_key_refused_naming_it(const std::vector<options::Spec>&
     EXPECT_NE(message.find("--set: " + spec.key), std::string::npos)
         << name << " " << spec.key << " " << bad << ": " << message;
   }
+}
+
+// The keys `nsgraph <command> --list-options --format json` lists, each with a description
+// and a type, are exactly the leaves of `nsgraph <command> --print-config` (an object of a
+// shape of its own, a listed key, counts as one leaf). Returns the listed keys.
+inline std::set<std::string> expect_listed_keys_are_the_config_leaves(const std::string& command) {
+  using nlohmann::json;
+  const CommandResult list = run_nsgraph({command, "--list-options", "--format", "json"});
+  EXPECT_EQ(list.exit_code, 0) << list.err;
+  std::set<std::string> listed;
+  for (const json& o : json::parse(list.out)) {
+    listed.insert(o["key"].get<std::string>());
+    EXPECT_FALSE(o["description"].get<std::string>().empty()) << command << " " << o["key"];
+    EXPECT_FALSE(o["type"].get<std::string>().empty()) << command << " " << o["key"];
+  }
+  const CommandResult printed = run_nsgraph({command, "--print-config"});
+  EXPECT_EQ(printed.exit_code, 0) << printed.err;
+  std::set<std::string> leaves;
+  std::function<void(const json&, const std::string&)> walk = [&](const json& node, const std::string& path) {
+    if (listed.count(path) || !node.is_object()) {
+      leaves.insert(path);
+      return;
+    }
+    for (const auto& [k, v] : node.items()) walk(v, path.empty() ? k : path + "." + k);
+  };
+  walk(json::parse(printed.out), "");
+  EXPECT_EQ(leaves, listed) << command;
+  return listed;
 }
 
 }  // namespace nsg::test

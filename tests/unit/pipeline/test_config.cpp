@@ -73,27 +73,7 @@ TEST(GenerateConfig, MessagesNameTheFileKeyAndFlag) {
 }
 
 TEST(GenerateConfig, ListOptionsCoversEveryKeyOfTheResolvedConfig) {
-  const CommandResult list = run_nsgraph({"generate", "--list-options", "--format", "json"});
-  ASSERT_EQ(list.exit_code, 0) << list.err;
-  std::set<std::string> listed;
-  for (const json& o : json::parse(list.out)) {
-    listed.insert(o["key"].get<std::string>());
-    EXPECT_FALSE(o["description"].get<std::string>().empty()) << o["key"];
-    EXPECT_FALSE(o["type"].get<std::string>().empty()) << o["key"];
-  }
-  // Every leaf of the resolved config (objects of a shape's own are one key).
-  const CommandResult printed = run_nsgraph({"generate", "--print-config"});
-  ASSERT_EQ(printed.exit_code, 0) << printed.err;
-  std::set<std::string> leaves;
-  std::function<void(const json&, const std::string&)> walk = [&](const json& node, const std::string& path) {
-    if (listed.count(path) || !node.is_object()) {
-      leaves.insert(path);
-      return;
-    }
-    for (const auto& [k, v] : node.items()) walk(v, path.empty() ? k : path + "." + k);
-  };
-  walk(json::parse(printed.out), "");
-  EXPECT_EQ(leaves, listed);
+  const std::set<std::string> listed = expect_listed_keys_are_the_config_leaves("generate");
   const CommandResult text = run_nsgraph({"generate", "--list-options"});
   ASSERT_EQ(text.exit_code, 0) << text.err;
   for (const std::string& key : listed) EXPECT_NE(text.out.find(key + "  "), std::string::npos) << key;
