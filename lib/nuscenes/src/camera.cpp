@@ -1,13 +1,13 @@
 #include "nsg/nuscenes/camera.h"
 
-#include <turbojpeg.h>
-
 // jpeglib.h needs FILE and size_t declared first.
 #include <csetjmp>
 #include <cstdio>
 #include <jpeglib.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <limits>
 
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
@@ -29,8 +29,8 @@ void check_camera_size(const std::string& name, int width, int height) {
 // libjpeg reports an error through error_exit, which must not return: it jumps back to
 // the setjmp of the call in progress, which returns false (no exception crosses C frames;
 // the functions holding a setjmp have only trivially destructible locals). Warnings
-// (corrupt data the library would guess around) are errors too, as TJFLAG_STOPONWARNING
-// makes them for whole images.
+// (corrupt data the library would guess around, a premature end) are errors too, as
+// TurboJPEG's TJFLAG_STOPONWARNING makes them: a partial image is not data.
 struct JpegErrors {
   jpeg_error_mgr mgr;  // first: libjpeg sees a jpeg_error_mgr*
   std::jmp_buf jump;
@@ -47,14 +47,14 @@ void on_jpeg_message(j_common_ptr info, int level) {
   if (level < 0) on_jpeg_error(info);  // a warning; levels ≥ 0 are traces
 }
 
-// The band decoder's libjpeg state, kept from image to image.
-struct BandDecoder {
+// The decoder's libjpeg state, kept from image to image.
+struct Decompressor {
   jpeg_decompress_struct info{};
   JpegErrors errors{};
   bool created = false;
 };
 
-bool create_band_decoder(BandDecoder& d) {
+bool create_decompressor(Decompressor& d) {
   d.info.err = jpeg_std_error(&d.errors.mgr);
   d.errors.mgr.error_exit = on_jpeg_error;
   d.errors.mgr.emit_message = on_jpeg_message;
@@ -64,11 +64,11 @@ bool create_band_decoder(BandDecoder& d) {
   return true;
 }
 
-// Reads the header of `data` and sets the whole decode's parameters (TurboJPEG's for
-// TJPF_RGB: RGB out, the accurate integer DCT, fancy upsampling) at 1/denom. Fills the
-// full and scaled sizes.
-bool read_band_header(BandDecoder& d, const std::uint8_t* data, size_t size, int denom, int& full_w, int& full_h,
-                      int& out_w, int& out_h) {
+// Reads the header of `data` and sets the decode's parameters (TurboJPEG's tjDecompress2
+// for TJPF_RGB, so the bytes are its: RGB out, the accurate integer DCT, fancy
+// upsampling) at 1/denom. Fills the full and scaled sizes.
+bool read_header(Decompressor& d, const std::uint8_t* data, size_t size, int denom, int& full_w, int& full_h,
+                 int& out_w, int& out_h) {
   if (setjmp(d.errors.jump)) return false;
   jpeg_mem_src(&d.info, data, static_cast<unsigned long>(size));
   jpeg_read_header(&d.info, TRUE);
@@ -88,7 +88,7 @@ bool read_band_header(BandDecoder& d, const std::uint8_t* data, size_t size, int
 // Decodes rows [first, end) (0 ≤ first ≤ end ≤ height, first < height) into `pixels`
 // (out_w × height × 3). The rows below the band are skipped up to the last one, which is decoded: skipping to
 // the very end would leave their entropy-coded data unread, and a corrupt tail unnoticed.
-bool decode_band(BandDecoder& d, std::uint8_t* pixels, int first, int end) {
+bool decode_band(Decompressor& d, std::uint8_t* pixels, int first, int end) {
   if (setjmp(d.errors.jump)) return false;
   jpeg_start_decompress(&d.info);
   const size_t stride = static_cast<size_t>(d.info.output_width) * 3;
@@ -112,49 +112,31 @@ bool decode_band(BandDecoder& d, std::uint8_t* pixels, int first, int end) {
 }  // namespace
 
 struct JpegDecoder::Impl {
-  tjhandle handle = nullptr;
-  BandDecoder band;
+  Decompressor state;
   ~Impl() {
-    if (band.created) jpeg_destroy_decompress(&band.info);
+    if (state.created) jpeg_destroy_decompress(&state.info);
+  }
+  // The libjpeg state, created on first use.
+  Decompressor& decoder() {
+    if (!state.created && !create_decompressor(state))
+      throw InternalError("", "", std::string("jpeg_create_decompress failed: ") + state.errors.message);
+    return state;
   }
 };
 
 int scaled_dimension(int full, JpegScale scale) {
-  const tjscalingfactor factor{1, static_cast<int>(scale)};
-  return TJSCALED(full, factor);
+  // ceil(full / denom), as libjpeg's jdiv_round_up sizes a scaled decode.
+  const int64_t denom = static_cast<int>(scale);
+  return static_cast<int>((static_cast<int64_t>(full) + denom - 1) / denom);
 }
 
-JpegDecoder::JpegDecoder() : impl_(std::make_unique<Impl>()) {
-  impl_->handle = tjInitDecompress();
-  if (impl_->handle == nullptr)
-    throw InternalError("", "", std::string("tjInitDecompress failed: ") + tjGetErrorStr2(nullptr));
-}
+JpegDecoder::JpegDecoder() : impl_(std::make_unique<Impl>()) {}
 
-JpegDecoder::~JpegDecoder() {
-  if (impl_ && impl_->handle != nullptr) tjDestroy(impl_->handle);
-}
-
-std::pair<int, int> JpegDecoder::read_size(const std::uint8_t* data, size_t size, const std::string& name) {
-  int width = 0, height = 0, subsampling = 0, colorspace = 0;
-  if (size == 0 || tjDecompressHeader3(impl_->handle, data, static_cast<unsigned long>(size), &width, &height,
-                                       &subsampling, &colorspace) != 0) {
-    throw ParseError(name, "", std::string("a JPEG image (header: ") + tjGetErrorStr2(impl_->handle) + ")");
-  }
-  check_camera_size(name, width, height);
-  return {width, height};
-}
+JpegDecoder::~JpegDecoder() = default;
 
 void JpegDecoder::decode(const std::uint8_t* data, size_t size, JpegScale scale, RgbImage& out,
                          const std::string& name) {
-  const auto [full_w, full_h] = read_size(data, size, name);
-  out.width = scaled_dimension(full_w, scale);
-  out.height = scaled_dimension(full_h, scale);
-  out.pixels.resize(static_cast<size_t>(out.width) * out.height * 3);
-  // Warnings (e.g. premature end of data) count as errors: a partial image is not data.
-  if (tjDecompress2(impl_->handle, data, static_cast<unsigned long>(size), out.pixels.data(), out.width, 0, out.height,
-                    TJPF_RGB, TJFLAG_STOPONWARNING) != 0) {
-    throw ParseError(name, "", std::string("a valid JPEG image (decode: ") + tjGetErrorStr2(impl_->handle) + ")");
-  }
+  decode_rows(data, size, scale, {0, std::numeric_limits<int>::max()}, out, name);
 }
 
 void JpegDecoder::decode_file(const std::filesystem::path& file, JpegScale scale, RgbImage& out) {
@@ -169,16 +151,14 @@ void JpegDecoder::decode_file_rows(const std::filesystem::path& file, JpegScale 
 
 void JpegDecoder::decode_rows(const std::uint8_t* data, size_t size, JpegScale scale, RowBand band, RgbImage& out,
                               const std::string& name) {
-  BandDecoder& d = impl_->band;
-  if (!d.created && !create_band_decoder(d))
-    throw InternalError("", "", std::string("jpeg_create_decompress failed: ") + d.errors.message);
+  Decompressor& d = impl_->decoder();
   const auto fail = [&](const char* what) {
     jpeg_abort_decompress(&d.info);  // back to a state that takes the next image
     return ParseError(name, "", std::string("a valid JPEG image (") + what + ": " + d.errors.message + ")");
   };
   if (size == 0) throw ParseError(name, "", "a valid JPEG image (header: the file is empty)");
   int full_w = 0, full_h = 0, width = 0, height = 0;
-  if (!read_band_header(d, data, size, static_cast<int>(scale), full_w, full_h, width, height)) throw fail("header");
+  if (!read_header(d, data, size, static_cast<int>(scale), full_w, full_h, width, height)) throw fail("header");
   try {
     check_camera_size(name, full_w, full_h);
   } catch (const ParseError&) {

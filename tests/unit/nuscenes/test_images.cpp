@@ -92,7 +92,7 @@ TEST(Jpeg, CorruptDataNamesTheFile) {
 }
 
 // A width×height JPEG of a busy pattern (every 8×8 block different, chroma too), 4:2:0
-// like nuScenes: the band decode must match the whole decode byte for byte, fancy
+// like nuScenes: every band must match TurboJPEG's whole decode byte for byte, fancy
 // upsampling across the band's edges included.
 std::string encode_textured_jpeg(int width, int height) {
   std::vector<unsigned char> rgb(static_cast<size_t>(width) * height * 3);
@@ -111,6 +111,27 @@ std::string encode_textured_jpeg(int width, int height) {
   return out;
 }
 
+// The reference decode: TurboJPEG's tjDecompress2 of the whole image (RGB, warnings as
+// errors), which JpegDecoder's bytes must equal. An empty image when it refuses the data.
+RgbImage turbojpeg_decode(const std::filesystem::path& file, JpegScale scale) {
+  const std::string bytes = test::read_text(file);
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  RgbImage out;
+  tjhandle h = tjInitDecompress();
+  int w = 0, ht = 0, subsampling = 0, colorspace = 0;
+  if (tjDecompressHeader3(h, data, bytes.size(), &w, &ht, &subsampling, &colorspace) == 0) {
+    const tjscalingfactor factor{1, static_cast<int>(scale)};
+    out.width = TJSCALED(w, factor);
+    out.height = TJSCALED(ht, factor);
+    out.pixels.resize(static_cast<size_t>(out.width) * out.height * 3);
+    if (tjDecompress2(h, data, bytes.size(), out.pixels.data(), out.width, 0, out.height, TJPF_RGB,
+                      TJFLAG_STOPONWARNING) != 0)
+      out = RgbImage{};
+  }
+  tjDestroy(h);
+  return out;
+}
+
 // Rows [first, end) of `band` equal those of `whole` (same size).
 void expect_band_rows(const RgbImage& whole, const RgbImage& band, RowBand rows, const std::string& what) {
   ASSERT_EQ(band.width, whole.width) << what;
@@ -120,7 +141,7 @@ void expect_band_rows(const RgbImage& whole, const RgbImage& band, RowBand rows,
     ASSERT_TRUE(std::equal(whole.at(0, y), whole.at(0, y) + stride, band.at(0, y))) << what << ": row " << y;
 }
 
-TEST(Jpeg, BandEqualsTheWholeDecodeAtEachScale) {
+TEST(Jpeg, WholeAndBandsEqualTurboJpegAtEachScale) {
   test::TempDir dir("jpeg");
   const std::string jpeg = encode_textured_jpeg(203, 157);  // odd sizes: partial MCUs at the edges
   ASSERT_FALSE(jpeg.empty());
@@ -128,8 +149,11 @@ TEST(Jpeg, BandEqualsTheWholeDecodeAtEachScale) {
   JpegDecoder decoder;
   RgbImage band;
   for (JpegScale scale : {JpegScale::kFull, JpegScale::kHalf, JpegScale::kQuarter}) {
-    const RgbImage whole = decoder.decode_file(dir / "busy.jpg", scale);
+    const RgbImage whole = turbojpeg_decode(dir / "busy.jpg", scale);
     const int h = whole.height;
+    ASSERT_GT(h, 0);
+    expect_band_rows(whole, decoder.decode_file(dir / "busy.jpg", scale), {0, h},
+                     "whole image at 1/" + std::to_string(static_cast<int>(scale)));
     // Bands starting and ending inside and on iMCU rows, one row, the whole image.
     for (const RowBand rows : {RowBand{0, h}, RowBand{0, 1}, RowBand{h - 1, h}, RowBand{1, 2}, RowBand{7, 9},
                                RowBand{8, 16}, RowBand{h / 2, h}, RowBand{h / 3, 2 * h / 3}, RowBand{15, h - 3}}) {
@@ -141,7 +165,7 @@ TEST(Jpeg, BandEqualsTheWholeDecodeAtEachScale) {
   }
 }
 
-TEST(Jpeg, BandEqualsTheWholeDecodeOnTheRealKeyFrame) {
+TEST(Jpeg, WholeAndBandsEqualTurboJpegOnTheRealKeyFrame) {
   const std::filesystem::path samples =
       test::source_dir() / "tests" / "data" / "real" / "scene-0061-keyframe" / "samples";
   JpegDecoder decoder;
@@ -150,7 +174,13 @@ TEST(Jpeg, BandEqualsTheWholeDecodeOnTheRealKeyFrame) {
   for (const auto& dir : std::filesystem::directory_iterator(samples)) {
     if (dir.path().filename().string().rfind("CAM_", 0) != 0) continue;
     for (const auto& f : std::filesystem::directory_iterator(dir.path())) {
-      const RgbImage whole = decoder.decode_file(f.path(), JpegScale::kHalf);
+      // The whole image at full size (what `segment` reads) and at ½ (what the stage reads).
+      const RgbImage full = turbojpeg_decode(f.path(), JpegScale::kFull);
+      expect_band_rows(full, decoder.decode_file(f.path(), JpegScale::kFull), {0, full.height},
+                       f.path().filename().string() + " whole, full size");
+      const RgbImage whole = turbojpeg_decode(f.path(), JpegScale::kHalf);
+      expect_band_rows(whole, decoder.decode_file(f.path(), JpegScale::kHalf), {0, whole.height},
+                       f.path().filename().string() + " whole, ½");
       const RowBand rows{whole.height / 2 - 5, whole.height - 40};  // below the horizon, as the camera stage asks
       decoder.decode_file_rows(f.path(), JpegScale::kHalf, rows, band);
       expect_band_rows(whole, band, rows, f.path().filename().string());
@@ -160,7 +190,7 @@ TEST(Jpeg, BandEqualsTheWholeDecodeOnTheRealKeyFrame) {
   EXPECT_EQ(images, 6u);
 }
 
-TEST(Jpeg, BandRejectsWhatTheWholeDecodeRejects) {
+TEST(Jpeg, BandRejectsWhatTurboJpegRejects) {
   test::TempDir dir("jpeg");
   const std::string jpeg = encode_textured_jpeg(64, 480);
   // Cut in the lower part of the image: a band of the top rows does not need those rows,
@@ -170,6 +200,7 @@ TEST(Jpeg, BandRejectsWhatTheWholeDecodeRejects) {
   test::write_text(dir / "empty.jpg", "");
   JpegDecoder decoder;
   RgbImage image;
+  EXPECT_TRUE(turbojpeg_decode(dir / "truncated.jpg", JpegScale::kHalf).pixels.empty());  // the reference refuses it
   test::expect_error<ParseError>([&] { decoder.decode_file(dir / "truncated.jpg"); }, "truncated.jpg", {"JPEG"});
   for (const RowBand rows : {RowBand{0, 8}, RowBand{100, 120}, RowBand{5, 5}, RowBand{240, 240}})
     test::expect_error<ParseError>(
@@ -265,7 +296,7 @@ TEST(Jpeg, HeaderClaimingAHugeImageIsRefusedBeforeDecoding) {
   JpegDecoder decoder;
   test::expect_error<ParseError>([&] { decoder.decode_file(dir / "huge.jpg", JpegScale::kFull); }, "huge.jpg",
                                  {"at most 4096 x 4096", "65000 x 65000"});
-  // The band decoder checks the same header before allocating, and leaves `image` as it was.
+  // A band is refused the same way before allocating, and `image` is left as it was.
   RgbImage image;
   test::expect_error<ParseError>(
       [&] {

@@ -1,7 +1,8 @@
 #pragma once
-// Camera JPEG decoding (docs/nuscenes-input.md) with libjpeg-turbo's scaled decode (its
-// TurboJPEG API for whole images, its libjpeg API for a band of rows); the library types
-// stay behind a pimpl.
+// Camera JPEG decoding (docs/nuscenes-input.md) with libjpeg-turbo's scaled decode,
+// through its libjpeg API (which can skip rows) with the parameters of its TurboJPEG
+// API, so the bytes are tjDecompress2's (tests compare them); the library types stay
+// behind a pimpl.
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -39,7 +40,7 @@ class JpegDecoder {
   JpegDecoder& operator=(const JpegDecoder&) = delete;
 
   // Decodes the file into `out` (its buffer is reused). Throws IoError if unreadable,
-  // ParseError(file, "", ...) on corrupt or truncated data.
+  // ParseError(file, "", ...) on corrupt or truncated data (libjpeg's warnings included).
   void decode_file(const std::filesystem::path& file, JpegScale scale, RgbImage& out);
   RgbImage decode_file(const std::filesystem::path& file, JpegScale scale = JpegScale::kFull);
   // Decodes only the rows `band` of the scaled image (clamped to it) into `out`, sized as
@@ -53,8 +54,6 @@ class JpegDecoder {
                    const std::string& name);
   // Decodes bytes in memory; `name` is used in error messages.
   void decode(const std::uint8_t* data, size_t size, JpegScale scale, RgbImage& out, const std::string& name);
-  // Full-resolution width and height from the header only.
-  std::pair<int, int> read_size(const std::uint8_t* data, size_t size, const std::string& name);
 
  private:
   struct Impl;
