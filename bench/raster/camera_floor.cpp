@@ -1,13 +1,16 @@
 // The floor under generate's camera and LiDAR stages: the same files, read and decoded
 // and nothing else, one core. bench/camera.sh divides each stage's rate by these.
 //   camera_floor DATAROOT [SCALE_DENOM [PASSES]]
-// Key-frame images are DATAROOT/samples/CAM_*/*.jpg (decoded with libturbojpeg at 1/SCALE,
+// Key-frame images are DATAROOT/samples/CAM_*/*.jpg (decoded whole with libjpeg-turbo at 1/SCALE,
 // as the stage does), their masks DATAROOT/semantic/CAM_*/<basename>.png decoded as stored
 // (libpng), sweeps DATAROOT/{samples,sweeps}/LIDAR_TOP/*.pcd.bin read whole from the page
 // cache, each into a buffer of its own (sweeps_per_s) and into one kept buffer
 // (sweeps_copy_per_s, the bare copy). One untimed pass warms the cache; the printed figure is the median of PASSES.
+// Beside the floor, the LiDAR kernel's own arithmetic (sweep_kernel_us): what
+// LidarLayer::add_sweep costs per sweep when reading, page faults and cell writes are
+// taken away (below), the least the LiDAR stage adds to the read.
 // Prints one JSON object: jpeg_per_s, mask_per_s, images_per_s (JPEG + mask), sweeps_per_s,
-// sweep_mb_per_s and the counts.
+// sweep_mb_per_s, sweep_kernel_us and the counts.
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -23,8 +26,10 @@
 #include <vector>
 
 #include "nsg/core/error.h"
+#include "nsg/geometry/transform.h"
 #include "nsg/nuscenes/camera.h"
 #include "nsg/nuscenes/semantic_mask.h"
+#include "nsg/raster/lidar_layer.h"
 
 namespace {
 
@@ -77,6 +82,47 @@ size_t read_whole(const fs::path& file, std::vector<char>& buffer) {
   }
   ::close(fd);
   return done;
+}
+
+// The LiDAR kernel's arithmetic per sweep (µs, median of `passes`): the finite check, the
+// roof/range filter, both devkit transforms, the binning and the screen of
+// LidarLayer::add_sweep, on each sweep already in memory and with every cell it reaches
+// already allocated and in its block table. An untimed pass adds every sweep at one pose
+// (LIDAR_TOP's mounting, an ego pose at the origin); the timed passes add them again
+// raised by 1 km, so every point is screened out: no cell is written, nothing allocated.
+// What is left is work the stage does for every point whatever it holds.
+double sweep_kernel_us(const std::vector<fs::path>& sweeps, int passes) {
+  using nsg::geometry::Quaternion;
+  using nsg::geometry::Rigid3;
+  const Rigid3 ego_from_sensor =
+      Rigid3::from_pose({0.94, 0.0, 1.84}, Quaternion::from_wxyz({0.7071, 0.0, 0.0, 0.7071}));
+  const Rigid3 ground = Rigid3::from_pose({600.0, 1700.0, 0.0}, Quaternion::from_wxyz({0.9659, 0.0, 0.0, 0.2588}));
+  Rigid3 raised = ground;
+  raised.translation.z() += 1000.0;
+  const nsg::raster::LidarOptions options;
+  nsg::raster::LidarLayer layer(options.resolution_m);
+  std::vector<char> rows;
+  const auto add = [&](size_t i, const Rigid3& global_from_ego) {
+    layer.add_sweep(reinterpret_cast<const float*>(rows.data()), rows.size() / (5 * sizeof(float)), 0, ego_from_sensor,
+                    global_from_ego, options, static_cast<int32_t>(i));
+  };
+  for (size_t i = 0; i < sweeps.size(); ++i) {
+    read_whole(sweeps[i], rows);
+    add(i, ground);
+  }
+  std::vector<double> us;
+  for (int p = 0; p < passes; ++p) {
+    double s = 0.0;
+    for (size_t i = 0; i < sweeps.size(); ++i) {
+      read_whole(sweeps[i], rows);  // untimed: the read is the floor's part
+      const auto t0 = std::chrono::steady_clock::now();
+      add(i, raised);
+      s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+    us.push_back(1e6 * s / static_cast<double>(sweeps.size()));
+  }
+  std::sort(us.begin(), us.end());
+  return us[us.size() / 2];
 }
 
 }  // namespace
@@ -141,20 +187,21 @@ int main(int argc, char** argv) {
     const double copy_s = sweeps.empty() ? 0.0 : median_seconds(passes, [&] {
       for (const fs::path& f : sweeps) sink += read_whole(f, kept);
     });
+    const double kernel_us = sweeps.empty() ? 0.0 : sweep_kernel_us(sweeps, passes);
     const double n = static_cast<double>(jpegs.size());
     std::printf(
         "{\"images\": %zu, \"masks\": %zu, \"mask_width_px\": %d, \"sweeps\": %zu, \"scale_denom\": %d, \"passes\": "
         "%d,\n"
         " \"jpeg_ms\": %.3f, \"mask_ms\": %.3f, \"jpeg_per_s\": %.1f, \"mask_per_s\": %.1f,\n"
         " \"images_per_s\": %.1f, \"sweeps_per_s\": %.1f, \"sweep_mb_per_s\": %.1f, \"sweeps_copy_per_s\": %.1f,"
-        " \"sink\": %zu}\n",
+        " \"sweep_kernel_us\": %.1f, \"sink\": %zu}\n",
         jpegs.size(), masks.size(), mask_w, sweeps.size(), denom, passes, 1e3 * jpeg_s / n,
         masks.empty() ? 0.0 : 1e3 * mask_s / static_cast<double>(masks.size()), n / jpeg_s,
         masks.empty() ? 0.0 : static_cast<double>(masks.size()) / mask_s,
         masks.size() == jpegs.size() ? n / (jpeg_s + mask_s) : 0.0,
         sweeps.empty() ? 0.0 : static_cast<double>(sweeps.size()) / sweep_s,
         sweeps.empty() ? 0.0 : static_cast<double>(sweep_bytes) / 1e6 / sweep_s,
-        sweeps.empty() ? 0.0 : static_cast<double>(sweeps.size()) / copy_s, sink % 2);
+        sweeps.empty() ? 0.0 : static_cast<double>(sweeps.size()) / copy_s, kernel_us, sink % 2);
   } catch (const nsg::Error& e) {
     std::fprintf(stderr, "camera_floor: %s\n", e.what());
     return 2;
