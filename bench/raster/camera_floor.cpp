@@ -1,8 +1,8 @@
 // The floor under generate's camera and LiDAR stages: the same files, read and decoded
 // and nothing else, one core. bench/camera.sh divides each stage's rate by these.
 //   camera_floor DATAROOT [SCALE_DENOM [PASSES]]
-// Key-frame images are DATAROOT/samples/CAM_*/*.jpg (decoded whole with libjpeg-turbo at 1/SCALE,
-// as the stage does), their masks DATAROOT/semantic/CAM_*/<basename>.png decoded as stored
+// Key-frame images are DATAROOT/samples/CAM_*/*.jpg (decoded whole with libjpeg-turbo at the
+// stage's 1/SCALE), their masks DATAROOT/semantic/CAM_*/<basename>.png decoded as stored
 // (libpng), sweeps DATAROOT/{samples,sweeps}/LIDAR_TOP/*.pcd.bin read whole from the page
 // cache, each into a buffer of its own (sweeps_per_s) and into one kept buffer
 // (sweeps_copy_per_s, the bare copy). One untimed pass warms the cache; the printed figure is the median of PASSES.
@@ -88,9 +88,10 @@ size_t read_whole(const fs::path& file, std::vector<char>& buffer) {
 // roof/range filter, both devkit transforms, the binning and the screen of
 // LidarLayer::add_sweep, on each sweep already in memory and with every cell it reaches
 // already allocated and in its block table. An untimed pass adds every sweep at one pose
-// (LIDAR_TOP's mounting, an ego pose at the origin); the timed passes add them again
-// raised by 1 km, so every point is screened out: no cell is written, nothing allocated.
-// What is left is work the stage does for every point whatever it holds.
+// (LIDAR_TOP's mounting, one fixed ego pose); the timed passes add them again raised by
+// 1 km, so the screen turns every point away (but the few within a rounding margin of a
+// cell border, which the exact update finds higher): no cell is written, nothing
+// allocated. What is left is work the stage does for every point whatever it holds.
 double sweep_kernel_us(const std::vector<fs::path>& sweeps, int passes) {
   using nsg::geometry::Quaternion;
   using nsg::geometry::Rigid3;
