@@ -18,12 +18,16 @@ namespace {
 // allocated, so a small file claiming a huge image costs nothing.
 constexpr int kMaxJpegSidePx = 4096;
 
-// The full size a header claims, checked before any pixel buffer is allocated.
-void check_camera_size(const std::string& name, int width, int height) {
-  NSG_CHECK(width > 0 && height > 0 && width <= kMaxJpegSidePx && height <= kMaxJpegSidePx, ParseError, name,
-            "JPEG header",
-            "a camera image of at most " + std::to_string(kMaxJpegSidePx) + " x " + std::to_string(kMaxJpegSidePx) +
-                " pixels, got " + std::to_string(width) + " x " + std::to_string(height));
+// Whether the full size a header claims is a camera image's (checked before any pixel
+// buffer is allocated), and the error when it is not.
+bool is_camera_size(int width, int height) {
+  return width > 0 && height > 0 && width <= kMaxJpegSidePx && height <= kMaxJpegSidePx;
+}
+ParseError camera_size_error(const std::string& name, int width, int height) {
+  return ParseError(name, "JPEG header",
+                    "a camera image of at most " + std::to_string(kMaxJpegSidePx) + " x " +
+                        std::to_string(kMaxJpegSidePx) + " pixels, got " + std::to_string(width) + " x " +
+                        std::to_string(height));
 }
 
 // libjpeg reports an error through error_exit, which must not return: it jumps back to
@@ -86,8 +90,9 @@ bool read_header(Decompressor& d, const std::uint8_t* data, size_t size, int den
 }
 
 // Decodes rows [first, end) (0 ≤ first ≤ end ≤ height, first < height) into `pixels`
-// (out_w × height × 3). The rows below the band are skipped up to the last one, which is decoded: skipping to
-// the very end would leave their entropy-coded data unread, and a corrupt tail unnoticed.
+// (out_w × height × 3). The rows below the band are skipped up to the last one, which is
+// decoded: skipping to the very end would leave their entropy-coded data unread, and a
+// corrupt tail unnoticed.
 bool decode_band(Decompressor& d, std::uint8_t* pixels, int first, int end) {
   if (setjmp(d.errors.jump)) return false;
   jpeg_start_decompress(&d.info);
@@ -159,11 +164,9 @@ void JpegDecoder::decode_rows(const std::uint8_t* data, size_t size, JpegScale s
   if (size == 0) throw ParseError(name, "", "a valid JPEG image (header: the file is empty)");
   int full_w = 0, full_h = 0, width = 0, height = 0;
   if (!read_header(d, data, size, static_cast<int>(scale), full_w, full_h, width, height)) throw fail("header");
-  try {
-    check_camera_size(name, full_w, full_h);
-  } catch (const ParseError&) {
-    jpeg_abort_decompress(&d.info);
-    throw;
+  if (!is_camera_size(full_w, full_h)) {
+    jpeg_abort_decompress(&d.info);  // as fail(): the decoder takes the next image
+    throw camera_size_error(name, full_w, full_h);
   }
   out.width = width;
   out.height = height;
