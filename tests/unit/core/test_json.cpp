@@ -48,6 +48,38 @@ TEST(Json, InvalidJsonNamesTheByteAndStaysPrintable) {
   }
 }
 
+TEST(Json, BuildsTheSameDocumentAsNlohmann) {
+  const std::string text =
+      R"([{"a": [1, {"b": [], "c": {}}, -2, 3.5e2, 18446744073709551615], "d": null}, true, "s\u00e9", [[[]]], {}])";
+  EXPECT_EQ(parse_json_strict(text, "doc.json"), nlohmann::json::parse(text));
+  EXPECT_EQ(parse_json_strict("7", "doc.json"), nlohmann::json(7));
+}
+
+TEST(Json, NumberBeyondDoubleIsAParseErrorWithoutAByte) {
+  try {
+    parse_json_strict("[1e777]", "sub.json");
+    FAIL() << "no error";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.record(), "");
+    EXPECT_NE(e.expected().find("valid JSON"), std::string::npos);
+  }
+}
+
+// Shapes that made the callback parser quadratic (issue 39: 300 000 empty objects took 36 s,
+// 100 000 keys 84 s). A regression shows as ctest's timeout; the figures are in the note.
+TEST(Json, ManySiblingsParseInOnePass) {
+  std::string objects = "[";
+  for (int k = 0; k < 300000; ++k) objects += k ? ",{}" : "{}";
+  objects += "]";
+  EXPECT_EQ(parse_json_strict(objects, "big.json").size(), 300000u);
+  std::string keys = "{";
+  for (int k = 0; k < 100000; ++k) keys += (k ? ",\"" : "\"") + std::to_string(k) + "\":{\"nodes\":[],\"edges\":[]}";
+  keys += "}";
+  const nlohmann::json doc = parse_json_strict(keys, "big.json");
+  EXPECT_EQ(doc.size(), 100000u);
+  EXPECT_TRUE(doc["99999"]["edges"].is_array());
+}
+
 TEST(Json, PrintableUtf8EscapesInvalidBytesOnly) {
   EXPECT_EQ(printable_utf8("caf\xc3\xa9"), "caf\xc3\xa9");
   EXPECT_EQ(printable_utf8("a\xff"
