@@ -69,6 +69,9 @@ void add_score_command(CLI::App& parent, Context& ctx) {
                   "Submission JSON (schemas/v1/submission.schema.json): a file, or a pipe / /dev/stdin")
       ->required();
   cmd->add_option("--split", opts->lib.split, "Split of a dataset ground truth")->capture_default_str();
+  cmd->add_flag("--no-verify{false}", opts->lib.verify_ground_truth,
+                "Do not hash a dataset's shards against its manifest (presence, sizes and unlisted shards are still "
+                "checked); the report's ground_truth_verification says \"sizes\"");
   cmd->add_option("--out", opts->out, "Write the JSON report here (atomically)");
   cmd->add_option("--format", opts->format, "What stdout prints: json, md (paper-style table) or csv (per tile)")
       ->capture_default_str();

@@ -45,8 +45,7 @@ class StrictBuilder {
 
   bool key(json::string_t& k) {
     // Only called inside an object: the top of the stack is that object.
-    if (open_.back()->contains(k))
-      return refuse("key \"" + printable_utf8(k) + "\"", "each key once in its object");
+    if (open_.back()->contains(k)) return refuse("key \"" + printable_utf8(k) + "\"", "each key once in its object");
     key_ = std::move(k);
     return true;
   }
@@ -117,7 +116,8 @@ nlohmann::json parse_json_strict(std::string_view text, const std::string& label
   const bool ok = json::sax_parse(text.begin(), text.end(), &builder);
   if (builder.refused()) throw ParseError(label, builder.refused_record(), builder.refused_expected() + suffix);
   if (!ok || builder.parse_failed()) {
-    const std::string record = builder.parse_error_has_byte() ? "byte " + std::to_string(builder.parse_error_byte()) : "";
+    const std::string record =
+        builder.parse_error_has_byte() ? "byte " + std::to_string(builder.parse_error_byte()) : "";
     throw ParseError(label, record, "valid JSON" + suffix + ": " + builder.parse_message());
   }
   return builder.take();

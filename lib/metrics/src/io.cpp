@@ -1,8 +1,5 @@
 #include "nsg/metrics/io.h"
 
-#include <archive.h>
-#include <archive_entry.h>
-
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -13,6 +10,7 @@
 #include "nsg/core/files.h"
 #include "nsg/core/json.h"
 #include "nsg/core/strings.h"
+#include "nsg/io/dataset.h"
 #include "nsg/validate/submission.h"
 
 namespace fs = std::filesystem;
@@ -82,44 +80,6 @@ void insert_tile(GraphSet& set, const std::string& key, Graph graph, const std::
   NSG_CHECK(set.emplace(key, std::move(graph)).second, DataError, file, key, "each tile key once");
 }
 
-void load_folder_split(const fs::path& dir, GraphSet& out) {
-  std::vector<fs::path> keys;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir))
-    if (e.is_directory()) keys.push_back(e.path());
-  std::sort(keys.begin(), keys.end());
-  for (const fs::path& k : keys) {
-    const std::string key = k.filename().string();
-    const fs::path file = k / (key + kGraphSuffix);
-    require_file(file, "tile graph");
-    insert_tile(out, key, graph_from_dataset_json(read_file(file), file.string()), file.string());
-  }
-}
-
-void load_tar(const fs::path& tar, GraphSet& out) {
-  std::unique_ptr<archive, decltype(&archive_read_free)> a(archive_read_new(), &archive_read_free);
-  archive_read_support_format_tar(a.get());
-  archive_read_support_filter_none(a.get());
-  const std::string name = tar.string();
-  if (archive_read_open_filename(a.get(), name.c_str(), 1 << 16) != ARCHIVE_OK)
-    throw IoError(name, "", std::string("a readable tar file: ") + archive_error_string(a.get()));
-  archive_entry* entry = nullptr;
-  while (true) {
-    const int rc = archive_read_next_header(a.get(), &entry);
-    if (rc == ARCHIVE_EOF) break;
-    if (rc != ARCHIVE_OK)
-      throw ParseError(name, "", std::string("a valid tar member header: ") + archive_error_string(a.get()));
-    const std::string member = fs::path(archive_entry_pathname(entry)).filename().string();
-    if (!ends_with(member, kGraphSuffix)) continue;
-    const la_int64_t size = archive_entry_size(entry);
-    NSG_CHECK(size >= 0 && size < (int64_t{1} << 31), ParseError, name, member, "a member size below 2 GB");
-    std::string text(static_cast<size_t>(size), '\0');
-    const la_ssize_t got = archive_read_data(a.get(), text.data(), text.size());
-    NSG_CHECK(got == size, ParseError, name, member, "the member's full contents (truncated shard?)");
-    const std::string key = member.substr(0, member.size() - std::string(kGraphSuffix).size());
-    insert_tile(out, key, graph_from_dataset_json(text, name + ":" + member), name);
-  }
-}
-
 }  // namespace
 
 nlohmann::json read_json_file(const fs::path& path) { return parse_json_strict(read_file(path), path.string()); }
@@ -173,30 +133,38 @@ Graph graph_from_dataset_json(const std::string& text, const std::string& file) 
   return g;
 }
 
-GraphSet load_dataset_split(const fs::path& dataset, const std::string& split) {
+GraphSet load_dataset_split(const fs::path& dataset, const std::string& split, bool verify) {
+  const io::Dataset ds = io::Dataset::open(dataset);
+  const io::SplitVerification checked = ds.verify_split(split, verify);
   GraphSet out;
-  const fs::path folder = dataset / "tiles" / split;
-  if (fs::is_directory(folder)) {
-    load_folder_split(folder, out);
-    return out;
-  }
-  std::vector<fs::path> shards;
-  const fs::path shard_dir = dataset / "shards";
-  if (fs::is_directory(shard_dir)) {
-    for (const fs::directory_entry& e : fs::directory_iterator(shard_dir)) {
-      const std::string name = e.path().filename().string();
-      if (starts_with(name, split + "-") && ends_with(name, ".tar")) shards.push_back(e.path());
+  int64_t tiles = 0;
+  for (const nlohmann::json& shard : ds.shards(split)) {
+    const std::vector<io::DatasetTile> read = ds.read_shard(shard);
+    const std::string name = shard["name"].get<std::string>();
+    // A folder shard whose tile was deleted, or a tar cut at a member boundary, reads
+    // cleanly: the manifest's count tells.
+    NSG_CHECK(static_cast<int64_t>(read.size()) == shard["tiles"].get<int64_t>(), DataError,
+              (dataset / "manifest.json").string(), "shard '" + name + "'",
+              strprintf("%lld tiles as listed, found %lld", static_cast<long long>(shard["tiles"].get<int64_t>()),
+                        static_cast<long long>(read.size())));
+    for (const io::DatasetTile& t : read) {
+      const std::string label = dataset.string() + ":" + name + ":" + t.key + kGraphSuffix;
+      const auto member = t.files.find(std::string(kGraphSuffix).substr(1));
+      NSG_CHECK(member != t.files.end(), DataError, label, t.key, "the tile's graph.json (missing)");
+      const std::string text(member->second.begin(), member->second.end());
+      insert_tile(out, t.key, graph_from_dataset_json(text, label), label);
+      ++tiles;
     }
   }
-  NSG_CHECK(!shards.empty(), IoError, dataset.string(), split,
-            "tiles/" + split + "/ or shards/" + split + "-NNNNNN.tar");
-  std::sort(shards.begin(), shards.end());
-  for (const fs::path& s : shards) load_tar(s, out);
+  NSG_CHECK(tiles == checked.tiles, DataError, (dataset / "manifest.json").string(), "split '" + split + "'",
+            strprintf("%lld tiles as the shards list, found %lld", static_cast<long long>(checked.tiles),
+                      static_cast<long long>(tiles)));
   return out;
 }
 
-GraphSet load_ground_truth(const fs::path& path, const std::string& split, const validate::SubmissionLimits& limits) {
-  if (fs::is_directory(path)) return load_dataset_split(path, split);
+GraphSet load_ground_truth(const fs::path& path, const std::string& split, const validate::SubmissionLimits& limits,
+                           bool verify) {
+  if (fs::is_directory(path)) return load_dataset_split(path, split, verify);
   Issues issues;
   const std::optional<nlohmann::json> doc = read_submission_file(path, limits, issues);
   if (!doc) {

@@ -93,6 +93,7 @@ nlohmann::json report_to_json(const ScoreReport& r) {
           {"ground_truth", r.ground_truth},
           {"submission", r.submission},
           {"split", r.split},
+          {"ground_truth_verification", r.ground_truth_verification},
           {"missing_tiles", r.missing_tiles},
           {"extra_tiles", r.extra_tiles},
           {"tiles", tiles},

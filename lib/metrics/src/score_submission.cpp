@@ -27,11 +27,15 @@ ScoredSubmission score_submission(const ScoreSource& ground_truth, const ScoreSo
   const GraphSet truth =
       ground_truth.text
           ? graphs_from_submission(parse_json_strict(*ground_truth.text, ground_truth.label), ground_truth.label)
-          : load_ground_truth(ground_truth.path, options.split, options.limits);
+          : load_ground_truth(ground_truth.path, options.split, options.limits, options.verify_ground_truth);
   out.report = score(truth, out.graphs, options.score);
   out.report.ground_truth = ground_truth.label;
   out.report.submission = submission.label;
   out.report.split = options.split;
+  out.report.ground_truth_verification = ground_truth.text                                   ? "memory"
+                                         : !std::filesystem::is_directory(ground_truth.path) ? "file"
+                                         : options.verify_ground_truth                       ? "sha256"
+                                                                                             : "sizes";
   return out;
 }
 

@@ -65,7 +65,7 @@ TEST(Json, NumberBeyondDoubleIsAParseErrorWithoutAByte) {
   }
 }
 
-// Shapes that made the callback parser quadratic (issue 39: 300 000 empty objects took 36 s,
+// Shapes that made the callback parser quadratic (300 000 empty objects took 36 s,
 // 100 000 keys 84 s). A regression shows as ctest's timeout; the figures are in the note.
 TEST(Json, ManySiblingsParseInOnePass) {
   std::string objects = "[";

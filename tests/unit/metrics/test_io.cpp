@@ -3,7 +3,11 @@
 #include <archive_entry.h>
 #include <gtest/gtest.h>
 
+#include <functional>
+
 #include "nsg/core/error.h"
+#include "nsg/core/sha256.h"
+#include "nsg/io/tile_members.h"
 #include "nsg/metrics/io.h"
 #include "test_support.h"
 
@@ -49,29 +53,155 @@ void expect_tile(const Graph& g, double shift) {
   EXPECT_EQ(g.edges[1], (std::array<int64_t, 2>{2, 1}));  // ids 98 -> 99
 }
 
-TEST(Io, FolderLayout) {
-  nsg::test::TempDir dir("metrics-folder");
-  for (const char* key : {"boston-test-000001", "boston-test-000000"})
-    nsg::test::write_text(dir / "tiles" / "test" / key / (std::string(key) + ".graph.json"),
-                          graph_doc(key, key[17] == '1' ? 1.0 : 0.0));
-  nsg::test::write_text(dir / "tiles" / "train" / "x" / "x.graph.json", "not read");
-  const GraphSet set = load_ground_truth(dir.path(), "test");
-  ASSERT_EQ(set.size(), 2u);
-  expect_tile(set.at("boston-test-000000"), 0.0);
-  expect_tile(set.at("boston-test-000001"), 1.0);
-  EXPECT_THROW(load_ground_truth(dir.path(), "val"), IoError);
+// A manifest shard entry as `generate` writes it (docs/dataset-format.md).
+nlohmann::json tar_shard(const fs::path& root, const std::string& name, const std::string& split,
+                         const std::string& first, const std::string& last, int tiles) {
+  const fs::path file = root / "shards" / (name + ".tar");
+  return {{"name", name},
+          {"split", split},
+          {"location", "boston"},
+          {"tiles", tiles},
+          {"first_key", first},
+          {"last_key", last},
+          {"file", "shards/" + name + ".tar"},
+          {"sha256", sha256_file(file)},
+          {"bytes", fs::file_size(file)}};
 }
 
-TEST(Io, WebDatasetShards) {
+void write_manifest(const fs::path& root, const nlohmann::json& shards, const std::string& layout) {
+  nsg::test::write_text(root / "manifest.json",
+                        nlohmann::json({{"schema_version", "1"}, {"layout", layout}, {"shards", shards}}).dump());
+}
+
+// Two test shards and a train shard, all listed.
+void write_tar_dataset(const fs::path& root) {
+  fs::create_directories(root / "shards");
+  write_tar(root / "shards" / "test-000000.tar", {{"k0.graph.json", graph_doc("k0", 0.0)}, {"k0.meta.json", "{}"}});
+  write_tar(root / "shards" / "test-000001.tar", {{"k1.graph.json", graph_doc("k1", 1.0)}});
+  write_tar(root / "shards" / "train-000000.tar", {{"t.graph.json", graph_doc("t", 7.0)}});
+  write_manifest(
+      root,
+      {tar_shard(root, "test-000000", "test", "k0", "k0", 1), tar_shard(root, "test-000001", "test", "k1", "k1", 1),
+       tar_shard(root, "train-000000", "train", "t", "t", 1)},
+      "tar");
+}
+
+template <class E>
+E expect_refused(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const E& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no error";
+  return E("", "", "");
+}
+
+TEST(Io, WebDatasetShardsThroughTheManifest) {
   nsg::test::TempDir dir("metrics-tar");
-  fs::create_directories(dir / "shards");
-  write_tar(dir / "shards" / "test-000000.tar", {{"k0.graph.json", graph_doc("k0", 0.0)}, {"k0.meta.json", "{}"}});
-  write_tar(dir / "shards" / "test-000001.tar", {{"k1.graph.json", graph_doc("k1", 1.0)}});
-  write_tar(dir / "shards" / "train-000000.tar", {{"t.graph.json", "garbage"}});
+  write_tar_dataset(dir.path());
   const GraphSet set = load_dataset_split(dir.path(), "test");
   ASSERT_EQ(set.size(), 2u);
   expect_tile(set.at("k0"), 0.0);
   expect_tile(set.at("k1"), 1.0);
+  EXPECT_EQ(load_ground_truth(dir.path(), "train").size(), 1u);
+}
+
+TEST(Io, UnknownSplitIsNamedWithTheListedOnes) {
+  nsg::test::TempDir dir("metrics-split");
+  write_tar_dataset(dir.path());
+  const auto e = expect_refused<DataError>([&] { load_ground_truth(dir.path(), "val"); });
+  EXPECT_EQ(e.record(), "split 'val'");
+  EXPECT_NE(e.expected().find("(test, train)"), std::string::npos) << e.what();
+}
+
+TEST(Io, LeftoverShardIsRefusedByName) {
+  // A shard of an earlier run with more tiles, still beside the listed ones.
+  nsg::test::TempDir dir("metrics-leftover");
+  write_tar_dataset(dir.path());
+  write_tar(dir / "shards" / "test-000002.tar", {{"k2.graph.json", graph_doc("k2", 2.0)}});
+  const auto e = expect_refused<DataError>([&] { load_dataset_split(dir.path(), "test"); });
+  EXPECT_EQ(e.file(), (dir / "shards" / "test-000002.tar").string());
+  // Hashing off does not make it acceptable; another split does not see it.
+  EXPECT_THROW(load_dataset_split(dir.path(), "test", false), DataError);
+  EXPECT_EQ(load_dataset_split(dir.path(), "train").size(), 1u);
+}
+
+TEST(Io, ChangedShardIsRefusedUnlessHashingIsOff) {
+  // The train shard copied into the test shard's name: same size, other bytes.
+  nsg::test::TempDir dir("metrics-changed");
+  write_tar_dataset(dir.path());
+  std::string bytes = nsg::test::read_text(dir / "shards" / "test-000001.tar");
+  const size_t at = bytes.find("\"u\":11.0");
+  ASSERT_NE(at, std::string::npos);
+  bytes[at + 5] = '2';  // u 11 → 12, same length
+  nsg::test::write_text(dir / "shards" / "test-000001.tar", bytes);
+  const auto e = expect_refused<DataError>([&] { load_dataset_split(dir.path(), "test"); });
+  EXPECT_EQ(e.file(), (dir / "shards" / "test-000001.tar").string());
+  EXPECT_NE(e.expected().find("sha256"), std::string::npos);
+  EXPECT_EQ(load_dataset_split(dir.path(), "test", false).size(), 2u);  // --no-verify: sizes only
+  // A size change is caught without hashing.
+  nsg::test::write_text(dir / "shards" / "test-000001.tar", bytes + std::string(512, '\0'));
+  EXPECT_THROW(load_dataset_split(dir.path(), "test", false), DataError);
+}
+
+TEST(Io, MissingShardIsRefusedByName) {
+  nsg::test::TempDir dir("metrics-missing");
+  write_tar_dataset(dir.path());
+  fs::remove(dir / "shards" / "test-000000.tar");
+  const auto e = expect_refused<IoError>([&] { load_dataset_split(dir.path(), "test"); });
+  EXPECT_EQ(e.file(), (dir / "shards" / "test-000000.tar").string());
+  EXPECT_EQ(e.record(), "test-000000");
+}
+
+TEST(Io, NoManifestNoGroundTruth) {
+  // Shards without a manifest were read by name pattern before; now the manifest is the list.
+  nsg::test::TempDir dir("metrics-nomanifest");
+  fs::create_directories(dir / "shards");
+  write_tar(dir / "shards" / "test-000000.tar", {{"k0.graph.json", graph_doc("k0", 0.0)}});
+  EXPECT_THROW(load_dataset_split(dir.path(), "test"), IoError);
+}
+
+// Folder layout: every member of a tile (dummy rasters: only graph.json is parsed), and
+// the shard's digest as `generate` computes it.
+TEST(Io, FolderLayoutThroughTheManifest) {
+  nsg::test::TempDir dir("metrics-folder");
+  std::string lines;
+  int64_t bytes = 0;
+  for (const std::string key : {"boston-test-000000", "boston-test-000001"})
+    for (const io::TileMember& m : io::tile_members()) {
+      const std::string rel = "tiles/test/" + key + "/" + key + "." + m.file;
+      const std::string text = m.name == "graph" ? graph_doc(key, key.back() == '1' ? 1.0 : 0.0) : "x" + m.file;
+      nsg::test::write_text(dir / rel, text);
+      lines += rel + '\0' + sha256_hex(text) + "\n";
+      bytes += static_cast<int64_t>(text.size());
+    }
+  const nlohmann::json shard = {{"name", "test-000000"},
+                                {"split", "test"},
+                                {"location", "boston"},
+                                {"tiles", 2},
+                                {"first_key", "boston-test-000000"},
+                                {"last_key", "boston-test-000001"},
+                                {"folder", "tiles/test"},
+                                {"sha256", sha256_hex(lines)},
+                                {"bytes", bytes}};
+  write_manifest(dir.path(), nlohmann::json::array({shard}), "folder");
+  const GraphSet set = load_ground_truth(dir.path(), "test");
+  ASSERT_EQ(set.size(), 2u);
+  expect_tile(set.at("boston-test-000000"), 0.0);
+  expect_tile(set.at("boston-test-000001"), 1.0);
+
+  // A tile folder the manifest does not list.
+  nsg::test::write_text(dir / "tiles/test/boston-test-000007/boston-test-000007.graph.json",
+                        graph_doc("boston-test-000007", 0.0));
+  const auto e = expect_refused<DataError>([&] { load_ground_truth(dir.path(), "test"); });
+  EXPECT_EQ(e.file(), (dir / "tiles/test/boston-test-000007").string());
+  fs::remove_all(dir / "tiles/test/boston-test-000007");
+
+  // A tile removed: the digest (and without hashing, the manifest's count) tells.
+  fs::remove_all(dir / "tiles/test/boston-test-000001");
+  EXPECT_THROW(load_ground_truth(dir.path(), "test"), DataError);
+  EXPECT_THROW(load_dataset_split(dir.path(), "test", false), DataError);
 }
 
 TEST(Io, DatasetGraphErrorsNameFileAndRecord) {

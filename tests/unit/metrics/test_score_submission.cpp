@@ -57,7 +57,9 @@ TEST(ScoreSubmission, GoldenPredictionGivesTheGoldenAggregate) {
   nlohmann::json a = report_to_json(s.report), b = report_to_json(m.report);
   EXPECT_EQ(b["ground_truth"], "<gt>");
   EXPECT_EQ(b["submission"], "<memory>");
-  for (const char* k : {"ground_truth", "submission"}) a.erase(k), b.erase(k);
+  EXPECT_EQ(a["ground_truth_verification"], "file");
+  EXPECT_EQ(b["ground_truth_verification"], "memory");
+  for (const char* k : {"ground_truth", "submission", "ground_truth_verification"}) a.erase(k), b.erase(k);
   EXPECT_EQ(a, b);
 }
 

@@ -31,6 +31,13 @@ struct DatasetTile {
 std::filesystem::path path_in_dataset(const std::filesystem::path& root, const std::string& relative,
                                       const std::string& record);
 
+// What Dataset::verify_split established about a split before it is read.
+struct SplitVerification {
+  int64_t shards = 0;   // listed for the split, all present
+  int64_t tiles = 0;    // the manifest's tile count of those shards
+  bool hashed = false;  // every shard's bytes matched the manifest's sha256 and size
+};
+
 class Dataset {
  public:
   // Reads <root>/manifest.json; IoError / ParseError naming it.
@@ -44,6 +51,14 @@ class Dataset {
   // Calls fn for every tile of `split` ("" = all) in manifest order, one shard in memory
   // at a time. Stops early when fn returns false.
   void for_each_tile(const std::string& split, const std::function<bool(const DatasetTile&)>& fn) const;
+  // The split names the manifest's shards carry, sorted.
+  std::vector<std::string> splits() const;
+  // Checks that a split can be trusted before it is scored: the manifest lists it, every
+  // shard listed for it is present with its recorded size (and, when `hash`, its sha256;
+  // a folder shard's digest over its files), and the split's folder holds nothing the
+  // manifest does not list (a shard or tile folder left by an earlier run). DataError or
+  // IoError naming the file, the shard and what the manifest says.
+  SplitVerification verify_split(const std::string& split, bool hash) const;
   // Every tile of one shard entry (tar: the members in order, grouped by key).
   std::vector<DatasetTile> read_shard(const nlohmann::json& shard) const;
 

@@ -1,7 +1,6 @@
 #pragma once
 // Reading and writing graph sets: the submission format (schemas/v1/submission.schema.json) and a
-// dataset's tiles of one split, as folders (tiles/<split>/<key>/<key>.graph.json) or
-// WebDataset shards (shards/<split>-NNNNNN.tar, members <key>.graph.json).
+// dataset's tiles of one split as its manifest lists them (tar shards or tile folders).
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -34,13 +33,15 @@ void write_submission(const GraphSet& graphs, const std::filesystem::path& path)
 // DataError naming `file` and the record.
 Graph graph_from_dataset_json(const std::string& text, const std::string& file);
 
-// A dataset folder's tiles of `split`: folder layout if tiles/<split>/ exists, else the
-// shards/<split>-*.tar files. Throws IoError if neither is present.
-GraphSet load_dataset_split(const std::filesystem::path& dataset, const std::string& split);
+// A dataset folder's tiles of `split`, exactly those its manifest.json lists
+// (io::Dataset::verify_split first: the split is listed, its shards present with their
+// sizes — and sha256 when `verify` — and no unlisted shard beside them). Throws IoError /
+// DataError naming the manifest, the shard or the file.
+GraphSet load_dataset_split(const std::filesystem::path& dataset, const std::string& split, bool verify = true);
 
 // Ground truth: a dataset directory (its `split`) or a submission-format file, read within
 // `limits` like a submission; a file the limits refuse throws DataError naming the limit.
 GraphSet load_ground_truth(const std::filesystem::path& path, const std::string& split,
-                           const validate::SubmissionLimits& limits = {});
+                           const validate::SubmissionLimits& limits = {}, bool verify = true);
 
 }  // namespace nsg::metrics

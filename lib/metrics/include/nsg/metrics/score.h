@@ -26,6 +26,10 @@ struct ScoreReport {
   AggregateReport aggregate;
   // Free-form provenance copied into the JSON report (paths, split).
   std::string ground_truth, submission, split;
+  // How the ground truth was established: "sha256" (a dataset's split, every shard hashed
+  // against its manifest), "sizes" (--no-verify: listed and sized, not hashed), "file" (a
+  // submission-format file), "memory" (the caller's own document).
+  std::string ground_truth_verification;
 };
 
 ScoreReport score(const GraphSet& gt, const GraphSet& pred, const ScoreOptions& options);

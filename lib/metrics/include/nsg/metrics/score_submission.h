@@ -29,6 +29,7 @@ struct SubmissionScoreOptions {
   std::string split = "test";         // the split of a dataset-folder ground truth
   std::filesystem::path schemas_dir;  // "" = validate::find_schemas_dir()
   validate::SubmissionLimits limits;  // for the submission and a ground-truth file alike
+  bool verify_ground_truth = true;    // hash a dataset's shards against its manifest
   void validate() const;              // ConfigError naming the option
 };
 

@@ -1,0 +1,83 @@
+// Scoring a generated dataset: the ground truth is what its manifest lists, nothing else
+// in its folders (a host's dataset may hold a shard left from an earlier run).
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "generate_fixture.h"
+#include "nsg/core/files.h"
+#include "test_support.h"
+
+namespace nsg::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A perfect submission of the e2e dataset's test split (its graphs as submission tiles).
+fs::path perfect_submission(const fs::path& dataset, const fs::path& dir) {
+  const fs::path out = dir / "perfect.json";
+  nlohmann::json tiles = nlohmann::json::object();
+  const nlohmann::json manifest = read_json(dataset / "manifest.json");
+  for (const auto& shard : manifest["shards"]) {
+    if (shard["split"] != "test") continue;
+    const fs::path unpacked = dir / "unpacked" / shard["name"].get<std::string>();
+    fs::create_directories(unpacked);
+    const CommandResult t =
+        run_program({"tar", "-xf", (dataset / shard["file"].get<std::string>()).string(), "-C", unpacked.string()});
+    EXPECT_EQ(t.exit_code, 0) << t.err;
+    for (const auto& e : fs::directory_iterator(unpacked)) {
+      const std::string name = e.path().filename().string();
+      if (name.size() < 11 || name.substr(name.size() - 11) != ".graph.json") continue;
+      const nlohmann::json g = read_json(e.path());
+      nlohmann::json nodes = nlohmann::json::array(), edges = nlohmann::json::array();
+      std::map<std::string, size_t> index;
+      for (const auto& n : g["nodes"]) {
+        index[n["id"].dump()] = nodes.size();
+        nodes.push_back({n["u"], n["v"]});
+      }
+      for (const auto& ed : g["edges"]) edges.push_back({index.at(ed["source"].dump()), index.at(ed["target"].dump())});
+      tiles[name.substr(0, name.size() - 11)] = {{"nodes", nodes}, {"edges", edges}};
+    }
+  }
+  write_text(out, nlohmann::json({{"schema_version", "1"}, {"tiles", tiles}}).dump());
+  return out;
+}
+
+TEST(ScoreDataset, LeftoverShardIsRefusedByNameAndTheListedOnesScore) {
+  TempDir dir("score-dataset");
+  const fs::path ds = dir / "dataset";
+  fs::copy(e2e_dataset(), ds, fs::copy_options::recursive);
+  const fs::path submission = perfect_submission(ds, dir.path());
+
+  CommandResult r = run_nsgraph({"score", "--quiet", "--ground-truth", ds.string(), "--submission", submission.string(),
+                                 "--out", (dir / "r.json").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json report = read_json(dir / "r.json");
+  EXPECT_EQ(report["ground_truth_verification"], "sha256");
+  EXPECT_EQ(report["aggregate"]["mean"]["apls"], 1.0);
+  EXPECT_EQ(report["aggregate"]["n_missing_predictions"], 0);
+
+  // A train shard copied in under a test shard's name the manifest does not list.
+  fs::copy_file(ds / "shards" / "train-000000.tar", ds / "shards" / "test-000009.tar");
+  r = run_nsgraph({"score", "--quiet", "--ground-truth", ds.string(), "--submission", submission.string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("shards/test-000009.tar"), std::string::npos) << r.err;
+  // validate --submission reads the same manifest: the same key set, nothing extra or missing.
+  r = run_nsgraph({"validate", "--submission", submission.string(), "--dataset", ds.string(), "--split", "test"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  fs::remove(ds / "shards" / "test-000009.tar");
+
+  // A listed shard replaced by another one's bytes; a listed shard deleted.
+  fs::copy_file(ds / "shards" / "test-000000.tar", ds / "shards" / "test-000001.tar",
+                fs::copy_options::overwrite_existing);
+  r = run_nsgraph({"score", "--quiet", "--ground-truth", ds.string(), "--submission", submission.string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("test-000001.tar"), std::string::npos) << r.err;
+  fs::remove(ds / "shards" / "test-000001.tar");
+  r = run_nsgraph({"score", "--quiet", "--ground-truth", ds.string(), "--submission", submission.string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("test-000001"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace nsg::test
