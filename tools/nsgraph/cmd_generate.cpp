@@ -25,6 +25,7 @@ struct GenerateCommandOptions {
   bool list_options = false;
   std::string format = "text";
   bool allow_empty = false;
+  bool overwrite = false;
   std::string max_memory;  // "16G"; empty = no limit
   int threads = 0;
 };
@@ -51,6 +52,7 @@ int run_generate(const GenerateCommandOptions& o, const Context& ctx) {
   run.threads = o.threads;
   run.progress = !ctx.quiet;
   run.allow_empty = o.allow_empty;
+  run.overwrite = o.overwrite;
   if (!o.max_memory.empty()) run.max_memory_bytes = parse_memory_size(o.max_memory, "--max-memory");
   const auto start = std::chrono::steady_clock::now();
   const pipeline::GenerateSummary s = pipeline::generate(config, run);
@@ -88,6 +90,9 @@ void add_generate_command(CLI::App& root, Context& ctx) {
                   "Refuse to start when the estimated peak memory exceeds this (e.g. 16G; the estimate is logged)");
   cmd->add_flag("--allow-empty", o->allow_empty,
                 "Write the dataset even when no crop passes the filters (else: exit 1 naming the filters)");
+  cmd->add_flag("--overwrite", o->overwrite,
+                "Remove a dataset already in --out first (manifest.json, shards/, tiles/, maps/, parts/); without it "
+                "a dataset of another config there is refused and one of this config is resumed");
   cmd->callback([o, &ctx] { ctx.run = [o, &ctx] { return run_generate(*o, ctx); }; });
 }
 

@@ -1,5 +1,7 @@
 #include "nsg/core/error.h"
 
+#include "nsg/core/strings.h"
+
 namespace nsg {
 
 std::string format_error_message(const std::string& file, const std::string& record, const std::string& expected) {
@@ -7,7 +9,9 @@ std::string format_error_message(const std::string& file, const std::string& rec
   for (const std::string* part : {&file, &record, &expected}) {
     if (part->empty()) continue;
     if (!out.empty()) out += ": ";
-    out += *part;
+    // File names, keys and quoted values come from outside: no control character of
+    // theirs reaches a terminal or a log (the fields themselves keep the raw bytes).
+    out += printable_text(*part);
   }
   return out;
 }

@@ -1,6 +1,7 @@
 #include "nsg/core/issues.h"
 
 #include "nsg/core/error.h"
+#include "nsg/core/strings.h"
 
 namespace nsg {
 
@@ -80,9 +81,9 @@ std::string Issues::format() const {
     out += ' ';
     out += i.check;
     out += ' ';
-    out += i.subject;
+    out += printable_text(i.subject);  // keys and paths from the input
     out += ": ";
-    out += i.message;
+    out += printable_text(i.message);
     out += '\n';
   }
   return out;

@@ -123,35 +123,4 @@ nlohmann::json parse_json_strict(std::string_view text, const std::string& label
   return builder.take();
 }
 
-std::string printable_utf8(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  const auto* u = reinterpret_cast<const unsigned char*>(text.data());
-  const size_t n = text.size();
-  for (size_t i = 0; i < n;) {
-    const unsigned char c = u[i];
-    // Length of a well-formed sequence starting here (RFC 3629), 0 if ill-formed.
-    size_t len = 0;
-    if (c < 0x80) len = 1;
-    else if (c >= 0xC2 && c <= 0xDF) len = 2;
-    else if (c >= 0xE0 && c <= 0xEF) len = 3;
-    else if (c >= 0xF0 && c <= 0xF4) len = 4;
-    if (len > 1) {
-      if (i + len > n) len = 0;
-      for (size_t k = 1; k < len; ++k)
-        if ((u[i + k] & 0xC0) != 0x80) len = 0;
-      if (len == 3 && ((c == 0xE0 && u[i + 1] < 0xA0) || (c == 0xED && u[i + 1] >= 0xA0))) len = 0;
-      if (len == 4 && ((c == 0xF0 && u[i + 1] < 0x90) || (c == 0xF4 && u[i + 1] >= 0x90))) len = 0;
-    }
-    if (len == 0) {
-      out += strprintf("\\x%02X", c);
-      ++i;
-    } else {
-      out.append(text.substr(i, len));
-      i += len;
-    }
-  }
-  return out;
-}
-
 }  // namespace nsg

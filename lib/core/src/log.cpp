@@ -3,6 +3,9 @@
 #include <atomic>
 #include <cstdio>
 #include <mutex>
+#include <string>
+
+#include "nsg/core/strings.h"
 
 namespace nsg::log {
 namespace {
@@ -12,7 +15,10 @@ std::mutex g_mutex;
 void emit(Level at, const char* tag, const std::string& message) {
   if (at < g_level.load()) return;
   std::lock_guard<std::mutex> lock(g_mutex);
-  std::fprintf(stderr, "%s%s\n", tag, message.c_str());
+  // One line per message as far as outside input goes: its CR, ESC or NUL are escaped
+  // (a message's own line breaks stay).
+  const std::string line = tag + printable_text(message, /*keep_newlines=*/true) + "\n";
+  std::fwrite(line.data(), 1, line.size(), stderr);
   std::fflush(stderr);
 }
 }  // namespace

@@ -94,4 +94,54 @@ bool wildcard_match(std::string_view pattern, std::string_view text) {
   return p == pattern.size();
 }
 
+std::string printable_utf8(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  const auto* u = reinterpret_cast<const unsigned char*>(text.data());
+  const size_t n = text.size();
+  for (size_t i = 0; i < n;) {
+    const unsigned char c = u[i];
+    // Length of a well-formed sequence starting here (RFC 3629), 0 if ill-formed.
+    size_t len = 0;
+    if (c < 0x80) len = 1;
+    else if (c >= 0xC2 && c <= 0xDF) len = 2;
+    else if (c >= 0xE0 && c <= 0xEF) len = 3;
+    else if (c >= 0xF0 && c <= 0xF4) len = 4;
+    if (len > 1) {
+      if (i + len > n) len = 0;
+      for (size_t k = 1; k < len; ++k)
+        if ((u[i + k] & 0xC0) != 0x80) len = 0;
+      if (len == 3 && ((c == 0xE0 && u[i + 1] < 0xA0) || (c == 0xED && u[i + 1] >= 0xA0))) len = 0;
+      if (len == 4 && ((c == 0xF0 && u[i + 1] < 0x90) || (c == 0xF4 && u[i + 1] >= 0x90))) len = 0;
+    }
+    if (len == 0) {
+      out += strprintf("\\x%02X", c);
+      ++i;
+    } else {
+      out.append(text.substr(i, len));
+      i += len;
+    }
+  }
+  return out;
+}
+
+std::string printable_text(std::string_view text, bool keep_newlines) {
+  const std::string valid = printable_utf8(text);
+  std::string out;
+  out.reserve(valid.size());
+  const auto* u = reinterpret_cast<const unsigned char*>(valid.data());
+  for (size_t i = 0; i < valid.size(); ++i) {
+    const unsigned char c = u[i];
+    if ((c < 0x20 && !(keep_newlines && c == '\n')) || c == 0x7F) {
+      out += strprintf("\\x%02X", c);
+    } else if (c == 0xC2 && i + 1 < valid.size() && u[i + 1] >= 0x80 && u[i + 1] <= 0x9F) {
+      out += strprintf("\\u%04X", u[i + 1]);  // a C1 control (U+0080..U+009F), e.g. CSI
+      ++i;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out;
+}
+
 }  // namespace nsg

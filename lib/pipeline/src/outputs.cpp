@@ -6,6 +6,7 @@
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
+#include "nsg/core/log.h"
 #include "nsg/core/parallel.h"
 #include "nsg/core/progress.h"
 #include "nsg/core/sha256.h"
@@ -38,6 +39,54 @@ std::string item_digest(const ordered_json& files) {
   std::string lines;
   for (const auto& f : files) lines += f["file"].get<std::string>() + '\0' + f["sha256"].get<std::string>() + "\n";
   return sha256_hex(lines);
+}
+
+namespace {
+
+// The entries a dataset of ours consists of; --overwrite removes exactly these.
+constexpr const char* kDatasetEntries[] = {"manifest.json", "shards", "tiles", "maps", "parts"};
+
+// Why `out` holds a dataset this run must not mix with ("" = none).
+std::string older_dataset(const fs::path& out, const std::string& digest) {
+  bool records = false;
+  if (fs::is_directory(out / "parts"))
+    for (const auto& e : fs::directory_iterator(out / "parts")) {
+      const std::string name = e.path().filename().string();
+      if (!starts_with(name, "share-") || !ends_with(name, ".json")) continue;
+      records = true;
+      std::string recorded;
+      try {
+        recorded = json::parse(read_file(e.path())).value("config_sha256", "");
+      } catch (const std::exception&) {
+        recorded = "";  // unreadable: of unknown config
+      }
+      if (recorded != digest)
+        return e.path().string() + " records another config (config_sha256 " +
+               (recorded.empty() ? std::string("unreadable") : recorded.substr(0, 12)) + "…)";
+    }
+  if (records) return "";
+  for (const char* entry : {"manifest.json", "shards", "tiles"})
+    if (fs::exists(out / entry)) return (out / entry).string() + " is there without a share record of this config";
+  return "";
+}
+
+}  // namespace
+
+void prepare_output_folder(const fs::path& out, const GenerateConfig& config, const ShareSpec& share, bool overwrite) {
+  if (!fs::is_directory(out)) return;
+  if (overwrite) {
+    // Concurrent shares would delete each other's work.
+    NSG_CHECK(share.count == 1, ConfigError, out.string(), "--overwrite",
+              "a one-share run (remove the old dataset before starting " + std::to_string(share.count) + " shares)");
+    bool removed = false;
+    for (const char* entry : kDatasetEntries) removed = fs::remove_all(out / entry) > 0 || removed;
+    if (removed) log::info("generate: --overwrite: removed the dataset in " + out.string());
+    return;
+  }
+  const std::string why = older_dataset(out, config_digest(config));
+  NSG_CHECK(why.empty(), ConfigError, out.string(), "--out",
+            "an empty folder or one holding this config's dataset: it holds an older dataset (" + why +
+                "); --overwrite removes it first");
 }
 
 bool verify_item(const fs::path& out, const ordered_json& item, std::string* why) {

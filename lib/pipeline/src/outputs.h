@@ -33,6 +33,14 @@ std::string item_digest(const nlohmann::ordered_json& files);
 // Re-hashes the recorded files; false (with `why`) when one is missing or differs.
 bool verify_item(const std::filesystem::path& out, const nlohmann::ordered_json& item, std::string* why);
 std::string config_digest(const GenerateConfig& config);
+// Before a run writes into `out`: a dataset there from another config (or of unknown
+// config: a manifest or shards without share records) would leave its shards beside the
+// new ones, and a scorer would meet them. Refused (ConfigError naming the folder and
+// --overwrite) unless `overwrite`, which first removes the dataset's own entries
+// (manifest.json, shards/, tiles/, maps/, parts/) and nothing else. A rerun of the same
+// config resumes as before.
+void prepare_output_folder(const std::filesystem::path& out, const GenerateConfig& config, const ShareSpec& share,
+                           bool overwrite);
 
 class OutputWriter {
  public:

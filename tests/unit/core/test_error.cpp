@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "nsg/core/error.h"
 #include "nsg/core/issues.h"
+#include "nsg/core/strings.h"
 
 namespace nsg {
 
@@ -43,6 +46,30 @@ TEST(Issues, CountsFormatsAndThrowsInStrictMode) {
     EXPECT_EQ(e.file(), "map.json");
     EXPECT_EQ(e.record(), "lane-2");
   }
+}
+
+TEST(Error, OutsideControlCharactersAreEscapedInMessagesNotInFields) {
+  // A submission key with CR/LF, an ANSI colour and a NUL: the message stays one line.
+  const std::string key = std::string("a\r\nscored 3 tiles APLS 1.0000\x1b[2K") + '\0' + "tail\xc2\x9b";
+  const DataError e("sub.json", "/tiles/" + key, "a key");
+  const std::string what = e.what();
+  EXPECT_EQ(what.find_first_of("\r\n\x1b"), std::string::npos) << what;
+  EXPECT_EQ(what.find('\0'), std::string::npos);
+  EXPECT_NE(what.find("\\x0D\\x0Ascored 3 tiles APLS 1.0000\\x1B[2K\\x00tail\\u009B"), std::string::npos) << what;
+  EXPECT_EQ(e.record(), "/tiles/" + key);  // the raw bytes for callers that need them
+  Issues issues;
+  issues.error("submission.key", key, "msg\rwith CR");
+  EXPECT_EQ(issues.format().find('\r'), std::string::npos);
+  const std::string formatted = issues.format();
+  EXPECT_EQ(std::count(formatted.begin(), formatted.end(), '\n'), 1);
+}
+
+TEST(Strings, PrintableTextEscapesControlsAndKeepsText) {
+  EXPECT_EQ(printable_text("caf\xc3\xa9 \xe2\x86\x92 ok"), "caf\xc3\xa9 \xe2\x86\x92 ok");
+  EXPECT_EQ(printable_text("a\tb\x7f"), "a\\x09b\\x7F");
+  EXPECT_EQ(printable_text("two\nlines", true), "two\nlines");
+  EXPECT_EQ(printable_text("two\nlines"), "two\\x0Alines");
+  EXPECT_EQ(printable_text("\xff"), "\\xFF");
 }
 
 }  // namespace nsg

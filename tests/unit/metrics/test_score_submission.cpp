@@ -2,6 +2,8 @@
 // share: on the golden graphs, where the answers are known.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
 #include "nsg/metrics/io.h"
@@ -40,6 +42,59 @@ TEST(ScoreSubmission, GroundTruthAgainstItselfIsPerfect) {
   EXPECT_EQ(s.report.ground_truth, (kGolden / "gt.json").string());
   EXPECT_EQ(s.report.submission, (kGolden / "gt.json").string());
   EXPECT_EQ(s.report.split, "test");
+}
+
+// Every defined per-tile metric of `report` exactly perfect (Chamfer 0, the rest 1).
+void expect_perfect(const ScoreReport& report, const std::string& what) {
+  int checked = 0;
+  for (const TileMeasurement& t : report.tiles)
+    for (int m = 0; m < kMetricCount; ++m) {
+      if (!t.values[m]) continue;
+      const bool chamfer = m == kChamferPx2 || m == kChamferM2 || m == kChamferMeanM;
+      const double perfect = chamfer ? 0.0 : 1.0;
+      EXPECT_EQ(*t.values[m], perfect) << what << ": " << t.key << " " << metric_name(static_cast<Metric>(m));
+      ++checked;
+    }
+  EXPECT_GT(checked, 500) << what;
+}
+
+// The golden ground truth moved off its round coordinates (by 1/3 px and a node-varying
+// fraction, as real lane graphs are), as a document in memory and as graphs.
+std::pair<std::string, GraphSet> unround_ground_truth(double round_to) {
+  GraphSet graphs = load_ground_truth(kGolden / "gt.json", "test");
+  nlohmann::json tiles = nlohmann::json::object();
+  for (auto& [key, g] : graphs) {
+    nlohmann::json nodes = nlohmann::json::array(), edges = nlohmann::json::array();
+    for (size_t i = 0; i < g.nodes.size(); ++i) {
+      g.nodes[i].u += 1.0 / 3.0 + 0.1 * static_cast<double>(i % 7) / 7.0;
+      g.nodes[i].v += 2.0 / 3.0;
+      if (round_to > 0) {
+        g.nodes[i].u = std::round(g.nodes[i].u / round_to) * round_to;
+        g.nodes[i].v = std::round(g.nodes[i].v / round_to) * round_to;
+      }
+      nodes.push_back({g.nodes[i].u, g.nodes[i].v});
+    }
+    for (const auto& e : g.edges) edges.push_back({e[0], e[1]});
+    tiles[key] = {{"nodes", nodes}, {"edges", edges}};
+  }
+  return {nlohmann::json({{"schema_version", "1"}, {"tiles", tiles}}).dump(), std::move(graphs)};
+}
+
+TEST(ScoreSubmission, PerfectCopyWrittenToAFileScoresExactlyOne) {
+  // The writer keeps every coordinate's double exactly. It used to round to 1/1000 px:
+  // a rounded junction node snaps mid-segment onto a neighbouring lane (the control).
+  nsg::test::TempDir dir("perfect-copy");
+  const auto [truth_text, truth] = unround_ground_truth(0.0);
+  const ScoreSource gt = ScoreSource::memory(truth_text, "<gt>");
+  write_submission(truth, dir / "copy.json");
+  const ScoredSubmission s = score_submission(gt, ScoreSource::file(dir / "copy.json"), golden_options());
+  ASSERT_TRUE(s.scored()) << s.issues.format();
+  expect_perfect(s.report, "written copy");
+
+  write_submission(unround_ground_truth(1e-3).second, dir / "rounded.json");
+  const ScoredSubmission r = score_submission(gt, ScoreSource::file(dir / "rounded.json"), golden_options());
+  ASSERT_TRUE(r.scored()) << r.issues.format();
+  EXPECT_LT(*r.report.aggregate.mean[kAplsDirected], 0.995);  // 0.9909 on this machine
 }
 
 TEST(ScoreSubmission, GoldenPredictionGivesTheGoldenAggregate) {

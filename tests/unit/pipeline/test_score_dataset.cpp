@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <set>
 
 #include "generate_fixture.h"
 #include "nsg/core/files.h"
@@ -77,6 +78,42 @@ TEST(ScoreDataset, LeftoverShardIsRefusedByNameAndTheListedOnesScore) {
   r = run_nsgraph({"score", "--quiet", "--ground-truth", ds.string(), "--submission", submission.string()});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("test-000001"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace nsg::test
+
+namespace nsg::test {
+namespace {
+
+// A second generate into a folder that holds a dataset of another config would leave the
+// old shards beside the new ones: refused, --overwrite removes the old dataset first; the
+// same config resumes.
+TEST(GenerateOverwrite, AnOlderDatasetIsRefusedUnlessOverwritten) {
+  TempDir dir("generate-overwrite");
+  const fs::path out = dir / "dataset";
+  fs::copy(e2e_dataset(), out, fs::copy_options::recursive);
+  std::vector<std::string> args = e2e_generate_args(out);
+  CommandResult r = run_nsgraph(args);  // the same config: resumed, every item verified
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(tree_hashes(out), tree_hashes(e2e_dataset())) << "resume changed the dataset";
+  write_text(out / "notes.txt", "the user's own file");
+
+  args.insert(args.end(), {"--set", "output.tiles_per_shard=2"});
+  r = run_nsgraph(args);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--overwrite"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("older dataset"), std::string::npos) << r.err;
+
+  args.push_back("--overwrite");
+  r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json manifest = read_json(out / "manifest.json");
+  std::set<std::string> listed, present;
+  for (const auto& s : manifest["shards"]) listed.insert(s["file"].get<std::string>());
+  for (const auto& e : fs::directory_iterator(out / "shards")) present.insert("shards/" + e.path().filename().string());
+  EXPECT_EQ(present, listed);                  // no shard of the old dataset left
+  EXPECT_TRUE(fs::exists(out / "notes.txt"));  // only the dataset's own entries go
 }
 
 }  // namespace

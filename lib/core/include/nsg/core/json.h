@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nsg/core/strings.h"  // printable_utf8
+
 namespace nsg {
 
 inline constexpr int kMaxJsonDepth = 64;  // our formats nest at most 6 deep
@@ -16,9 +18,5 @@ inline constexpr int kMaxJsonDepth = 64;  // our formats nest at most 6 deep
 // or the nesting depth. `what` says what the document should be ("the dataset manifest").
 nlohmann::json parse_json_strict(std::string_view text, const std::string& label, const std::string& what = "",
                                  int max_depth = kMaxJsonDepth);
-
-// `text` with bytes that are not valid UTF-8 written as \xNN, so a message quoting hostile
-// input stays printable and converts to a Python str.
-std::string printable_utf8(std::string_view text);
 
 }  // namespace nsg

@@ -21,4 +21,13 @@ std::string human_bytes(double bytes);
 // Glob-like match with '*' (any run) and '?' (one char), used by --checks patterns.
 bool wildcard_match(std::string_view pattern, std::string_view text);
 
+// `text` with bytes that are not valid UTF-8 written as \xNN, so a message quoting hostile
+// input stays printable and converts to a Python str.
+std::string printable_utf8(std::string_view text);
+// printable_utf8 with control characters escaped too (C0 and DEL as \xNN, C1 as \u00NN;
+// '\n' kept when `keep_newlines`): outside input echoed in a message can neither forge a
+// log line (CR, LF), move the cursor or recolour the terminal (ESC, CSI) nor cut the
+// message short (NUL).
+std::string printable_text(std::string_view text, bool keep_newlines = false);
+
 }  // namespace nsg

@@ -25,7 +25,8 @@ nlohmann::json read_json_file(const std::filesystem::path& path);
 std::optional<nlohmann::json> read_submission_file(const std::filesystem::path& path,
                                                    const validate::SubmissionLimits& limits, Issues& issues);
 // Writes a submission document (schemas/v1/submission.schema.json), node and edge scores
-// included, coordinates and scores rounded to 1/1000; written to a temp name and renamed.
+// included; coordinates exact (a written perfect copy scores 1), scores rounded to 1/1000;
+// written to a temp name and renamed.
 void write_submission(const GraphSet& graphs, const std::filesystem::path& path);
 
 // One dataset graph document {schema_version, key, nodes: [{id, u, v, x, y}],

@@ -64,6 +64,9 @@ struct GenerateRun {
   int threads = 0;  // 0 = all cores; results do not depend on it
   bool progress = true;
   bool allow_empty = false;  // write a dataset of 0 tiles instead of throwing EmptyDatasetError
+  // Remove a dataset already in `out` first; without it a dataset of another config there
+  // is refused (ConfigError), one of this config is resumed.
+  bool overwrite = false;
   // Refuse to start (ConfigError naming the estimate and what would lower it) when the
   // estimated peak memory exceeds this many bytes; 0 = no limit. The estimate is logged
   // either way.
