@@ -259,6 +259,7 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
   config.check_inputs();
   run.share.validate();
   prepare_output_folder(run.out, config, run.share, run.overwrite);
+  log::info("generate: " + data_licence_line());
   GenerateSummary summary;
   auto t0 = std::chrono::steady_clock::now();
   const nuscenes::Database db = nuscenes::Database::load(config.dataroot, config.version);

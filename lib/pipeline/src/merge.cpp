@@ -202,6 +202,7 @@ void merge(const fs::path& out) {
   const ordered_json& config = first.doc["config"];
   const ordered_json manifest = {{"schema_version", "1"},
                                  {"tool", {{"name", "nsgraph"}, {"version", kVersion}}},
+                                 {"licence", data_licence_json()},
                                  {"seed", config["seed"]},
                                  {"config", config},
                                  {"inputs", inputs_json(config, plan)},

@@ -41,6 +41,19 @@ std::string item_digest(const ordered_json& files) {
   return sha256_hex(lines);
 }
 
+nlohmann::ordered_json data_licence_json() {
+  return {{"name", "CC BY-NC-SA 4.0"},
+          {"url", "https://creativecommons.org/licenses/by-nc-sa/4.0/"},
+          {"source", "nuScenes"}};
+}
+
+std::string data_licence_line() {
+  const nlohmann::ordered_json l = data_licence_json();
+  return "a dataset built from " + l["source"].get<std::string>() + " inherits its licence, " +
+         l["name"].get<std::string>() + " (" + l["url"].get<std::string>() +
+         "): non-commercial, share-alike, with attribution; manifest.json records it";
+}
+
 namespace {
 
 // The entries a dataset of ours consists of; --overwrite removes exactly these.

@@ -33,6 +33,12 @@ std::string item_digest(const nlohmann::ordered_json& files);
 // Re-hashes the recorded files; false (with `why`) when one is missing or differs.
 bool verify_item(const std::filesystem::path& out, const nlohmann::ordered_json& item, std::string* why);
 std::string config_digest(const GenerateConfig& config);
+// The terms a dataset built from a nuScenes release inherits (its sensor data and map
+// expansion are CC BY-NC-SA 4.0): the manifest's `licence`, printed once by generate. A
+// synthetic release is byte-faithful to the real one and cannot be told apart, so every
+// dataset records them.
+nlohmann::ordered_json data_licence_json();
+std::string data_licence_line();
 // Before a run writes into `out`: a dataset there from another config (or of unknown
 // config: a manifest or shards without share records) would leave its shards beside the
 // new ones, and a scorer would meet them. Refused (ConfigError naming the folder and
