@@ -69,11 +69,18 @@ std::vector<std::string> Dataset::splits() const {
   return {names.begin(), names.end()};
 }
 
+void Dataset::require_split(const std::string& split) const {
+  if (split.empty()) return;
+  const std::vector<std::string> known = splits();
+  NSG_CHECK(std::find(known.begin(), known.end(), split) != known.end(), DataError, (root_ / "manifest.json").string(),
+            "split '" + split + "'",
+            "a split the manifest lists (" + (known.empty() ? std::string("none") : join(known, ", ")) + ")");
+}
+
 SplitVerification Dataset::verify_split(const std::string& split, bool hash) const {
   const std::string manifest = (root_ / "manifest.json").string();
-  const std::vector<std::string> known = splits();
-  NSG_CHECK(std::find(known.begin(), known.end(), split) != known.end(), DataError, manifest, "split '" + split + "'",
-            "a split the manifest lists (" + (known.empty() ? std::string("none") : join(known, ", ")) + ")");
+  NSG_CHECK(!split.empty(), DataError, manifest, "split", "a split name");
+  require_split(split);
   SplitVerification out;
   out.hashed = hash;
   std::set<fs::path> listed;      // shard files (tar) or tile folders (folder layout)

@@ -170,6 +170,7 @@ void for_each_tile_parallel(const io::Dataset& dataset, const std::string& split
 
 metrics::GraphSet predict_split(const io::Dataset& dataset, const std::string& split, ThreadPool& pool, bool progress,
                                 const std::function<metrics::Graph(const TileInput&)>& predict) {
+  dataset.require_split(split);  // `predict --split tst` named, not an empty submission
   const size_t total = split_tile_count(dataset, split);
   std::vector<std::pair<std::string, metrics::Graph>> slots(total);
   Progress bar("predict " + split, total, progress);

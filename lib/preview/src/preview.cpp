@@ -149,6 +149,7 @@ void PreviewOptions::validate() const {
 std::vector<fs::path> write_previews(const fs::path& dataset, const fs::path& out_dir, const PreviewOptions& options) {
   options.validate();
   const io::Dataset ds = io::Dataset::open(dataset);
+  ds.require_split(options.split);
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   NSG_CHECK(!ec, IoError, out_dir.string(), "directory", "a creatable output folder: " + ec.message());

@@ -312,6 +312,7 @@ std::optional<nlohmann::json> parse_submission_text(const std::string& text, con
 
 std::vector<std::string> dataset_split_keys(const std::filesystem::path& dataset, const std::string& split) {
   const io::Dataset ds = io::Dataset::open(dataset);
+  ds.require_split(split);
   std::vector<std::string> keys;
   for (const nlohmann::json& shard : ds.shards(split)) {
     const std::string first = shard.value("first_key", ""), last = shard.value("last_key", "");

@@ -118,3 +118,29 @@ TEST(GenerateOverwrite, AnOlderDatasetIsRefusedUnlessOverwritten) {
 
 }  // namespace
 }  // namespace nsg::test
+
+namespace nsg::test {
+namespace {
+
+// A mistyped split is named with the ones there are, by every command that takes --split.
+TEST(UnknownSplit, EveryCommandNamesItAndTheListedSplits) {
+  TempDir dir("unknown-split");
+  const std::string ds = e2e_dataset().string();
+  const fs::path empty = dir / "empty.json";
+  write_text(empty, R"({"schema_version":"1","tiles":{}})");
+  const std::vector<std::vector<std::string>> commands = {
+      {"preview", ds, "--out", (dir / "p").string(), "--split", "tst"},
+      {"score", "--ground-truth", ds, "--submission", empty.string(), "--split", "tst"},
+      {"validate", "--submission", empty.string(), "--dataset", ds, "--split", "tst"},
+  };
+  for (const auto& args : commands) {
+    const CommandResult r = run_nsgraph(args);
+    EXPECT_EQ(r.exit_code, 2) << args[0] << ": " << r.err;
+    EXPECT_NE(r.err.find("split 'tst'"), std::string::npos) << args[0] << ": " << r.err;
+    EXPECT_NE(r.err.find("(test, train)"), std::string::npos) << args[0] << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "p")) << "preview made its folder before refusing";
+}
+
+}  // namespace
+}  // namespace nsg::test

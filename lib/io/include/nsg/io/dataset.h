@@ -53,6 +53,10 @@ class Dataset {
   void for_each_tile(const std::string& split, const std::function<bool(const DatasetTile&)>& fn) const;
   // The split names the manifest's shards carry, sorted.
   std::vector<std::string> splits() const;
+  // DataError naming the manifest, the split and the splits it lists when `split` is not
+  // one of them ("" = all: always fine). For every command that takes --split, so a typo
+  // is named instead of giving an empty result.
+  void require_split(const std::string& split) const;
   // Checks that a split can be trusted before it is scored: the manifest lists it, every
   // shard listed for it is present with its recorded size (and, when `hash`, its sha256;
   // a folder shard's digest over its files), and the split's folder holds nothing the
