@@ -6,6 +6,9 @@
 // nsgraph build in a cached folder (test-cache/model_e2e-<key>).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <sstream>
+
 #include <cstdio>
 #include <map>
 #include <stdexcept>
@@ -242,7 +245,28 @@ TEST(ModelQuality, B1TrainsToTheCommittedFile) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string now = nsg::read_file(dir / "b1.yml.gz"), then = nsg::read_file(golden);
   ASSERT_GT(then.size(), 1000u);
-  EXPECT_TRUE(now == then) << "b1 model bytes changed (" << now.size() << " vs " << then.size() << " bytes)";
+  if (now == then) return;
+  // The one allowed difference: the training report's train-set figures are sums over
+  // OpenCV's forest predictions, whose SIMD path depends on the CPU (an AVX-512 machine
+  // differs in the 12th digit). Every tree, threshold and option must still be identical.
+  const auto lines = [](const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) out.push_back(line);
+    return out;
+  };
+  const std::vector<std::string> a = lines(model_text(dir / "b1.yml.gz")), b = lines(model_text(golden));
+  ASSERT_EQ(a.size(), b.size()) << "b1 model changed (" << now.size() << " vs " << then.size() << " bytes)";
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i] == b[i]) continue;
+    const size_t colon = a[i].find(':');
+    const std::string key = a[i].substr(0, colon);
+    ASSERT_TRUE(colon != std::string::npos && b[i].compare(0, colon, key) == 0 &&
+                key.find("_train") != std::string::npos)
+        << "b1 model changed at line " << i + 1 << ": '" << a[i] << "' vs '" << b[i] << "'";
+    const double x = std::stod(a[i].substr(colon + 1)), y = std::stod(b[i].substr(colon + 1));
+    EXPECT_NEAR(x, y, 1e-9 * std::abs(y)) << key;
+  }
 }
 
 TEST(ModelCli, LoadSaveRoundTripIsByteIdentical) {
