@@ -57,6 +57,10 @@ TEST(ScoreDataset, LeftoverShardIsRefusedByNameAndTheListedOnesScore) {
   EXPECT_EQ(report["ground_truth_verification"], "sha256");
   EXPECT_EQ(report["aggregate"]["mean"]["apls"], 1.0);
   EXPECT_EQ(report["aggregate"]["n_missing_predictions"], 0);
+  r = run_nsgraph({"score", "--quiet", "--ground-truth", ds.string(), "--submission", submission.string(),
+                   "--no-verify", "--out", (dir / "r2.json").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_json(dir / "r2.json")["ground_truth_verification"], "sizes");
 
   // A train shard copied in under a test shard's name the manifest does not list.
   fs::copy_file(ds / "shards" / "train-000000.tar", ds / "shards" / "test-000009.tar");
