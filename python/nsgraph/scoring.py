@@ -88,12 +88,18 @@ def score(ground_truth, submission, split=None, threads=1, verify=True, **params
 
 def score_tile(gt, pred, key="tile", **params):
     """Metrics of one tile (the report's per-tile entry: values and counts). gt, pred: any
-    form graph_arrays takes; pred None = a missing prediction."""
+    form graph_arrays takes; pred None = a missing prediction. The prediction gets a file's
+    checks first (finite coordinates, node indices in range, the scoring limits): problems
+    raise SubmissionError (with .issues), a ground truth with them DataError."""
     gt_nodes, gt_edges = graph_arrays(gt)
     if pred is None:
-        return _nsgraph.score_tile(gt_nodes, gt_edges, None, None, _params_json(params), key)
-    pred_nodes, pred_edges = graph_arrays(pred)
-    return _nsgraph.score_tile(gt_nodes, gt_edges, pred_nodes, pred_edges, _params_json(params), key)
+        pred_nodes = pred_edges = None
+    else:
+        pred_nodes, pred_edges = graph_arrays(pred)
+    values, issues, text = _nsgraph.score_tile(gt_nodes, gt_edges, pred_nodes, pred_edges, _params_json(params), key)
+    if values is None:
+        raise SubmissionError(f"{len(issues)} problem(s) in the prediction of tile {key}; not scored:\n{text}", issues)
+    return values
 
 
 def write_submission(path, tiles):

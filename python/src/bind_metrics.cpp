@@ -42,11 +42,6 @@ metrics::Graph graph_arg(const Points& nodes, const Pairs& edges, const std::str
   metrics::Graph g;
   for (const auto& p : points_arg(nodes, what + " nodes")) g.nodes.push_back({p[0], p[1]});
   g.edges = pairs_arg(edges, what + " edges");
-  const auto n = static_cast<int64_t>(g.nodes.size());
-  for (size_t k = 0; k < g.edges.size(); ++k)
-    for (int64_t i : g.edges[k])
-      NSG_CHECK(i >= 0 && i < n, DataError, "", what + " edges[" + std::to_string(k) + "]",
-                "node indices in [0, " + std::to_string(n) + ")");
   return g;
 }
 
@@ -85,18 +80,27 @@ py::tuple score(const std::string& gt, bool gt_is_path, const std::string& sub, 
   return py::make_tuple(json_to_py(metrics::report_to_json(scored.report)), py::list(), "");
 }
 
-py::object score_tile(const Points& gt_nodes, const Pairs& gt_edges, std::optional<Points> pred_nodes,
-                      std::optional<Pairs> pred_edges, const std::string& params_json, const std::string& key) {
+// (measurement dict, []) or (None, issues, text) when the prediction has problems a file's
+// tile would have (NaN, an index out of range, beyond the limits); a ground truth with
+// such problems throws DataError.
+py::tuple score_tile(const Points& gt_nodes, const Pairs& gt_edges, std::optional<Points> pred_nodes,
+                     std::optional<Pairs> pred_edges, const std::string& params_json, const std::string& key) {
   const metrics::ScoreOptions options = score_options(params_json, 1);
   const metrics::Graph gt = graph_arg(gt_nodes, gt_edges, "ground truth");
+  const Issues gt_issues = metrics::check_graph(gt, key, "ground truth");
+  NSG_CHECK(gt_issues.empty(), DataError, "ground truth", key, "a graph a file could hold:\n" + gt_issues.format());
   std::optional<metrics::Graph> pred;
-  if (pred_nodes) pred = graph_arg(*pred_nodes, pred_edges ? *pred_edges : Pairs(), "prediction");
+  if (pred_nodes) {
+    pred = graph_arg(*pred_nodes, pred_edges ? *pred_edges : Pairs(), "prediction");
+    const Issues issues = metrics::check_graph(*pred, key, "prediction");
+    if (!issues.empty()) return py::make_tuple(py::none(), issues_to_py(issues), printable_utf8(issues.format()));
+  }
   metrics::TileMeasurement m;
   {
     py::gil_scoped_release release;
     m = metrics::measure(key, gt, pred ? &*pred : nullptr, options.params);
   }
-  return json_to_py(metrics::measurement_to_json(m));
+  return py::make_tuple(json_to_py(metrics::measurement_to_json(m)), py::list(), "");
 }
 
 // Writes with the writer `nsgraph predict` uses, then checks the file like `nsgraph score`

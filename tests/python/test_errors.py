@@ -90,9 +90,27 @@ class ErrorsTest(unittest.TestCase):
         self.assertIn("submission.indices", str(e.exception))
 
     def test_score_tile_with_an_edge_to_a_missing_node(self):
+        # The index check of a file's tile: a SubmissionError naming the JSON path.
+        with self.assertRaises(nsgraph.SubmissionError) as e:
+            nsgraph.score_tile(([[0, 0], [1, 1]], [[0, 1]]), ([[0, 0]], [[0, 2]]), key="k")
+        self.assertEqual([i["check"] for i in e.exception.issues], ["submission.indices"])
+        self.assertIn("prediction:/tiles/k/edges/0/1", str(e.exception))
+        self.assertIn("node index 2 out of range [0, 1)", str(e.exception))
+
+    def test_score_tile_refuses_what_a_file_could_not_hold(self):
+        gt = ([[0.0, 0.0], [10.0, 0.0]], [[0, 1]])
+        for bad in (float("nan"), float("inf"), -float("inf")):
+            # An isolated node (no edge checks it) as well as one on an edge.
+            for edges in (np.zeros((0, 2), np.int64), [[0, 1]]):
+                with self.assertRaises(nsgraph.SubmissionError) as e:
+                    nsgraph.score_tile(gt, ([[1.0, 2.0], [bad, 3.0]], edges), key="k")
+                checks = {i["check"] for i in e.exception.issues}
+                self.assertIn("submission.finite", checks, str(e.exception))
+                self.assertIn("prediction:/tiles/k/nodes/1/0", str(e.exception))
         with self.assertRaises(nsgraph.DataError) as e:
-            nsgraph.score_tile(([[0, 0], [1, 1]], [[0, 1]]), ([[0, 0]], [[0, 2]]))
-        self.assertIn("prediction edges[0]", str(e.exception))
+            nsgraph.score_tile(([[0.0, float("nan")]], np.zeros((0, 2), np.int64)), gt, key="k")
+        self.assertIn("ground truth:/tiles/k/nodes/0/1", str(e.exception))
+        self.assertIn("a finite coordinate", str(e.exception))
 
 
 if __name__ == "__main__":

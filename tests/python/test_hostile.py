@@ -126,8 +126,9 @@ class HostileSubmissionTest(unittest.TestCase):
     def test_score_tile_has_the_limits(self):
         gt = ([[0.0, 0.0], [10.0, 0.0]], [[0, 1]])
         nodes = np.random.default_rng(1).uniform(0, 256, (5001, 2))
-        with self.assertRaises(nsgraph.DataError) as e:
+        with self.assertRaises(nsgraph.SubmissionError) as e:
             nsgraph.score_tile(gt, (nodes, np.zeros((0, 2), np.int64)))
+        self.assertEqual([i["check"] for i in e.exception.issues], ["submission.size"])
         self.assertIn("5001 nodes; at most 5000", str(e.exception))
 
     def test_evaluate_in_the_hosted_challenge_form(self):

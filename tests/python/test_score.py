@@ -59,13 +59,11 @@ class ScoreTest(unittest.TestCase):
         return fixtures.read_json(out)
 
     def assert_reports_equal(self, got, expected, skip=()):
-        a = dict(leaves(got))
-        b = dict(leaves(expected))
+        kept = lambda x: {p: v for p, v in leaves(x) if not any(p.startswith(s) for s in skip)}
+        a, b = kept(got), kept(expected)
         self.assertEqual(sorted(a), sorted(b))
         compared = 0
         for path, value in b.items():
-            if any(path.startswith(s) for s in skip):
-                continue
             if isinstance(value, float):
                 self.assertAlmostEqual(a[path], value, delta=1e-12, msg=path)
                 compared += 1
@@ -83,11 +81,15 @@ class ScoreTest(unittest.TestCase):
         cli = self.cli_report()
         written = fixtures.read_json(self.submission)  # the rounded coordinates the CLI scored
         in_memory = nsgraph.score(self.root, written, split="test")
-        self.assert_reports_equal(in_memory, cli, skip=("/submission",))
+        # The receipt names the bytes scored: JSON text made from the dict, not the file.
+        self.assert_reports_equal(in_memory, cli, skip=("/submission", "/receipt/submission"))
         self.assertEqual(in_memory["submission"], "<memory>")
+        self.assertEqual(in_memory["receipt"]["results_sha256"], cli["receipt"]["results_sha256"])
         gt = {t["key"]: t["graph"] for t in self.ds}
         both = nsgraph.score(gt, written)
-        self.assert_reports_equal(both, cli, skip=("/submission", "/ground_truth"))
+        self.assert_reports_equal(both, cli, skip=("/submission", "/ground_truth", "/receipt"))
+        self.assertEqual(both["receipt"]["ground_truth"]["kind"], "memory")
+        self.assertEqual(both["receipt"]["results_sha256"], cli["receipt"]["results_sha256"])
 
     def test_parameters_reach_the_scorer(self):
         cli = self.cli_report()
@@ -124,10 +126,35 @@ class ScoreTest(unittest.TestCase):
         self.assertEqual(m["counts"]["missing_prediction"], 0)
         self.assertEqual(nsgraph.score_tile(tile, None)["counts"]["missing_prediction"], 1)
 
+    def test_a_written_submission_takes_about_46_bytes_per_node(self):
+        # docs/scoring-limits.md states the size of a submission with exact coordinates.
+        path = os.path.join(self.tmp.name, "exact.json")
+        nsgraph.write_submission(path, {t["key"]: t["graph"] for t in self.ds})
+        nodes = sum(len(t["graph"]["nodes_px"]) for t in self.ds)
+        per_node = os.path.getsize(path) / nodes
+        self.assertGreater(per_node, 36)
+        self.assertLess(per_node, 56)
+
     def test_written_submission_is_valid_for_validate(self):
         r = fixtures.run_nsgraph("validate", "--submission", self.submission, "--dataset", self.root, "--split", "test",
                                  check=False)
         self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+
+    def test_a_leftover_shard_is_refused_and_the_listed_keys_agree(self):
+        # A train shard copied in under a test shard name the manifest does not list: the
+        # reader lists the manifest's keys only, the scorer refuses the folder by name.
+        import shutil
+        root = os.path.join(self.tmp.name, "leftover")
+        shutil.copytree(self.root, root)
+        shutil.copyfile(os.path.join(root, "shards", "train-000000.tar"), os.path.join(root, "shards", "test-000009.tar"))
+        listed = sorted(nsgraph.Dataset(root, "test", modalities=()).keys)
+        self.assertEqual(listed, sorted(self.ds.keys))
+        with self.assertRaises(nsgraph.DataError) as e:
+            nsgraph.score(root, self.submission, split="test")
+        self.assertIn("test-000009.tar", str(e.exception))
+        r = fixtures.run_nsgraph("score", "--quiet", "--ground-truth", root, "--submission", self.submission, check=False)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("test-000009.tar", r.stderr)
 
 
 if __name__ == "__main__":

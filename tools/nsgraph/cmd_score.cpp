@@ -6,11 +6,13 @@
 #include <optional>
 
 #include "commands.h"
+#include "limit_flags.h"
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
 #include "nsg/core/strings.h"
 #include "nsg/metrics/io.h"
+#include "nsg/metrics/receipt.h"
 #include "nsg/metrics/score.h"
 #include "nsg/metrics/score_submission.h"
 
@@ -22,6 +24,7 @@ struct ScoreCliOptions {
   std::string submission;
   std::string out;              // JSON report file ("" = none)
   std::string format = "json";  // what stdout prints: json | md | csv
+  std::string verify_receipt;   // a score report (or receipt) to recompute and compare
   metrics::SubmissionScoreOptions lib;
 
   void validate() const {
@@ -30,8 +33,48 @@ struct ScoreCliOptions {
   }
 };
 
+// The recorded report or receipt, read as a stranger's file: within the submission limits
+// (size, value count, depth, no repeated key).
+nlohmann::json read_receipt_file(const std::string& file) {
+  Issues issues;
+  const validate::SubmissionLimits limits;
+  const std::optional<std::string> text = validate::read_submission_bytes(file, limits, issues);
+  std::optional<nlohmann::json> doc;
+  if (text) doc = validate::parse_submission_text(*text, file, limits, issues);
+  if (!doc) throw ParseError(file, "--verify-receipt", "a score report or receipt: " + issues.items().front().message);
+  return *doc;
+}
+
+// --verify-receipt: recompute with the receipt's options and limits, say "same" or what
+// differs. Exit 0 same, 1 differs (or the submission is refused now), 2 unreadable.
+int run_verify_receipt(const ScoreCliOptions& o) {
+  const nlohmann::json recorded = read_receipt_file(o.verify_receipt);
+  const metrics::ReceiptRecipe recipe = metrics::receipt_recipe(recorded, o.verify_receipt);
+  metrics::SubmissionScoreOptions lib = o.lib;
+  lib.score.params = recipe.params;
+  lib.split = recipe.split;
+  lib.verify_ground_truth = recipe.verify_ground_truth;
+  lib.limits = recipe.limits;
+  const metrics::ScoredSubmission scored = metrics::score_submission(metrics::ScoreSource::file(o.ground_truth),
+                                                                     metrics::ScoreSource::file(o.submission), lib);
+  if (!scored.scored()) {
+    std::fputs(scored.issues.format().c_str(), stderr);
+    std::printf("receipt %s: differs\n  the submission is refused under the receipt's limits (%zu problem(s))\n",
+                printable_text(o.verify_receipt).c_str(), scored.issues.size());
+    return kExitProblems;
+  }
+  const nlohmann::json recomputed = metrics::report_to_json(scored.report);
+  if (!o.out.empty()) write_file_atomic(o.out, recomputed.dump(1) + "\n");
+  const metrics::ReceiptComparison c = metrics::compare_receipt(recorded, recomputed, o.verify_receipt);
+  std::printf("receipt %s: %s\n", printable_text(o.verify_receipt).c_str(), c.same() ? "same" : "differs");
+  for (const std::string& d : c.differences) std::printf("  %s\n", printable_text(d).c_str());
+  for (const std::string& n : c.notes) std::printf("  note: %s\n", printable_text(n).c_str());
+  return c.same() ? kExitOk : kExitProblems;
+}
+
 int run_score(const ScoreCliOptions& o) {
   o.validate();
+  if (!o.verify_receipt.empty()) return run_verify_receipt(o);
   const metrics::ScoredSubmission scored = metrics::score_submission(metrics::ScoreSource::file(o.ground_truth),
                                                                      metrics::ScoreSource::file(o.submission), o.lib);
   if (!scored.scored()) {
@@ -73,21 +116,16 @@ void add_score_command(CLI::App& parent, Context& ctx) {
                 "Do not hash a dataset's shards against its manifest (presence, sizes and unlisted shards are still "
                 "checked); the report's ground_truth_verification says \"sizes\"");
   cmd->add_option("--out", opts->out, "Write the JSON report here (atomically)");
+  cmd->add_option("--verify-receipt", opts->verify_receipt,
+                  "A score report (or its receipt) to verify: recompute with its options and limits from "
+                  "--ground-truth and --submission, print \"same\" or what differs (exit 0 / 1)");
   cmd->add_option("--format", opts->format, "What stdout prints: json, md (paper-style table) or csv (per tile)")
       ->capture_default_str();
   cmd->add_option("--threads", opts->lib.score.threads, "Worker threads (0 = all cores); output does not depend on it")
       ->capture_default_str();
   cmd->add_option("--schemas", opts->lib.schemas_dir, "Folder of the published schemas (default: installed/source)");
-  const validate::SubmissionLimits& limits = opts->lib.limits;
-  cmd->footer(strprintf(
-      "Limits (a submission beyond them is refused, exit 1, before scoring): a file or stream (--submission may be a\n"
-      "pipe, e.g. /dev/stdin) of at most %lld MiB; per tile at most %lld nodes, %lld edges and %.0f px of total edge\n"
-      "length, and a shortest-path work (per connected piece: nodes x (nodes + 2 x edges)) of at most %lld, i.e.\n"
-      "about 1 800 nodes in one connected piece. They bound the scoring time: an adversarial tile at the limits\n"
-      "scores in under 2 s on one core (docs/scoring-limits.md). Real 256-px tiles hold 100-1500 nodes.",
-      static_cast<long long>(limits.max_file_bytes >> 20), static_cast<long long>(limits.max_nodes_per_tile),
-      static_cast<long long>(limits.max_edges_per_tile), limits.max_edge_length_px_per_tile,
-      static_cast<long long>(limits.max_path_work_per_tile)));
+  add_submission_limit_flags(cmd, opts->lib.limits);
+  cmd->footer(submission_limits_footer(opts->lib.limits));
   cmd->callback([opts, &ctx]() { ctx.run = [opts]() { return run_score(*opts); }; });
 }
 

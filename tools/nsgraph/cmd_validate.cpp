@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "limit_flags.h"
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
 #include "nsg/core/strings.h"
@@ -25,7 +26,7 @@ struct ValidateCliOptions {
   std::string schemas;
   bool list_checks = false;
   bool json = false;
-  double max_file_mb = 128.0;
+  validate::SubmissionLimits limits;
 
   void validate() const {
     if (list_checks) return;
@@ -36,7 +37,6 @@ struct ValidateCliOptions {
       NSG_CHECK(dataset_positional.empty(), ConfigError, "", "DATASET",
                 "no positional dataset with --submission (use --dataset)");
     }
-    NSG_CHECK(max_file_mb > 0 && max_file_mb <= 1e6, ConfigError, "", "--max-file-mb", "a size in (0, 1e6] MB");
   }
 };
 
@@ -80,7 +80,7 @@ int run_validate(const ValidateCliOptions& o) {
     so.dataset = o.dataset;
     so.split = o.split;
     so.schemas_dir = o.schemas;
-    so.limits.max_file_bytes = static_cast<int64_t>(o.max_file_mb * 1024 * 1024);
+    so.limits = o.limits;
     const validate::SubmissionReport r = validate::validate_submission(so);
     nlohmann::ordered_json doc = {{"schema_version", "1"},         {"kind", "submission"}, {"submission", o.submission},
                                   {"dataset", o.dataset},          {"split", o.split},     {"tiles", r.tiles},
@@ -117,7 +117,8 @@ void add_validate_command(CLI::App& root, Context& ctx) {
   cmd->add_flag("--list-checks", o->list_checks, "List the dataset checks and exit");
   cmd->add_flag("--json", o->json, "Print a JSON report instead of lines");
   cmd->add_option("--schemas", o->schemas, "Folder holding v1/*.schema.json (default: installed or source tree)");
-  cmd->add_option("--max-file-mb", o->max_file_mb, "Largest submission file accepted")->capture_default_str();
+  add_submission_limit_flags(cmd, o->limits);
+  cmd->footer(submission_limits_footer(o->limits));
   cmd->callback([o, &ctx]() { ctx.run = [o]() { return run_validate(*o); }; });
 }
 

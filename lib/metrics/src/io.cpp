@@ -7,6 +7,7 @@
 
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
+#include "nsg/core/sha256.h"
 #include "nsg/core/files.h"
 #include "nsg/core/json.h"
 #include "nsg/core/strings.h"
@@ -163,15 +164,22 @@ GraphSet load_dataset_split(const fs::path& dataset, const std::string& split, b
 }
 
 GraphSet load_ground_truth(const fs::path& path, const std::string& split, const validate::SubmissionLimits& limits,
-                           bool verify) {
-  if (fs::is_directory(path)) return load_dataset_split(path, split, verify);
+                           bool verify, std::string* sha256) {
+  if (fs::is_directory(path)) {
+    GraphSet out = load_dataset_split(path, split, verify);
+    if (sha256 != nullptr) *sha256 = sha256_file(path / "manifest.json");
+    return out;
+  }
   Issues issues;
-  const std::optional<nlohmann::json> doc = read_submission_file(path, limits, issues);
+  const std::optional<std::string> text = validate::read_submission_bytes(path, limits, issues);
+  std::optional<nlohmann::json> doc;
+  if (text) doc = validate::parse_submission_text(*text, path.string(), limits, issues);
   if (!doc) {
     NSG_CHECK(!issues.empty(), InternalError, path.string(), "", "a reason for refusing the file");
     throw DataError(path.string(), issues.items().front().check,
                     "a ground truth within the submission limits: " + issues.items().front().message);
   }
+  if (sha256 != nullptr) *sha256 = sha256_hex(*text);
   return graphs_from_submission(*doc, path.string());
 }
 

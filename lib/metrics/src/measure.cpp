@@ -4,6 +4,7 @@
 
 #include "internal.h"
 #include "nsg/core/error.h"
+#include "nsg/metrics/submission_input.h"
 #include "nsg/validate/submission.h"
 
 namespace nsg::metrics {
@@ -58,21 +59,11 @@ void set_apls(MetricValues& v, int first, const detail::AplsResult& r) {
   v[first + 1] = r.gt_to_pred;
   v[first + 2] = r.pred_to_gt;
 }
-// The scoring limits (validate::check_tile_limits) on a graph given in memory: whichever
-// way a graph reaches the scorer, its cost is bounded.
-void check_limits(const Graph& g, const std::string& subject) {
-  double length_px = 0.0;
-  const auto n = static_cast<int64_t>(g.nodes.size());
-  for (const auto& [i, j] : g.edges)
-    if (i >= 0 && i < n && j >= 0 && j < n)
-      length_px += std::hypot(g.nodes[j].u - g.nodes[i].u, g.nodes[j].v - g.nodes[i].v);
-  Issues issues;
-  const validate::SubmissionLimits limits;
-  // Beyond the node / edge limits the work is not computed (it could be large itself).
-  const bool counted =
-      n <= limits.max_nodes_per_tile && static_cast<int64_t>(g.edges.size()) <= limits.max_edges_per_tile;
-  validate::check_tile_limits(n, static_cast<int64_t>(g.edges.size()), length_px,
-                              counted ? validate::path_search_work(n, g.edges) : 0, subject, limits, issues);
+// A file's checks (check_graph: finite values, indices, the scoring limits) on a graph given
+// in memory: whichever way a graph reaches the scorer, its cost is bounded and no NaN or
+// infinity reaches a grid cast.
+void check_limits(const Graph& g, const std::string& key, const std::string& role) {
+  const Issues issues = check_graph(g, key, role);
   if (!issues.empty()) throw DataError("", issues.items().front().subject, issues.items().front().message);
 }
 
@@ -88,8 +79,8 @@ const char* count_name(int count) {
 }
 
 TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pred, const MetricParams& params) {
-  check_limits(gt, key + " (ground truth)");
-  if (pred != nullptr) check_limits(*pred, key + " (prediction)");
+  check_limits(gt, key, "ground truth");
+  if (pred != nullptr) check_limits(*pred, key, "prediction");
   const Graph empty;
   CleanGraph g, p;
   try {

@@ -87,17 +87,19 @@ nlohmann::json aggregate_to_json(const AggregateReport& a) {
 nlohmann::json report_to_json(const ScoreReport& r) {
   nlohmann::json tiles = nlohmann::json::object();
   for (const TileMeasurement& t : r.tiles) tiles[t.key] = measurement_to_json(t);
-  return {{"schema_version", "1"},
-          {"metrics_version", kMetricsVersion},
-          {"params", r.params.to_json()},
-          {"ground_truth", r.ground_truth},
-          {"submission", r.submission},
-          {"split", r.split},
-          {"ground_truth_verification", r.ground_truth_verification},
-          {"missing_tiles", r.missing_tiles},
-          {"extra_tiles", r.extra_tiles},
-          {"tiles", tiles},
-          {"aggregate", aggregate_to_json(r.aggregate)}};
+  nlohmann::json out = {{"schema_version", "1"},
+                        {"metrics_version", kMetricsVersion},
+                        {"params", r.params.to_json()},
+                        {"ground_truth", r.ground_truth},
+                        {"submission", r.submission},
+                        {"split", r.split},
+                        {"ground_truth_verification", r.ground_truth_verification},
+                        {"missing_tiles", r.missing_tiles},
+                        {"extra_tiles", r.extra_tiles},
+                        {"tiles", tiles},
+                        {"aggregate", aggregate_to_json(r.aggregate)}};
+  if (!r.receipt.is_null()) out["receipt"] = r.receipt;
+  return out;
 }
 
 std::string report_to_markdown(const ScoreReport& r) {

@@ -2,7 +2,9 @@
 
 #include "nsg/core/error.h"
 #include "nsg/core/json.h"
+#include "nsg/core/sha256.h"
 #include "nsg/metrics/io.h"
+#include "nsg/metrics/receipt.h"
 #include "nsg/metrics/submission_input.h"
 
 namespace nsg::metrics {
@@ -24,18 +26,31 @@ ScoredSubmission score_submission(const ScoreSource& ground_truth, const ScoreSo
     return out;
   }
   out.graphs = std::move(checked.graphs);
-  const GraphSet truth =
-      ground_truth.text
-          ? graphs_from_submission(parse_json_strict(*ground_truth.text, ground_truth.label), ground_truth.label)
-          : load_ground_truth(ground_truth.path, options.split, options.limits, options.verify_ground_truth);
+  ReceiptInputs inputs;
+  inputs.split = options.split;
+  inputs.verify_ground_truth = options.verify_ground_truth;
+  inputs.submission_sha256 = checked.sha256;
+  inputs.submission_bytes = checked.bytes;
+  GraphSet truth;
+  if (ground_truth.text) {
+    truth = graphs_from_submission(parse_json_strict(*ground_truth.text, ground_truth.label), ground_truth.label);
+    inputs.ground_truth_kind = "memory";
+    inputs.ground_truth_sha256 = sha256_hex(*ground_truth.text);
+  } else {
+    truth = load_ground_truth(ground_truth.path, options.split, options.limits, options.verify_ground_truth,
+                              &inputs.ground_truth_sha256);
+    inputs.ground_truth_kind = std::filesystem::is_directory(ground_truth.path) ? "dataset" : "file";
+  }
   out.report = score(truth, out.graphs, options.score);
   out.report.ground_truth = ground_truth.label;
   out.report.submission = submission.label;
   out.report.split = options.split;
-  out.report.ground_truth_verification = ground_truth.text                                   ? "memory"
-                                         : !std::filesystem::is_directory(ground_truth.path) ? "file"
-                                         : options.verify_ground_truth                       ? "sha256"
-                                                                                             : "sizes";
+  out.report.ground_truth_verification = inputs.ground_truth_kind == "memory" ? "memory"
+                                         : inputs.ground_truth_kind == "file" ? "file"
+                                         : options.verify_ground_truth        ? "sha256"
+                                                                              : "sizes";
+  inputs.verification = out.report.ground_truth_verification;
+  out.report.receipt = make_receipt(out.report, inputs, options.limits);
   return out;
 }
 

@@ -1,5 +1,6 @@
 #include "nsg/metrics/submission_input.h"
 
+#include "nsg/core/sha256.h"
 #include "nsg/metrics/io.h"
 #include "nsg/validate/schema.h"
 
@@ -22,18 +23,36 @@ CheckedSubmission check_submission_text(const std::string& text, const std::stri
                                         const validate::SubmissionLimits& limits) {
   CheckedSubmission out;
   const std::optional<nlohmann::json> doc = validate::parse_submission_text(text, label, limits, out.issues);
-  if (!doc) return out;
-  return check_submission_document(*doc, label, schemas_dir, limits);
+  if (doc) out = check_submission_document(*doc, label, schemas_dir, limits);
+  out.sha256 = sha256_hex(text);
+  out.bytes = static_cast<int64_t>(text.size());
+  return out;
 }
 
 CheckedSubmission check_submission_file(const std::filesystem::path& file, const std::filesystem::path& schemas_dir,
                                         const validate::SubmissionLimits& limits) {
   // Read within the limits (file size, JSON values, nesting) before a DOM is built: a
   // huge or hostile file is refused, never parsed.
+  // The bytes are read once: what is hashed for the receipt is what is parsed.
   CheckedSubmission out;
-  const std::optional<nlohmann::json> doc = read_submission_file(file, limits, out.issues);
-  if (!doc) return out;
-  return check_submission_document(*doc, file.string(), schemas_dir, limits);
+  const std::optional<std::string> text = validate::read_submission_bytes(file, limits, out.issues);
+  if (!text) return out;
+  return check_submission_text(*text, file.string(), schemas_dir, limits);
+}
+
+Issues check_graph(const Graph& graph, const std::string& key, const std::string& label,
+                   const validate::SubmissionLimits& limits) {
+  nlohmann::json nodes = nlohmann::json::array(), edges = nlohmann::json::array();
+  for (const Point& p : graph.nodes) nodes.push_back({p.u, p.v});
+  // A file's index is an unsigned JSON number when it is not negative: stored the same way,
+  // the index and work checks see it as they would in a file.
+  const auto index = [](int64_t i) { return i >= 0 ? nlohmann::json(static_cast<uint64_t>(i)) : nlohmann::json(i); };
+  for (const auto& [i, j] : graph.edges) edges.push_back({index(i), index(j)});
+  nlohmann::json tile = {{"nodes", std::move(nodes)}, {"edges", std::move(edges)}};
+  if (!graph.node_scores.empty()) tile["node_scores"] = graph.node_scores;
+  if (!graph.edge_scores.empty()) tile["edge_scores"] = graph.edge_scores;
+  const nlohmann::json doc = {{"tiles", {{key, std::move(tile)}}}};
+  return validate::check_submission_structure(doc, label, limits);
 }
 
 }  // namespace nsg::metrics

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 #include <regex>
+#include <set>
 
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
@@ -54,6 +55,59 @@ std::vector<ShareRecord> read_records(const fs::path& out) {
   return records;
 }
 
+// The share count of the run to merge: that of the newest done-record, so that records a
+// run with another share count left behind are the older dataset.
+int run_share_count(const std::vector<ShareRecord>& records) {
+  const ShareRecord* newest = &records.front();
+  auto newest_time = fs::last_write_time(newest->path);
+  for (const ShareRecord& r : records) {
+    const auto t = fs::last_write_time(r.path);
+    if (t > newest_time) newest = &r, newest_time = t;
+  }
+  return newest->count;
+}
+
+// Files under the dataset's folders that none of the run's shares recorded, and a
+// manifest.json written for another config: what an older dataset left behind.
+std::vector<fs::path> older_dataset_files(const fs::path& out, const std::map<int, const ShareRecord*>& shares,
+                                          const ordered_json& config) {
+  std::set<std::string> recorded;
+  for (const auto& [index, record] : shares)
+    for (const auto& item : record->doc["items"])
+      for (const auto& f : item["files"]) recorded.insert(f["file"].get<std::string>());
+  std::vector<fs::path> leftovers;
+  for (const char* folder : {"shards", "tiles", "maps"}) {
+    if (!fs::is_directory(out / folder)) continue;
+    for (const auto& e : fs::recursive_directory_iterator(out / folder))
+      if (!e.is_directory() && !recorded.count(fs::relative(e.path(), out).generic_string()))
+        leftovers.push_back(e.path());
+  }
+  std::sort(leftovers.begin(), leftovers.end());
+  const fs::path manifest = out / "manifest.json";
+  if (fs::exists(manifest)) {
+    ordered_json old;
+    try {
+      old = ordered_json::parse(read_file(manifest));
+    } catch (const std::exception&) {
+      old = nullptr;  // unreadable: not this run's
+    }
+    if (!old.is_object() || old.value("config", ordered_json()) != config)
+      leftovers.insert(leftovers.begin(), manifest);
+  }
+  return leftovers;
+}
+
+// Removes `files` and the tile folders they leave empty.
+void remove_leftovers(const fs::path& out, const std::vector<fs::path>& files) {
+  for (const fs::path& f : files) {
+    fs::remove(f);
+    for (fs::path dir = f.parent_path(); dir != out && fs::is_empty(dir); dir = dir.parent_path()) fs::remove(dir);
+  }
+  if (!files.empty())
+    log::info("merge: --overwrite: removed " + std::to_string(files.size()) + " file(s) of an older dataset in " +
+              out.string());
+}
+
 ordered_json input_file(const fs::path& root, const fs::path& path) {
   return {{"file", fs::relative(path, root).generic_string()},
           {"sha256", sha256_file(path)},
@@ -103,19 +157,25 @@ ordered_json georeference_json(const ordered_json& plan) {
 
 }  // namespace
 
-void merge(const fs::path& out) {
-  const std::vector<ShareRecord> all = read_records(out);
+void merge(const fs::path& out, bool overwrite) {
+  std::vector<ShareRecord> all = read_records(out);
   if (all.empty()) throw IoError((out / "parts").string(), "", "done-records share-<i>-of-<n>.json");
-  const int count = all.front().count;
+  const int count = run_share_count(all);
   std::vector<std::string> problems;
   std::map<int, const ShareRecord*> shares;
+  std::vector<fs::path> other_runs;
   for (const ShareRecord& r : all) {
     if (r.count != count) {
+      other_runs.push_back(r.path);
       problems.push_back(r.path.string() + ": a record of a " + std::to_string(r.count) + "-share run next to a " +
-                         std::to_string(count) + "-share run (remove the stale one)");
+                         std::to_string(count) + "-share run (an older run's; --overwrite removes it)");
       continue;
     }
     shares[r.index] = &r;
+  }
+  if (overwrite) {
+    remove_leftovers(out, other_runs);
+    problems.clear();
   }
   for (int i = 0; i < count; ++i) {
     auto it = shares.find(i);
@@ -184,6 +244,15 @@ void merge(const fs::path& out) {
   }
   if (!problems.empty())
     throw DataError(out.string(), "merge", "every planned output present and intact:\n  " + join(problems, "\n  "));
+
+  const std::vector<fs::path> leftovers = older_dataset_files(out, shares, first.doc["config"]);
+  if (!leftovers.empty()) {
+    NSG_CHECK(overwrite, DataError, out.string(), "merge",
+              "a folder holding only this run's dataset: " + std::to_string(leftovers.size()) +
+                  " file(s) no share of it recorded, e.g. " + leftovers.front().string() +
+                  " (left from an older dataset; --overwrite removes them)");
+    remove_leftovers(out, leftovers);
+  }
 
   ordered_json counts = ordered_json::object();
   int64_t total = 0;

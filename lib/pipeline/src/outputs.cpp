@@ -78,8 +78,11 @@ std::string older_dataset(const fs::path& out, const std::string& digest) {
                (recorded.empty() ? std::string("unreadable") : recorded.substr(0, 12)) + "…)";
     }
   if (records) return "";
-  for (const char* entry : {"manifest.json", "shards", "tiles"})
-    if (fs::exists(out / entry)) return (out / entry).string() + " is there without a share record of this config";
+  for (const char* entry : {"manifest.json", "shards", "tiles"}) {
+    const fs::path p = out / entry;
+    const bool empty_folder = fs::is_directory(p) && fs::is_empty(p);
+    if (fs::exists(p) && !empty_folder) return p.string() + " is there without a share record of this config";
+  }
   return "";
 }
 

@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <system_error>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -50,7 +51,24 @@ nlohmann::ordered_json tiles_document(const std::vector<TileRow>& rows, const st
 nlohmann::ordered_json write_overviews(const io::Dataset& dataset, const std::string& split,
                                        const std::vector<TileRow>& rows, const std::filesystem::path& dir, int max_px);
 
+// --- report.cpp: writing a page's folder under a temp name.
+void write_text(const std::filesystem::path& path, std::string_view text);  // IoError when it fails
+int64_t folder_bytes(const std::filesystem::path& dir);
+// Removes the temp folder unless the page was committed.
+struct TempFolder {
+  std::filesystem::path path;
+  bool keep = false;
+  ~TempFolder() {
+    std::error_code ec;
+    if (!keep) std::filesystem::remove_all(path, ec);
+  }
+};
+// Puts `tmp` where `out` is: an earlier page is moved aside first and removed after.
+void replace_folder(const std::filesystem::path& tmp, const std::filesystem::path& out);
+
 // --- assets (generated from lib/report/assets at build time)
+// The leaderboard page's assets are named "leaderboard/<file>"; the report's are the others.
+inline constexpr const char* kLeaderboardAssets = "leaderboard/";
 struct Asset {
   const char* name;
   std::string_view bytes;

@@ -17,6 +17,10 @@ namespace fs = std::filesystem;
 
 constexpr const char* kMarker = "report.json";  // what makes a folder an earlier report
 
+}  // namespace
+
+namespace detail {
+
 void write_text(const fs::path& path, std::string_view text) {
   std::ofstream f(path, std::ios::binary);
   f.write(text.data(), static_cast<std::streamsize>(text.size()));
@@ -31,17 +35,6 @@ int64_t folder_bytes(const fs::path& dir) {
   return n;
 }
 
-// Removes the temp folder unless the report was committed.
-struct TempFolder {
-  fs::path path;
-  bool keep = false;
-  ~TempFolder() {
-    std::error_code ec;
-    if (!keep) fs::remove_all(path, ec);
-  }
-};
-
-// Puts `tmp` where `out` is: an earlier report is moved aside first and removed after.
 void replace_folder(const fs::path& tmp, const fs::path& out) {
   std::error_code ec;
   if (!fs::exists(out)) {
@@ -61,7 +54,12 @@ void replace_folder(const fs::path& tmp, const fs::path& out) {
   fs::remove_all(old, ec);
 }
 
-}  // namespace
+}  // namespace detail
+
+using detail::folder_bytes;
+using detail::replace_folder;
+using detail::TempFolder;
+using detail::write_text;
 
 void ReportOptions::validate() const {
   NSG_CHECK(threads >= 0 && threads <= 1024, ConfigError, "", "--threads", "0 (all cores) … 1024");
@@ -137,7 +135,8 @@ ReportResult write_report(const fs::path& dataset_root, const fs::path& out, con
   write_text(tmp.path / "data" / "summary.js", detail::data_script("summary", summary.dump()));
   write_text(tmp.path / "data" / "tiles.js",
              detail::data_script("tiles", detail::tiles_document(pass.rows, columns).dump()));
-  for (const detail::Asset& a : detail::assets()) write_text(tmp.path / a.name, a.bytes);
+  for (const detail::Asset& a : detail::assets())
+    if (!starts_with(a.name, detail::kLeaderboardAssets)) write_text(tmp.path / a.name, a.bytes);
   write_text(tmp.path / kMarker, summary.dump(1) + "\n");
 
   result.tiles = static_cast<int64_t>(pass.rows.size());

@@ -249,7 +249,7 @@ std::string size_problem(int64_t limit_bytes, const std::string& got) {
 // The file's text, or nullopt with a submission.size issue beyond `limit_bytes`. A regular
 // file is measured before it is read; a pipe (`<(…)`, /dev/stdin) has no size up front and
 // is read up to one byte past the limit.
-std::optional<std::string> read_bounded(const std::filesystem::path& file, int64_t limit_bytes, Issues& issues) {
+std::optional<std::string> read_bounded_text(const std::filesystem::path& file, int64_t limit_bytes, Issues& issues) {
   std::error_code ec;
   const auto status = std::filesystem::status(file, ec);
   if (ec || !std::filesystem::exists(status) || std::filesystem::is_directory(status))
@@ -281,9 +281,14 @@ std::optional<std::string> read_bounded(const std::filesystem::path& file, int64
 
 }  // namespace
 
+std::optional<std::string> read_submission_bytes(const std::filesystem::path& file, const SubmissionLimits& limits,
+                                                 Issues& issues) {
+  return read_bounded_text(file, limits.max_file_bytes, issues);
+}
+
 std::optional<nlohmann::json> read_submission(const std::filesystem::path& file, const SubmissionLimits& limits,
                                               Issues& issues) {
-  const std::optional<std::string> text = read_bounded(file, limits.max_file_bytes, issues);
+  const std::optional<std::string> text = read_submission_bytes(file, limits, issues);
   if (!text) return std::nullopt;
   return parse_submission_text(*text, file.string(), limits, issues);
 }

@@ -142,7 +142,43 @@ TEST(CliScore, SubmissionFromAPipeOrStdin) {
       {"/bin/bash", "-c", common + "<(cat " + pred + "; head -c 135266304 /dev/zero | tr '\\0' ' ')"});
   EXPECT_EQ(big.exit_code, 1) << big.err;
   EXPECT_NE(big.err.find("at most 128 MiB, got a longer stream"), std::string::npos) << big.err;
-  EXPECT_EQ(big.err.find("--max-file-mb"), std::string::npos) << big.err;  // not an option of score
+  const auto raised = nsg::test::run_program(
+      {"/bin/bash", "-c",
+       common + "<(cat " + pred + "; head -c 135266304 /dev/zero | tr '\\0' ' ') --max-file-mb 200"});
+  EXPECT_EQ(raised.exit_code, 0) << raised.err;
+  EXPECT_EQ(raised.out, file.out);
+}
+
+// score and validate --submission take the one limit flag set: a file refused by one is
+// refused by the other, at the default and at a lowered limit alike.
+TEST(CliScore, ScoreAndValidateTakeTheSameLimits) {
+  nsg::test::TempDir dir("score-limits");
+  const fs::path padded = dir / "padded.json";
+  nsg::test::write_text(padded, nsg::test::read_text(kGolden / "pred.json") + std::string(3 << 20, ' '));
+  const std::vector<std::string> score = {"score",          "-q",
+                                          "--ground-truth", (kGolden / "gt.json").string(),
+                                          "--submission",   padded.string(),
+                                          "--schemas",      kSchemas,
+                                          "--format",       "csv"};
+  const std::vector<std::string> validate = {"validate", "--submission", padded.string(), "--schemas", kSchemas};
+  for (const bool lowered : {false, true}) {
+    std::vector<std::string> s = score, v = validate;
+    if (lowered)
+      for (auto* args : {&s, &v}) args->insert(args->end(), {"--max-file-mb", "2"});
+    const auto scored = run_nsgraph(s);
+    const auto validated = run_nsgraph(v);
+    EXPECT_EQ(scored.exit_code, lowered ? 1 : 0) << scored.err;
+    EXPECT_EQ(validated.exit_code, lowered ? 1 : 0) << validated.out << validated.err;
+    if (lowered) {
+      EXPECT_NE(scored.err.find("at most 2 MiB"), std::string::npos) << scored.err;
+      EXPECT_NE(validated.out.find("at most 2 MiB"), std::string::npos) << validated.out;
+    }
+  }
+  for (const char* command : {"score", "validate"}) {
+    const auto help = run_nsgraph({command, "--help"});
+    EXPECT_NE(help.out.find("--max-file-mb"), std::string::npos) << command;
+    EXPECT_NE(help.out.find("per tile at most 5000 nodes, 10000 edges and 100000 px"), std::string::npos) << command;
+  }
 }
 
 // JSON leaves a repeated key open; keeping the last would let a duplicate swing a score.

@@ -7,6 +7,9 @@
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
 #include "nsg/metrics/io.h"
+#include "nsg/metrics/measure.h"
+#include "nsg/metrics/submission_input.h"
+#include "nsg/core/sha256.h"
 #include "nsg/metrics/score_submission.h"
 #include "test_support.h"
 
@@ -114,7 +117,14 @@ TEST(ScoreSubmission, GoldenPredictionGivesTheGoldenAggregate) {
   EXPECT_EQ(b["submission"], "<memory>");
   EXPECT_EQ(a["ground_truth_verification"], "file");
   EXPECT_EQ(b["ground_truth_verification"], "memory");
-  for (const char* k : {"ground_truth", "submission", "ground_truth_verification"}) a.erase(k), b.erase(k);
+  // The receipts name the same bytes either way; only the kind of source differs.
+  EXPECT_EQ(a["receipt"]["ground_truth"]["kind"], "file");
+  EXPECT_EQ(b["receipt"]["ground_truth"]["kind"], "memory");
+  EXPECT_EQ(a["receipt"]["ground_truth"]["sha256"], b["receipt"]["ground_truth"]["sha256"]);
+  EXPECT_EQ(a["receipt"]["submission"], b["receipt"]["submission"]);
+  EXPECT_EQ(a["receipt"]["results_sha256"], b["receipt"]["results_sha256"]);
+  EXPECT_EQ(a["receipt"]["submission"]["sha256"], sha256_file(kGolden / "pred.json"));
+  for (const char* k : {"ground_truth", "submission", "ground_truth_verification", "receipt"}) a.erase(k), b.erase(k);
   EXPECT_EQ(a, b);
 }
 
@@ -147,6 +157,35 @@ TEST(ScoreSubmission, OptionsAreValidatedFirst) {
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.record(), "split");
   }
+}
+
+// A graph in memory gets a file's checks before any metric sees it: an isolated NaN or
+// infinite node (no edge length to catch it) and an index out of range are named.
+TEST(CheckGraph, InMemoryGraphsGetTheFileChecks) {
+  Graph gt;
+  gt.nodes = {{0, 0}, {10, 0}};
+  gt.edges = {{0, 1}};
+  for (const double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL}) {
+    Graph pred = gt;
+    pred.nodes.push_back({bad, 5.0});
+    const Issues issues = check_graph(pred, "k", "pred");
+    ASSERT_EQ(issues.size(), 1u) << issues.format();
+    EXPECT_EQ(issues.items()[0].check, "submission.finite");
+    EXPECT_EQ(issues.items()[0].subject, "pred:/tiles/k/nodes/2/0");
+    try {
+      measure("k", gt, &pred, MetricParams{});
+      ADD_FAILURE() << "measure scored a non-finite node";
+    } catch (const DataError& e) {
+      EXPECT_NE(std::string(e.what()).find("/tiles/k/nodes/2/0"), std::string::npos) << e.what();
+    }
+  }
+  Graph pred = gt;
+  pred.edges.push_back({1, 7});
+  const Issues issues = check_graph(pred, "k", "pred");
+  ASSERT_EQ(issues.size(), 1u) << issues.format();
+  EXPECT_EQ(issues.items()[0].check, "submission.indices");
+  EXPECT_EQ(issues.items()[0].subject, "pred:/tiles/k/edges/1/1");
+  EXPECT_TRUE(check_graph(gt, "k", "gt").empty());
 }
 
 }  // namespace

@@ -217,6 +217,48 @@ TEST(Generate, MergeNamesAMissingShareAndACorruptShard) {
   EXPECT_EQ(tree_hashes(dir.path()), tree_hashes(e2e_dataset()));
 }
 
+// Shares written into a folder an older dataset left a shard and a done-record in: merge
+// names the leftovers and writes no manifest; --overwrite removes them and merges.
+TEST(Generate, MergeRefusesAnOlderDatasetsLeftoversUnlessOverwritten) {
+  TempDir dir("gen-merge-old");
+  fs::create_directories(dir / "shards");
+  fs::create_directories(dir / "parts");
+  write_text(dir / "shards/test-000009.tar", "an older run's shard");
+  for (int i = 0; i < 2; ++i) {
+    std::vector<std::string> args = e2e_generate_args(dir.path());
+    args.insert(args.end(), {"--shard-index", std::to_string(i), "--num-shards", "2"});
+    if (i == 0) {  // the older dataset's record only appears after the first share started
+      const CommandResult r = run_nsgraph(args);
+      EXPECT_EQ(r.exit_code, 2) << "a share started beside another dataset's shards: " << r.err;
+      fs::remove(dir / "shards/test-000009.tar");
+    }
+    ASSERT_EQ(run_nsgraph(args).exit_code, 0);
+  }
+  write_text(dir / "shards/test-000009.tar", "an older run's shard");
+  fs::copy_file(dir / "parts/share-000000-of-000002.json", dir / "parts/share-000000-of-000005.json");
+  fs::last_write_time(dir / "parts/share-000000-of-000005.json",
+                      fs::last_write_time(dir / "parts/share-000000-of-000002.json") - std::chrono::hours(1));
+  CommandResult r = run_nsgraph({"merge", "--out", dir.path().string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("share-000000-of-000005.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--overwrite"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "manifest.json"));
+  fs::remove(dir / "parts/share-000000-of-000005.json");
+  r = run_nsgraph({"merge", "--out", dir.path().string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("shards/test-000009.tar"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "manifest.json"));
+
+  fs::copy_file(dir / "parts/share-000000-of-000002.json", dir / "parts/share-000000-of-000005.json");
+  fs::last_write_time(dir / "parts/share-000000-of-000005.json",
+                      fs::last_write_time(dir / "parts/share-000000-of-000002.json") - std::chrono::hours(1));
+  r = run_nsgraph({"merge", "--out", dir.path().string(), "--overwrite"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "shards/test-000009.tar"));
+  EXPECT_FALSE(fs::exists(dir / "parts/share-000000-of-000005.json"));
+  EXPECT_EQ(read_json(dir / "manifest.json")["shards"], read_json(e2e_dataset() / "manifest.json")["shards"]);
+}
+
 // kill -9 in the middle of a run leaves no half-written shard under its final name, and a
 // rerun completes to the same bytes as an uninterrupted run.
 TEST(Generate, KilledRunLeavesNoCorruptShardAndRerunCompletes) {

@@ -7,6 +7,7 @@
 
 #include "generate_fixture.h"
 #include "nsg/core/files.h"
+#include "nsg/core/sha256.h"
 #include "test_support.h"
 
 namespace nsg::test {
@@ -144,6 +145,100 @@ TEST(UnknownSplit, EveryCommandNamesItAndTheListedSplits) {
     EXPECT_NE(r.err.find("(test, train)"), std::string::npos) << args[0] << ": " << r.err;
   }
   EXPECT_FALSE(fs::exists(dir / "p")) << "preview made its folder before refusing";
+}
+
+}  // namespace
+}  // namespace nsg::test
+
+namespace nsg::test {
+namespace {
+
+std::vector<std::string> score_args(const fs::path& ds, const fs::path& sub) {
+  return {"score", "--quiet", "--ground-truth", ds.string(), "--submission", sub.string(), "--format", "csv"};
+}
+
+// A score report's receipt names what was scored and with what; --verify-receipt
+// recomputes it from the same inputs ("same", also from another copy of the dataset) and
+// names what differs: another submission, the report's numbers edited, another dataset.
+TEST(ScoreReceipt, RecomputesSameAndNamesWhatDiffers) {
+  TempDir dir("score-receipt");
+  const fs::path ds = dir / "dataset";
+  fs::copy(e2e_dataset(), ds, fs::copy_options::recursive);
+  const fs::path sub = perfect_submission(ds, dir.path());
+  std::vector<std::string> args = score_args(ds, sub);
+  args.insert(args.end(), {"--out", (dir / "r.json").string(), "--max-file-mb", "200"});
+  CommandResult r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json report = read_json(dir / "r.json");
+  const nlohmann::json& receipt = report["receipt"];
+  EXPECT_EQ(receipt["ground_truth"]["kind"], "dataset");
+  EXPECT_EQ(receipt["ground_truth"]["manifest_sha256"], sha256_file(ds / "manifest.json"));
+  EXPECT_EQ(receipt["ground_truth"]["split"], "test");
+  EXPECT_EQ(receipt["ground_truth"]["verification"], "sha256");
+  EXPECT_EQ(receipt["submission"]["sha256"], sha256_file(sub));
+  EXPECT_EQ(receipt["submission"]["bytes"], fs::file_size(sub));
+  EXPECT_EQ(receipt["toolkit"]["name"], "nsgraph");
+  EXPECT_FALSE(receipt["toolkit"]["git_commit"].get<std::string>().empty());
+  EXPECT_EQ(receipt["metrics_version"], report["metrics_version"]);
+  EXPECT_EQ(receipt["limits"]["max_file_bytes"], int64_t{200} << 20);
+  EXPECT_EQ(receipt["limits"]["max_nodes_per_tile"], 5000);
+  EXPECT_EQ(receipt["options"]["params"], report["params"]);
+  EXPECT_EQ(receipt["options"]["verify_ground_truth"], true);
+  EXPECT_EQ(receipt["results_sha256"].get<std::string>().size(), 64u);
+
+  const auto verify = [&](const fs::path& receipt_file, const fs::path& dataset, const fs::path& submission) {
+    std::vector<std::string> a = score_args(dataset, submission);
+    a.insert(a.end(), {"--verify-receipt", receipt_file.string()});
+    return run_nsgraph(a);
+  };
+  r = verify(dir / "r.json", ds, sub);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find(": same"), std::string::npos) << r.out;
+  // Another machine: the dataset and the submission elsewhere, the same bytes.
+  const fs::path elsewhere = dir / "elsewhere";
+  fs::create_directories(elsewhere);
+  fs::copy(ds, elsewhere / "dataset", fs::copy_options::recursive);
+  fs::copy_file(sub, elsewhere / "sub.json");
+  r = verify(dir / "r.json", elsewhere / "dataset", elsewhere / "sub.json");
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find(": same"), std::string::npos) << r.out;
+  // The receipt alone re-verifies too (its results digest).
+  write_text(dir / "receipt.json", receipt.dump());
+  r = verify(dir / "receipt.json", ds, sub);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+
+  // Another submission: one tile dropped.
+  nlohmann::json other = read_json(sub);
+  other["tiles"].erase(other["tiles"].begin());
+  write_text(dir / "other.json", other.dump());
+  r = verify(dir / "r.json", ds, dir / "other.json");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("differs"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("submission sha256: recorded " + sha256_file(sub)), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("results: /aggregate/"), std::string::npos) << r.out;
+
+  // The report's numbers edited after scoring.
+  nlohmann::json edited = report;
+  edited["aggregate"]["mean"]["apls"] = 0.99;
+  write_text(dir / "edited.json", edited.dump(1));
+  r = verify(dir / "edited.json", ds, sub);
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.out.find("changed after scoring"), std::string::npos) << r.out;
+
+  // Another dataset: the manifest differs (here: one more line of whitespace).
+  write_text(elsewhere / "dataset" / "manifest.json", read_text(ds / "manifest.json") + "\n");
+  r = verify(dir / "r.json", elsewhere / "dataset", sub);
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.out.find("dataset manifest sha256: recorded " + sha256_file(ds / "manifest.json")), std::string::npos)
+      << r.out;
+
+  // A receipt from a stranger without its options: exit 2 naming the field.
+  nlohmann::json broken = receipt;
+  broken.erase("options");
+  write_text(dir / "broken.json", broken.dump());
+  r = verify(dir / "broken.json", ds, sub);
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("/receipt/options"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "generate_fixture.h"
 #include "nsg/core/files.h"
 #include "nsg/io/dataset.h"
@@ -63,6 +65,43 @@ fs::path exact_submission(const fs::path& dir) {
   });
   write_text(dir / "exact.json", sub.dump());
   return dir / "exact.json";
+}
+
+fs::path leaderboard_reports(const fs::path& dir) {
+  const fs::path reports = dir / "reports";
+  fs::create_directories(reports);
+  const fs::path empty = dir / "empty-submission.json";
+  write_text(empty, test_tiles([](const std::string& key, const metrics::Graph&, nlohmann::json& tiles) {
+                      tiles[key] = {{"nodes", nlohmann::json::array()}, {"edges", nlohmann::json::array()}};
+                    }).dump());
+  const std::vector<std::pair<std::string, fs::path>> subs = {
+      {"exact", exact_submission(dir)}, {"perturbed", perturbed_submission(dir).file}, {"empty", empty}};
+  for (const auto& [name, file] : subs) {
+    const CommandResult r =
+        run_nsgraph({"score", "--quiet", "--ground-truth", e2e_dataset().string(), "--submission", file.string(),
+                     "--format", "csv", "--out", (reports / (name + ".json")).string()});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+  }
+  return reports;
+}
+
+std::vector<std::string> leaderboard_order(const nlohmann::json& board, const std::string& column,
+                                           const std::string& dir) {
+  std::string better;
+  for (const auto& c : board["columns"])
+    if (c["name"] == column) better = c["better"];
+  const bool ascending = dir.empty() ? better == "lower" : dir == "asc";
+  std::vector<nlohmann::json> entries(board["entries"].begin(), board["entries"].end());
+  std::stable_sort(entries.begin(), entries.end(), [&](const nlohmann::json& a, const nlohmann::json& b) {
+    const nlohmann::json &x = a["values"][column], &y = b["values"][column];
+    if (x.is_null() != y.is_null()) return y.is_null();
+    if (!x.is_null() && x.get<double>() != y.get<double>())
+      return ascending ? x.get<double>() < y.get<double>() : x.get<double>() > y.get<double>();
+    return a["name"].get<std::string>() < b["name"].get<std::string>();
+  });
+  std::vector<std::string> names;
+  for (const auto& e : entries) names.push_back(e["name"]);
+  return names;
 }
 
 nlohmann::json read_data_script(const fs::path& file) {

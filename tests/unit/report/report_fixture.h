@@ -3,6 +3,7 @@
 // with known defects, and reading the report's data files back.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -19,6 +20,13 @@ struct PerturbedSubmission {
 PerturbedSubmission perturbed_submission(const std::filesystem::path& dir);
 // The ground truth of the test split as a submission (a perfect score).
 std::filesystem::path exact_submission(const std::filesystem::path& dir);
+// A folder of score reports (nsgraph score --out) on the e2e dataset's test split:
+// exact.json (perfect), perturbed.json and empty.json (every tile an empty graph).
+std::filesystem::path leaderboard_reports(const std::filesystem::path& dir);
+// The entry names of a leaderboard.json sorted as the page sorts by `column`: better first
+// (or `dir` "asc" / "desc"), undefined last, ties by name.
+std::vector<std::string> leaderboard_order(const nlohmann::json& board, const std::string& column,
+                                           const std::string& dir = "");
 // The JSON inside a data file `NSG.receive("name", {...});`.
 nlohmann::json read_data_script(const std::filesystem::path& file);
 

@@ -170,5 +170,32 @@ TEST(Browser, TwentyThousandTilesStayUsable) {
   EXPECT_LT(st["first_contentful_paint_ms"].get<double>(), 2000.0) << st.dump(1);
 }
 
+// The leaderboard page in Chromium from file://: sorted by a metric's better direction
+// (APLS descending, Chamfer ascending, undefined last) or as asked, no script error.
+TEST(Browser, LeaderboardLoadsAndSorts) {
+  if (!have_chromium()) GTEST_SKIP() << "optional tool chromium not installed (apt-get install chromium)";
+  TempDir dir("leaderboard_browser");
+  const fs::path reports = leaderboard_reports(dir.path());
+  const fs::path out = dir / "board";
+  CommandResult r = run_nsgraph({"report", "--quiet", "--leaderboard", reports.string(), "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json board = read_json(out / "leaderboard.json");
+  const std::string url = "file://" + fs::absolute(out / "index.html").string();
+  int profile = 0;
+  for (const auto& [column, dir_arg] :
+       std::vector<std::pair<std::string, std::string>>{{"apls", ""}, {"chamfer_m2", ""}, {"f1", "asc"}}) {
+    const std::string spec = column + (dir_arg.empty() ? "" : ":" + dir_arg);
+    r = chromium(dir / ("profile" + std::to_string(++profile)), {"--dump-dom"}, url + "#selftest=sort:" + spec);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json st = selftest_of(r.out);
+    ASSERT_TRUE(st.is_object()) << "no self-test result in the DOM:\n" << r.out.substr(0, 2000) << "\n" << r.err;
+    EXPECT_EQ(st["errors"], nlohmann::json::array()) << st.dump(1);
+    EXPECT_EQ(st["sorted_by"], column);
+    EXPECT_EQ(st["rows"].get<std::vector<std::string>>(), leaderboard_order(board, column, dir_arg)) << spec;
+    EXPECT_EQ(st["columns"], 2 + board["columns"].size() + 4);
+    EXPECT_EQ(st["rejected"], 0);
+  }
+}
+
 }  // namespace
 }  // namespace nsg::test

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 #include "generate_fixture.h"
 #include "nsg/core/files.h"
@@ -206,6 +207,63 @@ TEST(Report, BadInputsFailLikeScoreAndWriteNothing) {
   r = run_nsgraph({"report", "--dataset", ds.string(), "--baseline", sub.file.string(), "--out", out.string()});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("--baseline"), std::string::npos) << r.err;
+}
+
+// The leaderboard keeps the reports whose receipts name the first one's ground truth and
+// whose numbers still hash to their receipt; the others are named (exit 1) and listed.
+TEST(Leaderboard, AcceptsMatchingReceiptsAndNamesTheRejected) {
+  TempDir dir("leaderboard");
+  const fs::path reports = leaderboard_reports(dir.path());
+  const fs::path out = dir / "board";
+  CommandResult r = run_nsgraph({"report", "--quiet", "--leaderboard", reports.string(), "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* f : {"index.html", "leaderboard.js", "leaderboard.css", "leaderboard.json", "data/leaderboard.js"})
+    EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
+  nlohmann::json board = read_json(out / "leaderboard.json");
+  EXPECT_EQ(read_data_script(out / "data/leaderboard.js"), board);
+  ASSERT_EQ(board["entries"].size(), 3u);
+  EXPECT_EQ(leaderboard_order(board, "apls"), (std::vector<std::string>{"exact", "perturbed", "empty"}));
+  const nlohmann::json exact = read_json(reports / "exact.json");
+  for (const auto& e : board["entries"])
+    if (e["name"] == "exact") {
+      EXPECT_EQ(e["values"]["apls"], exact["aggregate"]["mean"]["apls"]);
+      EXPECT_EQ(e["submission_sha256"], exact["receipt"]["submission"]["sha256"]);
+    }
+  EXPECT_EQ(board["ground_truth"], exact["receipt"]["ground_truth"]);
+
+  // Another ground truth (a file, not the dataset), a report edited after scoring, and a
+  // JSON file that is no report: all three rejected by name, the page still written.
+  fs::rename(reports / "exact.json", reports / "0-exact.json");  // stays the reference (first in name order)
+  r = run_nsgraph({"score", "--quiet", "--ground-truth", exact_submission(dir.path()).string(), "--submission",
+                   (dir / "perturbed.json").string(), "--format", "csv", "--out", (reports / "gt-file.json").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  nlohmann::json edited = read_json(reports / "perturbed.json");
+  edited["aggregate"]["mean"]["apls"] = 1.0;
+  write_text(reports / "perturbed-edited.json", edited.dump());
+  write_text(reports / "notes.json", R"({"comment": "not a report"})");
+  r = run_nsgraph({"report", "--quiet", "--leaderboard", reports.string(), "--out", out.string()});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  board = read_json(out / "leaderboard.json");
+  EXPECT_EQ(leaderboard_order(board, "apls"), (std::vector<std::string>{"0-exact", "perturbed", "empty"}));
+  std::map<std::string, std::string> rejected;
+  for (const auto& e : board["rejected"]) rejected[e["file"]] = e["reason"];
+  ASSERT_EQ(rejected.size(), 3u) << board["rejected"].dump(1);
+  EXPECT_NE(rejected["gt-file.json"].find("another ground truth"), std::string::npos) << rejected["gt-file.json"];
+  EXPECT_NE(rejected["perturbed-edited.json"].find("changed after scoring"), std::string::npos);
+  EXPECT_NE(rejected["notes.json"].find("receipt"), std::string::npos) << rejected["notes.json"];
+  for (const char* name : {"gt-file.json", "perturbed-edited.json", "notes.json"})
+    EXPECT_NE(r.err.find(name), std::string::npos) << r.err;
+
+  // Not a folder of reports; a folder with none usable; --out holding other files.
+  r = run_nsgraph({"report", "--leaderboard", (dir / "missing").string(), "--out", (dir / "b2").string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  fs::create_directories(dir / "none");
+  write_text(dir / "none" / "x.json", "{}");
+  r = run_nsgraph({"report", "--leaderboard", (dir / "none").string(), "--out", (dir / "b3").string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "b3"));
+  r = run_nsgraph({"report", "--leaderboard", reports.string(), "--out", reports.string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
 }
 
 }  // namespace

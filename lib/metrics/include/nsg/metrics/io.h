@@ -42,7 +42,10 @@ GraphSet load_dataset_split(const std::filesystem::path& dataset, const std::str
 
 // Ground truth: a dataset directory (its `split`) or a submission-format file, read within
 // `limits` like a submission; a file the limits refuse throws DataError naming the limit.
+// `sha256` (optional) receives the digest that identifies it: of the dataset's
+// manifest.json (which pins every shard's sha256), or of the file's bytes.
 GraphSet load_ground_truth(const std::filesystem::path& path, const std::string& split,
-                           const validate::SubmissionLimits& limits = {}, bool verify = true);
+                           const validate::SubmissionLimits& limits = {}, bool verify = true,
+                           std::string* sha256 = nullptr);
 
 }  // namespace nsg::metrics

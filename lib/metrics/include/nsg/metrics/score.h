@@ -30,6 +30,9 @@ struct ScoreReport {
   // against its manifest), "sizes" (--no-verify: listed and sized, not hashed), "file" (a
   // submission-format file), "memory" (the caller's own document).
   std::string ground_truth_verification;
+  // What the score was computed from and with (receipt.h; set by score_submission, null
+  // for a bare score()).
+  nlohmann::json receipt;
 };
 
 ScoreReport score(const GraphSet& gt, const GraphSet& pred, const ScoreOptions& options);

@@ -14,8 +14,10 @@
 namespace nsg::metrics {
 
 struct CheckedSubmission {
-  Issues issues;    // problems of the submission; non-empty = not scored (exit 1)
-  GraphSet graphs;  // the tiles, when there is no problem
+  Issues issues;       // problems of the submission; non-empty = not scored (exit 1)
+  GraphSet graphs;     // the tiles, when there is no problem
+  std::string sha256;  // of the bytes read ("" for a document given as JSON or refused unread)
+  int64_t bytes = 0;
 };
 
 // Throws IoError if the file cannot be read and when the schemas are not found
@@ -32,5 +34,12 @@ CheckedSubmission check_submission_text(const std::string& text, const std::stri
 CheckedSubmission check_submission_document(const nlohmann::json& doc, const std::string& label,
                                             const std::filesystem::path& schemas_dir = {},
                                             const validate::SubmissionLimits& limits = {});
+
+// The checks a file's tile gets (validate::check_submission_structure: finite coordinates
+// and scores, node indices in range, the per-tile limits) on one graph in memory, the tile
+// named `key` in a document labelled `label`: what score_tile and measure() run, so a graph
+// reaches the metrics only as a file's would.
+Issues check_graph(const Graph& graph, const std::string& key, const std::string& label,
+                   const validate::SubmissionLimits& limits = {});
 
 }  // namespace nsg::metrics

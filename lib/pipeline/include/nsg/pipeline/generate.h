@@ -78,7 +78,10 @@ struct GenerateRun {
 GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run);
 
 // Verifies every share's done-record and output file under `out` and writes manifest.json.
-// Throws DataError naming every missing share, missing item or corrupt file.
-void merge(const std::filesystem::path& out);
+// Throws DataError naming every missing share, missing item or corrupt file, and every
+// leftover of an older dataset in the folder (a file under shards/, tiles/ or maps/ that no
+// share recorded, a done-record of another share count, a manifest.json of another config),
+// which `overwrite` removes instead.
+void merge(const std::filesystem::path& out, bool overwrite = false);
 
 }  // namespace nsg::pipeline

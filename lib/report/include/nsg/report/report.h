@@ -43,6 +43,20 @@ struct ReportResult {
 ReportResult write_report(const std::filesystem::path& dataset, const std::filesystem::path& out,
                           const ReportOptions& options);
 
+// `nsgraph report --leaderboard`: an offline page ranking score reports. Reads every
+// *.json in `reports` (a score report carrying its receipt, as `nsgraph score --out` writes
+// it), keeps those whose numbers still hash to their receipt and whose receipt names the
+// same ground truth (dataset manifest sha256 and split, or ground-truth file sha256) and
+// metrics version as the first such report in name order, and writes `out`:
+//   index.html leaderboard.js leaderboard.css leaderboard.json data/leaderboard.js
+// (temp name, renamed). `out` must be new, empty or an earlier leaderboard.
+struct LeaderboardResult {
+  int64_t entries = 0;
+  std::vector<std::string> rejected;  // "<file>: <reason>", also listed on the page
+};
+// Throws IoError when `reports` cannot be read, DataError when no report is accepted.
+LeaderboardResult write_leaderboard(const std::filesystem::path& reports, const std::filesystem::path& out);
+
 // Mean of the paired differences a − b over the entries where both are defined, and its
 // standard error (sample standard deviation / √n; undefined for n < 2).
 struct PairedDifference {

@@ -58,6 +58,10 @@ int64_t path_search_work(int64_t nodes, const std::vector<std::array<int64_t, 2>
 // open; keeping the last could swing a score).
 std::optional<nlohmann::json> read_submission(const std::filesystem::path& file, const SubmissionLimits& limits,
                                               Issues& issues);
+// The file's bytes within the byte limit (the first step of read_submission): nullopt with a
+// submission.size issue beyond it; throws IoError if the file cannot be read.
+std::optional<std::string> read_submission_bytes(const std::filesystem::path& file, const SubmissionLimits& limits,
+                                                 Issues& issues);
 // The same checks on submission text already in memory; `label` names it in the issues.
 std::optional<nlohmann::json> parse_submission_text(const std::string& text, const std::string& label,
                                                     const SubmissionLimits& limits, Issues& issues);

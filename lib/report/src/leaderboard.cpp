@@ -1,0 +1,182 @@
+// write_leaderboard: score reports from a folder, checked against their receipts and
+// against one ground truth, into a static sortable page (report.h).
+#include <algorithm>
+
+#include "internal.h"
+#include "nsg/core/atomic_file.h"
+#include "nsg/core/error.h"
+#include "nsg/core/log.h"
+#include "nsg/core/strings.h"
+#include "nsg/core/version.h"
+#include "nsg/metrics/receipt.h"
+#include "nsg/validate/submission.h"
+
+namespace nsg::report {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using nlohmann::ordered_json;
+
+constexpr const char* kMarker = "leaderboard.json";  // what makes a folder an earlier leaderboard
+
+// The table's metric columns: aggregate means, with the direction that is better.
+struct Column {
+  const char* name;
+  const char* label;
+  const char* better;  // "higher" or "lower"
+  int digits;
+};
+constexpr Column kColumns[] = {
+    {"apls", "APLS", "higher", 4},
+    {"apls_directed", "APLS dir.", "higher", 4},
+    {"apls_strict", "APLS strict", "higher", 4},
+    {"direction_accuracy", "Dir. acc.", "higher", 4},
+    {"f1", "F1", "higher", 4},
+    {"iou", "IoU", "higher", 4},
+    {"chamfer_m2", "Chamfer m²", "lower", 3},
+    {"geo_f1", "GEO F1", "higher", 4},
+    {"topo_f1", "TOPO F1", "higher", 4},
+};
+
+// A report from the folder, read as a stranger's file (bounded like a submission).
+json read_report(const fs::path& file, std::string* why) {
+  Issues issues;
+  const validate::SubmissionLimits limits;
+  const std::optional<std::string> text = validate::read_submission_bytes(file, limits, issues);
+  std::optional<json> doc;
+  if (text) doc = validate::parse_submission_text(*text, file.string(), limits, issues);
+  if (!doc) {
+    *why = issues.items().front().message;
+    return nullptr;
+  }
+  return *doc;
+}
+
+// The ground truth a receipt names, as one comparable string.
+std::string ground_truth_identity(const json& receipt) {
+  const json& gt = receipt.at("ground_truth");
+  return gt.value("kind", "") + " " + gt.value("manifest_sha256", gt.value("sha256", "")) + " " +
+         gt.value("split", "") + " metrics v" + receipt.value("metrics_version", "");
+}
+
+// The page's entry of an accepted report; "" in `why` when it is accepted.
+ordered_json entry_of(const fs::path& file, const json& report, std::string* why) {
+  why->clear();
+  try {
+    const json& receipt = metrics::receipt_of(report, file.string());
+    metrics::receipt_recipe(report, file.string());  // the receipt's fields are all there
+    NSG_CHECK(report.contains("aggregate") && report["aggregate"].is_object() && report["aggregate"].contains("mean") &&
+                  report["aggregate"]["mean"].is_object(),
+              ParseError, file.string(), "/aggregate", "a score report's aggregate (a receipt alone has no numbers)");
+    if (metrics::results_sha256(report) != receipt.value("results_sha256", "")) {
+      *why = "its numbers do not hash to its receipt's results_sha256 (changed after scoring)";
+      return nullptr;
+    }
+    const json& agg = report["aggregate"];
+    ordered_json values = ordered_json::object();
+    for (const Column& c : kColumns) {
+      const json v = agg["mean"].value(c.name, json());
+      values[c.name] = v.is_number() ? v : json();
+    }
+    const json& toolkit = receipt.at("toolkit");
+    const std::string commit = toolkit.value("git_commit", "unknown");
+    return {{"name", file.stem().string()},
+            {"file", file.filename().string()},
+            {"values", values},
+            {"n_tiles", agg.value("n_tiles", json())},
+            {"n_missing_predictions", agg.value("n_missing_predictions", json())},
+            {"submission_sha256", receipt.at("submission").value("sha256", "")},
+            {"results_sha256", receipt.value("results_sha256", "")},
+            {"toolkit", "nsgraph " + toolkit.value("version", "?") + " (" + commit.substr(0, 12) + ")"}};
+  } catch (const Error& e) {
+    *why = e.what();
+  } catch (const json::exception& e) {
+    *why = std::string("not a score report with a receipt (") + e.what() + ")";
+  }
+  return nullptr;
+}
+
+ordered_json columns_json() {
+  ordered_json out = ordered_json::array();
+  for (const Column& c : kColumns)
+    out.push_back({{"name", c.name}, {"label", c.label}, {"better", c.better}, {"digits", c.digits}});
+  return out;
+}
+
+}  // namespace
+
+LeaderboardResult write_leaderboard(const fs::path& reports, const fs::path& out) {
+  NSG_CHECK(fs::is_directory(reports), IoError, reports.string(), "--leaderboard", "a folder of score reports");
+  NSG_CHECK(!out.empty(), ConfigError, "", "--out", "an output folder");
+  if (fs::exists(out)) {
+    const bool empty_dir = fs::is_directory(out) && fs::is_empty(out);
+    NSG_CHECK(empty_dir || fs::exists(out / kMarker), ConfigError, out.string(), "--out",
+              "a new folder, an empty one or an earlier leaderboard (it holds other files; not overwritten)");
+  }
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(reports))
+    if (e.is_regular_file() && e.path().extension() == ".json") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+
+  LeaderboardResult result;
+  ordered_json entries = ordered_json::array(), rejected = ordered_json::array();
+  json reference_gt;      // the first accepted receipt's ground truth
+  std::string reference;  // its identity
+  const auto reject = [&](const fs::path& file, const std::string& why) {
+    rejected.push_back({{"file", file.filename().string()}, {"reason", why}});
+    result.rejected.push_back(file.string() + ": " + why);
+  };
+  for (const fs::path& file : files) {
+    std::string why;
+    const json report = read_report(file, &why);
+    if (report.is_null()) {
+      reject(file, why);
+      continue;
+    }
+    ordered_json entry = entry_of(file, report, &why);
+    if (entry.is_null()) {
+      reject(file, why);
+      continue;
+    }
+    const json& receipt = report["receipt"];
+    const std::string identity = ground_truth_identity(receipt);
+    if (reference.empty()) {
+      reference = identity;
+      reference_gt = receipt["ground_truth"];
+    } else if (identity != reference) {
+      reject(file,
+             "its receipt names another ground truth (" + identity + ") than the first report's (" + reference + ")");
+      continue;
+    }
+    entries.push_back(std::move(entry));
+  }
+  NSG_CHECK(!entries.empty(), DataError, reports.string(), "--leaderboard",
+            "at least one score report with a valid receipt (" + std::to_string(files.size()) + " *.json file(s), " +
+                std::to_string(rejected.size()) + " rejected)");
+  result.entries = static_cast<int64_t>(entries.size());
+
+  const ordered_json doc = {{"format", "nsgraph-leaderboard-1"},
+                            {"tool", std::string("nsgraph ") + kVersion},
+                            {"ground_truth", reference_gt},
+                            {"metrics_version", metrics::kMetricsVersion},
+                            {"columns", columns_json()},
+                            {"entries", entries},
+                            {"rejected", rejected}};
+  const fs::path parent = out.parent_path().empty() ? fs::path(".") : out.parent_path();
+  fs::create_directories(parent);
+  detail::TempFolder tmp{temp_path_for(out)};
+  fs::create_directories(tmp.path / "data");
+  const std::string prefix = detail::kLeaderboardAssets;
+  for (const detail::Asset& a : detail::assets())
+    if (starts_with(a.name, prefix)) detail::write_text(tmp.path / std::string(a.name).substr(prefix.size()), a.bytes);
+  // ASCII only: file names may hold any bytes.
+  const std::string text = doc.dump(-1, ' ', true, json::error_handler_t::replace);
+  detail::write_text(tmp.path / "data" / "leaderboard.js", detail::data_script("leaderboard", text));
+  detail::write_text(tmp.path / kMarker, doc.dump(1, ' ', true, json::error_handler_t::replace) + "\n");
+  detail::replace_folder(tmp.path, out);
+  tmp.keep = true;
+  return result;
+}
+
+}  // namespace nsg::report
