@@ -19,13 +19,16 @@ def evaluate(test_annotation_file, user_submission_file, phase_codename, **kwarg
 
     kwargs: ``split`` (the dataset split scored, default "test"), ``split_codename`` (the
     key in ``result``, default the split), ``metrics`` (names of the report's means, default
-    LEADERBOARD_METRICS); others (``submission_metadata``, …) are ignored. Raises
-    SubmissionError (with .issues) for a submission ``nsgraph score`` refuses.
+    LEADERBOARD_METRICS), ``max_seconds`` (the scoring's wall-clock budget, default 3600 as
+    ``nsgraph score --max-seconds``; ConfigError beyond it); others (``submission_metadata``,
+    …) are ignored. Raises SubmissionError (with .issues) for a submission ``nsgraph score``
+    refuses.
     """
     split = kwargs.get("split") or "test"
     codename = kwargs.get("split_codename") or split
     names = kwargs.get("metrics") or LEADERBOARD_METRICS
-    report = score(test_annotation_file, user_submission_file, split=split)
+    report = score(test_annotation_file, user_submission_file, split=split,
+                   max_seconds=kwargs.get("max_seconds", 3600))
     mean = report["aggregate"]["mean"]
     values = {name: mean.get(name) for name in names}
     values["n_tiles"] = report["aggregate"]["n_tiles"]

@@ -65,7 +65,7 @@ def _params_json(params):
     return json.dumps(params)
 
 
-def score(ground_truth, submission, split=None, threads=1, verify=True, **params):
+def score(ground_truth, submission, split=None, threads=1, verify=True, max_seconds=3600, **params):
     """Scores a submission like ``nsgraph score`` and returns its JSON report as a dict.
 
     ground_truth: a dataset folder (its ``split``, default "test"), a ground-truth file in
@@ -75,12 +75,14 @@ def score(ground_truth, submission, split=None, threads=1, verify=True, **params
     has problems (the CLI's exit 1), nsgraph.errors.* for bad input (exit 2). A dataset
     folder is read through its manifest: the split's shards must be listed, present, of their
     recorded size and (verify=True, the CLI's default) sha256, with no unlisted shard beside
-    them; the report's ``ground_truth_verification`` says which.
+    them; the report's ``ground_truth_verification`` says which. ``max_seconds``: the
+    wall-clock budget of scoring the tiles (``--max-seconds``; 0 = none), beyond which
+    ConfigError is raised.
     """
     gt, gt_is_path, gt_label = _source(ground_truth)
     sub, sub_is_path, sub_label = _source(submission)
     report, issues, text = _nsgraph.score(gt, gt_is_path, sub, sub_is_path, split or "test", _params_json(params),
-                                          threads, SCHEMAS_DIR, gt_label, sub_label, bool(verify))
+                                          threads, SCHEMAS_DIR, gt_label, sub_label, bool(verify), float(max_seconds))
     if report is None:
         raise SubmissionError(f"{len(issues)} problem(s) in submission {sub_label}; not scored:\n{text}", issues)
     return report

@@ -63,10 +63,12 @@ metrics::ScoreSource score_source(const std::string& source, bool is_path, const
 // (report dict, []) or (None, issues) when the submission has problems (the CLI's exit 1).
 py::tuple score(const std::string& gt, bool gt_is_path, const std::string& sub, bool sub_is_path,
                 const std::string& split, const std::string& params_json, int threads, const std::string& schemas_dir,
-                const std::string& gt_label, const std::string& sub_label, bool verify) {
+                const std::string& gt_label, const std::string& sub_label, bool verify, double max_seconds) {
   metrics::SubmissionScoreOptions options;
   options.verify_ground_truth = verify;
   options.score = score_options(params_json, threads);
+  options.score.max_seconds = max_seconds;
+  options.score.validate();
   options.split = split;
   options.schemas_dir = schemas_dir;
   metrics::ScoredSubmission scored;
@@ -142,7 +144,8 @@ py::tuple check_submission(const std::string& source, bool is_path, const std::s
 void bind_metrics(py::module_& m) {
   m.def("score", &score, py::arg("ground_truth"), py::arg("ground_truth_is_path"), py::arg("submission"),
         py::arg("submission_is_path"), py::arg("split"), py::arg("params_json"), py::arg("threads"),
-        py::arg("schemas_dir"), py::arg("ground_truth_label"), py::arg("submission_label"), py::arg("verify") = true);
+        py::arg("schemas_dir"), py::arg("ground_truth_label"), py::arg("submission_label"), py::arg("verify") = true,
+        py::arg("max_seconds") = metrics::ScoreOptions{}.max_seconds);
   m.def("score_tile", &score_tile, py::arg("gt_nodes"), py::arg("gt_edges"), py::arg("pred_nodes"),
         py::arg("pred_edges"), py::arg("params_json"), py::arg("key"));
   m.def("write_submission", &write_submission, py::arg("path"), py::arg("keys"), py::arg("nodes"), py::arg("edges"),

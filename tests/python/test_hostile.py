@@ -123,6 +123,26 @@ class HostileSubmissionTest(unittest.TestCase):
         self.assertEqual([i["check"] for i in issues], ["submission.json"])
         self.assertIn("NaN", issues[0]["message"])
 
+    def test_max_seconds_stops_score_and_evaluate(self):
+        path = os.path.join(self.tmp.name, "budget.json")
+        ds = nsgraph.Dataset(self.root, "test", modalities=())
+        nsgraph.write_submission(path, {t["key"]: t for t in ds})
+        with self.assertRaises(nsgraph.ConfigError) as e:
+            nsgraph.score(self.root, path, max_seconds=1e-9)
+        self.assertIn("--max-seconds", str(e.exception))
+        with self.assertRaises(nsgraph.ConfigError):
+            nsgraph.evaluate(self.root, path, "test-phase", max_seconds=1e-9)
+
+    def test_far_nodes_are_refused_not_scored_infinite(self):
+        # Two isolated nodes at ±1e160 once gave Chamfer = inf (JSON Infinity from evaluate).
+        gt = ([[0.0, 0.0], [10.0, 0.0]], [[0, 1]])
+        far = ([[1e160, 0.0], [-1e160, 0.0]], np.zeros((0, 2), np.int64))
+        with self.assertRaises(nsgraph.SubmissionError) as e:
+            nsgraph.score_tile(gt, far)
+        self.assertEqual({i["check"] for i in e.exception.issues}, {"submission.size"})
+        issues = nsgraph.check_submission({"k": far})
+        self.assertIn("within ±100000 px", issues[0]["message"])
+
     def test_score_tile_has_the_limits(self):
         gt = ([[0.0, 0.0], [10.0, 0.0]], [[0, 1]])
         nodes = np.random.default_rng(1).uniform(0, 256, (5001, 2))

@@ -123,6 +123,9 @@ void add_score_command(CLI::App& parent, Context& ctx) {
       ->capture_default_str();
   cmd->add_option("--threads", opts->lib.score.threads, "Worker threads (0 = all cores); output does not depend on it")
       ->capture_default_str();
+  cmd->add_option("--max-seconds", opts->lib.score.max_seconds,
+                  "Wall-clock budget of scoring the tiles; beyond it the run stops, exit 2 (0 = none)")
+      ->capture_default_str();
   cmd->add_option("--schemas", opts->lib.schemas_dir, "Folder of the published schemas (default: installed/source)");
   add_submission_limit_flags(cmd, opts->lib.limits);
   cmd->footer(submission_limits_footer(opts->lib.limits));

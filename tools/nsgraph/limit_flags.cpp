@@ -31,12 +31,14 @@ std::string submission_limits_footer(const validate::SubmissionLimits& limits) {
       "Limits (a submission beyond them is refused, exit 1, before scoring): a file or stream (--submission may be a\n"
       "pipe, e.g. /dev/stdin) of at most %lld MiB (--max-file-mb) and %lld JSON values;\n"
       "per tile at most %lld nodes, %lld edges and %.0f px of total edge length, and a shortest-path work (per\n"
-      "connected piece: nodes x (nodes + 2 x edges)) of at most %lld, i.e. about 1 800 nodes in one connected piece.\n"
+      "connected piece: nodes x (nodes + 2 x edges)) of at most %lld, i.e. about 1 800 nodes in one connected piece;\n"
+      "node coordinates within +-%.0f px.\n"
       "The per-tile limits bound the scoring time and are the same on every host (docs/scoring-limits.md).\n"
       "Real 256-px tiles hold 100-1500 nodes.",
       static_cast<long long>(limits.max_file_bytes >> 20), static_cast<long long>(limits.max_json_values),
       static_cast<long long>(limits.max_nodes_per_tile), static_cast<long long>(limits.max_edges_per_tile),
-      limits.max_edge_length_px_per_tile, static_cast<long long>(limits.max_path_work_per_tile));
+      limits.max_edge_length_px_per_tile, static_cast<long long>(limits.max_path_work_per_tile),
+      limits.max_abs_coordinate_px);
 }
 
 }  // namespace nsg::cli

@@ -141,6 +141,11 @@ TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pr
   c[kGeoPredSamples] = gt_r.pred_samples;
   c[kGeoMatched] = gt_r.matched;
   c[kTopoSeeds] = gt_r.seeds;
+  // Every metric is a finite number or undefined (docs/metrics.md); the limits keep the
+  // inputs where that holds, and a value that still is not is a bug, never a report entry.
+  for (int m = 0; m < kMetricCount; ++m)
+    NSG_CHECK(!v[m] || std::isfinite(*v[m]), InternalError, "", key + "/" + metric_name(m),
+              "a finite value or undefined");
   return t;
 }
 

@@ -1,5 +1,8 @@
 #include "nsg/metrics/score.h"
 
+#include <atomic>
+#include <chrono>
+#include <cmath>
 #include <sstream>
 
 #include "nsg/core/error.h"
@@ -22,6 +25,8 @@ std::string md_value(const std::optional<double>& v, int decimals = 4) {
 void ScoreOptions::validate() const {
   params.validate();
   NSG_CHECK(threads >= 0 && threads <= 1024, ConfigError, "", "threads", "0 (all cores) or a thread count up to 1024");
+  NSG_CHECK(std::isfinite(max_seconds) && max_seconds >= 0, ConfigError, "", "--max-seconds",
+            "0 (no limit) or a number of seconds");
 }
 
 ScoreReport score(const GraphSet& gt, const GraphSet& pred, const ScoreOptions& options) {
@@ -39,11 +44,24 @@ ScoreReport score(const GraphSet& gt, const GraphSet& pred, const ScoreOptions& 
   // Each tile writes its own slot; the reduction below runs in key order, so the report
   // is identical for every thread count.
   report.tiles.resize(keys.size());
+  const auto start = std::chrono::steady_clock::now();
+  std::atomic<bool> over_time{false};
+  std::atomic<int64_t> scored{0};
   parallel_for(keys.size(), options.threads, [&](size_t k) {
+    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+    if (over_time || (options.max_seconds > 0 && elapsed.count() >= options.max_seconds)) {
+      over_time = true;
+      return;
+    }
     const std::string& key = *keys[k];
     const auto p = pred.find(key);
     report.tiles[k] = measure(key, gt.at(key), p == pred.end() ? nullptr : &p->second, options.params);
+    ++scored;
   });
+  NSG_CHECK(!over_time, ConfigError, "", "--max-seconds",
+            strprintf("a run that scores its %zu tiles within %g s (%lld scored when the budget ran out); raise "
+                      "--max-seconds, or 0 for no limit",
+                      keys.size(), options.max_seconds, static_cast<long long>(scored.load())));
   Aggregate agg;
   for (const TileMeasurement& t : report.tiles) agg.add(t);
   agg.n_extra_predictions = static_cast<int64_t>(report.extra_tiles.size());

@@ -8,6 +8,7 @@
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
+#include "nsg/core/json.h"
 #include "nsg/core/log.h"
 #include "nsg/core/sha256.h"
 #include "nsg/core/strings.h"
@@ -31,6 +32,53 @@ struct ShareRecord {
   ordered_json doc;
 };
 
+// A done-record's fields that merge reads, with their types; item files must lie inside
+// the dataset folder. ParseError naming the record and the JSON path.
+void check_record(const ShareRecord& r) {
+  const std::string file = r.path.string();
+  const auto need = [&](bool ok, const std::string& path, const std::string& what) {
+    NSG_CHECK(ok, ParseError, file, path, what);
+  };
+  const ordered_json& d = r.doc;
+  need(d.is_object(), "", "a done-record object");
+  need(d.contains("complete") && d["complete"].is_boolean(), "/complete", "true or false");
+  if (!d["complete"].get<bool>()) return;  // reported as unfinished; nothing else is read
+  need(d.contains("config_sha256") && d["config_sha256"].is_string(), "/config_sha256", "a string");
+  need(d.contains("config") && d["config"].is_object(), "/config", "the run's config object");
+  need(d.contains("plan") && d["plan"].is_array(), "/plan", "an array of locations");
+  for (size_t i = 0; i < d["plan"].size(); ++i) {
+    const ordered_json& loc = d["plan"][i];
+    const std::string at = "/plan/" + std::to_string(i);
+    need(loc.is_object() && loc.contains("name") && loc["name"].is_string(), at + "/name", "a location name");
+    need(loc.contains("shards") && loc["shards"].is_array(), at + "/shards", "an array");
+    for (size_t k = 0; k < loc["shards"].size(); ++k) {
+      const ordered_json& sh = loc["shards"][k];
+      const std::string sat = at + "/shards/" + std::to_string(k);
+      for (const char* f : {"name", "split", "first_key", "last_key"})
+        need(sh.is_object() && sh.contains(f) && sh[f].is_string(), sat + "/" + f, "a string");
+      need(sh.contains("tiles") && sh["tiles"].is_number_unsigned(), sat + "/tiles", "a tile count");
+    }
+  }
+  need(d.contains("items") && d["items"].is_array(), "/items", "an array");
+  for (size_t i = 0; i < d["items"].size(); ++i) {
+    const ordered_json& item = d["items"][i];
+    const std::string at = "/items/" + std::to_string(i);
+    need(item.is_object() && item.contains("id") && item["id"].is_string(), at + "/id", "a string");
+    need(item.contains("files") && item["files"].is_array(), at + "/files", "an array");
+    for (size_t k = 0; k < item["files"].size(); ++k) {
+      const ordered_json& f = item["files"][k];
+      const std::string fat = at + "/files/" + std::to_string(k);
+      need(f.is_object() && f.contains("file") && f["file"].is_string(), fat + "/file", "a string");
+      need(f.contains("sha256") && f["sha256"].is_string(), fat + "/sha256", "a string");
+      need(f.contains("bytes") && f["bytes"].is_number_unsigned(), fat + "/bytes", "a byte count");
+      const fs::path rel(f["file"].get<std::string>());
+      bool inside = !rel.empty() && rel.is_relative();
+      for (const fs::path& part : rel) inside = inside && part != "..";
+      need(inside, fat + "/file", "a path inside the dataset folder, got '" + printable_text(rel.string()) + "'");
+    }
+  }
+}
+
 std::vector<ShareRecord> read_records(const fs::path& out) {
   const fs::path parts = out / "parts";
   if (!fs::is_directory(parts))
@@ -42,11 +90,12 @@ std::vector<ShareRecord> read_records(const fs::path& out) {
     const std::string name = entry.path().filename().string();
     if (!std::regex_match(name, m, kName)) continue;
     ShareRecord r{entry.path(), std::stoi(m[1]), std::stoi(m[2]), {}};
-    try {
-      r.doc = ordered_json::parse(read_file(entry.path()));
-    } catch (const json::exception& e) {
-      throw ParseError(entry.path().string(), "", std::string("a done-record (JSON): ") + e.what());
-    }
+    const std::string text = read_file(entry.path());
+    // Strict first (nesting depth, repeated keys: a record is an outside file like any
+    // other), then in order (the plan's order is the manifest's).
+    parse_json_strict(text, entry.path().string(), "a done-record");
+    r.doc = ordered_json::parse(text);
+    check_record(r);
     records.push_back(std::move(r));
   }
   std::sort(records.begin(), records.end(), [](const ShareRecord& a, const ShareRecord& b) {
@@ -157,7 +206,9 @@ ordered_json georeference_json(const ordered_json& plan) {
 
 }  // namespace
 
-void merge(const fs::path& out, bool overwrite) {
+namespace {
+
+void merge_records(const fs::path& out, bool overwrite) {
   std::vector<ShareRecord> all = read_records(out);
   if (all.empty()) throw IoError((out / "parts").string(), "", "done-records share-<i>-of-<n>.json");
   const int count = run_share_count(all);
@@ -288,6 +339,18 @@ void merge(const fs::path& out, bool overwrite) {
                                  {"shards", shards},
                                  {"maps", maps}};
   write_file_atomic(out / "manifest.json", manifest.dump(1) + "\n");
+}
+
+}  // namespace
+
+void merge(const fs::path& out, bool overwrite) {
+  try {
+    merge_records(out, overwrite);
+  } catch (const json::exception& e) {
+    // A field check_record does not cover (the config's and plan's own members) mistyped.
+    throw ParseError((out / "parts").string(), "done-records",
+                     std::string("the fields generate writes, of their types (") + e.what() + ")");
+  }
 }
 
 }  // namespace nsg::pipeline

@@ -63,6 +63,10 @@ void check_tile(const std::string& key, const nlohmann::json& tile, const std::s
         if (n[s].is_number() && !finite_number(n[s]))
           issues.error("submission.finite", base + "/nodes/" + std::to_string(k) + "/" + std::to_string(s),
                        "a finite coordinate");
+        else if (n[s].is_number() && std::fabs(n[s].get<double>()) > limits.max_abs_coordinate_px)
+          issues.error("submission.size", base + "/nodes/" + std::to_string(k) + "/" + std::to_string(s),
+                       strprintf("a coordinate within ±%.0f px (the scoring limits: score --help), got %g",
+                                 limits.max_abs_coordinate_px, n[s].get<double>()));
     }
   }
   const auto n_nodes = nodes != nullptr ? static_cast<int64_t>(nodes->size()) : 0;
@@ -175,9 +179,9 @@ std::string json_pointer_token(const std::string& key) {
 namespace nsg::validate {
 
 void SubmissionLimits::validate() const {
-  NSG_CHECK(
-      max_nodes_per_tile > 0 && max_edges_per_tile > 0 && max_edge_length_px_per_tile > 0 && max_path_work_per_tile > 0,
-      ConfigError, "", "limits", "positive per-tile limits");
+  NSG_CHECK(max_nodes_per_tile > 0 && max_edges_per_tile > 0 && max_edge_length_px_per_tile > 0 &&
+                max_path_work_per_tile > 0 && max_abs_coordinate_px > 0,
+            ConfigError, "", "limits", "positive per-tile limits");
   NSG_CHECK(max_file_bytes > 0 && max_json_values > 0 && max_depth > 0, ConfigError, "", "limits",
             "positive file limits");
 }

@@ -192,6 +192,25 @@ TEST(CliScore, DuplicateKeysExit1) {
   EXPECT_NE(r.err.find("each key once"), std::string::npos) << r.err;
 }
 
+// The whole run's wall-clock budget: beyond it the run stops with exit 2 naming the flag.
+TEST(CliScore, MaxSecondsStopsTheRunByName) {
+  std::vector<std::string> args = {"score",          "-q",
+                                   "--ground-truth", (kGolden / "gt.json").string(),
+                                   "--submission",   (kGolden / "pred.json").string(),
+                                   "--schemas",      kSchemas,
+                                   "--format",       "csv"};
+  args.insert(args.end(), {"--max-seconds", "1e-9"});
+  auto r = run_nsgraph(args);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--max-seconds"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
+  args.back() = "0";  // no limit
+  r = run_nsgraph(args);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  args.back() = "-1";
+  EXPECT_EQ(run_nsgraph(args).exit_code, 2);
+}
+
 TEST(CliScore, HelpStatesTheLimits) {
   const auto r = run_nsgraph({"score", "--help"});
   EXPECT_EQ(r.exit_code, 0);

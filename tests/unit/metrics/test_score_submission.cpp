@@ -179,6 +179,21 @@ TEST(CheckGraph, InMemoryGraphsGetTheFileChecks) {
       EXPECT_NE(std::string(e.what()).find("/tiles/k/nodes/2/0"), std::string::npos) << e.what();
     }
   }
+  // Finite but far: two isolated nodes at ±1e160 once made Chamfer infinite.
+  Graph far = gt;
+  far.nodes.push_back({1e160, 0});
+  far.nodes.push_back({-1e160, 0});
+  const Issues far_issues = check_graph(far, "k", "pred");
+  ASSERT_EQ(far_issues.size(), 2u) << far_issues.format();
+  EXPECT_EQ(far_issues.items()[0].check, "submission.size");
+  EXPECT_NE(far_issues.items()[0].message.find("within ±100000 px"), std::string::npos);
+  EXPECT_THROW(measure("k", gt, &far, MetricParams{}), DataError);
+  far.nodes.resize(2);
+  far.nodes.push_back({99999, -99999});  // at the limit: scored, every value finite
+  const TileMeasurement m = measure("k", gt, &far, MetricParams{});
+  for (const auto& v : m.values) EXPECT_TRUE(!v || std::isfinite(*v));
+  EXPECT_TRUE(m.values[kChamferPx2].has_value());
+
   Graph pred = gt;
   pred.edges.push_back({1, 7});
   const Issues issues = check_graph(pred, "k", "pred");

@@ -259,6 +259,30 @@ TEST(Generate, MergeRefusesAnOlderDatasetsLeftoversUnlessOverwritten) {
   EXPECT_EQ(read_json(dir / "manifest.json")["shards"], read_json(e2e_dataset() / "manifest.json")["shards"]);
 }
 
+// A done-record is an outside file: deep nesting, a mistyped field and a file outside the
+// dataset are named (exit 2), never a crash or a manifest pointing at /etc.
+TEST(Generate, MergeChecksTheDoneRecordsLikeAnyOutsideFile) {
+  TempDir dir("gen-merge-hostile");
+  fs::create_directories(dir / "parts");
+  const fs::path record = dir / "parts/share-000000-of-000001.json";
+  const auto merge_err = [&](const std::string& text) {
+    write_text(record, text);
+    const CommandResult r = run_nsgraph({"merge", "--out", dir.path().string()});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find(record.string()), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "manifest.json"));
+    return r.err;
+  };
+  merge_err(std::string(200000, '[') + std::string(200000, ']'));
+  EXPECT_NE(merge_err(R"({"complete": "yes"})").find("/complete"), std::string::npos);
+  nlohmann::json real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
+  real["items"][0]["files"][0]["file"] = "../../etc/hostname";
+  EXPECT_NE(merge_err(real.dump()).find("/items/0/files/0/file"), std::string::npos);
+  real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
+  real["items"][0]["files"][0]["bytes"] = "many";
+  EXPECT_NE(merge_err(real.dump()).find("/items/0/files/0/bytes"), std::string::npos);
+}
+
 // kill -9 in the middle of a run leaves no half-written shard under its final name, and a
 // rerun completes to the same bytes as an uninterrupted run.
 TEST(Generate, KilledRunLeavesNoCorruptShardAndRerunCompletes) {

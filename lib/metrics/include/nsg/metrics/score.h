@@ -15,6 +15,10 @@ namespace nsg::metrics {
 struct ScoreOptions {
   MetricParams params;
   int threads = 1;  // 0 = all cores; output never depends on it
+  // Wall-clock budget of scoring the tiles, the host's last line of defence (every tile
+  // is bounded by the limits; a run of many is bounded by this): checked before each tile,
+  // so a run stops within one tile's time per thread of it. 0 = none.
+  double max_seconds = 3600;
   void validate() const;
 };
 

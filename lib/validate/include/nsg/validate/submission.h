@@ -26,6 +26,9 @@ struct SubmissionLimits {
   // connected pieces of nodes x (nodes + 2 x edges). 10 M = one connected lane graph of
   // ~1 800 nodes (the busiest plausible junction tile: 7.4 M); <= 2 s per tile on one core.
   int64_t max_path_work_per_tile = 10'000'000;
+  // Node coordinates within ±this many px (400 tile widths of a 256-px tile): every squared
+  // distance and sum a metric takes stays finite (two nodes at ±1e160 made Chamfer inf).
+  double max_abs_coordinate_px = 100000;
   // Checked before parsing, so a huge or hostile file costs neither memory nor time.
   int64_t max_file_bytes = int64_t{128} << 20;
   int64_t max_json_values = 10'000'000;  // numbers, strings, arrays, … in the whole file
