@@ -4,8 +4,11 @@
 #include <cmath>
 #include <memory>
 
+#include "nsg/core/error.h"
 #include "nsg/core/strings.h"
 #include "nsg/io/dataset.h"
+#include "nsg/io/tile_graph.h"
+#include "nsg/io/tile_meta.h"
 #include "nsg/tiling/regions.h"
 
 namespace nsg::pipeline {
@@ -42,30 +45,35 @@ DatasetStats compute_stats(const std::filesystem::path& root) {
   DatasetStats stats;
   std::map<std::string, CellUnion> unions;
   double res = 0.2;
+  // Every tile is the manifest's size and resolution: a tile's own size_px drives the
+  // area loop, so it may not exceed what the dataset declares.
+  const nlohmann::json& format = dataset.manifest().value("tile_format", nlohmann::json::object());
+  const nlohmann::json want_size = format.value("size_px", nlohmann::json()),
+                       want_res = format.value("resolution_m", nlohmann::json());
   dataset.for_each_tile("", [&](const io::DatasetTile& tile) {
-    const nlohmann::json meta = tile.json("meta.json");
-    const nlohmann::json graph = tile.json("graph.json");
-    res = meta["resolution_m"].get<double>();
-    const int size = meta["size_px"].get<int>();
-    const std::string split = meta["split"].get<std::string>();
-    const std::vector<double> b = meta["bounds_m"].get<std::vector<double>>();
-    const int64_t col0 = std::llround(b[0] / res), row0 = std::llround(b[1] / res);
+    // Checked readers: a tile document is an outside file (io/tile_meta.h, io/tile_graph.h).
+    const io::TileMeta meta = io::tile_meta_from_json(tile.json("meta.json"), tile.key + ".meta.json");
+    const graph::TileGraph graph = io::tile_graph_from_json(tile.json("graph.json"), tile.key + ".graph.json");
+    NSG_CHECK(!want_size.is_number_integer() || want_size.get<int64_t>() == meta.size_px, DataError,
+              tile.key + ".meta.json", "/size_px", "the manifest's tile_format.size_px " + want_size.dump());
+    NSG_CHECK(!want_res.is_number() || want_res.get<double>() == meta.resolution_m, DataError, tile.key + ".meta.json",
+              "/resolution_m", "the manifest's tile_format.resolution_m " + want_res.dump());
+    res = meta.resolution_m;
+    const std::string& split = meta.split;
+    const int64_t col0 = std::llround(meta.bounds_m[0] / res), row0 = std::llround(meta.bounds_m[1] / res);
     for (const std::string& s : {split, std::string("all")}) {
       SplitStats& st = stats.splits[s];
       ++st.tiles;
-      unions[s].add_rect(meta["location"].get<std::string>(), col0, row0, size);
-      st.lane_segments += static_cast<int64_t>(graph["edges"].size());
-      for (const auto& e : graph["edges"]) {
-        const auto& a = graph["nodes"][e["source"].get<size_t>()];
-        const auto& c = graph["nodes"][e["target"].get<size_t>()];
-        st.lane_length_km +=
-            std::hypot(a["x"].get<double>() - c["x"].get<double>(), a["y"].get<double>() - c["y"].get<double>()) /
-            1000.0;
+      unions[s].add_rect(meta.location, col0, row0, meta.size_px);
+      st.lane_segments += static_cast<int64_t>(graph.edges.size());
+      for (const graph::TileEdge& e : graph.edges) {
+        const graph::TileNode &a = graph.nodes[e.source], &c = graph.nodes[e.target];
+        st.lane_length_km += std::hypot(a.x_m - c.x_m, a.y_m - c.y_m) / 1000.0;
       }
-      st.vehicle_px += meta["counts"]["vehicle_px"].get<int64_t>();
-      st.mean_coverage_lidar += meta["coverage"]["lidar"].get<double>();
-      st.mean_coverage_rgb += meta["coverage"]["rgb"].get<double>();
-      st.mean_coverage_semantic += meta["coverage"]["semantic"].get<double>();
+      st.vehicle_px += meta.vehicle_px;
+      st.mean_coverage_lidar += meta.coverage_lidar;
+      st.mean_coverage_rgb += meta.coverage_rgb;
+      st.mean_coverage_semantic += meta.coverage_semantic;
     }
     const io::Raster semantic = tile.raster("semantic.tif");
     std::bitset<256> present;

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "internal.h"
+#include "nsg/io/tile_meta.h"
 #include "nsg/core/error.h"
 #include "nsg/core/parallel.h"
 #include "nsg/core/strings.h"
@@ -55,26 +56,20 @@ struct Meta {
   nlohmann::json scenes = nlohmann::json::array();
 };
 
+// Through the checked reader (io/tile_meta.h): every field typed and in range.
 Meta read_meta(const io::DatasetTile& tile) {
-  const std::string file = tile.key + ".meta.json";
-  const nlohmann::json j = tile.json("meta.json");
-  try {
-    Meta m;
-    m.location = j.at("location").get<std::string>();
-    m.split = j.at("split").get<std::string>();
-    m.bounds_m = j.at("bounds_m").get<std::vector<double>>();
-    NSG_CHECK(m.bounds_m.size() == 4, ParseError, file, "bounds_m", "[x_west, y_south, x_east, y_north]");
-    m.resolution_m = j.value("resolution_m", 0.2);
-    const nlohmann::json cov = j.value("coverage", nlohmann::json::object());
-    const char* names[] = {"lidar", "rgb", "semantic"};
-    for (int i = 0; i < 3; ++i) m.coverage[i] = cov.value(names[i], 0.0);
-    m.vehicle_px = j.value("counts", nlohmann::json::object()).value("vehicle_px", int64_t{0});
-    m.scenes = j.value("scenes", nlohmann::json::array());
-    return m;
-  } catch (const nlohmann::json::exception& e) {
-    throw ParseError(file, "fields",
-                     std::string("location, split, bounds_m of the documented types (") + e.what() + ")");
-  }
+  const io::TileMeta t = io::tile_meta_from_json(tile.json("meta.json"), tile.key + ".meta.json");
+  Meta m;
+  m.location = t.location;
+  m.split = t.split;
+  m.bounds_m.assign(t.bounds_m.begin(), t.bounds_m.end());
+  m.resolution_m = t.resolution_m;
+  m.coverage[0] = t.coverage_lidar;
+  m.coverage[1] = t.coverage_rgb;
+  m.coverage[2] = t.coverage_semantic;
+  m.vehicle_px = t.vehicle_px;
+  m.scenes = t.scenes;
+  return m;
 }
 
 metrics::Graph read_graph(const io::DatasetTile& tile) {

@@ -427,6 +427,59 @@ TEST(Stats, CountsAndAreasFollowTheTiles) {
   EXPECT_EQ(run_nsgraph({"stats", "/nonexistent-dataset"}).exit_code, 2);
 }
 
+// stats and the dataset report read tile documents through the checked readers: a
+// crafted meta.json or graph.json in a shard is named (exit 2) in bounded time, never a
+// crash, a hang or "internal error".
+TEST(Stats, CraftedTileDocumentsAreNamed) {
+  TempDir dir("stats-hostile");
+  const fs::path ds = dir / "dataset";
+  fs::copy(e2e_dataset(), ds, fs::copy_options::recursive);
+  // Rewrites the first tile's <suffix> in shards/test-000000.tar with `edit` applied.
+  const char* rewrite = R"(
+import io, json, sys, tarfile
+path, suffix, edit = sys.argv[1], sys.argv[2], sys.argv[3]
+with tarfile.open(path) as t:
+    members = [(m, t.extractfile(m).read()) for m in t.getmembers()]
+first = members[0][0].name.split('.', 1)[0]
+out = []
+for m, data in members:
+    if m.name == first + '.' + suffix:
+        doc = json.loads(data)
+        exec(edit)
+        data = json.dumps(doc).encode()
+        m.size = len(data)
+    out.append((m, data))
+with tarfile.open(path, 'w', format=tarfile.USTAR_FORMAT) as t:
+    for m, data in out:
+        t.addfile(m, io.BytesIO(data))
+print(first)
+)";
+  const fs::path shard = ds / "shards/test-000000.tar";
+  const std::string original = read_file(shard);
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      {"meta.json", "doc['bounds_m'] = []", "/bounds_m"},
+      {"meta.json", "doc['size_px'] = 20000", "/size_px"},
+      {"meta.json", "del doc['counts']", "/counts"},
+      {"meta.json", "doc['split'] = 7", "/split"},
+      {"meta.json", "doc['resolution_m'] = 0", "/resolution_m"},
+      {"graph.json", "doc['edges'][0]['source'] = 100000000", "edges"},
+  };
+  for (const auto& [suffix, edit, path] : cases) {
+    write_text(shard, original);
+    const CommandResult made = run_program({"/usr/bin/python3", "-c", rewrite, shard.string(), suffix, edit});
+    ASSERT_EQ(made.exit_code, 0) << made.err;
+    const std::string key = made.out.substr(0, made.out.find('\n'));
+    for (const std::vector<std::string>& args :
+         {std::vector<std::string>{"stats", ds.string()},
+          std::vector<std::string>{"report", "--quiet", "--dataset", ds.string(), "--out", (dir / "r").string()}}) {
+      const CommandResult r = run_nsgraph(args);
+      EXPECT_EQ(r.exit_code, 2) << args[0] << " " << edit << ": " << r.err;
+      EXPECT_NE(r.err.find(key + "." + suffix), std::string::npos) << args[0] << " " << edit << ": " << r.err;
+      EXPECT_NE(r.err.find(path), std::string::npos) << args[0] << " " << edit << ": " << r.err;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace nsg::test
 

@@ -1,0 +1,33 @@
+#pragma once
+// Reading a tile's <key>.meta.json (docs/dataset-format.md, schemas/v1/tile-meta.schema.json)
+// with every field checked: `stats`, the report and the readers that follow trust nothing
+// in a tile document they did not check (an empty bounds_m, a size_px of 20 000 or a
+// resolution of 0 once crashed or hung them).
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace nsg::io {
+
+struct TileMeta {
+  std::string key, location, split, region;
+  std::array<double, 4> bounds_m{};  // x_west, y_south, x_east, y_north; west < east, south < north
+  double resolution_m = 0.2;
+  int size_px = 256;
+  double coverage_lidar = 0, coverage_rgb = 0, coverage_semantic = 0;  // fractions in [0, 1]
+  int64_t nodes = 0, edges = 0, vehicle_px = 0;                        // vehicle_px <= size_px²
+  std::vector<std::string> scenes;
+};
+
+// Largest tile side a reader accepts: the format's crops are 256 px; 8 192 leaves room for
+// any config while bounding every per-pixel loop a reader runs.
+inline constexpr int kMaxTileSizePx = 8192;
+
+// Throws ParseError naming `file` and the JSON path (e.g. "/bounds_m", "/counts/vehicle_px")
+// for a missing field, a wrong type, a non-finite number or a value out of its range.
+TileMeta tile_meta_from_json(const nlohmann::json& doc, const std::string& file);
+
+}  // namespace nsg::io

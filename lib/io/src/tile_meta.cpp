@@ -1,0 +1,84 @@
+#include "nsg/io/tile_meta.h"
+
+#include <cmath>
+
+#include "nsg/core/error.h"
+
+namespace nsg::io {
+
+namespace {
+
+using nlohmann::json;
+
+const json& member(const json& obj, const char* name, const std::string& file, const std::string& at) {
+  NSG_CHECK(obj.is_object() && obj.contains(name), ParseError, file, at + "/" + name,
+            "a field '" + std::string(name) + "'");
+  return obj[name];
+}
+
+std::string text(const json& obj, const char* name, const std::string& file, const std::string& at = "") {
+  const json& v = member(obj, name, file, at);
+  NSG_CHECK(v.is_string(), ParseError, file, at + "/" + name, "a string");
+  return v.get<std::string>();
+}
+
+double number(const json& obj, const char* name, double lo, double hi, const std::string& file,
+              const std::string& at = "") {
+  const json& v = member(obj, name, file, at);
+  NSG_CHECK(v.is_number() && std::isfinite(v.get<double>()) && v.get<double>() >= lo && v.get<double>() <= hi,
+            ParseError, file, at + "/" + name, "a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return v.get<double>();
+}
+
+int64_t integer(const json& obj, const char* name, int64_t hi, const std::string& file, const std::string& at = "") {
+  const json& v = member(obj, name, file, at);
+  NSG_CHECK(v.is_number_unsigned() && v.get<uint64_t>() <= static_cast<uint64_t>(hi), ParseError, file, at + "/" + name,
+            "an integer in [0, " + std::to_string(hi) + "]");
+  return v.get<int64_t>();
+}
+
+}  // namespace
+
+TileMeta tile_meta_from_json(const json& doc, const std::string& file) {
+  NSG_CHECK(doc.is_object(), ParseError, file, "", "a tile's meta.json object");
+  TileMeta m;
+  m.key = text(doc, "key", file);
+  m.location = text(doc, "location", file);
+  m.split = text(doc, "split", file);
+  NSG_CHECK(m.split == "train" || m.split == "val" || m.split == "test", ParseError, file, "/split",
+            "train, val or test, got '" + m.split + "'");
+  if (doc.contains("region")) m.region = text(doc, "region", file);
+  m.resolution_m = number(doc, "resolution_m", 1e-3, 100.0, file);
+  m.size_px = static_cast<int>(integer(doc, "size_px", kMaxTileSizePx, file));
+  NSG_CHECK(m.size_px >= 1, ParseError, file, "/size_px", "a tile side of at least 1 px");
+  const json& b = member(doc, "bounds_m", file, "");
+  NSG_CHECK(b.is_array() && b.size() == 4, ParseError, file, "/bounds_m", "[x_west, y_south, x_east, y_north]");
+  constexpr double kMapExtentM = 1e7;  // far beyond any city map; keeps cell indices small
+  for (size_t i = 0; i < 4; ++i) {
+    NSG_CHECK(b[i].is_number() && std::isfinite(b[i].get<double>()) && std::fabs(b[i].get<double>()) <= kMapExtentM,
+              ParseError, file, "/bounds_m/" + std::to_string(i), "a finite coordinate within ±1e7 m");
+    m.bounds_m[i] = b[i].get<double>();
+  }
+  NSG_CHECK(m.bounds_m[0] < m.bounds_m[2] && m.bounds_m[1] < m.bounds_m[3], ParseError, file, "/bounds_m",
+            "x_west < x_east and y_south < y_north");
+  const json& cov = member(doc, "coverage", file, "");
+  m.coverage_lidar = number(cov, "lidar", 0.0, 1.0, file, "/coverage");
+  m.coverage_rgb = number(cov, "rgb", 0.0, 1.0, file, "/coverage");
+  m.coverage_semantic = number(cov, "semantic", 0.0, 1.0, file, "/coverage");
+  const json& counts = member(doc, "counts", file, "");
+  constexpr int64_t kMaxCount = int64_t{1} << 40;
+  m.nodes = integer(counts, "nodes", kMaxCount, file, "/counts");
+  m.edges = integer(counts, "edges", kMaxCount, file, "/counts");
+  m.vehicle_px = integer(counts, "vehicle_px", int64_t{m.size_px} * m.size_px, file, "/counts");
+  if (doc.contains("scenes")) {
+    const json& s = doc["scenes"];
+    NSG_CHECK(s.is_array(), ParseError, file, "/scenes", "an array of scene names");
+    for (size_t i = 0; i < s.size(); ++i) {
+      NSG_CHECK(s[i].is_string(), ParseError, file, "/scenes/" + std::to_string(i), "a scene name");
+      m.scenes.push_back(s[i].get<std::string>());
+    }
+  }
+  return m;
+}
+
+}  // namespace nsg::io
