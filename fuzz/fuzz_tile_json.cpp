@@ -1,5 +1,6 @@
-// Dataset JSON members as nsgraph.Dataset reads them: the strict parser (nesting capped,
-// repeated keys refused) and the graph conversion. Whatever it accepts nests at most
+// Dataset JSON members as nsgraph.Dataset, stats and the report read them: the strict
+// parser (nesting capped, repeated keys refused), the graph conversion and the checked
+// meta.json reader. Whatever it accepts nests at most
 // kMaxJsonDepth deep, so the Python conversion that follows cannot recurse further.
 #include <cstdlib>
 #include <string_view>
@@ -8,6 +9,7 @@
 #include "fuzz_support.h"
 #include "nsg/core/json.h"
 #include "nsg/io/tile_graph.h"
+#include "nsg/io/tile_meta.h"
 
 namespace {
 int depth_of(const nlohmann::json& root) {
@@ -29,7 +31,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const nlohmann::json doc =
         nsg::parse_json_strict(std::string_view(reinterpret_cast<const char*>(data), size), "k.meta.json");
     if (depth_of(doc) > nsg::kMaxJsonDepth) std::abort();
-    (void)nsg::io::tile_graph_from_json(doc, "k.graph.json");
+    nsg::fuzz::expect_only_input_errors([&] { (void)nsg::io::tile_graph_from_json(doc, "k.graph.json"); });
+    (void)nsg::io::tile_meta_from_json(doc, "k.meta.json");
   });
   return 0;
 }

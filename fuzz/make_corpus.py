@@ -105,6 +105,11 @@ def tile_jsons(out):
              "edges": [{"source": 0, "target": 1, "lane_token": "t"}]}
     put(out, "tile_json", "graph", json.dumps(graph))
     put(out, "tile_json", "meta", json.dumps({"key": "k", "bounds_m": [0, 0, 51.2, 51.2], "counts": {"nodes": 2}}))
+    put(out, "tile_json", "meta-full", json.dumps({
+        "schema_version": "1", "key": "a-test-000000", "location": "a", "split": "test", "region": "r",
+        "bounds_m": [0, 0, 51.2, 51.2], "resolution_m": 0.2, "size_px": 256,
+        "coverage": {"lidar": 0.5, "rgb": 0.5, "semantic": 0.5},
+        "counts": {"nodes": 2, "edges": 1, "vehicle_px": 3}, "scenes": ["scene-0001"]}))
     put(out, "tile_json", "nested", "[" * 70 + "]" * 70)
 
 
