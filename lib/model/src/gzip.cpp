@@ -6,6 +6,7 @@
 #include <zlib.h>
 
 #include "nsg/core/error.h"
+#include "nsg/core/strings.h"
 
 namespace nsg::model {
 namespace {
@@ -33,6 +34,10 @@ std::string read_maybe_gzip(const std::filesystem::path& path) {
   const std::string file = path.string();
   std::ifstream in(path, std::ios::binary);
   NSG_CHECK(in.good(), IoError, file, "file", "a readable file");
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  NSG_CHECK(!ec && size <= kMaxModelTextBytes, ParseError, file, "file",
+            strprintf("a model file of at most %llu MiB", static_cast<unsigned long long>(kMaxModelTextBytes >> 20)));
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (bytes.size() < 2 || static_cast<unsigned char>(bytes[0]) != 0x1f ||
       static_cast<unsigned char>(bytes[1]) != 0x8b) {
@@ -50,6 +55,12 @@ std::string read_maybe_gzip(const std::filesystem::path& path) {
     z.avail_out = sizeof buf;
     rc = inflate(&z, Z_NO_FLUSH);
     out.append(buf, sizeof buf - z.avail_out);
+    if (out.size() > kMaxModelTextBytes) {
+      inflateEnd(&z);
+      throw ParseError(file, "gzip",
+                       strprintf("a model of at most %llu MiB inflated (a gzip bomb?)",
+                                 static_cast<unsigned long long>(kMaxModelTextBytes >> 20)));
+    }
     if (rc == Z_OK && z.avail_in == 0 && z.avail_out != 0) break;  // truncated stream
   }
   inflateEnd(&z);

@@ -80,8 +80,52 @@ void write_forest(cv::FileStorage& fs, const std::string& name, const cv::ml::RT
   fs << "}";
 }
 
+// A forest's trees as OpenCV stores them (each tree's nodes in preorder with their depth;
+// a node with splits is followed by its two subtrees), checked before OpenCV reads them:
+// a tree cut before its leaves, a split on a variable the model does not have, or a depth
+// beyond what training allows once made loading hang or predict read out of bounds.
+void check_forest_structure(const cv::FileNode& forest, const std::string& file, const std::string& name) {
+  constexpr int kMaxTreeDepth = 64;
+  constexpr int64_t kMaxNodes = int64_t{1} << 26;
+  const int var_all = static_cast<int>(forest["var_all"]);
+  NSG_CHECK(var_all > 0 && var_all < (1 << 20), ParseError, file, name + "/var_all", "a variable count");
+  const cv::FileNode trees = forest["trees"];
+  NSG_CHECK(trees.isSeq() && trees.size() > 0, ParseError, file, name + "/trees", "a list of trees");
+  int64_t total = 0;
+  for (size_t t = 0; t < trees.size(); ++t) {
+    const std::string at = name + "/trees/" + std::to_string(t) + "/nodes";
+    const cv::FileNode nodes = trees[static_cast<int>(t)]["nodes"];
+    NSG_CHECK(nodes.isSeq() && nodes.size() > 0, ParseError, file, at, "a tree's nodes");
+    total += static_cast<int64_t>(nodes.size());
+    NSG_CHECK(total <= kMaxNodes, ParseError, file, at, "at most 2^26 nodes in all");
+    std::vector<int> expected{0};  // depths of the subtrees still to come, next on top
+    for (size_t k = 0; k < nodes.size(); ++k) {
+      const cv::FileNode node = nodes[static_cast<int>(k)];
+      const std::string nat = at + "/" + std::to_string(k);
+      NSG_CHECK(!expected.empty(), ParseError, file, nat, "no node after the tree is complete");
+      const int want = expected.back();
+      expected.pop_back();
+      NSG_CHECK(node["depth"].isInt() && static_cast<int>(node["depth"]) == want, ParseError, file, nat + "/depth",
+                "depth " + std::to_string(want) + " (nodes in preorder)");
+      const cv::FileNode splits = node["splits"];
+      if (splits.empty()) continue;  // a leaf
+      NSG_CHECK(want < kMaxTreeDepth, ParseError, file, nat, "a tree at most 64 deep");
+      for (size_t s = 0; s < splits.size(); ++s) {
+        const cv::FileNode var = splits[static_cast<int>(s)]["var"];
+        NSG_CHECK(var.isInt() && static_cast<int>(var) >= 0 && static_cast<int>(var) < var_all, ParseError, file,
+                  nat + "/splits/" + std::to_string(s) + "/var",
+                  "a variable index below var_all " + std::to_string(var_all));
+      }
+      expected.push_back(want + 1);  // the right subtree, after the left
+      expected.push_back(want + 1);
+    }
+    NSG_CHECK(expected.empty(), ParseError, file, at, "a complete tree (it ends before its leaves)");
+  }
+}
+
 cv::Ptr<cv::ml::RTrees> read_forest(const cv::FileStorage& fs, const std::string& name, const std::string& file) {
   NSG_CHECK(!fs[name].empty(), ParseError, file, name, "a trained forest '" + name + "' (the variant needs it)");
+  check_forest_structure(fs[name], file, name);
   cv::Ptr<cv::ml::RTrees> rt = cv::ml::RTrees::create();
   rt->read(fs[name]);
   NSG_CHECK(rt->isTrained(), ParseError, file, name, "a trained forest");
@@ -187,12 +231,8 @@ LaneModel LaneModel::load(const std::filesystem::path& path) {
     m.report = nlohmann::json::object();
     for (const auto& n : fs["training_report"]) m.report[n.name()] = static_cast<double>(n);
     if (fs["training_split"].isString()) m.report["split"] = static_cast<std::string>(fs["training_split"]);
-    m.centre = cv::ml::RTrees::create();
-    m.centre->read(fs["centre"]);
-    m.direction = cv::ml::RTrees::create();
-    m.direction->read(fs["direction"]);
-    NSG_CHECK(m.centre->isTrained() && m.direction->isTrained(), ParseError, file, "centre/direction",
-              "two trained forests");
+    m.centre = read_forest(fs, "centre", file);
+    m.direction = read_forest(fs, "direction", file);
     if (m.options.variant != Variant::kB1) m.anchor = read_forest(fs, "anchor", file);
     if (m.options.variant == Variant::kGraph) m.connection = read_forest(fs, "connection", file);
   } catch (const cv::Exception& ex) {
