@@ -30,6 +30,12 @@ def graph_arrays(graph):
 def as_pairs(values, dtype):
     """A contiguous array of the dtype; an empty one as (0, 2). Other shapes pass as they are
     for the C++ side to refuse by name."""
+    if np.issubdtype(dtype, np.integer):
+        # Float indices would be truncated silently by the cast (0.7 -> 0): refused instead.
+        raw = np.asarray(values)
+        if raw.dtype.kind == "f" and raw.size and not np.all(np.isfinite(raw) & (raw == np.floor(raw))):
+            from .errors import DataError
+            raise DataError(f"edges: integer node indices expected, got {raw[raw != np.floor(raw)][:1].tolist()}")
     a = np.asarray(values, dtype=dtype)
     return np.zeros((0, 2), dtype) if a.size == 0 else np.ascontiguousarray(a)
 

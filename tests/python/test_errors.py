@@ -97,6 +97,14 @@ class ErrorsTest(unittest.TestCase):
         self.assertIn("prediction:/tiles/k/edges/0/1", str(e.exception))
         self.assertIn("node index 2 out of range [0, 1)", str(e.exception))
 
+    def test_float_edge_indices_are_refused_not_truncated(self):
+        gt = ([[0.0, 0.0], [10.0, 0.0]], [[0, 1]])
+        with self.assertRaises(nsgraph.DataError) as e:
+            nsgraph.score_tile(gt, ([[0.0, 0.0], [10.0, 0.0]], [[0.7, 1.0]]))
+        self.assertIn("integer node indices", str(e.exception))
+        # Whole floats are indices all the same.
+        self.assertAlmostEqual(nsgraph.score_tile(gt, ([[0.0, 0.0], [10.0, 0.0]], [[0.0, 1.0]]))["f1"], 1.0)
+
     def test_score_tile_refuses_what_a_file_could_not_hold(self):
         gt = ([[0.0, 0.0], [10.0, 0.0]], [[0, 1]])
         for bad in (float("nan"), float("inf"), -float("inf")):
