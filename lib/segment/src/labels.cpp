@@ -5,6 +5,7 @@
 
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
+#include "nsg/core/json.h"
 #include "nsg/validate/schema.h"
 
 namespace nsg::segment {
@@ -86,12 +87,8 @@ SegmentLabels labels_from_json(const nlohmann::json& doc, const std::string& fil
 }
 
 SegmentLabels load_labels(const fs::path& file, const fs::path& schemas_dir) {
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(read_file(file));
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ParseError(file.string(), "", std::string("a JSON labels file: ") + e.what());
-  }
+  // Strict: a class named twice in one object would keep only its last mapping.
+  const nlohmann::json doc = parse_json_strict(read_file(file), file.string(), "a JSON labels file");
   return labels_from_json(doc, file.string(), schemas_dir);
 }
 

@@ -117,3 +117,23 @@ TEST(Labels, NotJsonNamesTheFile) {
 
 }  // namespace
 }  // namespace nsg::segment
+
+namespace nsg::segment {
+namespace {
+
+// A channel named twice would silently keep its last class: the file is refused by name.
+TEST(Labels, RepeatedChannelInAFileIsRefused) {
+  nsg::test::TempDir dir("labels-dup");
+  const std::filesystem::path file = dir / "dup.json";
+  nsg::test::write_text(file, R"({"schema_version": "1", "classes": {"0": "road", "0": "car"}})");
+  try {
+    load_labels(file);
+    ADD_FAILURE() << "a repeated channel was accepted";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.file(), file.string());
+    EXPECT_NE(std::string(e.what()).find("\"0\""), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace nsg::segment
