@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "nsg/core/error.h"
+#include "nsg/core/strings.h"
 #include "nsg/core/files.h"
 
 namespace nsg::nuscenes {
@@ -16,6 +17,14 @@ constexpr std::array<const char*, 13> kTableNames = {
     "scene",    "sample",    "sample_annotation", "sample_data", "map"};
 
 std::string record_of(const Token& token) { return "token " + token.str(); }
+
+bool inside_dataroot(const std::string& relative) {
+  const std::filesystem::path rel(relative);
+  if (relative.empty() || !rel.is_relative() || rel.has_root_name()) return false;
+  for (const std::filesystem::path& part : rel)
+    if (part == "..") return false;
+  return true;
+}
 
 // Resolves one link of `row` (a record of `from`) into `to`; a non-empty token that is not
 // found is a DataError naming the file, the record and the field.
@@ -188,6 +197,8 @@ void Database::check_maps(const LoadOptions& options) {
   }
   if (!options.check_map_files) return;
   for (const Map& m : map) {
+    NSG_CHECK(inside_dataroot(m.filename), DataError, map.file(), record_of(m.token),
+              "a map.filename inside the dataroot, got '" + printable_text(m.filename) + "'");
     const std::filesystem::path png = dataroot_ / m.filename;
     std::error_code ec;
     if (m.filename.empty() || !std::filesystem::is_regular_file(png, ec)) {
@@ -234,6 +245,12 @@ Index Database::key_frame(Index sample_index, std::string_view channel) const {
     if (sensor[ref.sensor].channel == channel) return ref.sample_data;
   }
   return kNoIndex;
+}
+
+std::filesystem::path Database::file_path(const SampleData& sd) const {
+  NSG_CHECK(inside_dataroot(sd.filename), DataError, sample_data.file(), record_of(sd.token),
+            "a sample_data.filename inside the dataroot, got '" + printable_text(sd.filename) + "'");
+  return dataroot_ / sd.filename;
 }
 
 }  // namespace nsg::nuscenes

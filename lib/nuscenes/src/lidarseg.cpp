@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "nsg/core/error.h"
+#include "nsg/core/strings.h"
+#include "nsg/core/json.h"
 #include "nsg/core/files.h"
 #include "nsg/nuscenes/database.h"
 
@@ -60,12 +62,7 @@ LidarsegIndex LidarsegIndex::load(const Database& db) {
                   "the nuScenes-lidarseg table lidarseg.json (camera.semantic_source \"lidarseg\" needs "
                   "nuScenes-lidarseg extracted into the dataroot)");
   // lidarseg.json is small (one short record per key frame: ~5 MB for trainval).
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(read_file(file));
-  } catch (const nlohmann::json::exception& e) {
-    throw ParseError(file.string(), "", std::string("valid JSON (") + e.what() + ")");
-  }
+  const nlohmann::json doc = parse_json_strict(read_file(file), file.string(), "the lidarseg table");
   if (!doc.is_array()) throw ParseError(file.string(), "", "a JSON array of lidarseg records");
   LidarsegIndex index;
   index.files_.resize(db.sample_data.size());
@@ -78,6 +75,11 @@ LidarsegIndex LidarsegIndex::load(const Database& db) {
       return r[key].get<std::string>();
     };
     const std::string sd_text = text("sample_data_token"), filename = text("filename");
+    const std::filesystem::path rel(filename);
+    bool inside = !filename.empty() && rel.is_relative() && !rel.has_root_name();
+    for (const std::filesystem::path& part : rel) inside = inside && part != "..";
+    if (!inside)
+      throw DataError(file.string(), record, "a filename inside the dataroot, got '" + printable_text(filename) + "'");
     text("token");
     const std::optional<Token> sd_token = Token::parse(sd_text);
     const Index sd = sd_token ? db.sample_data.find(*sd_token) : kNoIndex;

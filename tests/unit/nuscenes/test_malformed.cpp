@@ -155,3 +155,24 @@ TEST(Malformed, MissingDataroot) {
 
 }  // namespace
 }  // namespace nsg::nuscenes
+
+namespace nsg::nuscenes {
+namespace {
+
+// A sample_data filename may not climb out of the dataroot: the release still loads (the
+// devkit's would), and reading that record's file is refused by name.
+TEST(Malformed, FilenameOutsideTheDatarootIsRefusedByName) {
+  test::FixtureCopy f;
+  f.replace_in_table("sample_data",
+                     "\"samples/LIDAR_TOP/n015-2018-07-24-11-22-45+0800__LIDAR_TOP__1532402927647951.pcd.bin\"",
+                     "\"../../../etc/hostname\"");
+  const Database db = Database::load(f.root(), test::kFixtureVersion);
+  const Index sd = db.sample_data.find(*Token::parse(test::kSd1));
+  ASSERT_NE(sd, kNoIndex);
+  test::expect_error<DataError>([&] { db.file_path(db.sample_data[sd]); }, "sample_data.json",
+                                {test::kSd1, "inside the dataroot", "../../../etc/hostname"});
+  EXPECT_EQ(db.file_path(db.sample_data[sd == 0 ? 1 : 0]).string().rfind(f.root().string(), 0), 0u);
+}
+
+}  // namespace
+}  // namespace nsg::nuscenes

@@ -34,8 +34,9 @@ class Database {
   const std::string& version() const { return version_; }
   // <dataroot>/<version>/<table>.json
   std::filesystem::path table_path(std::string_view table) const;
-  // <dataroot>/<sample_data.filename>
-  std::filesystem::path file_path(const SampleData& sd) const { return dataroot_ / sd.filename; }
+  // <dataroot>/<sample_data.filename>. DataError naming the record when the filename is
+  // absolute or climbs out of the dataroot ('..'): a table may not make us read elsewhere.
+  std::filesystem::path file_path(const SampleData& sd) const;
 
   // Channel name of a sample_data row (its calibrated sensor's sensor).
   const std::string& channel(const SampleData& sd) const { return sensor[sd.sensor].channel; }
