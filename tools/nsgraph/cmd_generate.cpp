@@ -26,7 +26,7 @@ struct GenerateCommandOptions {
   std::string format = "text";
   bool allow_empty = false;
   bool overwrite = false;
-  std::string max_memory;  // "16G"; empty = no limit
+  std::string max_memory;  // "16G"; empty = the memory available (available_memory_bytes)
   int threads = 0;
 };
 
@@ -53,7 +53,11 @@ int run_generate(const GenerateCommandOptions& o, const Context& ctx) {
   run.progress = !ctx.quiet;
   run.allow_empty = o.allow_empty;
   run.overwrite = o.overwrite;
-  if (!o.max_memory.empty()) run.max_memory_bytes = parse_memory_size(o.max_memory, "--max-memory");
+  // Refusing is the default: a run estimated beyond the machine's (or the job's) memory
+  // would die of out-of-memory hours in; --max-memory sets another limit.
+  run.max_memory_bytes =
+      o.max_memory.empty() ? available_memory_bytes() : parse_memory_size(o.max_memory, "--max-memory");
+  run.max_memory_from_machine = o.max_memory.empty();
   const auto start = std::chrono::steady_clock::now();
   const pipeline::GenerateSummary s = pipeline::generate(config, run);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -87,7 +91,8 @@ void add_generate_command(CLI::App& root, Context& ctx) {
   cmd->add_option("--format", o->format, "--list-options as text, md (docs/options.md), json or schema")
       ->check(CLI::IsMember({"text", "md", "json", "schema"}));
   cmd->add_option("--max-memory", o->max_memory,
-                  "Refuse to start when the estimated peak memory exceeds this (e.g. 16G; the estimate is logged)");
+                  "Refuse to start when the estimated peak memory exceeds this (e.g. 16G; default: the machine's "
+                  "memory, or the cgroup's limit when lower; the estimate is logged)");
   cmd->add_flag("--allow-empty", o->allow_empty,
                 "Write the dataset even when no crop passes the filters (else: exit 1 naming the filters)");
   cmd->add_flag("--overwrite", o->overwrite,

@@ -1,5 +1,7 @@
 #include "nsg/core/memory.h"
 
+#include <unistd.h>
+
 #include <cctype>
 #include <cmath>
 #include <fstream>
@@ -26,6 +28,19 @@ uint64_t status_kb(const std::string& key) {
 
 uint64_t current_rss_bytes() { return status_kb("VmRSS"); }
 uint64_t peak_rss_bytes() { return status_kb("VmHWM"); }
+
+uint64_t available_memory_bytes() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  uint64_t bytes = pages > 0 && page > 0 ? static_cast<uint64_t>(pages) * static_cast<uint64_t>(page) : 0;
+  std::ifstream cgroup("/sys/fs/cgroup/memory.max");
+  std::string limit;
+  if (cgroup >> limit && !limit.empty() && limit != "max" &&
+      limit.find_first_not_of("0123456789") == std::string::npos && limit.size() < 20) {
+    const uint64_t cap = std::stoull(limit);
+    if (cap > 0 && (bytes == 0 || cap < bytes)) bytes = cap;
+  }
+  return bytes;
+}
 
 uint64_t parse_memory_size(const std::string& text, const std::string& what) {
   static const std::map<std::string, double> kUnits = {{"", 1.0},

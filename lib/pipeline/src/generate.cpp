@@ -220,6 +220,8 @@ void check_memory(const nuscenes::Database& db, const std::vector<std::string>& 
   const MemoryEstimate e = estimate_generate_memory(db, scenes, config, run.threads, cameras);
   log::info("generate: estimated peak memory " + e.describe());
   log::debug(strprintf("generate: estimated peak memory in bytes: %llu", static_cast<unsigned long long>(e.total())));
+  log::debug(strprintf("generate: memory limit in bytes: %llu%s", static_cast<unsigned long long>(run.max_memory_bytes),
+                       run.max_memory_from_machine ? " (the memory available)" : ""));
   if (run.max_memory_bytes == 0 || e.total() <= run.max_memory_bytes) return;
   throw ConfigError("", "--max-memory",
                     "a run that fits in " + human_bytes(static_cast<double>(run.max_memory_bytes)) +

@@ -64,6 +64,14 @@ TEST(Error, OutsideControlCharactersAreEscapedInMessagesNotInFields) {
   EXPECT_EQ(std::count(formatted.begin(), formatted.end(), '\n'), 1);
 }
 
+// Our own multi-line "expected" (a problem list) keeps its lines, each continuation
+// indented: a value quoted in it cannot start a line that passes for a log line.
+TEST(Error, ExpectedKeepsItsLinesIndented) {
+  const DataError e("out", "merge", "every share finished:\n  share 1 of 3: missing\nscored 3 tiles\x1b[2K");
+  EXPECT_EQ(std::string(e.what()),
+            "out: merge: every share finished:\n  share 1 of 3: missing\n  scored 3 tiles\\x1B[2K");
+}
+
 TEST(Strings, PrintableTextEscapesControlsAndKeepsText) {
   EXPECT_EQ(printable_text("caf\xc3\xa9 \xe2\x86\x92 ok"), "caf\xc3\xa9 \xe2\x86\x92 ok");
   EXPECT_EQ(printable_text("a\tb\x7f"), "a\\x09b\\x7F");

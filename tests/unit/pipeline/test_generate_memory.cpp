@@ -9,6 +9,7 @@
 #include "generate_fixture.h"
 #include "nsg/core/error.h"
 #include "nsg/core/memory.h"
+#include "nsg/core/strings.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -41,11 +42,28 @@ TEST(GenerateMemory, AnEstimateAboveTheLimitRefusesTheRunBeforeAnyWork) {
   EXPECT_NE(r.err.find("--max-memory: a run that fits in 20.0 MB; the estimated peak is"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("LiDAR layer"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("What would lower it:"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("fewer threads (--threads)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("\n  - fewer threads (--threads)"), std::string::npos) << "one line each:\n" << r.err;
   EXPECT_NE(r.err.find("--num-shards"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("accumulating LiDAR"), std::string::npos) << "refused after the heavy work started:\n" << r.err;
   EXPECT_FALSE(fs::exists(dir / "out/manifest.json"));
   EXPECT_GT(logged_estimate(r.err), 20'000'000u);
+}
+
+// Without --max-memory the limit is the memory available (the machine's, or the cgroup's
+// when lower), so a run estimated beyond it is refused by default; the refusal itself is
+// the test above.
+TEST(GenerateMemory, TheDefaultLimitIsTheAvailableMemory) {
+  const uint64_t available = available_memory_bytes();
+  ASSERT_GT(available, 0u);
+  TempDir dir("gen-memory-default");
+  std::vector<std::string> a = args(dir / "out", "", "2");
+  a.resize(a.size() - 2);  // no --max-memory
+  const CommandResult r = run_nsgraph(a);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find(strprintf("generate: memory limit in bytes: %llu (the memory available)",
+                                 static_cast<unsigned long long>(available))),
+            std::string::npos)
+      << r.err;
 }
 
 // The estimate is within ±25 % of the measured peak (the child's peak resident memory, as

@@ -71,6 +71,7 @@ struct GenerateRun {
   // estimated peak memory exceeds this many bytes; 0 = no limit. The estimate is logged
   // either way.
   uint64_t max_memory_bytes = 0;
+  bool max_memory_from_machine = false;  // the limit is available_memory_bytes() (logged so)
 };
 
 // Splits that end with no tile while others have tiles are reported with log::warn.
