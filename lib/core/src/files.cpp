@@ -28,4 +28,12 @@ void require_file(const std::filesystem::path& path, const std::string& what) {
   }
 }
 
+bool stays_inside(const std::string& relative) {
+  const std::filesystem::path rel(relative);
+  if (relative.empty() || !rel.is_relative() || rel.has_root_name()) return false;
+  for (const std::filesystem::path& part : rel)
+    if (part == "..") return false;
+  return true;
+}
+
 }  // namespace nsg

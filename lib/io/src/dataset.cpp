@@ -27,9 +27,7 @@ nlohmann::json DatasetTile::json(const std::string& suffix) const {
 
 fs::path path_in_dataset(const fs::path& root, const std::string& relative, const std::string& record) {
   const fs::path rel(relative);
-  bool inside = !relative.empty() && rel.is_relative() && !rel.has_root_name();
-  for (const auto& part : rel) inside = inside && part != "..";
-  NSG_CHECK(inside, ParseError, (root / "manifest.json").string(), record,
+  NSG_CHECK(stays_inside(relative), ParseError, (root / "manifest.json").string(), record,
             "a relative path inside the dataset folder, got '" + relative + "'");
   return root / rel;
 }

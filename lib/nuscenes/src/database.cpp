@@ -18,14 +18,6 @@ constexpr std::array<const char*, 13> kTableNames = {
 
 std::string record_of(const Token& token) { return "token " + token.str(); }
 
-bool inside_dataroot(const std::string& relative) {
-  const std::filesystem::path rel(relative);
-  if (relative.empty() || !rel.is_relative() || rel.has_root_name()) return false;
-  for (const std::filesystem::path& part : rel)
-    if (part == "..") return false;
-  return true;
-}
-
 // Resolves one link of `row` (a record of `from`) into `to`; a non-empty token that is not
 // found is a DataError naming the file, the record and the field.
 template <class From, class To>
@@ -197,7 +189,7 @@ void Database::check_maps(const LoadOptions& options) {
   }
   if (!options.check_map_files) return;
   for (const Map& m : map) {
-    NSG_CHECK(inside_dataroot(m.filename), DataError, map.file(), record_of(m.token),
+    NSG_CHECK(stays_inside(m.filename), DataError, map.file(), record_of(m.token),
               "a map.filename inside the dataroot, got '" + printable_text(m.filename) + "'");
     const std::filesystem::path png = dataroot_ / m.filename;
     std::error_code ec;
@@ -248,7 +240,7 @@ Index Database::key_frame(Index sample_index, std::string_view channel) const {
 }
 
 std::filesystem::path Database::file_path(const SampleData& sd) const {
-  NSG_CHECK(inside_dataroot(sd.filename), DataError, sample_data.file(), record_of(sd.token),
+  NSG_CHECK(stays_inside(sd.filename), DataError, sample_data.file(), record_of(sd.token),
             "a sample_data.filename inside the dataroot, got '" + printable_text(sd.filename) + "'");
   return dataroot_ / sd.filename;
 }

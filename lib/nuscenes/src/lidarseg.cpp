@@ -75,10 +75,7 @@ LidarsegIndex LidarsegIndex::load(const Database& db) {
       return r[key].get<std::string>();
     };
     const std::string sd_text = text("sample_data_token"), filename = text("filename");
-    const std::filesystem::path rel(filename);
-    bool inside = !filename.empty() && rel.is_relative() && !rel.has_root_name();
-    for (const std::filesystem::path& part : rel) inside = inside && part != "..";
-    if (!inside)
+    if (!stays_inside(filename))
       throw DataError(file.string(), record, "a filename inside the dataroot, got '" + printable_text(filename) + "'");
     text("token");
     const std::optional<Token> sd_token = Token::parse(sd_text);
