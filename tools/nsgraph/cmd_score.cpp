@@ -37,10 +37,7 @@ struct ScoreCliOptions {
 // (size, value count, depth, no repeated key).
 nlohmann::json read_receipt_file(const std::string& file) {
   Issues issues;
-  const validate::SubmissionLimits limits;
-  const std::optional<std::string> text = validate::read_submission_bytes(file, limits, issues);
-  std::optional<nlohmann::json> doc;
-  if (text) doc = validate::parse_submission_text(*text, file, limits, issues);
+  const std::optional<nlohmann::json> doc = validate::read_submission(file, validate::SubmissionLimits{}, issues);
   if (!doc) throw ParseError(file, "--verify-receipt", "a score report or receipt: " + issues.items().front().message);
   return *doc;
 }

@@ -34,6 +34,28 @@ json limits_json(const validate::SubmissionLimits& l) {
           {"max_depth", l.max_depth}};
 }
 
+// The receipt fields that must agree; a different toolkit build is only a note (the
+// results digest below says whether the numbers moved).
+struct ComparedField {
+  const char* pointer;
+  const char* what;
+  bool note;
+};
+constexpr ComparedField kComparedFields[] = {
+    {"/ground_truth/kind", "ground truth kind", false},
+    {"/ground_truth/manifest_sha256", "dataset manifest sha256", false},
+    {"/ground_truth/sha256", "ground-truth file sha256", false},
+    {"/ground_truth/split", "split", false},
+    {"/ground_truth/verification", "ground-truth verification", false},
+    {"/submission/sha256", "submission sha256", false},
+    {"/submission/bytes", "submission bytes", false},
+    {"/metrics_version", "metrics version", false},
+    {"/limits", "limits", false},
+    {"/options", "options", false},
+    {"/toolkit/version", "toolkit version", true},
+    {"/toolkit/git_commit", "toolkit commit", true},
+};
+
 const json& field(const json& object, const char* name, const std::string& file, const std::string& path,
                   bool (json::*is_type)() const noexcept, const char* type) {
   NSG_CHECK(object.is_object() && object.contains(name) && (object[name].*is_type)(), ParseError, file,
@@ -155,22 +177,11 @@ ReceiptComparison compare_receipt(const json& recorded, const json& recomputed, 
   const json& a = receipt_of(recorded, file);
   const json& b = receipt_of(recomputed, "(recomputed)");
   ReceiptComparison out;
-  const auto compare = [&](const std::string& pointer, const std::string& what, std::vector<std::string>& into) {
-    const std::string x = text_at(a, pointer), y = text_at(b, pointer);
-    if (x != y) into.push_back(what + ": recorded " + x + ", recomputed " + y);
-  };
-  compare("/ground_truth/kind", "ground truth kind", out.differences);
-  compare("/ground_truth/manifest_sha256", "dataset manifest sha256", out.differences);
-  compare("/ground_truth/sha256", "ground-truth file sha256", out.differences);
-  compare("/ground_truth/split", "split", out.differences);
-  compare("/ground_truth/verification", "ground-truth verification", out.differences);
-  compare("/submission/sha256", "submission sha256", out.differences);
-  compare("/submission/bytes", "submission bytes", out.differences);
-  compare("/metrics_version", "metrics version", out.differences);
-  compare("/limits", "limits", out.differences);
-  compare("/options", "options", out.differences);
-  compare("/toolkit/version", "toolkit version", out.notes);
-  compare("/toolkit/git_commit", "toolkit commit", out.notes);
+  for (const ComparedField& f : kComparedFields) {
+    const std::string x = text_at(a, f.pointer), y = text_at(b, f.pointer);
+    if (x != y)
+      (f.note ? out.notes : out.differences).push_back(std::string(f.what) + ": recorded " + x + ", recomputed " + y);
+  }
 
   const std::string recorded_results = text_at(a, "/results_sha256");
   const bool whole_report = recorded.contains("aggregate");

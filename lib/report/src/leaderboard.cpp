@@ -42,15 +42,12 @@ constexpr Column kColumns[] = {
 // A report from the folder, read as a stranger's file (bounded like a submission).
 json read_report(const fs::path& file, std::string* why) {
   Issues issues;
-  const validate::SubmissionLimits limits;
-  const std::optional<std::string> text = validate::read_submission_bytes(file, limits, issues);
-  std::optional<json> doc;
-  if (text) doc = validate::parse_submission_text(*text, file.string(), limits, issues);
+  std::optional<json> doc = validate::read_submission(file, validate::SubmissionLimits{}, issues);
   if (!doc) {
     *why = issues.items().front().message;
     return nullptr;
   }
-  return *doc;
+  return std::move(*doc);
 }
 
 // The ground truth a receipt names, as one comparable string.
