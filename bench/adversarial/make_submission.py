@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """An adversarial scoring case at the per-tile limits of `nsgraph score` (see
-docs/scoring-limits.md): a dense ground truth (a busy junction: 30 lanes each way across a
-256-px tile, nodes every 2 m = 10 px, 1 560 nodes) and, per tile, a prediction that uses
-every limit in the way that costs the scorer most:
+docs/scoring-limits.md): a dense connected ground truth (a busy junction: 14 lanes each way
+across a 256-px tile crossing at shared nodes, nodes every 2 m = 10 px, 840 nodes) and,
+per tile, a prediction that uses every limit in the way that costs the scorer most:
 
   mesh     one connected grid with diagonals over the whole tile, as large as the
            shortest-path work limit allows (~1 400 nodes, ~2 900 edges): every APLS search
@@ -11,12 +11,19 @@ every limit in the way that costs the scorer most:
            ones among 1 000 of them up to the length and work limits
   lanes    the GT's own lanes resampled every 0.5 px up to the node limit (densest
            plausible prediction; GEO/TOPO sample it all)
+  copy     the GT itself (a perfect prediction: every APLS search on both graphs covers
+           the whole connected junction); must be scored
+  copy16   the 16-lane junction against itself (its own ground truth): the
+           densest connected copy within the search work limit; must be scored
 
+mesh and random cost more than the search work limit against the connected junction and
+must be refused (exit 1) when they reach it; lanes and both copies must be scored.
 and, in refused.json, the mesh at the node and edge limits (5 000 nodes, 10 000 edges),
 which the work limit refuses.
 
 usage: make_submission.py OUT_DIR [--nodes N --edges E --length-px L --work W]
-writes OUT_DIR/gt.json, OUT_DIR/submission.json and OUT_DIR/refused.json.
+writes OUT_DIR/<case>.json (one tile each) and OUT_DIR/gt-<case>.json (its ground truth),
+refused.json included.
 """
 import argparse
 import json
@@ -27,20 +34,28 @@ import random
 SIZE = 256.0
 
 
-def gt_junction(lanes=30, spacing_px=10.0):
-    nodes, edges = [], []
-    steps = int(SIZE // spacing_px) + 1
-    for k in range(lanes):
-        offset = (k + 0.5) * SIZE / lanes
+def gt_junction(lanes=14, spacing_px=10.0):
+    """`lanes` one-way lanes each way across the tile (alternating directions), nodes every
+    `spacing_px` and at every crossing, shared by the two lanes that cross there: one
+    connected graph, as a real junction's lanes and connectors are. 14 lanes (3.7 m apart,
+    196 shared crossings: 840 nodes, 1 008 edges) is the busiest plausible connected tile;
+    16 lanes (3.2 m) is the densest whose perfect copy is still within the search work limit."""
+    offsets = [(k + 0.5) * SIZE / lanes for k in range(lanes)]
+    steps = [min(s * spacing_px, SIZE - 0.5) for s in range(int(SIZE // spacing_px) + 1)]
+    # Along a lane: the crossings and the regular nodes not within 1 px of one.
+    along = sorted(set(offsets) | {t for t in steps if all(abs(t - o) > 1.0 for o in offsets)})
+    nodes, index, edges = [], {}, []
+
+    def node(p):
+        if p not in index:
+            index[p] = len(nodes)
+            nodes.append(list(p))
+        return index[p]
+    for k, offset in enumerate(offsets):
         for horizontal in (True, False):
-            first = len(nodes)
-            for s in range(steps):
-                t = min(s * spacing_px, SIZE - 0.5)
-                nodes.append([t, offset] if horizontal else [offset, t])
+            ids = [node((t, offset) if horizontal else (offset, t)) for t in along]
             forward = k % 2 == 0
-            for s in range(steps - 1):
-                a, b = first + s, first + s + 1
-                edges.append([a, b] if forward else [b, a])
+            edges += [[a, b] if forward else [b, a] for a, b in zip(ids, ids[1:])]
     return {"nodes": nodes, "edges": edges}
 
 
@@ -147,13 +162,20 @@ def main():
     gt = gt_junction()
     preds = {"mesh": mesh_within(a.nodes, a.edges, a.length_px, a.work),
              "random": random_graph(a.nodes, a.edges, a.length_px, a.work),
-             "lanes": dense_lanes(gt, a.nodes, a.edges, a.length_px)}
-    with open(os.path.join(a.out, "gt.json"), "w") as f:
-        json.dump({"schema_version": "1", "tiles": {k: gt for k in preds}}, f)
-    with open(os.path.join(a.out, "submission.json"), "w") as f:
-        json.dump({"schema_version": "1", "tiles": preds}, f)
-    with open(os.path.join(a.out, "refused.json"), "w") as f:
-        json.dump({"schema_version": "1", "tiles": {"mesh": mesh(a.nodes, a.edges, a.length_px)}}, f)
+             "lanes": dense_lanes(gt, a.nodes, a.edges, a.length_px),
+             "copy": gt}
+    def dump(name, tiles):
+        with open(os.path.join(a.out, name), "w") as f:
+            json.dump({"schema_version": "1", "tiles": tiles}, f)
+    for k, p in preds.items():
+        dump(k + ".json", {k: p})
+        dump("gt-" + k + ".json", {k: gt})
+    junction16 = gt_junction(16)
+    dump("gt-copy16.json", {"copy16": junction16})
+    dump("copy16.json", {"copy16": junction16})
+    dump("gt-refused.json", {"mesh": gt})
+    dump("refused.json", {"mesh": mesh(a.nodes, a.edges, a.length_px)})
+    preds["copy16"] = junction16
     for k, p in preds.items():
         length = sum(math.dist(p["nodes"][i], p["nodes"][j]) for i, j in p["edges"])
         w = path_work(len(p["nodes"]), p["edges"])

@@ -98,10 +98,17 @@ py::tuple score_tile(const Points& gt_nodes, const Pairs& gt_edges, std::optiona
     if (!issues.empty()) return py::make_tuple(py::none(), issues_to_py(issues), printable_utf8(issues.format()));
   }
   metrics::TileMeasurement m;
+  Issues work_issues;
   {
     py::gil_scoped_release release;
-    m = metrics::measure(key, gt, pred ? &*pred : nullptr, options.params);
+    try {
+      m = metrics::measure(key, gt, pred ? &*pred : nullptr, options.params);
+    } catch (const metrics::SearchWorkExceeded& e) {
+      work_issues.error("submission.size", e.record(), e.expected());
+    }
   }
+  if (!work_issues.empty())
+    return py::make_tuple(py::none(), issues_to_py(work_issues), printable_utf8(work_issues.format()));
   return py::make_tuple(json_to_py(metrics::measurement_to_json(m)), py::list(), "");
 }
 

@@ -54,9 +54,10 @@ class PathGraph {
 
   // Shortest path lengths from `src`: `dist` (size() entries, kInf where unreachable)
   // is reset through `reached`, the nodes it reached last time, which this call
-  // overwrites (unsorted). `heap` is scratch space.
+  // overwrites (unsorted). `heap` is scratch space. The search stops once every node
+  // within `max_m` is final: a node farther keeps an upper bound (> max_m) or kInf.
   void shortest_paths(int32_t src, std::vector<double>& dist, std::vector<int32_t>& reached,
-                      std::vector<std::pair<double, int32_t>>& heap) const {
+                      std::vector<std::pair<double, int32_t>>& heap, WorkMeter& meter, double max_m = kInf) const {
     if (dist.size() != size()) dist.assign(size(), kInf);
     for (int32_t n : reached) dist[n] = kInf;
     reached.clear();
@@ -67,8 +68,11 @@ class PathGraph {
     while (!heap.empty()) {
       std::pop_heap(heap.begin(), heap.end(), std::greater<>());
       const auto [d, n] = heap.back();
+      if (d > max_m) break;
       heap.pop_back();
       if (d > dist[n]) continue;
+      // A settled node and each relaxation cost about twice a TOPO step (heap operations).
+      meter.spend(2 * (1 + offset_[n + 1] - offset_[n]));
       for (int32_t k = offset_[n]; k < offset_[n + 1]; ++k) {
         const double nd = d + w_[k];
         if (nd < dist[to_[k]]) {
@@ -206,7 +210,7 @@ struct OneSided {
 std::vector<OneSided> one_sided(const std::vector<Pm>& a_nodes, const std::vector<Segment>& a_segs,
                                 const std::vector<Pm>& b_nodes, const std::vector<Segment>& b_segs,
                                 const std::vector<Snap>& snaps, const std::vector<double>& snap_ms, bool directed,
-                                double min_path_m) {
+                                double min_path_m, WorkMeter& meter) {
   const PathGraph a_graph = graph_paths(a_nodes, a_segs, directed);
   std::vector<SplitGraph> splits;
   std::vector<PathGraph> b_graphs;
@@ -233,8 +237,15 @@ std::vector<OneSided> one_sided(const std::vector<Pm>& a_nodes, const std::vecto
   for (int32_t a = 0; a < n; ++a) {
     // Only nodes with a finite path count; visit them in increasing index as the mean's
     // sum is defined.
-    a_graph.shortest_paths(a, dist_a, reached_a, heap);
+    a_graph.shortest_paths(a, dist_a, reached_a, heap, meter);
     std::sort(reached_a.begin(), reached_a.end());
+    meter.spend(static_cast<int64_t>(reached_a.size()));  // the sort
+    // A pair costs 1 once the other graph's path is >= 2 x its own (|la - lb| / la >= 1,
+    // also in rounded arithmetic), so the other graph is searched only that far: the
+    // same costs, and a short piece of one graph no longer pays for a search of the
+    // other graph's whole connected piece.
+    double max_la = 0.0;
+    for (int32_t b : reached_a) max_la = std::max(max_la, dist_a[b]);
     std::fill(have_b.begin(), have_b.end(), 0);
     for (size_t v = 0; v < snap_ms.size(); ++v) {
       const SplitGraph& split = splits[v];
@@ -249,11 +260,11 @@ std::vector<OneSided> one_sided(const std::vector<Pm>& a_nodes, const std::vecto
           continue;
         }
         if (!have_b[u]) {
-          b_graphs[u].shortest_paths(split.node_of[a], dist_b[u], reached_b[u], heap);
+          b_graphs[u].shortest_paths(split.node_of[a], dist_b[u], reached_b[u], heap, meter, 2.0 * max_la);
           have_b[u] = 1;
         }
         const double lb = dist_b[u][split.node_of[b]];
-        r.cost_sum += lb == kInf ? 1.0 : std::min(1.0, std::abs(la - lb) / la);
+        r.cost_sum += lb > 2.0 * la ? 1.0 : std::min(1.0, std::abs(la - lb) / la);
       }
     }
   }
@@ -278,7 +289,7 @@ AplsResult combine(const OneSided& gt_to_pred, const OneSided& pred_to_gt) {
 
 }  // namespace
 
-AplsFamily compute_apls(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params) {
+AplsFamily compute_apls(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params, WorkMeter& meter) {
   const std::vector<Pm> g = to_metres(gt, params.resolution_m);
   const std::vector<Pm> p = to_metres(pred, params.resolution_m);
   const std::vector<Segment> g_segs = segments_of(gt), p_segs = segments_of(pred);
@@ -288,8 +299,8 @@ AplsFamily compute_apls(const CleanGraph& gt, const CleanGraph& pred, const Metr
   const std::vector<Snap> p_on_g = snap_all(p, g, g_segs, reach_m);
   // Undirected: the normal and the strict snap radius; directed: the normal one.
   auto sides = [&](const std::vector<double>& snap_ms, bool directed) {
-    return std::pair{one_sided(g, g_segs, p, p_segs, g_on_p, snap_ms, directed, params.min_path_m),
-                     one_sided(p, p_segs, g, g_segs, p_on_g, snap_ms, directed, params.min_path_m)};
+    return std::pair{one_sided(g, g_segs, p, p_segs, g_on_p, snap_ms, directed, params.min_path_m, meter),
+                     one_sided(p, p_segs, g, g_segs, p_on_g, snap_ms, directed, params.min_path_m, meter)};
   };
   const auto [und_gp, und_pg] = sides({params.snap_m, params.strict_snap_m}, false);
   const auto [dir_gp, dir_pg] = sides({params.snap_m}, true);

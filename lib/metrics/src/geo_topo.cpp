@@ -201,8 +201,9 @@ std::vector<Candidate> candidates(const SampleGraph& gt, const SampleGraph& pred
 // instead of walking every reached sample twice per seed.
 class RadiusSearch {
  public:
-  explicit RadiusSearch(const SampleGraph& sg)
+  RadiusSearch(const SampleGraph& sg, WorkMeter& meter)
       : sg_(sg),
+        meter_(meter),
         dist_(static_cast<size_t>(sg.n_node_samples), kUnset),
         prev_node_in_(static_cast<size_t>(sg.n_node_samples), 0),
         reach_(sg.chains.size()),
@@ -234,6 +235,7 @@ class RadiusSearch {
       // n is final here: one walk along each chain gives both the interior samples it
       // reaches and the relaxation of the far end (the same partial sums).
       max_dist_ = std::max(max_dist_, d);
+      meter_.spend(1 + sg_.chain_offset[n + 1] - sg_.chain_offset[n]);
       for (int32_t k = sg_.chain_offset[n]; k < sg_.chain_offset[n + 1]; ++k) {
         const int32_t ci = sg_.chain_ids[k];
         const Chain& c = sg_.chains[ci];
@@ -252,6 +254,7 @@ class RadiusSearch {
           dw = next;
           ++steps;
         }
+        meter_.spend(steps);
         if (steps == c.k) relax(n == c.a ? c.b : c.a, dw);
         const int32_t interior = std::min(steps, c.k - 1);
         if (interior == 0) continue;
@@ -397,6 +400,7 @@ class RadiusSearch {
   }
 
   const SampleGraph& sg_;
+  WorkMeter& meter_;
   std::vector<double> dist_;  // node samples only
   std::vector<uint8_t> prev_node_in_;
   std::vector<Reach> reach_, prev_reach_;  // per chain; empty unless listed
@@ -448,8 +452,9 @@ RanksBy ranks_by(size_t n, const std::vector<Candidate>& cands, bool by_g) {
 // greedy scan over the restricted list.
 class IncrementalMatching {
  public:
-  IncrementalMatching(const std::vector<Candidate>& cands, const RanksBy& by_g, const RanksBy& by_p)
-      : by_g_(by_g),
+  IncrementalMatching(const std::vector<Candidate>& cands, const RanksBy& by_g, const RanksBy& by_p, WorkMeter& meter)
+      : meter_(meter),
+        by_g_(by_g),
         by_p_(by_p),
         pair_(cands.size()),
         accepted_(cands.size(), 0),
@@ -468,6 +473,7 @@ class IncrementalMatching {
   int64_t matched() {
     // Pending ranks are a two-level bitmap scanned upwards: a decision only queues higher
     // ranks, so a word is final once its bits are cleared.
+    if (hi_ > lo_) meter_.spend(static_cast<int64_t>(hi_ - lo_));
     for (size_t si = lo_; si < hi_; ++si) {
       while (summary_[si] != 0) {
         const size_t wi = (si << 6) + static_cast<size_t>(__builtin_ctzll(summary_[si]));
@@ -505,6 +511,7 @@ class IncrementalMatching {
       if (other[y].in) push(rank);
       return;
     }
+    meter_.spend(by.offset[x + 1] - by.offset[x]);
     for (int32_t k = by.offset[x]; k < by.offset[x + 1]; ++k) {
       const RanksBy::Entry e = by.entries[k];
       if (!other[e.other].in) continue;
@@ -518,6 +525,7 @@ class IncrementalMatching {
                   const std::vector<Side>& other) {
     if (accepted_now ? self[x].n_accepted < 2 : self[x].min_accepted < rank) return;
     for (int32_t k = by.offset[x + 1] - 1; k >= by.offset[x] && by.entries[k].rank > rank; --k) {
+      meter_.spend(1);
       const RanksBy::Entry e = by.entries[k];
       const bool present = self[x].in && other[e.other].in;
       if (accepted_now ? accepted_[e.rank] != 0 : (accepted_[e.rank] == 0 && present)) push(e.rank);
@@ -541,6 +549,7 @@ class IncrementalMatching {
     s.min_accepted = kNone;
     if (s.n_accepted == 0) return;
     for (int32_t k = by.offset[x]; k < by.offset[x + 1]; ++k) {
+      meter_.spend(1);
       if (accepted_[by.entries[k].rank]) {
         s.min_accepted = by.entries[k].rank;
         break;
@@ -548,6 +557,7 @@ class IncrementalMatching {
     }
   }
   void decide(int32_t rank) {
+    meter_.spend(1);
     const auto [g, p] = pair_[rank];
     // No accepted candidate below `rank` on g nor on p.
     const uint8_t now = g_[g].in && p_[p].in && g_[g].min_accepted >= rank && p_[p].min_accepted >= rank;
@@ -566,6 +576,7 @@ class IncrementalMatching {
     push_above(by_p_, p, rank, now != 0, p_, g_);
   }
 
+  WorkMeter& meter_;
   const RanksBy& by_g_;
   const RanksBy& by_p_;
   std::vector<std::pair<int32_t, int32_t>> pair_;  // (g, p) by rank
@@ -636,10 +647,10 @@ class WholeComponent {
 // Rules 6-8 on the undirected or the directed sample graphs, seeds in increasing g.
 TopoSums topo_sums(const SampleGraph& gt, const SampleGraph& pred, bool directed, const std::vector<Candidate>& cands,
                    const RanksBy& by_g, const RanksBy& by_p, const std::vector<std::pair<int32_t, int32_t>>& seeds,
-                   const std::vector<int32_t>& order, double radius_px) {
+                   const std::vector<int32_t>& order, double radius_px, WorkMeter& meter) {
   TopoSums sums;
-  RadiusSearch search_g(gt), search_p(pred);
-  IncrementalMatching matching(cands, by_g, by_p);
+  RadiusSearch search_g(gt, meter), search_p(pred, meter);
+  IncrementalMatching matching(cands, by_g, by_p, meter);
   // Seeds are visited in `order` (consecutive reach sets then differ little) and summed
   // afterwards in increasing g, as rule 7 adds them.
   std::vector<int64_t> m_of(seeds.size(), 0), n_rp(seeds.size(), 0), n_rg(seeds.size(), 0);
@@ -648,12 +659,18 @@ TopoSums topo_sums(const SampleGraph& gt, const SampleGraph& pred, bool directed
     const int32_t s = order[o];
     if (directed || !whole_p.still_whole(search_p, seeds[s].second)) {
       search_p.run(seeds[s].second, directed, radius_px);
-      search_p.diff([&](int32_t x, bool in) { matching.set_p(x, in); });
+      search_p.diff([&](int32_t x, bool in) {
+        meter.spend(1);
+        matching.set_p(x, in);
+      });
       whole_p.ran(seeds[s].second, search_p.count());
     }
     if (directed || !whole_g.still_whole(search_g, seeds[s].first)) {
       search_g.run(seeds[s].first, directed, radius_px);
-      search_g.diff([&](int32_t x, bool in) { matching.set_g(x, in); });
+      search_g.diff([&](int32_t x, bool in) {
+        meter.spend(1);
+        matching.set_g(x, in);
+      });
       whole_g.ran(seeds[s].first, search_g.count());
     }
     m_of[s] = matching.matched();
@@ -670,7 +687,8 @@ TopoSums topo_sums(const SampleGraph& gt, const SampleGraph& pred, bool directed
 
 }  // namespace
 
-GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params) {
+GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params,
+                               WorkMeter& meter) {
   const SampleGraph g = sample_graph(gt, params.geo_step_px);
   const SampleGraph p = sample_graph(pred, params.geo_step_px);
   GeoTopoResult r;
@@ -702,8 +720,8 @@ GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred, con
   r.seeds = static_cast<int64_t>(seeds.size());
   const double radius_px = params.topo_radius_m / params.resolution_m + kRadiusTolPx;
   const std::vector<int32_t> order = visit_order(g, p, seeds);
-  const TopoSums und = topo_sums(g, p, false, cands, by_g, by_p, seeds, order, radius_px);
-  const TopoSums dir = topo_sums(g, p, true, cands, by_g, by_p, seeds, order, radius_px);
+  const TopoSums und = topo_sums(g, p, false, cands, by_g, by_p, seeds, order, radius_px, meter);
+  const TopoSums dir = topo_sums(g, p, true, cands, by_g, by_p, seeds, order, radius_px, meter);
   r.topo_precision = ratio(und.precision_sum, np);
   r.topo_recall = ratio(und.recall_sum, ng);
   r.topo_f1 = f1_of(r.topo_precision, r.topo_recall);

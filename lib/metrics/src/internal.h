@@ -22,7 +22,29 @@ struct AplsResult {
 struct AplsFamily {
   AplsResult undirected, directed, strict;
 };
-AplsFamily compute_apls(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params);
+// The searches whose cost grows faster than the input — APLS's shortest paths on both
+// graphs, TOPO's radius searches and their matching updates — spend units in proportion
+// to their time: two per settled node and per arc of a shortest-path search (heap
+// operations), one per sorted node, TOPO chain step, changed sample or re-decided match. The meter stops the tile
+// (OverBudget) once they spend more than the limit, so a tile's scoring time is bounded whatever the two graphs are
+// (docs/scoring-limits.md). The count is the same on every machine.
+struct OverBudget {};
+class WorkMeter {
+ public:
+  explicit WorkMeter(int64_t limit) : limit_(limit) {}
+  void spend(int64_t units) {
+    used_ += units;
+    if (used_ > limit_) throw OverBudget{};
+  }
+  int64_t used() const { return used_; }
+  int64_t limit() const { return limit_; }
+
+ private:
+  int64_t limit_;
+  int64_t used_ = 0;
+};
+
+AplsFamily compute_apls(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params, WorkMeter& meter);
 
 struct DirectionResult {
   std::optional<double> accuracy, accuracy_length_weighted, matched_fraction;
@@ -46,7 +68,8 @@ struct GeoTopoResult {
   std::optional<double> topo_directed_precision, topo_directed_recall, topo_directed_f1;
   int64_t gt_samples = 0, pred_samples = 0, matched = 0, seeds = 0;
 };
-GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params);
+GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params,
+                               WorkMeter& meter);
 
 // Ratio helpers shared by the families.
 std::optional<double> ratio(double num, double den);  // undefined if den == 0

@@ -4,6 +4,7 @@
 
 #include "internal.h"
 #include "nsg/core/error.h"
+#include "nsg/core/strings.h"
 #include "nsg/metrics/submission_input.h"
 #include "nsg/validate/submission.h"
 
@@ -67,6 +68,34 @@ void check_limits(const Graph& g, const std::string& key, const std::string& rol
   if (!issues.empty()) throw DataError("", issues.items().front().subject, issues.items().front().message);
 }
 
+// APLS and GEO/TOPO: the metrics whose searches the work meter bounds.
+void measure_searched(const CleanGraph& g, const CleanGraph& p, const MetricParams& params, detail::WorkMeter& meter,
+                      TileMeasurement& t) {
+  MetricValues& v = t.values;
+  Counts& c = t.counts;
+  const detail::AplsFamily apls = detail::compute_apls(g, p, params, meter);
+  set_apls(v, kApls, apls.undirected);
+  set_apls(v, kAplsDirected, apls.directed);
+  set_apls(v, kAplsStrict, apls.strict);
+  c[kAplsGtPairs] = apls.undirected.gt_pairs;
+  c[kAplsPredPairs] = apls.undirected.pred_pairs;
+
+  const detail::GeoTopoResult gt_r = detail::compute_geo_topo(g, p, params, meter);
+  v[kGeoPrecision] = gt_r.geo_precision;
+  v[kGeoRecall] = gt_r.geo_recall;
+  v[kGeoF1] = gt_r.geo_f1;
+  v[kTopoPrecision] = gt_r.topo_precision;
+  v[kTopoRecall] = gt_r.topo_recall;
+  v[kTopoF1] = gt_r.topo_f1;
+  v[kTopoDirectedPrecision] = gt_r.topo_directed_precision;
+  v[kTopoDirectedRecall] = gt_r.topo_directed_recall;
+  v[kTopoDirectedF1] = gt_r.topo_directed_f1;
+  c[kGeoGtSamples] = gt_r.gt_samples;
+  c[kGeoPredSamples] = gt_r.pred_samples;
+  c[kGeoMatched] = gt_r.matched;
+  c[kTopoSeeds] = gt_r.seeds;
+}
+
 }  // namespace
 
 const char* metric_name(int metric) {
@@ -99,12 +128,20 @@ TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pr
   c[kPredSelfLoopsDropped] = p.self_loops_dropped;
   c[kPredDuplicateEdgesDropped] = p.duplicate_edges_dropped;
 
-  const detail::AplsFamily apls = detail::compute_apls(g, p, params);
-  set_apls(v, kApls, apls.undirected);
-  set_apls(v, kAplsDirected, apls.directed);
-  set_apls(v, kAplsStrict, apls.strict);
-  c[kAplsGtPairs] = apls.undirected.gt_pairs;
-  c[kAplsPredPairs] = apls.undirected.pred_pairs;
+  const int64_t work_limit = validate::SubmissionLimits{}.max_search_work_per_tile;
+  detail::WorkMeter meter(work_limit);
+  try {
+    measure_searched(g, p, params, meter, t);
+  } catch (const detail::OverBudget&) {
+    throw SearchWorkExceeded(
+        "", "prediction:/tiles/" + validate::json_pointer_token(key),
+        strprintf("a prediction whose APLS and TOPO searches against this tile's ground truth take at most %lld "
+                  "units of work (about 9 ns each: a search step, a settled node, a changed sample); this one passed "
+                  "the limit before its "
+                  "searches ended: it is too large or too connected where the ground truth is connected "
+                  "(docs/scoring-limits.md)",
+                  static_cast<long long>(work_limit)));
+  }
 
   const detail::DirectionResult dir = detail::compute_direction(g, p, params);
   v[kDirectionAccuracy] = dir.accuracy;
@@ -127,20 +164,6 @@ TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pr
   v[kChamferM2] = ch.m2;
   v[kChamferMeanM] = ch.mean_m;
 
-  const detail::GeoTopoResult gt_r = detail::compute_geo_topo(g, p, params);
-  v[kGeoPrecision] = gt_r.geo_precision;
-  v[kGeoRecall] = gt_r.geo_recall;
-  v[kGeoF1] = gt_r.geo_f1;
-  v[kTopoPrecision] = gt_r.topo_precision;
-  v[kTopoRecall] = gt_r.topo_recall;
-  v[kTopoF1] = gt_r.topo_f1;
-  v[kTopoDirectedPrecision] = gt_r.topo_directed_precision;
-  v[kTopoDirectedRecall] = gt_r.topo_directed_recall;
-  v[kTopoDirectedF1] = gt_r.topo_directed_f1;
-  c[kGeoGtSamples] = gt_r.gt_samples;
-  c[kGeoPredSamples] = gt_r.pred_samples;
-  c[kGeoMatched] = gt_r.matched;
-  c[kTopoSeeds] = gt_r.seeds;
   // Every metric is a finite number or undefined (docs/metrics.md); the limits keep the
   // inputs where that holds, and a value that still is not is a bug, never a report entry.
   for (int m = 0; m < kMetricCount; ++m)

@@ -28,6 +28,7 @@ json limits_json(const validate::SubmissionLimits& l) {
           {"max_edges_per_tile", l.max_edges_per_tile},
           {"max_edge_length_px_per_tile", l.max_edge_length_px_per_tile},
           {"max_path_work_per_tile", l.max_path_work_per_tile},
+          {"max_search_work_per_tile", l.max_search_work_per_tile},
           {"max_abs_coordinate_px", l.max_abs_coordinate_px},
           {"max_file_bytes", l.max_file_bytes},
           {"max_json_values", l.max_json_values},
@@ -75,6 +76,7 @@ validate::SubmissionLimits limits_from(const json& j, const std::string& file) {
   l.max_edge_length_px_per_tile =
       field(j, "max_edge_length_px_per_tile", file, path, &json::is_number, "a number").get<double>();
   l.max_path_work_per_tile = integer_field(j, "max_path_work_per_tile", file, path);
+  l.max_search_work_per_tile = integer_field(j, "max_search_work_per_tile", file, path);
   l.max_abs_coordinate_px = field(j, "max_abs_coordinate_px", file, path, &json::is_number, "a number").get<double>();
   l.max_file_bytes = integer_field(j, "max_file_bytes", file, path);
   l.max_json_values = integer_field(j, "max_json_values", file, path);

@@ -1,5 +1,6 @@
 #include "nsg/metrics/score.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -47,6 +48,8 @@ ScoreReport score(const GraphSet& gt, const GraphSet& pred, const ScoreOptions& 
   const auto start = std::chrono::steady_clock::now();
   std::atomic<bool> over_time{false};
   std::atomic<int64_t> scored{0};
+  // Tiles beyond the search work limit, reported in key order whichever thread met them.
+  std::vector<std::optional<SearchWorkExceeded>> over_work(keys.size());
   parallel_for(keys.size(), options.threads, [&](size_t k) {
     const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
     if (over_time || (options.max_seconds > 0 && elapsed.count() >= options.max_seconds)) {
@@ -55,13 +58,25 @@ ScoreReport score(const GraphSet& gt, const GraphSet& pred, const ScoreOptions& 
     }
     const std::string& key = *keys[k];
     const auto p = pred.find(key);
-    report.tiles[k] = measure(key, gt.at(key), p == pred.end() ? nullptr : &p->second, options.params);
+    try {
+      report.tiles[k] = measure(key, gt.at(key), p == pred.end() ? nullptr : &p->second, options.params);
+    } catch (const SearchWorkExceeded& e) {
+      over_work[k] = e;
+    }
     ++scored;
   });
   NSG_CHECK(!over_time, ConfigError, "", "--max-seconds",
             strprintf("a run that scores its %zu tiles within %g s (%lld scored when the budget ran out); raise "
                       "--max-seconds, or 0 for no limit",
                       keys.size(), options.max_seconds, static_cast<long long>(scored.load())));
+  const auto first_over = std::find_if(over_work.begin(), over_work.end(), [](const auto& e) { return e.has_value(); });
+  if (first_over != over_work.end()) {
+    const auto more = std::count_if(first_over + 1, over_work.end(), [](const auto& e) { return e.has_value(); });
+    throw SearchWorkExceeded(
+        (*first_over)->file(), (*first_over)->record(),
+        (*first_over)->expected() +
+            (more > 0 ? strprintf(" (%lld more tiles are beyond it)", static_cast<long long>(more)) : std::string()));
+  }
   Aggregate agg;
   for (const TileMeasurement& t : report.tiles) agg.add(t);
   agg.n_extra_predictions = static_cast<int64_t>(report.extra_tiles.size());

@@ -41,7 +41,14 @@ ScoredSubmission score_submission(const ScoreSource& ground_truth, const ScoreSo
                               &inputs.ground_truth_sha256);
     inputs.ground_truth_kind = std::filesystem::is_directory(ground_truth.path) ? "dataset" : "file";
   }
-  out.report = score(truth, out.graphs, options.score);
+  try {
+    out.report = score(truth, out.graphs, options.score);
+  } catch (const SearchWorkExceeded& e) {
+    // Beyond a scoring limit, as a file beyond the per-tile limits is (exit 1), though only
+    // the ground truth tells.
+    out.issues.error("submission.size", e.record(), e.expected());
+    return out;
+  }
   out.report.ground_truth = ground_truth.label;
   out.report.submission = submission.label;
   out.report.split = options.split;

@@ -180,7 +180,7 @@ namespace nsg::validate {
 
 void SubmissionLimits::validate() const {
   NSG_CHECK(max_nodes_per_tile > 0 && max_edges_per_tile > 0 && max_edge_length_px_per_tile > 0 &&
-                max_path_work_per_tile > 0 && max_abs_coordinate_px > 0,
+                max_path_work_per_tile > 0 && max_search_work_per_tile > 0 && max_abs_coordinate_px > 0,
             ConfigError, "", "limits", "positive per-tile limits");
   NSG_CHECK(max_file_bytes > 0 && max_json_values > 0 && max_depth > 0, ConfigError, "", "limits",
             "positive file limits");

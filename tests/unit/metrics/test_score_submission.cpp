@@ -2,7 +2,9 @@
 // share: on the golden graphs, where the answers are known.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
@@ -48,7 +50,7 @@ TEST(ScoreSubmission, GroundTruthAgainstItselfIsPerfect) {
 }
 
 // Every defined per-tile metric of `report` exactly perfect (Chamfer 0, the rest 1).
-void expect_perfect(const ScoreReport& report, const std::string& what) {
+void expect_perfect(const ScoreReport& report, const std::string& what, int min_checked = 500) {
   int checked = 0;
   for (const TileMeasurement& t : report.tiles)
     for (int m = 0; m < kMetricCount; ++m) {
@@ -58,7 +60,7 @@ void expect_perfect(const ScoreReport& report, const std::string& what) {
       EXPECT_EQ(*t.values[m], perfect) << what << ": " << t.key << " " << metric_name(static_cast<Metric>(m));
       ++checked;
     }
-  EXPECT_GT(checked, 500) << what;
+  EXPECT_GT(checked, min_checked) << what;
 }
 
 // The golden ground truth moved off its round coordinates (by 1/3 px and a node-varying
@@ -98,6 +100,88 @@ TEST(ScoreSubmission, PerfectCopyWrittenToAFileScoresExactlyOne) {
   const ScoredSubmission r = score_submission(gt, ScoreSource::file(dir / "rounded.json"), golden_options());
   ASSERT_TRUE(r.scored()) << r.issues.format();
   EXPECT_LT(*r.report.aggregate.mean[kAplsDirected], 0.995);  // 0.9909 on this machine
+}
+
+// `lanes` one-way lanes each way across a 256-px tile, nodes every 10 px and at every
+// crossing, shared by the two lanes that cross there: one connected junction (as
+// bench/adversarial/make_submission.py builds it).
+Graph connected_junction(int lanes) {
+  const double size = 256.0;
+  std::vector<double> offsets, along;
+  for (int k = 0; k < lanes; ++k) offsets.push_back((k + 0.5) * size / lanes);
+  along = offsets;
+  for (double t = 0.0; t <= size; t += 10.0) {
+    const double at = std::min(t, size - 0.5);
+    if (std::all_of(offsets.begin(), offsets.end(), [&](double o) { return std::abs(at - o) > 1.0; }))
+      along.push_back(at);
+  }
+  std::sort(along.begin(), along.end());
+  Graph g;
+  std::map<std::pair<double, double>, int64_t> index;
+  auto node = [&](double u, double v) {
+    const auto [it, added] = index.emplace(std::pair{u, v}, static_cast<int64_t>(g.nodes.size()));
+    if (added) g.nodes.push_back({u, v});
+    return it->second;
+  };
+  for (int k = 0; k < lanes; ++k)
+    for (bool horizontal : {true, false}) {
+      std::vector<int64_t> ids;
+      for (double t : along) ids.push_back(horizontal ? node(t, offsets[k]) : node(offsets[k], t));
+      for (size_t s = 0; s + 1 < ids.size(); ++s)
+        g.edges.push_back(k % 2 == 0 ? std::array{ids[s], ids[s + 1]} : std::array{ids[s + 1], ids[s]});
+    }
+  return g;
+}
+
+// A connected grid with both diagonals of every cell over the whole tile.
+Graph mesh(int side) {
+  Graph g;
+  const double step = 255.0 / (side - 1);
+  for (int j = 0; j < side; ++j)
+    for (int i = 0; i < side; ++i) g.nodes.push_back({i * step, j * step});
+  for (int64_t j = 0; j + 1 < side; ++j)
+    for (int64_t i = 0; i + 1 < side; ++i) {
+      const int64_t k = j * side + i;
+      for (const std::array<int64_t, 2> e : {std::array{k, k + 1}, {k, k + side}, {k, k + side + 1}, {k + 1, k + side}})
+        g.edges.push_back(e);
+    }
+  return g;
+}
+
+std::string one_tile_document(const std::string& key, const Graph& g) {
+  GraphSet set;
+  set.emplace(key, g);
+  nsg::test::TempDir dir("one-tile");
+  write_submission(set, dir / "t.json");
+  return read_file(dir / "t.json");
+}
+
+TEST(ScoreSubmission, TheSearchWorkLimitScoresABusyConnectedJunctionAndRefusesACostlierPrediction) {
+  // The busiest plausible connected junction (14 lanes each way, 196 shared crossings):
+  // its perfect copy is scored, exactly.
+  const Graph junction = connected_junction(14);
+  ASSERT_EQ(junction.nodes.size(), 840u);
+  const std::string truth = one_tile_document("busy", junction);
+  const ScoredSubmission copy =
+      score_submission(ScoreSource::memory(truth, "<gt>"), ScoreSource::memory(truth, "<copy>"), golden_options());
+  ASSERT_TRUE(copy.scored()) << copy.issues.format();
+  expect_perfect(copy.report, "junction copy", 20);
+
+  // A mesh within every static limit (its own path work 6.9 M of 10 M) costs more than
+  // the limit against this connected ground truth: refused by name, as a file beyond
+  // the limits is (exit 1), not scored for seconds.
+  const Graph net = mesh(30);
+  const ScoredSubmission over =
+      score_submission(ScoreSource::memory(truth, "<gt>"),
+                       ScoreSource::memory(one_tile_document("busy", net), "<mesh>"), golden_options());
+  ASSERT_FALSE(over.scored());
+  ASSERT_EQ(over.issues.items().size(), 1u);
+  EXPECT_EQ(over.issues.items()[0].check, "submission.size");
+  EXPECT_EQ(over.issues.items()[0].subject, "prediction:/tiles/busy");
+  EXPECT_NE(over.issues.items()[0].message.find("160000000 units of work"), std::string::npos)
+      << over.issues.items()[0].message;
+  // measure() alone (score_tile's path) throws the same refusal.
+  EXPECT_THROW(measure("busy", junction, &net, MetricParams{}), SearchWorkExceeded);
 }
 
 TEST(ScoreSubmission, GoldenPredictionGivesTheGoldenAggregate) {

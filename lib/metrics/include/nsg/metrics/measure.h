@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "nsg/core/error.h"
 #include "nsg/metrics/graph.h"
 #include "nsg/metrics/params.h"
 
@@ -77,9 +78,20 @@ struct TileMeasurement {
   Counts counts{};
 };
 
+// A tile whose APLS and TOPO searches on the two graphs together pass
+// validate::SubmissionLimits::max_search_work_per_tile: the submission is beyond the
+// scoring limits for this ground truth (exit 1, like a file beyond the per-tile limits).
+// record(): the tile's JSON Pointer in the submission, "prediction:/tiles/<key>".
+class SearchWorkExceeded : public Error {
+ public:
+  using Error::Error;
+  int exit_code() const override { return kExitProblems; }
+};
+
 // Scores one tile. `pred` == nullptr means the tile is missing from the submission: it is
 // scored as an empty prediction and counted (missing_prediction = 1). Throws DataError
-// naming the key when either graph exceeds the scoring limits (validate::SubmissionLimits).
+// naming the key when either graph exceeds the scoring limits (validate::SubmissionLimits),
+// SearchWorkExceeded when the two together cost more than the search work limit.
 TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pred, const MetricParams& params);
 
 // Mergeable sums over tiles. Merge tiles (and shards) in key order for bit-identical

@@ -26,6 +26,12 @@ struct SubmissionLimits {
   // connected pieces of nodes x (nodes + 2 x edges). 10 M = one connected lane graph of
   // ~1 800 nodes (the busiest plausible junction tile: 7.4 M); <= 2 s per tile on one core.
   int64_t max_path_work_per_tile = 10'000'000;
+  // The searches of APLS (both graphs, the other one split at the snaps) and TOPO, counted
+  // while a tile is scored against its ground truth (metrics::SearchWorkExceeded): what
+  // bounds the time when the ground truth is connected (about 9 ns a unit: <= 2 s per
+  // tile on one core). A perfect copy of the busiest plausible connected junction spends
+  // 0.72 of it, of a 16-lane one 0.90 (docs/scoring-limits.md).
+  int64_t max_search_work_per_tile = 160'000'000;
   // Node coordinates within ±this many px (400 tile widths of a 256-px tile): every squared
   // distance and sum a metric takes stays finite (two nodes at ±1e160 made Chamfer inf).
   double max_abs_coordinate_px = 100000;
