@@ -193,7 +193,7 @@ fi
 # Bounded scoring (docs/scoring-limits.md): an adversarial submission at the per-tile
 # limits must score within 2 s per tile and 1 GB on one core.
 if [ -x "$exe" ]; then
-  printf '\n== adversarial score at the submission limits (one core)\n'
+  printf '\n== adversarial score at the submission limits against a connected junction (one core)\n'
   bash "$root/bench/adversarial/score.sh" "$build" "$out/adversarial" || failed+=("adversarial score")
   cp "$out/adversarial/adversarial_score.json" "$out/" 2>/dev/null || true
   ran=$((ran + 1))

@@ -126,6 +126,32 @@ class ScoreTest(unittest.TestCase):
         self.assertEqual(m["counts"]["missing_prediction"], 0)
         self.assertEqual(nsgraph.score_tile(tile, None)["counts"]["missing_prediction"], 1)
 
+    def test_score_tile_refuses_a_prediction_beyond_the_search_work_limit(self):
+        # A connected junction (14 lanes each way, shared crossings) and a connected mesh
+        # within every static limit: together beyond the search work limit, refused by name.
+        offsets = [(k + 0.5) * 256 / 14 for k in range(14)]
+        along = sorted(set(offsets) | {min(t, 255.5) for t in range(0, 257, 10)
+                                       if all(abs(min(t, 255.5) - o) > 1 for o in offsets)})
+        index, nodes, edges = {}, [], []
+        for k, off in enumerate(offsets):
+            for horizontal in (True, False):
+                ids = [index.setdefault(p, len(index)) for p in ((t, off) if horizontal else (off, t) for t in along)]
+                edges += [[a, b] if k % 2 == 0 else [b, a] for a, b in zip(ids, ids[1:])]
+        nodes = [list(p) for p, _ in sorted(index.items(), key=lambda kv: kv[1])]
+        side = 30
+        mesh_nodes = [[i * 255 / (side - 1), j * 255 / (side - 1)] for j in range(side) for i in range(side)]
+        mesh_edges = []
+        for j in range(side - 1):
+            for i in range(side - 1):
+                k = j * side + i
+                mesh_edges += [[k, k + 1], [k, k + side], [k, k + side + 1], [k + 1, k + side]]
+        with self.assertRaises(nsgraph.SubmissionError) as e:
+            nsgraph.score_tile({"nodes": nodes, "edges": edges}, {"nodes": mesh_nodes, "edges": mesh_edges},
+                               key="busy")
+        self.assertEqual(e.exception.issues[0]["check"], "submission.size")
+        self.assertEqual(e.exception.issues[0]["subject"], "prediction:/tiles/busy")
+        self.assertIn("units of work", str(e.exception))
+
     def test_a_written_submission_takes_about_46_bytes_per_node(self):
         # docs/scoring-limits.md states the size of a submission with exact coordinates.
         path = os.path.join(self.tmp.name, "exact.json")
