@@ -114,8 +114,10 @@ const options::Table<LaneGraphOptions>& lane_graph_option_table() {
     options::Table<LaneGraphOptions> t;
     t.number("graph.max_spacing_m", &LaneGraphOptions::max_spacing_m)
         .unit("m")
-        .range(options::above(0))
-        .help("Longest distance between consecutive nodes (lanes are resampled evenly to it)");
+        .range(options::between(0.1, 100))
+        .help(
+            "Longest distance between consecutive nodes (lanes are resampled evenly to it; 0.1 m = half a pixel at "
+            "the default resolution at least: the graph's size grows with its inverse)");
     t.number("graph.source_resolution_m", &LaneGraphOptions::source_resolution_m)
         .unit("m")
         .range(options::above(0))

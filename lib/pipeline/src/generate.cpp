@@ -207,6 +207,18 @@ void log_memory(const std::string& stage) {
                        human_bytes(static_cast<double>(peak_rss_bytes())).c_str()));
 }
 
+// A finished (packed) LiDAR layer's bytes per block besides its covered cells: bitmap, row
+// counts, vector headers, spare capacity and the block map's node (what the memory plan's
+// packed block cost stands for).
+size_t packed_block_overhead_bytes(const raster::LidarLayer& lidar) {
+  constexpr size_t kMapNodeBytes = 48;  // std::map node: three pointers, colour, key
+  const size_t blocks = lidar.cells().block_count();
+  if (blocks == 0) return 0;
+  const size_t cells = lidar.covered_cells() * sizeof(raster::LidarCell);
+  const size_t bytes = lidar.cells().memory_bytes();
+  return (bytes > cells ? bytes - cells : 0) / blocks + kMapNodeBytes;
+}
+
 // The peak-memory estimate, logged, and refused above --max-memory before any heavy work.
 void check_memory(const nuscenes::Database& db, const std::vector<std::string>& locations,
                   const std::vector<char>& excluded, const GenerateConfig& config, const GenerateRun& run) {
@@ -220,6 +232,7 @@ void check_memory(const nuscenes::Database& db, const std::vector<std::string>& 
   const MemoryEstimate e = estimate_generate_memory(db, scenes, config, run.threads, cameras);
   log::info("generate: estimated peak memory " + e.describe());
   log::debug(strprintf("generate: estimated peak memory in bytes: %llu", static_cast<unsigned long long>(e.total())));
+  log::debug("generate: memory plan: " + e.plan_details());
   log::debug(strprintf("generate: memory limit in bytes: %llu%s", static_cast<unsigned long long>(run.max_memory_bytes),
                        run.max_memory_from_machine ? " (the memory available)" : ""));
   if (run.max_memory_bytes == 0 || e.total() <= run.max_memory_bytes) return;
@@ -331,8 +344,10 @@ GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
     summary.sweeps += st.layers.stats.sweeps;
     summary.seconds.lidar_s += seconds_since(t0);
     log_memory(location + ": LiDAR accumulated: " +
-               strprintf("%zu blocks, %zu covered cells (LiDAR layer %s, vehicle layer %s over %zu blocks)",
+               strprintf("%zu blocks, %zu covered cells, %zu B a block besides its cells (LiDAR layer %s, vehicle "
+                         "layer %s over %zu blocks)",
                          st.layers.stats.lidar_blocks, st.layers.stats.covered_cells,
+                         packed_block_overhead_bytes(st.layers.lidar),
                          human_bytes(static_cast<double>(st.layers.lidar.cells().memory_bytes())).c_str(),
                          human_bytes(static_cast<double>(st.layers.vehicles.cells().memory_bytes())).c_str(),
                          st.layers.vehicles.cells().block_count()));

@@ -15,6 +15,7 @@
 #include "nsg/raster/lidar_layer.h"
 #include "nsg/raster/lidarseg_layer.h"
 #include "nsg/raster/vehicle_layer.h"
+#include "nsg/tiling/crops.h"
 
 namespace nsg::pipeline {
 namespace {
@@ -63,8 +64,38 @@ constexpr uint64_t kLidarsegScratchBytes = 16ull << 20;
 // everything the run really adds (e2e: estimate 1.27× the peak).
 constexpr uint64_t kWorkingBytes = 8ull << 20;
 constexpr uint64_t kTileBytesPerPixelInFlight = 20;
+// The lane graph, its segment index and GeoJSON during the tile stage, per byte of the map
+// file, at the default 2 m node spacing; they grow with 2 m / graph.max_spacing_m (the e2e
+// world: its 1.0 MB map, peak +21.3 MB at 0.1 m against 2 m).
+constexpr double kGraphBytesPerMapByte = 1.1;
+constexpr double kDefaultSpacingM = 2.0;
+// A planned crop: the tiling::Crop, its copy in the split-ordered list and its key.
+constexpr double kCropPlanBytes = 2 * sizeof(tiling::Crop) + 64;
+// The disc marking runs on cells of at least the range over this (each disc ≤ ~800 cells),
+// so estimating takes milliseconds at any resolution: at a fine resolution a cell stands
+// for many blocks and a disc's edge cells are counted whole (an overestimate of ≤ 1/8 of
+// the range around each disc). At the default resolution a cell is one block.
+constexpr double kDiscCellsPerRange = 16.0;
+// Byte counts saturate here (an exabyte): far beyond any machine, and no overflow.
+constexpr double kMaxBytes = 1e18;
 
-// Blocks within `range_m` of any of the poses (blocks of `block_m` metres).
+uint64_t bytes_of(double bytes) { return static_cast<uint64_t>(std::clamp(bytes, 0.0, kMaxBytes)); }
+
+// Vehicle boxes are a few metres across: marked on cells of at least this.
+constexpr double kVehicleCellM = 1.0;
+
+// The blocks a set of discs reaches, marked on cells of at least `min_cell_m` (and at least
+// a block); the count is scaled by the blocks per cell.
+struct DiscCells {
+  double cell_m;
+  double blocks_per_cell;
+  std::set<Block> cells;
+  DiscCells(double block_m, double min_cell_m)
+      : cell_m(std::max(block_m, min_cell_m)), blocks_per_cell((cell_m / block_m) * (cell_m / block_m)) {}
+  double blocks() const { return static_cast<double>(cells.size()) * blocks_per_cell; }
+};
+
+// Cells within `range_m` of (x, y) (cells of `block_m` metres).
 void mark_disc_blocks(double x, double y, double range_m, double block_m, std::set<Block>& out) {
   const auto lo = [&](double v) { return static_cast<int64_t>(std::floor((v - range_m) / block_m)); };
   const auto hi = [&](double v) { return static_cast<int64_t>(std::floor((v + range_m) / block_m)); };
@@ -78,9 +109,9 @@ void mark_disc_blocks(double x, double y, double range_m, double block_m, std::s
 }
 
 struct LocationFootprint {
-  size_t lidar_blocks = 0;      // union over the location's sweeps
-  size_t max_scene_blocks = 0;  // the largest single scene
-  size_t vehicle_blocks = 0;
+  double lidar_blocks = 0;      // union over the location's sweeps
+  double max_scene_blocks = 0;  // the largest single scene
+  double vehicle_blocks = 0;
   double vehicle_cells = 0.0;  // box footprints, a box seen again in the same place counted once
   size_t images = 0;
   uint64_t max_image_pixels = 0;  // the largest key-frame camera image (full size)
@@ -120,17 +151,18 @@ double covered_cell_fraction(const LocationFootprint& f, double reached_blocks, 
 // (a parked car annotated in every key frame fills the same cells each time).
 void add_vehicle_footprint(const nuscenes::Database& db, const std::vector<int>& slot, double block_m,
                            double resolution_m, LocationFootprint& f) {
-  std::set<Block> blocks;
+  DiscCells blocks(block_m, kVehicleCellM);
   std::set<std::tuple<nuscenes::Index, int64_t, int64_t>> seen;  // (instance, 1 m cell of the centre)
   for (const nuscenes::SampleAnnotation& a : db.sample_annotation) {
     if (slot[static_cast<size_t>(db.sample[a.sample].scene)] < 0) continue;
     if (!db.category[a.category].name.starts_with("vehicle.")) continue;
-    mark_disc_blocks(a.translation[0], a.translation[1], std::hypot(a.size[0], a.size[1]) / 2, block_m, blocks);
+    mark_disc_blocks(a.translation[0], a.translation[1], std::hypot(a.size[0], a.size[1]) / 2, blocks.cell_m,
+                     blocks.cells);
     if (seen.insert({a.instance, std::llround(a.translation[0]), std::llround(a.translation[1])}).second)
       f.vehicle_cells += a.size[0] * a.size[1] / (resolution_m * resolution_m);
   }
-  f.vehicle_blocks = blocks.size();
-  f.vehicle_cells = std::min(f.vehicle_cells, static_cast<double>(f.vehicle_blocks * kCellsPerBlock));
+  f.vehicle_blocks = blocks.blocks();
+  f.vehicle_cells = std::min(f.vehicle_cells, f.vehicle_blocks * kCellsPerBlock);
 }
 
 LocationFootprint footprint(const nuscenes::Database& db, const std::vector<nuscenes::Index>& scenes,
@@ -139,7 +171,8 @@ LocationFootprint footprint(const nuscenes::Database& db, const std::vector<nusc
   const double range_m = config.raster.lidar.max_range_m;
   std::vector<int> slot(db.scene.size(), -1);
   for (size_t i = 0; i < scenes.size(); ++i) slot[static_cast<size_t>(scenes[i])] = static_cast<int>(i);
-  std::vector<std::set<Block>> per_scene(scenes.size());
+  const DiscCells empty(block_m, range_m / kDiscCellsPerRange);
+  std::vector<DiscCells> per_scene(scenes.size(), empty);
   std::vector<std::pair<double, double>> last(scenes.size(), {1e300, 1e300});
   LocationFootprint f;
   std::vector<nuscenes::Index> sweeps;  // sample_data rows
@@ -156,16 +189,17 @@ LocationFootprint footprint(const nuscenes::Database& db, const std::vector<nusc
     f.key_sweeps += sd.is_key_frame;
     const auto& t = db.ego_pose[sd.ego_pose].translation;
     auto& [lx, ly] = last[static_cast<size_t>(k)];
-    if (std::hypot(t[0] - lx, t[1] - ly) < 0.25 * block_m) continue;  // nearby poses mark the same blocks
+    DiscCells& scene = per_scene[static_cast<size_t>(k)];
+    if (std::hypot(t[0] - lx, t[1] - ly) < 0.25 * scene.cell_m) continue;  // nearby poses mark the same cells
     lx = t[0], ly = t[1];
-    mark_disc_blocks(t[0], t[1], range_m, block_m, per_scene[static_cast<size_t>(k)]);
+    mark_disc_blocks(t[0], t[1], range_m, scene.cell_m, scene.cells);
   }
-  std::set<Block> all;
-  for (const std::set<Block>& s : per_scene) {
-    f.max_scene_blocks = std::max(f.max_scene_blocks, s.size());
-    all.insert(s.begin(), s.end());
+  DiscCells all = empty;
+  for (const DiscCells& scene : per_scene) {
+    f.max_scene_blocks = std::max(f.max_scene_blocks, scene.blocks());
+    all.cells.insert(scene.cells.begin(), scene.cells.end());
   }
-  f.lidar_blocks = all.size();
+  f.lidar_blocks = all.blocks();
   f.sweeps = sweeps.size();
   f.points_per_sweep = mean_points_per_sweep(db, sweeps);
   add_vehicle_footprint(db, slot, block_m, config.resolution_m, f);
@@ -183,48 +217,61 @@ uint64_t image_in_flight_bytes(const LocationFootprint& f, const GenerateConfig&
          (camera.semantic_masks() ? f.max_image_pixels * kMaskBytesPerPixel : 0);
 }
 
-// The tile stage: graph, GeoJSON, manifest and one batch of tiles in flight.
-uint64_t tile_stage_bytes(const GenerateConfig& config, size_t threads) {
+// Crops a location's plan can hold: random_total per split (three splits at most), or
+// random_per_km2 over the covered area, or a grid over it.
+double planned_crops(const GenerateConfig& config, double covered_km2) {
+  const tiling::CropOptions& c = config.crops;
+  const double crop_km2 = std::pow(c.size_px * config.resolution_m / 1000.0, 2);
+  const double random = c.random_total > 0 ? 3.0 * static_cast<double>(c.random_total) : c.random_per_km2 * covered_km2;
+  return std::max(random, covered_km2 / crop_km2);
+}
+
+// The tile stage: graph, GeoJSON, manifest, the crop plan and one batch of tiles in flight.
+uint64_t tile_stage_bytes(const GenerateConfig& config, size_t threads, double crops, uint64_t map_file_bytes) {
   const uint64_t batch = std::max<uint64_t>(8, 4 * threads);
   const uint64_t pixels = static_cast<uint64_t>(config.crops.size_px) * config.crops.size_px;
-  return kWorkingBytes + batch * pixels * kTileBytesPerPixelInFlight;
+  const double graph =
+      kGraphBytesPerMapByte * static_cast<double>(map_file_bytes) * (kDefaultSpacingM / config.graph.max_spacing_m);
+  return bytes_of(static_cast<double>(kWorkingBytes + batch * pixels * kTileBytesPerPixelInFlight) +
+                  crops * kCropPlanBytes + graph);
 }
 
 MemoryEstimate location_estimate(const LocationFootprint& f, const GenerateConfig& config, size_t lanes, size_t threads,
                                  bool cameras, bool lidarseg) {
   MemoryEstimate e;
-  const auto blocks_of = [](double blocks, size_t cell_bytes) {
-    return static_cast<uint64_t>(blocks * kCellsPerBlock * cell_bytes);
-  };
-  const double reached = kReachedBlockFraction * static_cast<double>(f.lidar_blocks);
+  const auto blocks_of = [](double blocks, size_t cell_bytes) { return blocks * kCellsPerBlock * cell_bytes; };
+  const double reached = kReachedBlockFraction * f.lidar_blocks;
   const double fill = covered_cell_fraction(f, reached, f.sweeps);
-  e.map_bytes = static_cast<uint64_t>(kMapReadBytesPerFileByte * static_cast<double>(f.map_file_bytes));
-  e.lidar_blocks = static_cast<uint64_t>(reached);
+  const double block_km2 = std::pow(raster::kBlockCells * config.resolution_m / 1000.0, 2);
+  e.map_bytes = bytes_of(kMapReadBytesPerFileByte * static_cast<double>(f.map_file_bytes));
+  e.lidar_blocks = bytes_of(reached);
+  e.covered_cells = bytes_of(reached * fill * kCellsPerBlock);
   // The finished layers are packed: the covered cells and a little per block.
-  e.lidar_bytes =
-      static_cast<uint64_t>(reached * (fill * kCellsPerBlock * sizeof(raster::LidarCell) + kPackedBlockBytes));
-  e.vehicle_bytes =
-      static_cast<uint64_t>(f.vehicle_cells * sizeof(raster::VehicleCell)) + f.vehicle_blocks * kPackedBlockBytes;
+  e.lidar_bytes = bytes_of(reached * (fill * kCellsPerBlock * sizeof(raster::LidarCell) + kPackedBlockBytes));
+  e.vehicle_bytes = bytes_of(f.vehicle_cells * sizeof(raster::VehicleCell) + f.vehicle_blocks * kPackedBlockBytes);
   // Each lane holds one scene's dense LiDAR and vehicle blocks while it accumulates.
-  e.scenes_bytes = lanes * blocks_of(kReachedBlockFraction * static_cast<double>(f.max_scene_blocks),
-                                     sizeof(raster::LidarCell) + sizeof(raster::VehicleCell) / 4);
+  e.scenes_bytes =
+      bytes_of(static_cast<double>(lanes) * blocks_of(kReachedBlockFraction * f.max_scene_blocks,
+                                                      sizeof(raster::LidarCell) + sizeof(raster::VehicleCell) / 4));
   // The camera stage indexes the covered cells inside the tiles (not known before the
   // crops are planned: kTileShare of them) and writes a dense colour layer over their
   // blocks; the lidarseg layer (packed, key-frame points only) comes after the index is
   // freed, beside the colour layer.
   if (cameras && f.images > 0) {
     const double tile_blocks = kTileShare * reached;
-    const uint64_t colour = blocks_of(tile_blocks, sizeof(raster::ColorCell));
-    const uint64_t index = static_cast<uint64_t>(tile_blocks * kCellsPerBlock * fill) * kCameraBytesPerPoint +
-                           std::min<uint64_t>(threads, f.images) * image_in_flight_bytes(f, config);
-    uint64_t labels = 0;
+    const double colour = blocks_of(tile_blocks, sizeof(raster::ColorCell));
+    const double index = tile_blocks * kCellsPerBlock * fill * kCameraBytesPerPoint +
+                         static_cast<double>(std::min<uint64_t>(threads, f.images)) *
+                             static_cast<double>(image_in_flight_bytes(f, config));
+    double labels = 0;
     if (lidarseg)
-      labels = static_cast<uint64_t>(reached * kCellsPerBlock * covered_cell_fraction(f, reached, f.key_sweeps)) *
-                   sizeof(raster::LidarsegCell) +
-               kLidarsegScratchBytes;
-    e.camera_bytes = colour + std::max(index, labels);
+      labels =
+          reached * kCellsPerBlock * covered_cell_fraction(f, reached, f.key_sweeps) * sizeof(raster::LidarsegCell) +
+          kLidarsegScratchBytes;
+    e.camera_bytes = bytes_of(colour + std::max(index, labels));
   }
-  e.working_bytes = tile_stage_bytes(config, threads);
+  e.working_bytes =
+      tile_stage_bytes(config, threads, planned_crops(config, reached * fill * block_km2), f.map_file_bytes);
   return e;
 }
 
@@ -239,6 +286,12 @@ std::string MemoryEstimate::describe() const {
       mb(total()).c_str(), location.c_str(), mb(base_bytes).c_str(), mb(map_bytes).c_str(), mb(lidar_bytes).c_str(),
       static_cast<unsigned long long>(lidar_blocks), mb(vehicle_bytes).c_str(), mb(scenes_bytes).c_str(),
       mb(camera_bytes).c_str(), mb(working_bytes).c_str());
+}
+
+std::string MemoryEstimate::plan_details() const {
+  return strprintf("location=%s lidar_blocks=%llu covered_cells=%llu packed_block_bytes=%llu", location.c_str(),
+                   static_cast<unsigned long long>(lidar_blocks), static_cast<unsigned long long>(covered_cells),
+                   static_cast<unsigned long long>(kPackedBlockBytes));
 }
 
 std::string MemoryEstimate::how_to_lower() const {
@@ -271,7 +324,7 @@ MemoryEstimate estimate_generate_memory(const nuscenes::Database& db,
     if (peak.location.empty() || e.total() > peak.total()) peak = e;
   }
   peak.base_bytes = current_rss_bytes();
-  if (peak.location.empty()) peak.working_bytes = tile_stage_bytes(config, workers);
+  if (peak.location.empty()) peak.working_bytes = tile_stage_bytes(config, workers, 0.0, 0);
   return peak;
 }
 

@@ -18,6 +18,7 @@ struct MemoryEstimate {
   uint64_t base_bytes = 0;     // the process when estimating: tables, map readers
   uint64_t map_bytes = 0;      // reading the location's map expansion (freed once the graph is built)
   uint64_t lidar_blocks = 0;   // estimated 64 × 64 LiDAR blocks at that location
+  uint64_t covered_cells = 0;  // estimated LiDAR cells with data there
   uint64_t lidar_bytes = 0;    // the LiDAR layer (packed: the covered cells)
   uint64_t vehicle_bytes = 0;  // the vehicle layer (packed)
   uint64_t scenes_bytes = 0;   // each thread's dense layers of the scene it accumulates
@@ -30,7 +31,10 @@ struct MemoryEstimate {
     return base_bytes +
            std::max(map_bytes, lidar_bytes + vehicle_bytes + scenes_bytes + std::max(camera_bytes, working_bytes));
   }
-  std::string describe() const;      // one line: total and its parts
+  std::string describe() const;  // one line: total and its parts
+  // The estimated quantities and the plan's measured constants, for checking them against
+  // a run (generate -v logs this and what the run measured).
+  std::string plan_details() const;
   std::string how_to_lower() const;  // what would make it smaller, largest part first
 };
 

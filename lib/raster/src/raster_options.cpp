@@ -2,7 +2,15 @@
 
 namespace nsg::raster {
 
+namespace {
+// The farthest a LiDAR return or a camera view is taken from: beyond any automotive sensor
+// (nuScenes' HDL-32E reaches ~70 m), and what keeps the block map and the views per point
+// bounded.
+constexpr double kMaxSensorRangeM = 250.0;
+}  // namespace
+
 using options::above;
+using options::above_up_to;
 using options::at_least;
 using options::between;
 using options::one_of;
@@ -16,8 +24,10 @@ const options::Table<LidarOptions>& lidar_option_table() {
         .help("Drop points with |x| and |y| below this in the sensor frame (the ego roof, devkit remove_close)");
     t.number("lidar.max_range_m", &LidarOptions::max_range_m)
         .unit("m")
-        .range(above(0))
-        .help("Drop points farther than this from the sensor (in its xy plane)");
+        .range(above_up_to(0, kMaxSensorRangeM))
+        .help(
+            "Drop points farther than this from the sensor (in its xy plane; at most 250 m, beyond any automotive "
+            "LiDAR's reach: the memory plan and the block map scale with its square)");
     return t;
   }();
   return table;
@@ -41,8 +51,10 @@ const options::Table<CameraOptions>& camera_option_table() {
             "samples/semantic-labels/nuscenes-lidarseg.json)");
     t.number("camera.view_radius_m", &CameraOptions::view_radius_m)
         .unit("m")
-        .range(above(0))
-        .help("Key frames whose ego pose is farther than this (in xy) from a point do not colour it");
+        .range(above_up_to(0, kMaxSensorRangeM))
+        .help(
+            "Key frames whose ego pose is farther than this (in xy) from a point do not colour it (at most 250 m: "
+            "the views tried per point grow with its square)");
     t.number("camera.min_depth_m", &CameraOptions::min_depth_m)
         .unit("m")
         .range(at_least(0))

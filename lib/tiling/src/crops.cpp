@@ -31,8 +31,10 @@ const options::Table<CropOptions>& crop_option_table() {
         .range(options::between(0, 1e6))
         .help("Random placement: crops wanted per km² of a region's LiDAR-covered area");
     t.integer("crops.random_total", &CropOptions::random_total)
-        .range(options::at_least(0))
-        .help("Random placement: crops wanted per split in total, spread by covered area (0 = use random_per_km2)");
+        .range(options::between(0, 100000))
+        .help(
+            "Random placement: crops wanted per split in total, spread by covered area (0 = use random_per_km2; "
+            "at most 100 000: the whole of nuScenes yields a few thousand)");
     t.integer("crops.attempts_per_crop", &CropOptions::attempts_per_crop)
         .range(options::at_least(1))
         .help("Random placement: draws per wanted crop before giving up");
