@@ -3,6 +3,7 @@
 
 usage: make_corpus.py RELEASE OUT  ->  OUT/<target>/<seed files>
 """
+import gzip
 import json
 import os
 import sys
@@ -150,6 +151,34 @@ def scores(out):
         put(out, "score", f"random-{n}", bytes(rng.randrange(256) for _ in range(n)))
 
 
+def merge_records(out):
+    """Done-records as generate writes them: finished, unfinished, and one naming a file
+    outside the folder (refused by name)."""
+    shard = {"name": "boston-seaport-train-000000.tar", "split": "train", "first_key": "a", "last_key": "b",
+             "tiles": 1}
+    item = {"id": "boston-seaport/tiles/a", "files": [{"file": "shards/boston-seaport-train-000000.tar",
+                                                        "sha256": "0" * 64, "bytes": 10}]}
+    record = {"complete": True, "config_sha256": "0" * 64, "config": {"seed": 1},
+              "plan": [{"name": "boston-seaport", "shards": [shard]}], "items": [item]}
+    put(out, "merge", "complete", json.dumps(record))
+    put(out, "merge", "unfinished", json.dumps({"complete": False}))
+    outside = json.loads(json.dumps(record))
+    outside["items"][0]["files"][0]["file"] = "../../etc/hostname"
+    put(out, "merge", "outside", json.dumps(outside))
+
+
+def models(out):
+    """The committed golden model, gzip and inflated, and cut short."""
+    with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "golden", "model",
+                           "b1-e2e-trees2.yml.gz"), "rb") as f:
+        packed = f.read()
+    text = gzip.decompress(packed)
+    put(out, "model", "golden-gz", packed)
+    put(out, "model", "golden-yml", text)
+    put(out, "model", "cut-gz", packed[: len(packed) // 2])
+    put(out, "model", "cut-yml", text[: len(text) // 3])
+
+
 def main():
     release, out = sys.argv[1], sys.argv[2]
     tables(release, out)
@@ -161,6 +190,8 @@ def main():
     tile_jsons(out)
     images(release, out)
     scores(out)
+    merge_records(out)
+    models(out)
 
 
 if __name__ == "__main__":

@@ -16,6 +16,10 @@ per tile, a prediction that uses every limit in the way that costs the scorer mo
   copy16   the 16-lane junction against itself (its own ground truth): the
            densest connected copy within the search work limit; must be scored
 
+and, in values.json, a file near the JSON value limit (9.3 M values in 210 tiles of 5 000
+nodes and 9 800 edges each, in pieces of 100 nodes; keys the ground truth does not have,
+so they are parsed, checked and ignored): what a file at the limits costs in memory.
+
 mesh and random cost more than the search work limit against the connected junction and
 must be refused (exit 1) when they reach it; lanes and both copies must be scored.
 and, in refused.json, the mesh at the node and edge limits (5 000 nodes, 10 000 edges),
@@ -150,6 +154,22 @@ def dense_lanes(gt, n_nodes, n_edges, length_px, step_px=0.5):
     return {"nodes": nodes, "edges": edges}
 
 
+def values_file(tiles=210, nodes=5000, piece=100):
+    rng = random.Random(3)
+    out = {}
+    for t in range(tiles):
+        edges = []
+        for first in range(0, nodes, piece):
+            edges += [[k, k + 1] for k in range(first, first + piece - 1)]
+            edges += [[k, k + 2] for k in range(first, first + piece - 2)]
+        points = []
+        for first in range(0, nodes, piece):  # each piece a short straight run
+            u, v = rng.randrange(200), rng.randrange(256)
+            points += [[u + 0.5 * k, v] for k in range(piece)]
+        out[f"values-{t:04d}"] = {"nodes": points, "edges": edges}
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("out")
@@ -175,6 +195,9 @@ def main():
     dump("copy16.json", {"copy16": junction16})
     dump("gt-refused.json", {"mesh": gt})
     dump("refused.json", {"mesh": mesh(a.nodes, a.edges, a.length_px)})
+    dump("gt-values.json", {"copy": gt})
+    with open(os.path.join(a.out, "values.json"), "w") as f:
+        json.dump({"schema_version": "1", "tiles": values_file()}, f, separators=(",", ":"))
     preds["copy16"] = junction16
     for k, p in preds.items():
         length = sum(math.dist(p["nodes"][i], p["nodes"][j]) for i, j in p["edges"])

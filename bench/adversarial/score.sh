@@ -5,7 +5,8 @@
 # take at most MAX_S_PER_TILE (default 2) CPU seconds (user + system: the machine may be
 # shared, so wall time is shown but not judged) and MAX_RSS_MB (default 1024). The copies
 # and the dense lanes must be scored (exit 0); mesh and random must be refused by the
-# search work limit (exit 1), and refused.json by the static limits (exit 1).
+# search work limit (exit 1), and refused.json by the static limits (exit 1). values.json (a
+# file near the JSON value limit, every tile extra) is judged on memory only.
 #   usage: bench/adversarial/score.sh [build-dir] [out-dir]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -22,8 +23,9 @@ worst_s=0
 worst_mb=0
 rows=()
 # case  expected exit
-for spec in "copy 0" "copy16 0" "lanes 0" "mesh 1" "random 1" "refused 1"; do
-  read -r name want <<<"$spec"
+for spec in "copy 0 $max_s" "copy16 0 $max_s" "lanes 0 $max_s" "mesh 1 $max_s" "random 1 $max_s" \
+  "refused 1 $max_s" "values 0 600"; do
+  read -r name want case_max_s <<<"$spec"
   set +e
   /usr/bin/time -f '%U %S %e %M' -o "$out/$name.time" "$exe" score -q --threads 1 --ground-truth "$out/gt-$name.json" \
     --submission "$out/$name.json" --format csv --out "$out/$name.report.json" >"$out/$name.csv" 2>"$out/$name.err"
@@ -36,12 +38,12 @@ for spec in "copy 0" "copy16 0" "lanes 0" "mesh 1" "random 1" "refused 1"; do
   printf '  %-8s %-18s %5s s CPU (%s s wall), %4d MB\n' "$name" "$outcome" "$seconds" "$wall" "$rss_mb" | tee -a "$out/rows.txt"
   rows+=("{\"case\": \"$name\", \"exit\": $rc, \"cpu_seconds\": $seconds, \"wall_seconds\": $wall, \"peak_rss_mb\": $rss_mb}")
   [ "$rc" = "$want" ] || verdict="FAIL ($name: exit $rc, expected $want: $(head -c 300 "$out/$name.err"))"
-  awk -v p="$seconds" -v m="$max_s" 'BEGIN { exit !(p <= m) }' || verdict="FAIL ($name: > $max_s s)"
+  awk -v p="$seconds" -v m="$case_max_s" 'BEGIN { exit !(p <= m) }' || verdict="FAIL ($name: > $case_max_s s)"
   [ "$rss_mb" -le "$max_mb" ] || verdict="FAIL ($name: > $max_mb MB)"
-  worst_s=$(awk -v a="$worst_s" -v b="$seconds" 'BEGIN { print (b > a ? b : a) }')
+  [ "$name" = values ] || worst_s=$(awk -v a="$worst_s" -v b="$seconds" 'BEGIN { print (b > a ? b : a) }')
   [ "$rss_mb" -le "$worst_mb" ] || worst_mb=$rss_mb
 done
-printf 'adversarial score: 6 cases against a connected junction, worst %s s CPU per tile, peak RSS %d MB  %s\n' \
+printf 'adversarial score: 6 cases against a connected junction, worst %s s CPU per tile, peak RSS %d MB (a file near the value limit included)  %s\n' \
   "$worst_s" "$worst_mb" "$verdict" | tee "$out/result.txt"
 {
   printf '{"worst_cpu_seconds": %s, "peak_rss_mb": %d, "ok": %s, "cases": [' "$worst_s" "$worst_mb" \

@@ -235,7 +235,13 @@ LaneModel LaneModel::load(const std::filesystem::path& path) {
     m.direction = read_forest(fs, "direction", file);
     if (m.options.variant != Variant::kB1) m.anchor = read_forest(fs, "anchor", file);
     if (m.options.variant == Variant::kGraph) m.connection = read_forest(fs, "connection", file);
+  } catch (const Error&) {
+    throw;
   } catch (const cv::Exception& ex) {
+    throw ParseError(file, "model", std::string("a readable OpenCV FileStorage (") + ex.what() + ")");
+  } catch (const std::exception& ex) {
+    // OpenCV's YAML reader also lets standard exceptions through on malformed text
+    // (std::length_error from a string it sizes from the input: found by fuzz_model).
     throw ParseError(file, "model", std::string("a readable OpenCV FileStorage (") + ex.what() + ")");
   }
   m.options.validate();

@@ -45,11 +45,24 @@ void check_record(const ShareRecord& r) {
   if (!d["complete"].get<bool>()) return;  // reported as unfinished; nothing else is read
   need(d.contains("config_sha256") && d["config_sha256"].is_string(), "/config_sha256", "a string");
   need(d.contains("config") && d["config"].is_object(), "/config", "the run's config object");
+  // The config members merge reads (the rest is copied into the manifest as it is).
+  const auto member = [&](const char* pointer, bool (ordered_json::*is)() const noexcept, const char* what) {
+    const ordered_json::json_pointer at(pointer);
+    need(d["config"].contains(at) && (d["config"].at(at).*is)(), std::string("/config") + pointer, what);
+  };
+  member("/dataroot", &ordered_json::is_string, "a string");
+  member("/version", &ordered_json::is_string, "a string");
+  member("/seed", &ordered_json::is_number_unsigned, "an unsigned integer");
+  member("/resolution_m", &ordered_json::is_number, "a number");
+  member("/crops/size_px", &ordered_json::is_number_unsigned, "a tile size");
+  member("/output/layout", &ordered_json::is_string, "a string");
+  member("/vehicles/detections", &ordered_json::is_string, "a string");
   need(d.contains("plan") && d["plan"].is_array(), "/plan", "an array of locations");
   for (size_t i = 0; i < d["plan"].size(); ++i) {
     const ordered_json& loc = d["plan"][i];
     const std::string at = "/plan/" + std::to_string(i);
     need(loc.is_object() && loc.contains("name") && loc["name"].is_string(), at + "/name", "a location name");
+    need(loc.contains("map_version"), at + "/map_version", "the map expansion's version");
     need(loc.contains("shards") && loc["shards"].is_array(), at + "/shards", "an array");
     for (size_t k = 0; k < loc["shards"].size(); ++k) {
       const ordered_json& sh = loc["shards"][k];

@@ -294,6 +294,8 @@ TEST(ModelCli, BrokenModelFileExits2NamingIt) {
       {"garbage.yml.gz", std::string("\x1f\x8b") + "this is not deflate data at all"},
       {"text.yml", "hello: [1, 2\n"},
       {"other.yml", "%YAML:1.0\n---\nformat: something-else\n"},
+      // An empty key in a flow mapping: OpenCV's reader threw std::length_error (fuzz_model).
+      {"empty-key.yml", "%YAML:1.0\n---\nformat: nsgraph-lane-model\nsplits:\n  - { : 6.9e-05 }\n"},
       {"empty.yml.gz", ""},
   };
   for (const auto& [name, bytes] : cases) {

@@ -281,6 +281,14 @@ TEST(Generate, MergeChecksTheDoneRecordsLikeAnyOutsideFile) {
   real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
   real["items"][0]["files"][0]["bytes"] = "many";
   EXPECT_NE(merge_err(real.dump()).find("/items/0/files/0/bytes"), std::string::npos);
+  // A config member merge reads, missing: it was read through a dangling reference
+  // (heap-use-after-free, found by fuzz_merge).
+  real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
+  real["config"].erase("output");
+  EXPECT_NE(merge_err(real.dump()).find("/config/output/layout"), std::string::npos);
+  real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
+  real["plan"][0].erase("map_version");
+  EXPECT_NE(merge_err(real.dump()).find("/plan/0/map_version"), std::string::npos);
 }
 
 // kill -9 in the middle of a run leaves no half-written shard under its final name, and a
