@@ -48,6 +48,22 @@ TEST(Cli, VersionAfterACommandIsTheCommandsOwnOption) {
   EXPECT_NE(global.out.find(std::string("nsgraph ") + kVersion), std::string::npos) << global.out;
 }
 
+// A command that reads no release has no --version: the program's flag must not answer
+// it (it printed the program version, exit 0, and wrote nothing).
+TEST(Cli, VersionAfterACommandWithoutOneIsRefusedByName) {
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"score", "--ground-truth", "g.json", "--submission", "s.json", "--version", "v1.0-mini"},
+           {"stats", "ds", "--version=v1.0-mini"},
+           {"inspect", "graph", "--version", "v1.0-mini"}}) {
+    const auto r = test::run_nsgraph(args);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find(args[0] + (args[0] == "inspect" ? " graph" : "") + ": --version: this command reads no"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.out.find(std::string("nsgraph ") + kVersion), std::string::npos) << r.out;
+  }
+}
+
 TEST(Cli, NoCommandIsAUsageError) { EXPECT_EQ(test::run_nsgraph({}).exit_code, 2); }
 
 }  // namespace nsg

@@ -59,6 +59,38 @@ bool check_command_word(CLI::App& app, int argc, char** argv) {
   return true;
 }
 
+// `--version` after a command that reads no release would fall through to the program's
+// flag: `nsgraph score ... --version v1.0-mini` printed "nsgraph 0.1.0", exit 0, and wrote
+// nothing. The program's version is asked before any command; after one, --version is
+// the command's own option or refused by name.
+bool check_version_flag(CLI::App& app, int argc, char** argv) {
+  CLI::App* command = nullptr;
+  std::string path;
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word == "--") break;
+    if (word == "--version" || word.starts_with("--version=")) {
+      if (command == nullptr || command->get_option_no_throw("--version") != nullptr) continue;
+      std::fprintf(stderr,
+                   "nsgraph: error: %s: --version: this command reads no nuScenes release, so it takes no release "
+                   "version; the program's version is 'nsgraph --version' (before any command)\n",
+                   path.c_str());
+      return false;
+    }
+    if (word.empty() || word[0] == '-') continue;
+    // A word naming a subcommand of the current command descends into it; any other word
+    // is an option's value or a positional argument.
+    CLI::App* parent = command != nullptr ? command : &app;
+    for (CLI::App* sub : parent->get_subcommands([](CLI::App*) { return true; }))
+      if (sub->get_name() == word) {
+        command = sub;
+        path += (path.empty() ? "" : " ") + word;
+        break;
+      }
+  }
+  return true;
+}
+
 int run(int argc, char** argv) {
   CLI::App app{"nsgraph — build, validate and score the NuScenesGraph lane-graph benchmark"};
   app.set_version_flag("--version", std::string("nsgraph ") + nsg::kVersion);
@@ -68,7 +100,7 @@ int run(int argc, char** argv) {
   app.add_flag("-q,--quiet", ctx.quiet, "Only errors on stderr");
   app.add_flag("-v,--verbose", ctx.verbose, "Debug log lines");
   for (nsg::cli::AddCommand add : kCommands) add(app, ctx);
-  if (!check_command_word(app, argc, argv)) return nsg::kExitInput;
+  if (!check_command_word(app, argc, argv) || !check_version_flag(app, argc, argv)) return nsg::kExitInput;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
