@@ -13,7 +13,12 @@ namespace nsg::metrics::detail {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kSameSpotT = 1e-12;  // projections this close in t share one node
+// Projections this close (metres along the segment) to an end node are that node, and
+// this close to each other share one node (docs/metrics.md rule 3, version 2): a control
+// point a centimetre off a junction node — a rounded or re-projected copy — reaches every
+// lane of the junction as the node does. (Version 1 compared t within 1e-12, so such a
+// point split an incoming lane next to the node and lost every path through it.)
+constexpr double kSameSpotM = 0.01;
 
 struct Pm {
   double x = 0.0, y = 0.0;  // metres
@@ -165,26 +170,29 @@ SplitGraph split_at_snaps(const std::vector<Pm>& b_nodes, const std::vector<Segm
     const bool fwd = !directed || s.fwd, bwd = !directed || s.bwd;
     auto& pts = on_seg[k];
     std::sort(pts.begin(), pts.end());
-    // Chain of (node, position) from the i end to the j end.
-    std::vector<std::pair<int32_t, Pm>> chain{{s.i, pa}};
-    double last_t = 0.0;
+    const double len_m = dist_m(pa, pb);
+    // Chain of nodes from the i end to the j end, with their positions.
+    struct Link {
+      int32_t node;
+      double at_m;  // along the segment from the i end
+      Pm pos;
+    };
+    std::vector<Link> chain{{s.i, 0.0, pa}};
     for (const auto& [t, a] : pts) {
-      if (t <= kSameSpotT) {
+      const double at_m = t * len_m, to_j_m = (1.0 - t) * len_m;
+      if (at_m <= kSameSpotM && at_m <= to_j_m) {
         out.node_of[a] = s.i;
-      } else if (t >= 1.0 - kSameSpotT) {
+      } else if (to_j_m <= kSameSpotM) {
         out.node_of[a] = s.j;
       } else {
-        if (chain.size() == 1 || t - last_t > kSameSpotT) {
-          chain.push_back({next++, {pa.x + t * (pb.x - pa.x), pa.y + t * (pb.y - pa.y)}});
-        }
-        last_t = t;
-        out.node_of[a] = chain.back().first;
+        if (chain.size() == 1 || at_m - chain.back().at_m > kSameSpotM)
+          chain.push_back({next++, at_m, {pa.x + t * (pb.x - pa.x), pa.y + t * (pb.y - pa.y)}});
+        out.node_of[a] = chain.back().node;
       }
     }
-    chain.push_back({s.j, pb});
-    for (size_t c = 0; c + 1 < chain.size(); ++c) {
-      add_piece(out.arcs, chain[c].first, chain[c + 1].first, dist_m(chain[c].second, chain[c + 1].second), fwd, bwd);
-    }
+    chain.push_back({s.j, len_m, pb});
+    for (size_t c = 0; c + 1 < chain.size(); ++c)
+      add_piece(out.arcs, chain[c].node, chain[c + 1].node, dist_m(chain[c].pos, chain[c + 1].pos), fwd, bwd);
   }
   out.n_nodes = static_cast<size_t>(next);
   return out;

@@ -96,10 +96,14 @@ TEST(ScoreSubmission, PerfectCopyWrittenToAFileScoresExactlyOne) {
   ASSERT_TRUE(s.scored()) << s.issues.format();
   expect_perfect(s.report, "written copy");
 
+  // Rounded to 1/1000 px, a junction node lies a fraction of a millimetre off its copy:
+  // within rule 3's 0.01 m it is that node (version 1 split an incoming lane next to it
+  // instead, and the copy lost 0.009 of apls_directed).
   write_submission(unround_ground_truth(1e-3).second, dir / "rounded.json");
   const ScoredSubmission r = score_submission(gt, ScoreSource::file(dir / "rounded.json"), golden_options());
   ASSERT_TRUE(r.scored()) << r.issues.format();
-  EXPECT_LT(*r.report.aggregate.mean[kAplsDirected], 0.995);  // 0.9909 on this machine
+  for (Metric m : {kApls, kAplsDirected, kAplsStrict})
+    EXPECT_GT(*r.report.aggregate.mean[m], 1.0 - 1e-4) << metric_name(m);
 }
 
 // `lanes` one-way lanes each way across a 256-px tile, nodes every 10 px and at every
@@ -182,6 +186,53 @@ TEST(ScoreSubmission, TheSearchWorkLimitScoresABusyConnectedJunctionAndRefusesAC
       << over.issues.items()[0].message;
   // measure() alone (score_tile's path) throws the same refusal.
   EXPECT_THROW(measure("busy", junction, &net, MetricParams{}), SearchWorkExceeded);
+}
+
+// Every node of `graphs` moved by a deterministic jitter of at most `max_px` per coordinate
+// (splitmix64, so the move is the same on every machine).
+GraphSet jittered(GraphSet graphs, double max_px) {
+  uint64_t state = 0x9e3779b97f4a7c15ULL;
+  auto next_unit = [&] {  // uniform in [-1, 1)
+    uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    z ^= z >> 31;
+    return static_cast<double>(z >> 11) * 0x1.0p-52 - 1.0;
+  };
+  for (auto& [key, g] : graphs)
+    for (Point& p : g.nodes) {
+      p.u += max_px * next_unit();
+      p.v += max_px * next_unit();
+    }
+  return graphs;
+}
+
+// docs/metrics.md "Continuity": the ground truth moved by <= 0.01 px per coordinate (a
+// rounded, re-projected or float-written copy) scores APLS, direction and F1/IoU within
+// 1e-3 of perfect over the split; Chamfer moves by the move itself. GEO and TOPO count
+// samples, which jump where a segment's length crosses a multiple of the step: their
+// move is bounded as documented, not continuous.
+TEST(ScoreSubmission, AHundredthOfAPixelMovesAplsDirectionAndMasksByAtMostOneThousandth) {
+  nsg::test::TempDir dir("jitter");
+  const auto [truth_text, truth] = unround_ground_truth(0.0);
+  const ScoreSource gt = ScoreSource::memory(truth_text, "<gt>");
+  for (const double max_px : {0.01, 0.001}) {
+    SCOPED_TRACE(max_px);
+    write_submission(jittered(truth, max_px), dir / "jittered.json");
+    const ScoredSubmission s = score_submission(gt, ScoreSource::file(dir / "jittered.json"), golden_options());
+    ASSERT_TRUE(s.scored()) << s.issues.format();
+    const MetricValues& mean = s.report.aggregate.mean;
+    for (int m = kApls; m <= kIou; ++m) {
+      if (m >= kChamferPx2 && m <= kChamferMeanM) continue;
+      ASSERT_TRUE(mean[m].has_value()) << metric_name(m);
+      EXPECT_NEAR(*mean[m], 1.0, 1e-3) << metric_name(m);
+    }
+    EXPECT_LE(*mean[kChamferMeanM], max_px * 0.2 * std::sqrt(2.0));
+    for (int m = kGeoPrecision; m <= kTopoDirectedF1; ++m) {
+      std::printf("[ figures ] %g px: %s %.6f\n", max_px, metric_name(m), *mean[m]);
+      EXPECT_GT(*mean[m], 0.975) << metric_name(m);  // measured: >= 0.981 (TOPO recall at 0.01 px)
+    }
+  }
 }
 
 TEST(ScoreSubmission, GoldenPredictionGivesTheGoldenAggregate) {

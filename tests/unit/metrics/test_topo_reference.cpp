@@ -354,19 +354,23 @@ std::pair<int64_t, std::optional<double>> ref_one_sided(const CleanGraph& ga, co
   for (size_t k = 0; k < sb.size(); ++k) {
     std::sort(on[k].begin(), on[k].end());
     const Pm pa = b[sb[k].i], pb = b[sb[k].j];
+    // Rule 3 (version 2): within 0.01 m of an end node along the segment is that node
+    // (the nearer, i on a tie); within 0.01 m of the last new node shares it.
+    const double len = std::hypot(pb.x - pa.x, pb.y - pa.y);
     std::vector<size_t> chain{static_cast<size_t>(sb[k].i)};
-    double last_t = 0.0;
+    double chain_at = 0.0;
     for (const auto& [t, n] : on[k]) {
-      if (t <= 1e-12) {
+      const double at = t * len, to_j = (1.0 - t) * len;
+      if (at <= 0.01 && at <= to_j) {
         node_of[n] = sb[k].i;
-      } else if (t >= 1.0 - 1e-12) {
+      } else if (to_j <= 0.01) {
         node_of[n] = sb[k].j;
       } else {
-        if (chain.size() == 1 || t - last_t > 1e-12) {
+        if (chain.size() == 1 || at - chain_at > 0.01) {
           chain.push_back(bpos.size());
           bpos.push_back({pa.x + t * (pb.x - pa.x), pa.y + t * (pb.y - pa.y)});
+          chain_at = at;
         }
-        last_t = t;
         node_of[n] = static_cast<int32_t>(chain.back());
       }
     }
