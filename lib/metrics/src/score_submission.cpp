@@ -1,8 +1,11 @@
 #include "nsg/metrics/score_submission.h"
 
+#include <algorithm>
+
 #include "nsg/core/error.h"
 #include "nsg/core/json.h"
 #include "nsg/core/sha256.h"
+#include "nsg/core/strings.h"
 #include "nsg/metrics/io.h"
 #include "nsg/metrics/receipt.h"
 #include "nsg/metrics/submission_input.h"
@@ -40,6 +43,18 @@ ScoredSubmission score_submission(const ScoreSource& ground_truth, const ScoreSo
     truth = load_ground_truth(ground_truth.path, options.split, options.limits, options.verify_ground_truth,
                               &inputs.ground_truth_sha256);
     inputs.ground_truth_kind = std::filesystem::is_directory(ground_truth.path) ? "dataset" : "file";
+  }
+  // A submission none of whose keys is a tile of the split is for another split (or
+  // another dataset): scoring it would report every tile missing, exit 0, all zeros.
+  if (!out.graphs.empty() && !truth.empty() &&
+      std::none_of(out.graphs.begin(), out.graphs.end(), [&](const auto& kv) { return truth.count(kv.first) > 0; })) {
+    out.issues.error("submission.keys", submission.label,
+                     strprintf("tiles of split '%s': none of its %zu keys (e.g. '%s') is one of the split's %zu "
+                               "tiles (e.g. '%s'); is --split right, and is this the dataset it was predicted for?",
+                               printable_text(options.split).c_str(), out.graphs.size(),
+                               printable_text(out.graphs.begin()->first).c_str(), truth.size(),
+                               printable_text(truth.begin()->first).c_str()));
+    return out;
   }
   try {
     out.report = score(truth, out.graphs, options.score);

@@ -65,6 +65,27 @@ TEST(CliScore, InvalidSubmissionExits1NamingFileKeyAndPath) {
   EXPECT_TRUE(r.out.empty());
 }
 
+// A submission none of whose keys is a tile of the split (another split's, or look-alike
+// keys) is refused by name instead of scored as every tile missing (exit 0, all zeros);
+// one matching key is enough to score (the others are extra, as documented).
+TEST(CliScore, ASubmissionWithNoKeyOfTheSplitIsRefused) {
+  nsg::test::TempDir dir("score-cli-keys");
+  const fs::path other = dir / "other.json";
+  const std::string tile = R"({"nodes":[[1,2],[30,4]],"edges":[[0,1]]})";
+  nsg::test::write_text(other, R"({"schema_version":"1","tiles":{"boston-seaport-train-000001":)" + tile +
+                                   R"(,"straight‐gap":)" + tile + "}}");
+  const auto r = run_nsgraph(score_args(other));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("submission.keys"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("none of its 2 keys"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("is --split right"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  const fs::path one = dir / "one.json";
+  nsg::test::write_text(one, R"({"schema_version":"1","tiles":{"boston-seaport-train-000001":)" + tile +
+                                 R"(,"straight-gap":)" + tile + "}}");
+  EXPECT_EQ(run_nsgraph(score_args(one)).exit_code, 0);
+}
+
 // A submission that is not JSON is an invalid submission (exit 1, as validate --submission
 // says); an unreadable file or a bad option is an input error (exit 2).
 TEST(CliScore, MalformedSubmissionExits1UnreadableInputExits2) {
