@@ -68,7 +68,6 @@ constexpr uint64_t kTileBytesPerPixelInFlight = 20;
 // file, at the default 2 m node spacing; they grow with 2 m / graph.max_spacing_m (the e2e
 // world: its 1.0 MB map, peak +21.3 MB at 0.1 m against 2 m).
 constexpr double kGraphBytesPerMapByte = 1.1;
-constexpr double kDefaultSpacingM = 2.0;
 // A planned crop: the tiling::Crop, its copy in the split-ordered list and its key.
 constexpr double kCropPlanBytes = 2 * sizeof(tiling::Crop) + 64;
 // The disc marking runs on cells of at least the range over this (each disc ≤ ~800 cells),
@@ -95,14 +94,14 @@ struct DiscCells {
   double blocks() const { return static_cast<double>(cells.size()) * blocks_per_cell; }
 };
 
-// Cells within `range_m` of (x, y) (cells of `block_m` metres).
-void mark_disc_blocks(double x, double y, double range_m, double block_m, std::set<Block>& out) {
-  const auto lo = [&](double v) { return static_cast<int64_t>(std::floor((v - range_m) / block_m)); };
-  const auto hi = [&](double v) { return static_cast<int64_t>(std::floor((v + range_m) / block_m)); };
+// Cells within `range_m` of (x, y) (cells of `cell_m` metres).
+void mark_disc_blocks(double x, double y, double range_m, double cell_m, std::set<Block>& out) {
+  const auto lo = [&](double v) { return static_cast<int64_t>(std::floor((v - range_m) / cell_m)); };
+  const auto hi = [&](double v) { return static_cast<int64_t>(std::floor((v + range_m) / cell_m)); };
   for (int64_t by = lo(y); by <= hi(y); ++by) {
     for (int64_t bx = lo(x); bx <= hi(x); ++bx) {
-      const double dx = std::max({bx * block_m - x, 0.0, x - (bx + 1) * block_m});
-      const double dy = std::max({by * block_m - y, 0.0, y - (by + 1) * block_m});
+      const double dx = std::max({bx * cell_m - x, 0.0, x - (bx + 1) * cell_m});
+      const double dy = std::max({by * cell_m - y, 0.0, y - (by + 1) * cell_m});
       if (dx * dx + dy * dy <= range_m * range_m) out.insert({bx, by});
     }
   }
@@ -230,8 +229,9 @@ double planned_crops(const GenerateConfig& config, double covered_km2) {
 uint64_t tile_stage_bytes(const GenerateConfig& config, size_t threads, double crops, uint64_t map_file_bytes) {
   const uint64_t batch = std::max<uint64_t>(8, 4 * threads);
   const uint64_t pixels = static_cast<uint64_t>(config.crops.size_px) * config.crops.size_px;
+  const double default_spacing_m = graph::LaneGraphOptions{}.max_spacing_m;
   const double graph =
-      kGraphBytesPerMapByte * static_cast<double>(map_file_bytes) * (kDefaultSpacingM / config.graph.max_spacing_m);
+      kGraphBytesPerMapByte * static_cast<double>(map_file_bytes) * (default_spacing_m / config.graph.max_spacing_m);
   return bytes_of(static_cast<double>(kWorkingBytes + batch * pixels * kTileBytesPerPixelInFlight) +
                   crops * kCropPlanBytes + graph);
 }
