@@ -17,8 +17,9 @@ per tile, a prediction that uses every limit in the way that costs the scorer mo
            densest connected copy within the search work limit; must be scored
 
 and, in values.json, a file near the JSON value limit (9.3 M values in 210 tiles of 5 000
-nodes and 9 800 edges each, in pieces of 100 nodes; keys the ground truth does not have,
-so they are parsed, checked and ignored): what a file at the limits costs in memory.
+nodes and 9 800 edges each, in pieces of 100 nodes; one key the ground truth has, the
+other 209 extra, so they are parsed, checked and ignored): what a file at the limits
+costs in memory.
 
 mesh and random cost more than the search work limit against the connected junction and
 must be refused (exit 1) when they reach it; lanes and both copies must be scored.
@@ -195,7 +196,9 @@ def main():
     dump("copy16.json", {"copy16": junction16})
     dump("gt-refused.json", {"mesh": gt})
     dump("refused.json", {"mesh": mesh(a.nodes, a.edges, a.length_px)})
-    dump("gt-values.json", {"copy": gt})
+    # One key the ground truth has (a short lane), so the file is scored, not refused as
+    # predicted for another split; the other 209 are extra.
+    dump("gt-values.json", {"values-0000": {"nodes": [[10, 10], [60, 10]], "edges": [[0, 1]]}})
     with open(os.path.join(a.out, "values.json"), "w") as f:
         json.dump({"schema_version": "1", "tiles": values_file()}, f, separators=(",", ":"))
     preds["copy16"] = junction16

@@ -27,7 +27,7 @@ for spec in "copy 0 $max_s" "copy16 0 $max_s" "lanes 0 $max_s" "mesh 1 $max_s" "
   "refused 1 $max_s" "values 0 600"; do
   read -r name want case_max_s <<<"$spec"
   set +e
-  /usr/bin/time -f '%U %S %e %M' -o "$out/$name.time" "$exe" score -q --threads 1 --ground-truth "$out/gt-$name.json" \
+  /usr/bin/time -f '%U %S %e %M' -o "$out/$name.time" "$exe" -v score --threads 1 --ground-truth "$out/gt-$name.json" \
     --submission "$out/$name.json" --format csv --out "$out/$name.report.json" >"$out/$name.csv" 2>"$out/$name.err"
   rc=$?
   set -e
@@ -35,9 +35,16 @@ for spec in "copy 0 $max_s" "copy16 0 $max_s" "lanes 0 $max_s" "mesh 1 $max_s" "
   seconds=$(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.2f", u + s }')
   rss_mb=$((rss_kb / 1024))
   outcome=$([ "$rc" = 0 ] && echo scored || echo "refused (exit $rc)")
-  printf '  %-8s %-18s %5s s CPU (%s s wall), %4d MB\n' "$name" "$outcome" "$seconds" "$wall" "$rss_mb" | tee -a "$out/rows.txt"
-  rows+=("{\"case\": \"$name\", \"exit\": $rc, \"cpu_seconds\": $seconds, \"wall_seconds\": $wall, \"peak_rss_mb\": $rss_mb}")
-  [ "$rc" = "$want" ] || verdict="FAIL ($name: exit $rc, expected $want: $(head -c 300 "$out/$name.err"))"
+  # The search work the scored tiles spent (score -v logs it per tile), and CPU per unit
+  # (process start and parsing included).
+  units=$({ grep -o 'search work [0-9]*' "$out/$name.err" || true; } | awk '{ s += $3 } END { print s + 0 }')
+  work=""
+  [ "$units" -gt 0 ] && work=$(awk -v u="$units" -v s="$seconds" \
+    'BEGIN { printf "%.1f M units = %.2f of the limit, %.1f ns a unit", u / 1e6, u / 160e6, s / u * 1e9 }')
+  printf '  %-8s %-18s %5s s CPU (%s s wall), %4d MB  %s\n' "$name" "$outcome" "$seconds" "$wall" "$rss_mb" "$work" |
+    tee -a "$out/rows.txt"
+  rows+=("{\"case\": \"$name\", \"exit\": $rc, \"cpu_seconds\": $seconds, \"wall_seconds\": $wall, \"peak_rss_mb\": $rss_mb, \"search_work\": $units}")
+  [ "$rc" = "$want" ] || verdict="FAIL ($name: exit $rc, expected $want: $(grep -v '^debug' "$out/$name.err" | head -c 300))"
   awk -v p="$seconds" -v m="$case_max_s" 'BEGIN { exit !(p <= m) }' || verdict="FAIL ($name: > $case_max_s s)"
   [ "$rss_mb" -le "$max_mb" ] || verdict="FAIL ($name: > $max_mb MB)"
   [ "$name" = values ] || worst_s=$(awk -v a="$worst_s" -v b="$seconds" 'BEGIN { print (b > a ? b : a) }')

@@ -1,6 +1,7 @@
 """nsgraph.score / score_tile / write_submission against the CLI on the same files."""
 import json
 import os
+import sys
 import tempfile
 import unittest
 
@@ -129,15 +130,9 @@ class ScoreTest(unittest.TestCase):
     def test_score_tile_refuses_a_prediction_beyond_the_search_work_limit(self):
         # A connected junction (14 lanes each way, shared crossings) and a connected mesh
         # within every static limit: together beyond the search work limit, refused by name.
-        offsets = [(k + 0.5) * 256 / 14 for k in range(14)]
-        along = sorted(set(offsets) | {min(t, 255.5) for t in range(0, 257, 10)
-                                       if all(abs(min(t, 255.5) - o) > 1 for o in offsets)})
-        index, nodes, edges = {}, [], []
-        for k, off in enumerate(offsets):
-            for horizontal in (True, False):
-                ids = [index.setdefault(p, len(index)) for p in ((t, off) if horizontal else (off, t) for t in along)]
-                edges += [[a, b] if k % 2 == 0 else [b, a] for a, b in zip(ids, ids[1:])]
-        nodes = [list(p) for p, _ in sorted(index.items(), key=lambda kv: kv[1])]
+        sys.path.insert(0, os.path.join(fixtures.SOURCE_DIR, "bench", "adversarial"))
+        from make_submission import gt_junction  # the bench's connected junction
+        junction = gt_junction(14)
         side = 30
         mesh_nodes = [[i * 255 / (side - 1), j * 255 / (side - 1)] for j in range(side) for i in range(side)]
         mesh_edges = []
@@ -146,8 +141,7 @@ class ScoreTest(unittest.TestCase):
                 k = j * side + i
                 mesh_edges += [[k, k + 1], [k, k + side], [k, k + side + 1], [k + 1, k + side]]
         with self.assertRaises(nsgraph.SubmissionError) as e:
-            nsgraph.score_tile({"nodes": nodes, "edges": edges}, {"nodes": mesh_nodes, "edges": mesh_edges},
-                               key="busy")
+            nsgraph.score_tile(junction, {"nodes": mesh_nodes, "edges": mesh_edges}, key="busy")
         self.assertEqual(e.exception.issues[0]["check"], "submission.size")
         self.assertEqual(e.exception.issues[0]["subject"], "prediction:/tiles/busy")
         self.assertIn("units of work", str(e.exception))

@@ -133,15 +133,14 @@ TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pr
   try {
     measure_searched(g, p, params, meter, t);
   } catch (const detail::OverBudget&) {
-    throw SearchWorkExceeded(
-        "", "prediction:/tiles/" + validate::json_pointer_token(key),
-        strprintf("a prediction whose APLS and TOPO searches against this tile's ground truth take at most %lld "
-                  "units of work (about 9 ns each: a search step, a settled node, a changed sample); this one passed "
-                  "the limit before its "
-                  "searches ended: it is too large or too connected where the ground truth is connected "
-                  "(docs/scoring-limits.md)",
-                  static_cast<long long>(work_limit)));
+    throw SearchWorkExceeded("", "prediction:/tiles/" + validate::json_pointer_token(key),
+                             strprintf("a prediction whose APLS and TOPO searches against this tile's ground truth "
+                                       "take at most %lld units of work (about 9 ns each); this one reached the "
+                                       "limit before they ended: it is too large or too connected where the "
+                                       "ground truth is connected (docs/scoring-limits.md)",
+                                       static_cast<long long>(work_limit)));
   }
+  t.search_work = meter.used();
 
   const detail::DirectionResult dir = detail::compute_direction(g, p, params);
   v[kDirectionAccuracy] = dir.accuracy;

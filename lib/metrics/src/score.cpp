@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "nsg/core/error.h"
+#include "nsg/core/log.h"
 #include "nsg/core/parallel.h"
 #include "nsg/core/strings.h"
 
@@ -60,6 +61,8 @@ ScoreReport score(const GraphSet& gt, const GraphSet& pred, const ScoreOptions& 
     const auto p = pred.find(key);
     try {
       report.tiles[k] = measure(key, gt.at(key), p == pred.end() ? nullptr : &p->second, options.params);
+      log::debug(strprintf("score: %s: search work %lld units", printable_text(key).c_str(),
+                           static_cast<long long>(report.tiles[k].search_work)));
     } catch (const SearchWorkExceeded& e) {
       over_work[k] = e;
     }

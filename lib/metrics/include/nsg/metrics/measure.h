@@ -76,6 +76,9 @@ struct TileMeasurement {
   std::string key;
   MetricValues values{};
   Counts counts{};
+  // The units of the search work limit the tile spent (not in the report: it describes the
+  // scorer's cost, not the prediction; `score -v` logs it).
+  int64_t search_work = 0;
 };
 
 // A tile whose APLS and TOPO searches on the two graphs together pass
