@@ -6,7 +6,7 @@
 # /usr/bin/time; bench/python/city_report.py writes city.json: LiDAR sweeps/s, peak RSS per
 # thread count, bytes of peak RSS per covered LiDAR cell, the memory estimate against the
 # measured peak on both worlds, and on the demo world with `camera.semantic_source: lidarseg`
-# (2 threads). city_report.py exits 1 when a target is missed (BENCH_REPORT_ONLY=1: never).
+# (2 threads); then `nsgraph frames` on the demo dataset (frames/s, one core, images referenced). city_report.py exits 1 when a target is missed (BENCH_REPORT_ONLY=1: never).
 #   usage: bench/city.sh NSGRAPH_EXE OUT_DIR DATA_DIR
 set -euo pipefail
 exe=$1 out=$2 data=$3
@@ -43,13 +43,20 @@ generate_world() {
       "$exe" -v generate "$@" --dataroot "$release" --version "$version" --out "$data/generate-$name" \
       --threads "$threads" 2>&1 | grep -E '^generate|^debug: generate|peak RSS' | tee "$out/generate-$name-$threads.txt"
   done
+  if [ "${FRAMES_ON:-}" = "$name" ]; then  # nsgraph frames on the last dataset, images referenced
+    printf '\n== frames on the %s world (images referenced, one core)\n' "$name"
+    /usr/bin/time -f 'frames: %e s wall, %M KiB peak RSS' \
+      "$exe" frames --dataset "$data/generate-$name" --out "$data/frames-$name" --overwrite 2>&1 \
+      | grep -E '^frames: [0-9]|peak RSS' | tee "$out/frames-$name.txt"
+    rm -rf "$data/frames-$name"
+  fi
   rm -rf "$data/generate-$name"
 }
 
 synth_world city "$root/samples/synth/city.json"
 generate_world city city "1 2"
 synth_world demo "$root/samples/synth/demo.json"
-generate_world demo demo "1 2" --config "$root/samples/generate-demo.json"
+FRAMES_ON=demo generate_world demo demo "1 2" --config "$root/samples/generate-demo.json"
 generate_world demo-lidarseg demo "2" --config "$root/samples/generate-demo.json" \
   --set camera.semantic_source=lidarseg
 /usr/bin/python3 "$root/bench/python/city_report.py" --dir "$out"

@@ -91,6 +91,23 @@ else
   next+=("preview")
 fi
 
+step "frames: every key frame in the regions, OpenLane-V2's per-frame layout (docs/frames.md)"
+if have frames && [ -f "$out/dataset/manifest.json" ]; then
+  "$exe" frames --dataset "$out/dataset" --out "$out/frames" --overwrite
+  "$py" - "$out/frames/manifest.json" <<'PY'
+import json, sys
+c = json.load(open(sys.argv[1]))["counts"]
+print("frames per split:", c["frames"], "dropped:", {k: v for k, v in c["dropped"].items() if v})
+for name, l in c["leakage"].items():
+    share = "n/a" if l["share_within_radius"] is None else "%.1f %%" % (100 * l["share_within_radius"])
+    median = "n/a" if l["median_distance_m"] is None else "%.1f m" % l["median_distance_m"]
+    print(f"leakage ({name}): {share} of {l['test_frames']} test frames within {l['radius_m']} m of a train frame, "
+          f"median {median}")
+PY
+else
+  next+=("frames")
+fi
+
 step "train: the reference model (default variant: graph) on the train split (lib/model)"
 if have train && [ -f "$out/dataset/manifest.json" ]; then
   /usr/bin/time -f 'train: %e s wall, %M KiB peak RSS' \

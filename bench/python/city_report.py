@@ -13,6 +13,7 @@ RSS_THREAD_LIMIT = 1.1      # peak at 2 threads / peak at 1 thread
 BYTES_PER_CELL_LIMIT = 60   # peak RSS per covered LiDAR cell, 1 thread
 ESTIMATE_TOLERANCE = 0.25   # |estimate / peak - 1|
 SWEEPS_TARGET = 3000        # per core (on bench.json; reported here for the city too)
+FRAMES_PER_S_TARGET = 500   # nsgraph frames, one core, images referenced (docs/frames.md)
 
 def parse(path):
     text = open(path).read()
@@ -29,6 +30,19 @@ def parse(path):
             "wall_s": float(rss.group(1)), "peak_rss_bytes": peak, "estimate_bytes": int(est.group(1)),
             "estimate_over_peak": int(est.group(1)) / peak, "lidar_blocks": int(cells.group(1)),
             "covered_cells": int(cells.group(2)), "peak_bytes_per_covered_cell": peak / int(cells.group(2))}
+
+
+def parse_frames(path):
+    text = open(path).read()
+    run = re.search(r"frames: (\d+) frames \((\d+) key frames in the release\), (\d+) centerlines, (\d+) links; "
+                    r"([\d.]+) s", text)
+    rss = re.search(r"frames: ([\d.]+) s wall, (\d+) KiB peak RSS", text)
+    if not (run and rss):
+        raise SystemExit(f"city_report: {path}: missing the frames summary or time lines")
+    frames, seconds = int(run.group(1)), float(run.group(5))
+    return {"frames": frames, "key_frames": int(run.group(2)), "centerlines": int(run.group(3)),
+            "records_s": seconds, "frames_per_s": frames / max(seconds, 1e-9), "wall_s": float(rss.group(1)),
+            "peak_rss_bytes": int(rss.group(2)) * 1024, "target_frames_per_s": FRAMES_PER_S_TARGET}
 
 
 def main():
@@ -49,9 +63,14 @@ def main():
     if os.path.exists(lidarseg):  # the demo world with camera.semantic_source: lidarseg, 2 threads
         r["demo_lidarseg"] = {"threads_2": parse(lidarseg)}
         checked += r["demo_lidarseg"].values()
+    frames_file = os.path.join(a.dir, "frames-demo.txt")
+    if os.path.exists(frames_file):
+        r["frames_demo"] = parse_frames(frames_file)
     r["pass"] = {"threads": r["peak_ratio_2_over_1"] <= RSS_THREAD_LIMIT,
                  "bytes_per_cell": one["peak_bytes_per_covered_cell"] <= BYTES_PER_CELL_LIMIT,
                  "estimate": all(abs(x["estimate_over_peak"] - 1) <= ESTIMATE_TOLERANCE for x in checked)}
+    if "frames_demo" in r:
+        r["pass"]["frames_per_s"] = r["frames_demo"]["frames_per_s"] >= FRAMES_PER_S_TARGET
     json.dump(r, open(os.path.join(a.dir, "city.json"), "w"), indent=1)
     print(json.dumps(r, indent=1))
     missed = [k for k, ok in r["pass"].items() if not ok]

@@ -2,6 +2,7 @@
 call an evaluation script (``evaluate(test_annotation_file, user_submission_file,
 phase_codename, **kwargs)``). Scoring is ``nsgraph.score``: the same checks and limits as
 ``nsgraph score``."""
+from .frames import score_frames
 from .scoring import score
 
 # The leaderboard columns: the report's per-tile means (docs/metrics.md), by their report names.
@@ -26,6 +27,8 @@ def evaluate(test_annotation_file, user_submission_file, phase_codename, **kwarg
     """
     split = kwargs.get("split") or "test"
     codename = kwargs.get("split_codename") or split
+    if kwargs.get("paradigm") == "frames" or str(phase_codename).startswith("frames"):
+        return _evaluate_frames(test_annotation_file, user_submission_file, split, codename)
     names = kwargs.get("metrics") or LEADERBOARD_METRICS
     report = score(test_annotation_file, user_submission_file, split=split,
                    max_seconds=kwargs.get("max_seconds", 3600))
@@ -34,4 +37,12 @@ def evaluate(test_annotation_file, user_submission_file, phase_codename, **kwarg
     values["n_tiles"] = report["aggregate"]["n_tiles"]
     values["n_missing_predictions"] = report["aggregate"]["n_missing_predictions"]
     del phase_codename  # one benchmark: every phase scores the same way
+    return {"result": [{codename: values}], "submission_result": values}
+
+
+def _evaluate_frames(test_annotation_file, user_submission_file, split, codename):
+    report = score_frames(test_annotation_file, user_submission_file, split=split)
+    values = {name: report[name] for name in ("DET_l", "TOP_ll", "lane_score")}
+    values["n_frames"] = report["counts"]["frames"]
+    values["n_missing_frames"] = report["counts"]["missing_frames"]
     return {"result": [{codename: values}], "submission_result": values}

@@ -183,3 +183,42 @@ def collate(samples):
     if "meta" in samples[0]:
         batch["meta"] = [s["meta"] for s in samples]
     return batch
+
+
+def collate_frames(items):
+    """Batches nsgraph.frames.Dataset items for a per-frame model. Cameras in the first
+    item's channel order: ``K`` (B, C, 3, 3), ``extrinsic`` (B, C, 4, 4) camera → ego,
+    ``images`` (B, C, 3, H, W) uint8 when the items hold images (all one size); ``pose``
+    (B, 4, 4); centerlines padded to the batch's largest count, ``centerlines`` (B, N, P, 3)
+    float32 with ``centerline_mask`` (B, N) bool (every centerline has the export's P
+    points), ``topology`` (B, N, N) uint8 and ``is_connector`` (B, N); tokens, scenes and
+    timestamps as lists."""
+    channels = list(items[0]["cameras"])
+    for it in items:
+        if list(it["cameras"]) != channels:
+            raise ValueError(f"frame {it['token']}: cameras {list(it['cameras'])}, expected {channels} as the batch's")
+    b = len(items)
+    n = max((len(it["centerlines"]) for it in items), default=0)
+    p = next((len(c) for it in items for c in it["centerlines"]), 0)
+    lanes = np.zeros((b, n, p, 3), np.float32)
+    mask = np.zeros((b, n), bool)
+    topology = np.zeros((b, n, n), np.uint8)
+    connector = np.zeros((b, n), bool)
+    for i, it in enumerate(items):
+        k = len(it["centerlines"])
+        if k:
+            lanes[i, :k] = np.stack(it["centerlines"])
+            topology[i, :k, :k] = it["topology"]
+            connector[i, :k] = it["is_connector"]
+        mask[i, :k] = True
+    batch = {"token": [it["token"] for it in items], "scene": [it["scene"] for it in items],
+             "timestamp": [it["timestamp"] for it in items], "cameras": channels,
+             "K": torch.from_numpy(np.stack([[it["cameras"][c]["K"] for c in channels] for it in items])),
+             "extrinsic": torch.from_numpy(np.stack([[it["cameras"][c]["extrinsic"] for c in channels] for it in items])),
+             "pose": torch.from_numpy(np.stack([it["pose"] for it in items])),
+             "centerlines": torch.from_numpy(lanes), "centerline_mask": torch.from_numpy(mask),
+             "topology": torch.from_numpy(topology), "is_connector": torch.from_numpy(connector)}
+    if "images" in items[0]:
+        batch["images"] = torch.from_numpy(np.stack([[it["images"][c].transpose(2, 0, 1) for c in channels]
+                                                     for it in items]))
+    return batch

@@ -17,19 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-py::list issues_to_py(const Issues& issues) {
-  py::list out;
-  for (const Issue& i : issues.items()) {
-    py::dict d;
-    d["severity"] = severity_name(i.severity);
-    d["check"] = i.check;
-    d["subject"] = printable_utf8(i.subject);  // may quote hostile bytes
-    d["message"] = printable_utf8(i.message);
-    out.append(d);
-  }
-  return out;
-}
-
 // A submission-format document given as a path or as JSON text; checked like `nsgraph
 // score` checks its --submission.
 metrics::CheckedSubmission checked_submission(const std::string& source, bool is_path, const std::string& label,

@@ -8,5 +8,6 @@ void bind_dataset(pybind11::module_& m);
 void bind_metrics(pybind11::module_& m);
 void bind_graph(pybind11::module_& m);
 void bind_net(pybind11::module_& m);
+void bind_frames(pybind11::module_& m);
 
 }  // namespace nsg::py_bind

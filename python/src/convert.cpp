@@ -119,4 +119,17 @@ void register_error_translator() {
   });
 }
 
+py::list issues_to_py(const Issues& issues) {
+  py::list out;
+  for (const Issue& i : issues.items()) {
+    py::dict d;
+    d["severity"] = severity_name(i.severity);
+    d["check"] = i.check;
+    d["subject"] = printable_utf8(i.subject);  // may quote hostile bytes
+    d["message"] = printable_utf8(i.message);
+    out.append(d);
+  }
+  return out;
+}
+
 }  // namespace nsg::py_bind

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nsg/core/issues.h"
 #include "nsg/io/raster.h"
 
 namespace nsg::py_bind {
@@ -21,6 +22,9 @@ namespace py = pybind11;
 
 using Points = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using Pairs = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
+
+// Issues as a list of {severity, check, subject, message} (hostile bytes quoted printable).
+py::list issues_to_py(const Issues& issues);
 
 // nlohmann::json → dict / list / str / int / float / bool / None.
 py::object json_to_py(const nlohmann::json& j);

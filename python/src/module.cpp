@@ -15,5 +15,6 @@ PYBIND11_MODULE(_nsgraph, m) {
   nsg::py_bind::bind_metrics(m);
   nsg::py_bind::bind_graph(m);
   nsg::py_bind::bind_net(m);
+  nsg::py_bind::bind_frames(m);
   m.attr("__version__") = nsg::kVersion;
 }

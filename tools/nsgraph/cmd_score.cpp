@@ -11,6 +11,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
 #include "nsg/core/strings.h"
+#include "nsg/metrics/frames.h"
 #include "nsg/metrics/io.h"
 #include "nsg/metrics/receipt.h"
 #include "nsg/metrics/score.h"
@@ -25,6 +26,7 @@ struct ScoreCliOptions {
   std::string out;              // JSON report file ("" = none)
   std::string format = "json";  // what stdout prints: json | md | csv
   std::string verify_receipt;   // a score report (or receipt) to recompute and compare
+  bool frames = false;          // --frames: an `nsgraph frames` export and an OpenLane-V2 results file
   metrics::SubmissionScoreOptions lib;
 
   void validate() const {
@@ -69,8 +71,43 @@ int run_verify_receipt(const ScoreCliOptions& o) {
   return c.same() ? kExitOk : kExitProblems;
 }
 
+// --frames: DET_l, TOP_ll and lane_score of per-key-frame predictions (docs/metrics.md "Frames").
+int run_score_frames(const ScoreCliOptions& o) {
+  NSG_CHECK(o.verify_receipt.empty(), ConfigError, "", "--verify-receipt", "tile scoring (not with --frames)");
+  NSG_CHECK(o.format != "csv", ConfigError, "", "--format", "json or md with --frames (no per-tile table)");
+  metrics::FramesScoreInput in;
+  in.ground_truth = o.ground_truth;
+  in.split = o.lib.split;
+  in.verify = o.lib.verify_ground_truth;
+  in.results = o.submission;
+  in.limits.max_file_bytes = o.lib.limits.max_file_bytes;
+  const metrics::ScoredFrames scored = metrics::score_frames_submission(in);
+  if (!scored.report) {
+    std::fputs(scored.issues.format().c_str(), stderr);
+    log::error(strprintf("%zu problem(s) in results %s; not scored", scored.issues.size(), o.submission.c_str()));
+    return kExitProblems;
+  }
+  const metrics::FramesReport& r = *scored.report;
+  const nlohmann::ordered_json json = metrics::frames_report_to_json(r);
+  if (!o.out.empty()) write_file_atomic(o.out, json.dump(1) + "\n");
+  if (o.format == "md")
+    std::printf(
+        "| frames | DET_l | DET_l@1m | DET_l@2m | DET_l@3m | TOP_ll | lane_score |\n| --- | --- | --- | --- | --- | "
+        "--- | --- |\n| %lld | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f |\n",
+        static_cast<long long>(r.frames), r.det_l, r.det_l_per_threshold[0], r.det_l_per_threshold[1],
+        r.det_l_per_threshold[2], r.top_ll, r.lane_score);
+  else std::fputs((json.dump(1) + "\n").c_str(), stdout);
+  log::info(
+      strprintf("scored %lld frames (%lld without a prediction, %lld extra): DET_l %.4f, TOP_ll %.4f, lane_score "
+                "%.4f",
+                static_cast<long long>(r.frames), static_cast<long long>(r.missing_frames),
+                static_cast<long long>(r.extra_frames), r.det_l, r.top_ll, r.lane_score));
+  return kExitOk;
+}
+
 int run_score(const ScoreCliOptions& o) {
   o.validate();
+  if (o.frames) return run_score_frames(o);
   if (!o.verify_receipt.empty()) return run_verify_receipt(o);
   const metrics::ScoredSubmission scored = metrics::score_submission(metrics::ScoreSource::file(o.ground_truth),
                                                                      metrics::ScoreSource::file(o.submission), o.lib);
@@ -109,6 +146,9 @@ void add_score_command(CLI::App& parent, Context& ctx) {
                   "Submission JSON (schemas/v1/submission.schema.json): a file, or a pipe / /dev/stdin")
       ->required();
   cmd->add_option("--split", opts->lib.split, "Split of a dataset ground truth")->capture_default_str();
+  cmd->add_flag("--frames", opts->frames,
+                "Per-key-frame scoring: --ground-truth is an `nsgraph frames` export (its --split) and --submission an "
+                "OpenLane-V2 results JSON; DET_l, TOP_ll, lane_score (docs/metrics.md \"Frames\")");
   cmd->add_flag("--no-verify{false}", opts->lib.verify_ground_truth,
                 "Do not hash a dataset's shards against its manifest (presence, sizes and unlisted shards are still "
                 "checked); the report's ground_truth_verification says \"sizes\"");

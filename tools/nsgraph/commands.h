@@ -30,6 +30,7 @@ void add_train_command(CLI::App& root, Context& ctx);
 void add_predict_command(CLI::App& root, Context& ctx);
 void add_segment_command(CLI::App& root, Context& ctx);
 void add_report_command(CLI::App& root, Context& ctx);
+void add_frames_command(CLI::App& root, Context& ctx);
 
 // `inspect` subcommands (cmd_inspect_<what>.cpp), added by add_inspect_command.
 void add_inspect_centerlines(CLI::App& inspect, Context& ctx);

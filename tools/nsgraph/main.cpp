@@ -20,7 +20,7 @@ constexpr nsg::cli::AddCommand kCommands[] = {
     &nsg::cli::add_generate_command, &nsg::cli::add_merge_command,        &nsg::cli::add_stats_command,
     &nsg::cli::add_score_command,    &nsg::cli::add_preview_command,      &nsg::cli::add_report_command,
     &nsg::cli::add_validate_command, &nsg::cli::add_export_cloud_command, &nsg::cli::add_train_command,
-    &nsg::cli::add_predict_command,
+    &nsg::cli::add_predict_command,  &nsg::cli::add_frames_command,
 };
 
 // The command names of `app`, in table order.
@@ -71,10 +71,14 @@ bool check_version_flag(CLI::App& app, int argc, char** argv) {
     if (word == "--") break;
     if (word == "--version" || word.starts_with("--version=")) {
       if (command == nullptr || command->get_option_no_throw("--version") != nullptr) continue;
+      // `frames` reads the release its dataset was generated from, of the manifest's version.
+      const char* why = path == "frames" ? "this command reads the release of its --dataset, of the version the "
+                                           "dataset's manifest names"
+                                         : "this command reads no nuScenes release";
       std::fprintf(stderr,
-                   "nsgraph: error: %s: --version: this command reads no nuScenes release, so it takes no release "
-                   "version; the program's version is 'nsgraph --version' (before any command)\n",
-                   path.c_str());
+                   "nsgraph: error: %s: --version: %s, so it takes no release version; the program's version is "
+                   "'nsgraph --version' (before any command)\n",
+                   path.c_str(), why);
       return false;
     }
     if (word.empty() || word[0] == '-') continue;

@@ -13,7 +13,10 @@
 namespace nsg::metrics::detail {
 namespace {
 
-constexpr double kCeilTol = 1e-9;      // rule 2: k = max(1, ceil(L/step - 1e-9))
+// Rule 2: k = max(1, ceil(L/step - 0.05)). Version 3 (was 1e-9): a segment a hair longer than
+// a whole number of steps (every 2 m lane piece, moved by a rounding) keeps that number of
+// pieces, so the sample counts do not jump under a move of a hundredth of a pixel.
+constexpr double kCeilTol = 0.05;
 constexpr double kQuantScale = 1e6;    // rule 4: q = floor(d2 * 1e6 + 0.5)
 constexpr double kRadiusTolPx = 1e-6;  // rule 6: path radius inclusive tolerance
 

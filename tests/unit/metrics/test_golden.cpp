@@ -77,7 +77,7 @@ TEST_F(Golden, EveryAggregateValue) {
 
 TEST_F(Golden, MissingTileListed) {
   EXPECT_EQ((*report_)["missing_tiles"], nlohmann::json::array({"edge-missing-pred"}));
-  EXPECT_EQ((*report_)["metrics_version"], "2");
+  EXPECT_EQ((*report_)["metrics_version"], "3");
 }
 
 TEST_F(Golden, ThreadCountDoesNotChangeTheReport) {

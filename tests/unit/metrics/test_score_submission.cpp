@@ -219,7 +219,11 @@ GraphSet jittered(GraphSet graphs, double max_px) {
 // 1e-3 of perfect over the split; Chamfer moves by the move itself. GEO and TOPO count
 // samples, which jump where a segment's length crosses a multiple of the step: their
 // move is bounded as documented, not continuous.
-TEST(ScoreSubmission, AHundredthOfAPixelMovesAplsDirectionAndMasksByAtMostOneThousandth) {
+TEST(ScoreSubmission, AHundredthOfAPixelMovesEveryRatioMetricByAtMostOneThousandth) {
+  // APLS by rule 3's 0.01 m, GEO/TOPO by rule 2's 0.05-step tolerance (metrics version 3):
+  // a copy moved by 0.01 px scores within 1e-3 of perfect on every metric but Chamfer,
+  // which moves by the move itself. Measured at 0.01 px: APLS 0.99944, F1 0.99958, IoU
+  // 0.99915, TOPO precision 0.99961 (version 2: TOPO recall 0.981).
   nsg::test::TempDir dir("jitter");
   const auto [truth_text, truth] = unround_ground_truth(0.0);
   const ScoreSource gt = ScoreSource::memory(truth_text, "<gt>");
@@ -229,16 +233,13 @@ TEST(ScoreSubmission, AHundredthOfAPixelMovesAplsDirectionAndMasksByAtMostOneTho
     const ScoredSubmission s = score_submission(gt, ScoreSource::file(dir / "jittered.json"), golden_options());
     ASSERT_TRUE(s.scored()) << s.issues.format();
     const MetricValues& mean = s.report.aggregate.mean;
-    for (int m = kApls; m <= kIou; ++m) {
+    for (int m = kApls; m <= kTopoDirectedF1; ++m) {
       if (m >= kChamferPx2 && m <= kChamferMeanM) continue;
       ASSERT_TRUE(mean[m].has_value()) << metric_name(m);
+      std::printf("[ figures ] %g px: %s %.6f\n", max_px, metric_name(m), *mean[m]);
       EXPECT_NEAR(*mean[m], 1.0, 1e-3) << metric_name(m);
     }
     EXPECT_LE(*mean[kChamferMeanM], max_px * 0.2 * std::sqrt(2.0));
-    for (int m = kGeoPrecision; m <= kTopoDirectedF1; ++m) {
-      std::printf("[ figures ] %g px: %s %.6f\n", max_px, metric_name(m), *mean[m]);
-      EXPECT_GT(*mean[m], 0.975) << metric_name(m);  // measured: >= 0.981 (TOPO recall at 0.01 px)
-    }
   }
 }
 

@@ -44,7 +44,8 @@ RefSamples ref_samples(const Graph& graph, double step_px) {
   for (const Segment& s : segs) {
     const Point a = g.nodes[s.i], b = g.nodes[s.j];
     const double dx = b.u - a.u, dy = b.v - a.v, len = std::sqrt(dx * dx + dy * dy);
-    const int k = std::max(1, static_cast<int>(std::ceil(len / step_px - 1e-9)));
+    // Rule 2 as of metrics version 3: a segment up to 0.05 steps over k steps stays k pieces.
+    const int k = std::max(1, static_cast<int>(std::ceil(len / step_px - 0.05)));
     int32_t prev = id[s.i];
     for (int q = 1; q < k; ++q) {
       const double t = static_cast<double>(q) / k;

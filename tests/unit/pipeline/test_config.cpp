@@ -90,7 +90,7 @@ TEST(GenerateConfig, SchemaSampleAndDocsEqualWhatTheDeclarationsGive) {
       << "regenerate: nsgraph generate --print-config > samples/generate.json";
   // docs/options.md: a title, then each command's section as its --format md prints it.
   std::string sections;
-  for (const char* command : {"generate", "synth", "train"}) {
+  for (const char* command : {"generate", "synth", "train", "frames"}) {
     const CommandResult md = run_nsgraph({command, "--list-options", "--format", "md"});
     ASSERT_EQ(md.exit_code, 0) << md.err;
     sections += (sections.empty() ? "" : "\n") + md.out;
@@ -98,8 +98,9 @@ TEST(GenerateConfig, SchemaSampleAndDocsEqualWhatTheDeclarationsGive) {
   const std::string doc = read_file(source_dir() / "docs/options.md");
   const size_t first = doc.find("## `nsgraph generate` options");
   ASSERT_NE(first, std::string::npos);
-  EXPECT_EQ(doc.substr(first), sections) << "regenerate the sections: nsgraph <generate|synth|train> --list-options "
-                                            "--format md, joined by an empty line, after the title";
+  EXPECT_EQ(doc.substr(first), sections)
+      << "regenerate the sections: nsgraph <generate|synth|train|frames> --list-options "
+         "--format md, joined by an empty line, after the title";
 }
 
 TEST(GenerateConfig, CheckOfACodeBuiltConfigUsesTheDeclarations) {

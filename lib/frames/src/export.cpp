@@ -1,0 +1,382 @@
+// `nsgraph frames`: the key frames of a release on a generated dataset's regions.
+#include "nsg/frames/export.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <memory>
+#include <set>
+
+#include "internal.h"
+#include "nsg/core/atomic_file.h"
+#include "nsg/core/version.h"
+#include "nsg/core/error.h"
+#include "nsg/core/log.h"
+#include "nsg/core/progress.h"
+#include "nsg/core/rng.h"
+#include "nsg/core/sha256.h"
+#include "nsg/core/strings.h"
+#include "nsg/frames/leakage.h"
+#include "nsg/graph/from_map.h"
+#include "nsg/io/dataset.h"
+#include "nsg/nuscenes/map_expansion.h"
+#include "nsg/pipeline/config.h"
+
+namespace nsg::frames {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using nlohmann::ordered_json;
+
+// What the export takes from the dataset: its config (release, graph options, buffer,
+// ratios, excluded scenes) and, per location, its regions and map file digest.
+struct DatasetPlan {
+  fs::path manifest_path;
+  std::string manifest_sha256;
+  pipeline::GenerateConfig config;
+  std::vector<std::string> locations;  // manifest order
+  std::map<std::string, std::vector<tiling::Region>> regions;
+  std::map<std::string, std::string> map_sha256;
+  std::map<std::string, std::string> map_version;
+};
+
+const json& member(const json& doc, const char* key, const fs::path& file, const std::string& at,
+                   const char* expected) {
+  NSG_CHECK(doc.is_object() && doc.contains(key), ParseError, file.string(), at + "/" + key, expected);
+  return doc[key];
+}
+
+tiling::Region region_of(const json& r, const fs::path& file, const std::string& at) {
+  const json& b = member(r, "bounds_m", file, at, "[x_west, y_south, x_east, y_north]");
+  NSG_CHECK(
+      b.is_array() && b.size() == 4 && std::all_of(b.begin(), b.end(), [](const json& v) { return v.is_number(); }),
+      ParseError, file.string(), at + "/bounds_m", "[x_west, y_south, x_east, y_north] in metres");
+  const json& split = member(r, "split", file, at, "train, val or test");
+  NSG_CHECK(split.is_string() && tiling::is_split_name(split.get<std::string>()), ParseError, file.string(),
+            at + "/split", "train, val or test");
+  tiling::Region out;
+  out.name = r.value("name", "");
+  out.split = split.get<std::string>();
+  out.bounds = {b[0].get<double>(), b[1].get<double>(), b[2].get<double>(), b[3].get<double>()};
+  NSG_CHECK(out.bounds.valid(), ParseError, file.string(), at + "/bounds_m", "west < east and south < north");
+  return out;
+}
+
+DatasetPlan read_dataset(const fs::path& root) {
+  const io::Dataset dataset = io::Dataset::open(root);
+  DatasetPlan p;
+  p.manifest_path = root / "manifest.json";
+  p.manifest_sha256 = sha256_file(p.manifest_path);
+  const json& m = dataset.manifest();
+  p.config = pipeline::config_from_json(member(m, "config", p.manifest_path, "", "the run's config"),
+                                        p.manifest_path.string() + ":/config");
+  const json& locations = member(m, "locations", p.manifest_path, "", "the locations of the run");
+  NSG_CHECK(locations.is_array(), ParseError, p.manifest_path.string(), "/locations", "an array of locations");
+  const json& maps = member(member(m, "inputs", p.manifest_path, "", "the run's inputs"), "map_expansion",
+                            p.manifest_path, "/inputs", "the map expansion files");
+  for (size_t i = 0; i < locations.size(); ++i) {
+    const std::string at = "/locations/" + std::to_string(i);
+    const json& name = member(locations[i], "name", p.manifest_path, at, "the location's name");
+    NSG_CHECK(name.is_string(), ParseError, p.manifest_path.string(), at + "/name", "a location name");
+    const std::string location = name.get<std::string>();
+    p.locations.push_back(location);
+    const json& regions = member(locations[i], "regions", p.manifest_path, at, "the location's regions");
+    NSG_CHECK(regions.is_array(), ParseError, p.manifest_path.string(), at + "/regions", "an array of regions");
+    for (size_t r = 0; r < regions.size(); ++r)
+      p.regions[location].push_back(region_of(regions[r], p.manifest_path, at + "/regions/" + std::to_string(r)));
+    const json& map = member(maps, location.c_str(), p.manifest_path, "/inputs/map_expansion", "the location's map");
+    const json& digest = member(map, "sha256", p.manifest_path, "/inputs/map_expansion/" + location, "its sha256");
+    NSG_CHECK(digest.is_string(), ParseError, p.manifest_path.string(), "/inputs/map_expansion/" + location,
+              "a sha256");
+    p.map_sha256[location] = digest.get<std::string>();
+    p.map_version[location] = map.value("version", "");
+  }
+  return p;
+}
+
+// A location's lane graph, built as the dataset's was (same map file, same graph options).
+// Both on the heap: the index refers to the graph, which must not move.
+struct LocationGraph {
+  std::unique_ptr<graph::LaneGraph> graph;
+  std::unique_ptr<graph::SegmentIndex> index;
+};
+
+LocationGraph location_graph(const fs::path& dataroot, const std::string& location, const DatasetPlan& plan) {
+  const fs::path file = dataroot / "maps" / "expansion" / (location + ".json");
+  NSG_CHECK(fs::exists(file), IoError, file.string(), location,
+            "the map expansion the dataset " + plan.manifest_path.string() + " was generated from");
+  NSG_CHECK(sha256_file(file) == plan.map_sha256.at(location), DataError, file.string(), location,
+            "the map expansion the dataset was generated from (sha256 " + plan.map_sha256.at(location) + " in " +
+                plan.manifest_path.string() + "): the frames' lanes would not be the tiles'");
+  const nuscenes::MapExpansion map = nuscenes::load_map_expansion(dataroot, location);
+  LocationGraph out;
+  Issues issues;
+  out.graph = std::make_unique<graph::LaneGraph>(graph::build_lane_graph(map, plan.config.graph, &issues));
+  out.index = std::make_unique<graph::SegmentIndex>(*out.graph);
+  return out;
+}
+
+const tiling::Region* region_containing(const std::vector<tiling::Region>& regions, double x, double y) {
+  for (const tiling::Region& r : regions)
+    if (x >= r.bounds.x_west_m && x <= r.bounds.x_east_m && y >= r.bounds.y_south_m && y <= r.bounds.y_north_m)
+      return &r;
+  return nullptr;
+}
+
+bool window_near_other_split(const std::vector<Eigen::Vector2d>& window, const std::vector<tiling::Region>& regions,
+                             const std::string& split, double buffer_m) {
+  for (const tiling::Region& r : regions)
+    if (r.split != split && polygon_rect_distance(window, r.bounds) < buffer_m) return true;
+  return false;
+}
+
+// The scenes-random draw: each scene's split from a seeded hash of its token and the
+// dataset's split ratios (the way nuScenes' official split assigns whole scenes).
+std::string random_scene_split(const std::string& scene_token, uint64_t seed, const tiling::SplitRatios& ratios) {
+  const uint64_t h = mix64(seed ^ hash_string(scene_token.data(), scene_token.size()));
+  const double u = static_cast<double>(h >> 11) * 0x1.0p-53;
+  if (u < ratios.train) return "train";
+  if (u < ratios.train + ratios.val) return "val";
+  return "test";
+}
+
+// The export's own files in `out`: removed by --overwrite, refused without it.
+void prepare_out(const fs::path& out, bool overwrite) {
+  const fs::path manifest = out / "manifest.json";
+  if (fs::exists(manifest)) {
+    NSG_CHECK(overwrite, ConfigError, manifest.string(), "--out",
+              "a folder without a frames export (or --overwrite to replace it)");
+    fs::remove(manifest);
+  }
+  if (overwrite) {
+    fs::remove(out / "data_dict.json");
+    for (std::string_view split : tiling::kSplitNames) fs::remove_all(out / std::string(split));
+  }
+  fs::create_directories(out);
+}
+
+struct WrittenFile {
+  std::string path;  // relative to the export
+  uint64_t bytes = 0;
+  std::string sha256;
+};
+
+void place_image(const fs::path& from, const fs::path& to) {
+  fs::create_directories(to.parent_path());
+  std::error_code ec;
+  fs::remove(to, ec);
+  fs::create_hard_link(from, to, ec);
+  if (ec) fs::copy_file(from, to, fs::copy_options::overwrite_existing);
+}
+
+ordered_json leakage_json(const Leakage& l, double radius_m) {
+  const auto maybe = [](const std::optional<double>& v) { return v ? ordered_json(*v) : ordered_json(nullptr); };
+  return {{"test_frames", l.test_frames},
+          {"train_frames", l.train_frames},
+          {"radius_m", radius_m},
+          {"test_within_radius", l.test_within_radius},
+          {"share_within_radius", maybe(l.share_within)},
+          {"median_distance_m", maybe(l.median_distance_m)}};
+}
+
+}  // namespace
+
+int64_t FramesSummary::total_frames() const {
+  int64_t n = 0;
+  for (const auto& [location, counts] : frames) n += counts[0] + counts[1] + counts[2];
+  return n;
+}
+
+nlohmann::ordered_json summary_json(const FramesSummary& s, const FramesConfig& config) {
+  ordered_json by_location = ordered_json::object();
+  std::array<int64_t, 3> totals{};
+  for (const auto& [location, counts] : s.frames) {
+    ordered_json c = ordered_json::object();
+    for (size_t i = 0; i < 3; ++i) {
+      c[std::string(tiling::kSplitNames[i])] = counts[i];
+      totals[i] += counts[i];
+    }
+    by_location[location] = c;
+  }
+  ordered_json per_split = ordered_json::object();
+  for (size_t i = 0; i < 3; ++i) per_split[std::string(tiling::kSplitNames[i])] = totals[i];
+  return {{"key_frames", s.key_frames},
+          {"frames", per_split},
+          {"frames_by_location", by_location},
+          {"dropped",
+           {{"other_location", s.dropped.other_location},
+            {"excluded_scene", s.dropped.excluded_scene},
+            {"outside_regions", s.dropped.outside_regions},
+            {"overlap", s.dropped.overlap},
+            {"no_ego_pose", s.dropped.no_ego_pose}}},
+          {"flagged_overlap", s.flagged_overlap},
+          {"centerlines", s.centerlines},
+          {"links", s.links},
+          {"leakage",
+           {{"regions", leakage_json(s.regions, config.leak_radius_m)},
+            {"scenes_random", leakage_json(s.scenes_random, config.leak_radius_m)}}}};
+}
+
+FramesSummary export_frames(const FramesConfig& config, const FramesRun& run) {
+  config.validate();
+  NSG_CHECK(!run.dataset.empty(), ConfigError, "", "--dataset", "a generated dataset folder (manifest.json)");
+  NSG_CHECK(run.stats_only || !run.out.empty(), ConfigError, "", "--out", "an output folder");
+  const DatasetPlan plan = read_dataset(run.dataset);
+  const fs::path dataroot = config.dataroot.empty() ? fs::path(plan.config.dataroot) : fs::path(config.dataroot);
+  const nuscenes::Database db = nuscenes::Database::load(dataroot, plan.config.version);
+  const double buffer_m = plan.config.splits.buffer_m;
+  std::set<std::string> excluded;
+  for (const pipeline::ExcludedScene& e : plan.config.exclude_scenes) excluded.insert(e.name);
+
+  std::map<std::string, LocationGraph> graphs;
+  for (const std::string& location : plan.locations) graphs.emplace(location, location_graph(dataroot, location, plan));
+  if (!run.stats_only) prepare_out(run.out, run.overwrite);
+
+  // Key frames by (location in manifest order, scene name, timestamp): records and the
+  // data_dict come out in one order whatever the release's table order.
+  struct Candidate {
+    size_t location;
+    std::string scene;
+    int64_t timestamp;
+    nuscenes::Index sample;
+  };
+  FramesSummary summary;
+  std::vector<Candidate> candidates;
+  for (size_t i = 0; i < db.sample.size(); ++i) {
+    const nuscenes::Sample& s = db.sample.rows()[i];
+    ++summary.key_frames;
+    const nuscenes::Scene& scene = db.scene[s.scene];
+    const std::string& location = db.log[scene.log].location;
+    const auto at = std::find(plan.locations.begin(), plan.locations.end(), location);
+    if (at == plan.locations.end()) {
+      ++summary.dropped.other_location;
+      continue;
+    }
+    if (excluded.count(scene.name)) {
+      ++summary.dropped.excluded_scene;
+      continue;
+    }
+    candidates.push_back({static_cast<size_t>(at - plan.locations.begin()), scene.name, s.timestamp_us,
+                          static_cast<nuscenes::Index>(i)});
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+    return std::tie(a.location, a.scene, a.timestamp, a.sample) < std::tie(b.location, b.scene, b.timestamp, b.sample);
+  });
+
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<EgoPosition> by_regions, by_scenes;
+  std::vector<WrittenFile> files;
+  ordered_json data_dict = ordered_json::object();
+  Progress progress("frames", candidates.size(), run.progress);
+  for (const Candidate& c : candidates) {
+    progress.advance();
+    const std::string& location = plan.locations[c.location];
+    const nuscenes::Index lidar = db.key_frame(c.sample, "LIDAR_TOP");
+    if (lidar == nuscenes::kNoIndex) {
+      ++summary.dropped.no_ego_pose;
+      continue;
+    }
+    const nuscenes::EgoPose& pose = db.ego_pose[db.sample_data[lidar].ego_pose];
+    FrameContext context;
+    context.sample = c.sample;
+    context.location = location;
+    context.map_version = plan.map_version.at(location);
+    context.global_from_ego = rigid(pose.translation, pose.rotation);
+    const double x = pose.translation[0], y = pose.translation[1];
+    const std::vector<tiling::Region>& regions = plan.regions.at(location);
+    const tiling::Region* region = region_containing(regions, x, y);
+    if (region == nullptr) {
+      ++summary.dropped.outside_regions;
+      continue;
+    }
+    context.overlap = window_near_other_split(window_corners_global(context.global_from_ego, config.window), regions,
+                                              region->split, buffer_m);
+    if (context.overlap && config.overlap == OverlapMode::kDrop) {
+      ++summary.dropped.overlap;
+      continue;
+    }
+    if (context.overlap && config.overlap == OverlapMode::kFlag) ++summary.flagged_overlap;
+    context.flag_overlap = config.overlap == OverlapMode::kFlag;
+    const nuscenes::Scene& scene = db.scene[db.sample[c.sample].scene];
+    const std::string drawn = random_scene_split(scene.token.str(), config.seed, plan.config.splits.ratios);
+    by_regions.push_back({location, x, y, tiling::split_index(region->split)});
+    by_scenes.push_back({location, x, y, tiling::split_index(drawn)});
+    if (config.split_preset == SplitPreset::kRegions) {
+      context.split = region->split;
+      context.region = region->name;
+    } else {
+      context.split = drawn;
+    }
+    ++summary.frames[location][static_cast<size_t>(tiling::split_index(context.split))];
+
+    const LocationGraph& g = graphs.at(location);
+    const FrameLanes lanes =
+        cut_frame_lanes(*g.graph, *g.index, context.global_from_ego, config.window, config.centerline_points);
+    summary.centerlines += static_cast<int64_t>(lanes.centerlines.size());
+    summary.links += static_cast<int64_t>(lanes.successors.size());
+    if (run.stats_only) continue;
+
+    const std::string folder = context.split + "/" + scene.name;
+    if (config.copy_images) context.image_root = folder + "/image";
+    const std::string name = std::to_string(c.timestamp) + ".json";
+    const std::string text = frame_record(db, context, lanes).dump() + "\n";
+    const std::string relative = folder + "/info/" + name;
+    fs::create_directories(run.out / folder / "info");
+    write_file_atomic(run.out / relative, text);
+    files.push_back({relative, text.size(), sha256_hex(text)});
+    data_dict[context.split][scene.name].push_back(name);
+    if (config.copy_images) {
+      for (const nuscenes::Index sd : camera_key_frames(db, c.sample)) {
+        const std::string image =
+            context.image_root + "/" + db.channel(db.sample_data[sd]) + "/" + std::to_string(c.timestamp) + ".jpg";
+        place_image(db.file_path(db.sample_data[sd]), run.out / image);
+        files.push_back({image, fs::file_size(run.out / image), sha256_file(run.out / image)});
+      }
+    }
+  }
+  progress.finish();
+  summary.regions = measure_leakage(by_regions, config.leak_radius_m);
+  summary.scenes_random = measure_leakage(by_scenes, config.leak_radius_m);
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (run.stats_only) return summary;
+
+  const std::string dict_text = data_dict.dump(1) + "\n";
+  write_file_atomic(run.out / "data_dict.json", dict_text);
+  files.push_back({"data_dict.json", dict_text.size(), sha256_hex(dict_text)});
+  std::sort(files.begin(), files.end(), [](const WrittenFile& a, const WrittenFile& b) { return a.path < b.path; });
+  ordered_json listed = ordered_json::array();
+  for (const WrittenFile& f : files) {
+    listed.push_back({{"path", f.path}, {"bytes", f.bytes}, {"sha256", f.sha256}});
+    summary.bytes += static_cast<int64_t>(f.bytes);
+  }
+  summary.files = static_cast<int64_t>(files.size());
+  const ordered_json manifest = {
+      {"schema_version", "1"},
+      {"kind", "nsgraph-frames"},
+      {"tool_version", kVersion},
+      {"source",
+       {{"dataset", fs::absolute(run.dataset).lexically_normal().string()},
+        {"dataset_manifest_sha256", plan.manifest_sha256},
+        {"dataroot", dataroot.string()},
+        {"version", plan.config.version},
+        {"split_buffer_m", buffer_m}}},
+      {"config", frames_option_table().to_json(config)},
+      {"layout",
+       {{"records", "<split>/<segment_id>/info/<timestamp>.json (OpenLane-V2's info layout; segment_id = scene name)"},
+        {"images", config.copy_images ? "<split>/<segment_id>/image/<camera>/<timestamp>.jpg, relative to this folder"
+                                      : "referenced: image_path is relative to source.dataroot"},
+        {"traffic_elements",
+         "none: nuScenes has no traffic-element annotations, so traffic_element is [] and topology_lcte n x 0"}}},
+      {"counts", summary_json(summary, config)},
+      {"files", listed}};
+  write_file_atomic(run.out / "manifest.json", manifest.dump(1) + "\n");
+  log::info(
+      strprintf("frames: %lld frames (%lld key frames in the release), %lld centerlines, %lld links; %.3f s for the "
+                "records",
+                static_cast<long long>(summary.total_frames()), static_cast<long long>(summary.key_frames),
+                static_cast<long long>(summary.centerlines), static_cast<long long>(summary.links), summary.seconds));
+  return summary;
+}
+
+}  // namespace nsg::frames

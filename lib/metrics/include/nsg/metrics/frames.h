@@ -1,0 +1,106 @@
+#pragma once
+// Scoring per-key-frame predictions (docs/metrics.md "Frames"): OpenLane-V2's lane metrics
+// DET_l (mean AP over discrete-Fréchet thresholds 1, 2, 3 m with its distance relaxation)
+// and TOP_ll (lane–lane topology mAP), computed as its evaluator computes them, and
+// `lane_score` = (DET_l + sqrt(TOP_ll)) / 2 — OLS's lane terms, not OLS (nuScenes has no
+// traffic elements). The ground truth is an `nsgraph frames` export, read only through its
+// manifest; the predictions an OpenLane-V2 results document in JSON.
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "nsg/core/issues.h"
+
+namespace nsg::metrics {
+
+inline constexpr const char* kFramesMetricsVersion = "1";
+
+using Point3 = std::array<double, 3>;
+
+// One frame's centerlines: the ground truth's (confidence unused, topology 0/1) or a
+// prediction's. topology is n × n, row-major: [i · n + j] = the link i → j.
+struct FrameCenterlines {
+  std::vector<std::vector<Point3>> lanes;
+  std::vector<double> confidence;
+  std::vector<double> topology;
+};
+
+// Ordered frames (the order of the ground truth: an export's records by path).
+using FrameSet = std::vector<std::pair<std::string, FrameCenterlines>>;
+
+// What a results file may hold, checked before anything is measured (docs/scoring-limits.md).
+struct FrameResultsLimits {
+  int64_t max_centerlines_per_frame = 1000;  // OpenLane-V2's frames hold < 100
+  int64_t max_points_per_centerline = 1000;  // its ground truth has 11 (evaluated) to 201
+  int64_t max_points_per_frame = 50'000;
+  // Chamfer and Fréchet compare every ground-truth point with every predicted point of a
+  // frame: the product of the two point counts (5.5e7 pairs scored in 0.43 s on one core).
+  int64_t max_point_pairs_per_frame = 100'000'000;
+  double max_abs_coordinate_m = 1e5;
+  int64_t max_file_bytes = int64_t{128} << 20;  // as for tiles (--max-file-mb)
+  int64_t max_json_values = 50'000'000;
+  int max_depth = 16;  // the format nests 7 deep
+};
+
+struct FramesReport {
+  std::string split;
+  int64_t frames = 0;                         // ground-truth frames scored
+  int64_t missing_frames = 0;                 // without a prediction (scored as predicting nothing)
+  int64_t extra_frames = 0;                   // predictions of no ground-truth frame (ignored)
+  std::vector<std::string> missing_examples;  // up to 5, in ground-truth order
+  int64_t gt_centerlines = 0;
+  int64_t pred_centerlines = 0;
+  std::array<double, 3> det_l_per_threshold{};  // AP at 1, 2, 3 m
+  double det_l = 0.0;
+  double top_ll = 0.0;
+  double lane_score = 0.0;
+};
+
+// DET_l, TOP_ll and lane_score of `predictions` on `truth` (a missing prediction = none).
+FramesReport score_frames(const FrameSet& truth, const FrameSet& predictions);
+
+// The records of `split` of an `nsgraph frames` export, through its manifest: every record
+// listed for the split must be present with its size and (when `verify`) sha256. Keys are
+// sample tokens. IoError / ParseError / DataError naming the file.
+FrameSet read_frames_ground_truth(const std::filesystem::path& export_dir, const std::string& split, bool verify);
+// A ground-truth document {"frames": {key: {"lane_centerline": [{"points"}], "topology_lclc"}}}
+// (the golden set's gt.json), keys in file order.
+FrameSet read_frames_ground_truth_document(const std::filesystem::path& file);
+
+// An OpenLane-V2 results document in JSON: {"results": {token: {"predictions":
+// {"lane_centerline": [{"id", "points": [[x, y, z], …], "confidence"}], "topology_lclc":
+// n × n}}}} (other keys are allowed and ignored). Problems are Issues (checks
+// "frames.results.*", subject "<file>:<JSON pointer>"); nullopt when there are any.
+std::optional<FrameSet> read_frames_results(const std::filesystem::path& file, const FrameResultsLimits& limits,
+                                            Issues& issues);
+
+// Each frame's Chamfer/Fréchet work (ground-truth points × predicted points) within
+// limits.max_point_pairs_per_frame; frames.results.size issues naming the frame.
+void check_frame_work(const FrameSet& truth, const FrameSet& predictions, const FrameResultsLimits& limits,
+                      const std::string& results_label, Issues& issues);
+
+// `nsgraph score --frames`: the ground truth (an export folder, its `split`, or a
+// ground-truth document file) and a results file, read, checked and scored. `report` is
+// empty when the results have problems (`issues`; the CLI's exit 1); bad ground truth throws.
+struct FramesScoreInput {
+  std::filesystem::path ground_truth;
+  std::string split = "test";
+  bool verify = true;
+  std::filesystem::path results;
+  FrameResultsLimits limits;
+};
+struct ScoredFrames {
+  std::optional<FramesReport> report;
+  Issues issues;
+};
+ScoredFrames score_frames_submission(const FramesScoreInput& input);
+
+nlohmann::ordered_json frames_report_to_json(const FramesReport& r);
+
+}  // namespace nsg::metrics

@@ -1,0 +1,302 @@
+// DET_l and TOP_ll as OpenLane-V2's evaluator (openlanev2/centerline/evaluation/evaluate.py,
+// distance.py) computes them, reimplemented from its rules (docs/metrics.md "Frames"). Where
+// its numpy code rounds to float32 — ground-truth points, the relaxation factor, recalls,
+// precisions and APs — so does this, because the 11-point interpolation compares float32
+// recalls with the thresholds 0, 0.1, …, 1 in float32: 7/10 reaches 0.7 there, and would
+// not reach 0.7000000000000001 in double.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+
+#include "nsg/metrics/frames.h"
+
+namespace nsg::metrics {
+namespace {
+
+constexpr std::array<double, 3> kThresholdsM = {1.0, 2.0, 3.0};
+constexpr double kRelationshipThreshold = 0.5;  // a link is predicted when its probability is above
+constexpr double kUnset = 1024.0;               // the distance of a pair the Chamfer mask skips
+const float kEps32 = std::numeric_limits<float>::epsilon();
+
+using Curve = std::vector<Point3>;
+
+double point_distance(const Point3& a, const Point3& b) {
+  const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+// distance.py chamfer_distance(gt, pred): a closed ground truth loses its repeated point.
+double chamfer(const Curve& gt_in, const Curve& pred) {
+  size_t n_gt = gt_in.size();
+  if (n_gt > 1 && gt_in.front() == gt_in.back()) --n_gt;
+  std::vector<double> gt_min(n_gt, std::numeric_limits<double>::infinity());
+  double pred_sum = 0.0;
+  for (const Point3& p : pred) {
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t g = 0; g < n_gt; ++g) {
+      const double d = point_distance(p, gt_in[g]);
+      best = std::min(best, d);
+      gt_min[g] = std::min(gt_min[g], d);
+    }
+    pred_sum += best;
+  }
+  const double gt_sum = std::accumulate(gt_min.begin(), gt_min.end(), 0.0);
+  return (pred_sum / static_cast<double>(pred.size()) + gt_sum / static_cast<double>(n_gt)) / 2.0;
+}
+
+// The discrete Fréchet distance (Eiter & Mannila), Euclidean, one row at a time.
+double frechet(const Curve& a, const Curve& b) {
+  std::vector<double> prev(b.size()), row(b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    for (size_t j = 0; j < b.size(); ++j) {
+      const double d = point_distance(a[i], b[j]);
+      double reach;
+      if (i == 0 && j == 0) reach = d;
+      else if (i == 0) reach = row[j - 1];
+      else if (j == 0) reach = prev[0];
+      else reach = std::min({prev[j], prev[j - 1], row[j - 1]});
+      row[j] = std::max(reach, d);
+    }
+    std::swap(prev, row);
+  }
+  return prev.back();
+}
+
+// pairwise(..., relax=True): the factor max(0.5, 1 − 0.005 · d) of the ground truth's
+// nearest point to the ego, d and the factor in float32 as numpy has them.
+float relaxation(const Curve& gt) {
+  float nearest = std::numeric_limits<float>::infinity();
+  for (const Point3& p : gt) {
+    const float x = static_cast<float>(p[0]), y = static_cast<float>(p[1]), z = static_cast<float>(p[2]);
+    nearest = std::min(nearest, std::sqrt(x * x + y * y + z * z));
+  }
+  const float f = 1.0f - 0.005f * nearest;
+  return std::max(0.5f, f);
+}
+
+// The frame's ground truth × prediction distances: relaxed Fréchet where the relaxed
+// Chamfer is below the largest threshold, else kUnset.
+std::vector<double> distance_matrix(const std::vector<Curve>& gt, const std::vector<Curve>& pred) {
+  std::vector<double> out(gt.size() * pred.size(), kUnset);
+  for (size_t g = 0; g < gt.size(); ++g) {
+    const double factor = relaxation(gt[g]);
+    for (size_t p = 0; p < pred.size(); ++p)
+      if (chamfer(gt[g], pred[p]) * factor < kThresholdsM.back())
+        out[g * pred.size() + p] = frechet(pred[p], gt[g]) * factor;
+  }
+  return out;
+}
+
+// Indices by descending value; equal values keep their order (numpy's argsort does for
+// up to 16 values, docs/metrics.md "Frames").
+std::vector<size_t> order_by_descending(const std::vector<double>& values) {
+  std::vector<size_t> order(values.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return values[a] > values[b]; });
+  return order;
+}
+
+struct FrameMatch {
+  std::vector<uint8_t> tp;          // per prediction
+  std::vector<int64_t> matched_gt;  // per prediction, −1 = none
+};
+
+// _tpfp: predictions by confidence take their nearest ground truth when it is within the
+// threshold and not yet taken; a prediction whose nearest is taken is a false positive.
+FrameMatch match_frame(size_t n_gt, const std::vector<double>& confidence, const std::vector<double>& dist,
+                       double threshold) {
+  const size_t n_pred = confidence.size();
+  FrameMatch m{std::vector<uint8_t>(n_pred, 0), std::vector<int64_t>(n_pred, -1)};
+  if (n_gt == 0 || n_pred == 0) return m;
+  std::vector<uint8_t> covered(n_gt, 0);
+  for (const size_t p : order_by_descending(confidence)) {
+    size_t best = 0;
+    for (size_t g = 1; g < n_gt; ++g)
+      if (dist[g * n_pred + p] < dist[best * n_pred + p]) best = g;
+    if (dist[best * n_pred + p] < threshold && !covered[best]) {
+      covered[best] = 1;
+      m.tp[p] = 1;
+      m.matched_gt[p] = static_cast<int64_t>(best);
+    }
+  }
+  return m;
+}
+
+// _pr_curve: 11-point interpolated AP, in float32 like the evaluator's arrays.
+float eleven_point_ap(const std::vector<float>& recalls, const std::vector<float>& precisions) {
+  float ap = 0.0f;
+  for (int k = 0; k <= 10; ++k) {
+    // np.arange(0, 1 + 1e-3, 0.1) (0.30000000000000004, 0.7000000000000001, …) against a
+    // float32 array: numpy compares in float32, so 7/10 in float32 reaches 0.7.
+    const float threshold = static_cast<float>(k * 0.1);
+    float best = 0.0f;
+    for (size_t i = 0; i < recalls.size(); ++i)
+      if (recalls[i] >= threshold) best = std::max(best, precisions[i]);
+    ap += best;
+  }
+  return ap / 11.0f;
+}
+
+// _AP at one threshold over every frame; fills each frame's matches for TOP_ll.
+float average_precision(const FrameSet& truth, const std::vector<const FrameCenterlines*>& preds,
+                        const std::vector<std::vector<double>>& dists, double threshold,
+                        std::vector<FrameMatch>* matches) {
+  std::vector<double> confidence;
+  std::vector<uint8_t> tp;
+  int64_t n_gt = 0;
+  for (size_t f = 0; f < truth.size(); ++f) {
+    const FrameCenterlines& p = *preds[f];
+    FrameMatch m = match_frame(truth[f].second.lanes.size(), p.confidence, dists[f], threshold);
+    confidence.insert(confidence.end(), p.confidence.begin(), p.confidence.end());
+    tp.insert(tp.end(), m.tp.begin(), m.tp.end());
+    n_gt += static_cast<int64_t>(truth[f].second.lanes.size());
+    (*matches)[f] = std::move(m);
+  }
+  if (tp.empty() && n_gt == 0) return 1.0f;
+  std::vector<float> recalls, precisions;
+  float tps = 0.0f, fps = 0.0f;
+  const float gt_count = std::max(static_cast<float>(n_gt), kEps32);
+  for (const size_t i : order_by_descending(confidence)) {
+    (tp[i] ? tps : fps) += 1.0f;
+    recalls.push_back(tps / gt_count);
+    precisions.push_back(tps / std::max(tps + fps, kEps32));
+  }
+  return eleven_point_ap(recalls, precisions);
+}
+
+// _average_precision_per_vertex: the ranked predicted neighbours against the true ones.
+float vertex_ap(const std::vector<size_t>& truth, const std::vector<size_t>& predicted,
+                const std::vector<double>& confidence) {
+  if (truth.empty() && predicted.empty()) return 1.0f;
+  if (truth.empty() || predicted.empty()) return 0.0f;
+  float tp = 0.0f, fp = 0.0f, sum = 0.0f;
+  for (const size_t i : order_by_descending(confidence)) {
+    const bool hit = std::find(truth.begin(), truth.end(), predicted[i]) != truth.end();
+    (hit ? tp : fp) += 1.0f;
+    if (hit) sum += tp / std::max(tp + fp, kEps32);
+  }
+  return sum / static_cast<float>(truth.size());
+}
+
+// _AP_directerd: every vertex's outgoing row, then every incoming column.
+void directed_aps(const std::vector<double>& gt, const std::vector<double>& pred, size_t n, std::vector<double>* out) {
+  for (int pass = 0; pass < 2; ++pass)
+    for (size_t v = 0; v < n; ++v) {
+      std::vector<size_t> truth, predicted;
+      std::vector<double> confidence;
+      for (size_t w = 0; w < n; ++w) {
+        const size_t at = pass == 0 ? v * n + w : w * n + v;
+        if (gt[at] != 0.0) truth.push_back(w);
+        if (pred[at] > kRelationshipThreshold) {
+          predicted.push_back(w);
+          confidence.push_back(pred[at]);
+        }
+      }
+      out->push_back(vertex_ap(truth, predicted, confidence));
+    }
+}
+
+// _mAP_topology_lclc for one frame at one threshold: the prediction's links between
+// matched centerlines carried onto the ground truth's; every other pair predicted as "no
+// link" where the truth has one and as a link of probability 0.5 + float32 ε where it has
+// none (the evaluator's v1.1 rule: an unmatched pair costs).
+void frame_topology_aps(const FrameCenterlines& gt, const FrameCenterlines& pred, const FrameMatch& m,
+                        std::vector<double>* out) {
+  const size_t n = gt.lanes.size();
+  if (n == 0) return;
+  const size_t n_pred = pred.lanes.size();
+  std::vector<double> carried(n * n, std::numeric_limits<double>::quiet_NaN());
+  for (size_t a = 0; a < n_pred; ++a) {
+    if (m.matched_gt[a] < 0) continue;
+    for (size_t b = 0; b < n_pred; ++b) {
+      if (m.matched_gt[b] < 0) continue;
+      carried[static_cast<size_t>(m.matched_gt[a]) * n + static_cast<size_t>(m.matched_gt[b])] =
+          pred.topology[a * n_pred + b];
+    }
+  }
+  const double unmatched_link = 0.5 + static_cast<double>(kEps32);
+  for (size_t i = 0; i < n * n; ++i)
+    if (std::isnan(carried[i])) carried[i] = (1.0 - gt.topology[i]) * unmatched_link;
+  directed_aps(gt.topology, carried, n, out);
+}
+
+// The evaluator reads ground-truth points as float32 (collect(): np.float32).
+FrameCenterlines as_float32(const FrameCenterlines& f) {
+  FrameCenterlines out = f;
+  for (Curve& lane : out.lanes)
+    for (Point3& p : lane)
+      for (double& c : p) c = static_cast<double>(static_cast<float>(c));
+  return out;
+}
+
+}  // namespace
+
+FramesReport score_frames(const FrameSet& truth_in, const FrameSet& predictions) {
+  FramesReport r;
+  FrameSet truth;
+  for (const auto& [key, f] : truth_in) truth.emplace_back(key, as_float32(f));
+  std::map<std::string, const FrameCenterlines*> by_key;
+  for (const auto& [key, f] : predictions) by_key[key] = &f;
+  static const FrameCenterlines kNothing;
+  std::vector<const FrameCenterlines*> preds;
+  std::map<std::string, bool> seen;
+  for (const auto& [key, f] : truth) {
+    const auto it = by_key.find(key);
+    if (it == by_key.end()) {
+      ++r.missing_frames;
+      if (r.missing_examples.size() < 5) r.missing_examples.push_back(key);
+    }
+    preds.push_back(it == by_key.end() ? &kNothing : it->second);
+    seen[key] = true;
+    r.gt_centerlines += static_cast<int64_t>(f.lanes.size());
+    r.pred_centerlines += static_cast<int64_t>(preds.back()->lanes.size());
+  }
+  for (const auto& [key, f] : predictions) r.extra_frames += seen.count(key) ? 0 : 1;
+  r.frames = static_cast<int64_t>(truth.size());
+
+  std::vector<std::vector<double>> dists;
+  for (size_t f = 0; f < truth.size(); ++f) dists.push_back(distance_matrix(truth[f].second.lanes, preds[f]->lanes));
+  std::vector<double> vertex_aps;
+  float det_sum = 0.0f;
+  for (size_t t = 0; t < kThresholdsM.size(); ++t) {
+    std::vector<FrameMatch> matches(truth.size());
+    const float ap = average_precision(truth, preds, dists, kThresholdsM[t], &matches);
+    r.det_l_per_threshold[t] = ap;
+    det_sum += ap;
+    for (size_t f = 0; f < truth.size(); ++f) frame_topology_aps(truth[f].second, *preds[f], matches[f], &vertex_aps);
+  }
+  r.det_l = det_sum / 3.0f;
+  double top_sum = 0.0;
+  for (const double v : vertex_aps) top_sum += v;
+  r.top_ll = vertex_aps.empty() ? 0.0 : top_sum / static_cast<double>(vertex_aps.size());
+  r.lane_score = (r.det_l + std::sqrt(r.top_ll)) / 2.0;
+  return r;
+}
+
+nlohmann::ordered_json frames_report_to_json(const FramesReport& r) {
+  nlohmann::ordered_json per = nlohmann::ordered_json::object();
+  for (size_t t = 0; t < kThresholdsM.size(); ++t)
+    per[std::to_string(kThresholdsM[t]).substr(0, 3)] = r.det_l_per_threshold[t];
+  return {
+      {"schema_version", "1"},
+      {"frames_metrics_version", kFramesMetricsVersion},
+      {"split", r.split},
+      {"DET_l", r.det_l},
+      {"DET_l_per_threshold", per},
+      {"TOP_ll", r.top_ll},
+      {"lane_score", r.lane_score},
+      {"counts",
+       {{"frames", r.frames},
+        {"missing_frames", r.missing_frames},
+        {"extra_frames", r.extra_frames},
+        {"gt_centerlines", r.gt_centerlines},
+        {"pred_centerlines", r.pred_centerlines}}},
+      {"missing_examples", r.missing_examples},
+      {"note",
+       "DET_l and TOP_ll as OpenLane-V2's evaluator computes them; lane_score = (DET_l + sqrt(TOP_ll)) / 2, the lane "
+       "terms of OLS, not OLS (no traffic elements)"}};
+}
+
+}  // namespace nsg::metrics

@@ -1,0 +1,143 @@
+// Frame scoring: OpenLane-V2's evaluator's own numbers (tests/data/golden/frames, made by
+// its evaluate() from the mirror) reproduced to 1e-6, the rules on frames where the answer
+// is known by hand, and hostile results files refused by name.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "nsg/core/files.h"
+#include "nsg/metrics/frames.h"
+#include "test_support.h"
+
+namespace nsg::metrics {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const fs::path kGolden = test::source_dir() / "tests/data/golden/frames";
+
+TEST(FramesGolden, EveryResultsFileScoresAsOpenLaneV2sEvaluator) {
+  const json expected = json::parse(read_file(kGolden / "expected.json"));
+  const FrameSet truth = read_frames_ground_truth_document(kGolden / "gt.json");
+  ASSERT_GE(truth.size(), 30u);
+  for (const char* file : {"pred.json", "pred-b.json", "pred-copy.json"}) {
+    SCOPED_TRACE(file);
+    Issues issues;
+    const std::optional<FrameSet> pred = read_frames_results(kGolden / file, FrameResultsLimits{}, issues);
+    ASSERT_TRUE(pred) << issues.format();
+    const FramesReport r = score_frames(truth, *pred);
+    const json& want = expected[file];
+    EXPECT_EQ(r.frames, want["frames"].get<int64_t>());
+    EXPECT_NEAR(r.det_l, want["DET_l"].get<double>(), 1e-6);
+    EXPECT_NEAR(r.top_ll, want["TOP_ll"].get<double>(), 1e-6);
+    EXPECT_NEAR(r.det_l_per_threshold[0], want["DET_l_per_threshold"]["1.0"].get<double>(), 1e-6);
+    EXPECT_NEAR(r.det_l_per_threshold[1], want["DET_l_per_threshold"]["2.0"].get<double>(), 1e-6);
+    EXPECT_NEAR(r.det_l_per_threshold[2], want["DET_l_per_threshold"]["3.0"].get<double>(), 1e-6);
+    EXPECT_NEAR(r.lane_score, (r.det_l + std::sqrt(r.top_ll)) / 2, 1e-12);
+  }
+}
+
+// A frame of straight lanes along x at y = 0, 10, 20 (11 points each), 0 → 1 linked.
+FrameCenterlines three_lanes() {
+  FrameCenterlines f;
+  for (int k = 0; k < 3; ++k) {
+    std::vector<Point3> lane;
+    for (int i = 0; i <= 10; ++i) lane.push_back({-20.0 + 4.0 * i, 10.0 * k, 0.0});
+    f.lanes.push_back(lane);
+    f.confidence.push_back(0.9 - 0.1 * k);
+  }
+  f.topology = {0, 1, 0, 0, 0, 0, 0, 0, 0};
+  return f;
+}
+
+TEST(Frames, APerfectCopyScoresOneAndNothingScoresZero) {
+  const FrameSet truth = {{"a", three_lanes()}};
+  const FramesReport copy = score_frames(truth, truth);
+  EXPECT_EQ(copy.det_l, 1.0);
+  EXPECT_EQ(copy.top_ll, 1.0);
+  EXPECT_EQ(copy.lane_score, 1.0);
+  const FramesReport none = score_frames(truth, {});
+  EXPECT_EQ(none.missing_frames, 1);
+  EXPECT_EQ(none.missing_examples, std::vector<std::string>{"a"});
+  EXPECT_EQ(none.det_l, 0.0);
+  // Unmatched: every true link missed and every other pair a false link (the evaluator's
+  // v1.1 rule), so only vertices with neither score (none here: each has a false one).
+  EXPECT_EQ(none.top_ll, 0.0);
+}
+
+TEST(Frames, AShiftBetweenThresholdsCountsAtTheLargerOnesOnly) {
+  // Lane 1 moved 1.5 m sideways: beyond 1 m, within 2 and 3 m. Its relaxation factor is
+  // max(0.5, 1 − 0.005 · d) with d its nearest point to the ego: (0, 10) → 0.95, so the
+  // relaxed distance is 1.425 m.
+  FrameCenterlines pred = three_lanes();
+  for (Point3& p : pred.lanes[1]) p[1] += 1.5;
+  const FramesReport r = score_frames({{"a", three_lanes()}}, {{"a", pred}});
+  // At 1 m: 2 of 3 true positives (ranked 1st and 3rd): precision/recall (1, 1/3), (0.5, 1/3),
+  // (2/3, 2/3): interpolated 1 for recall ≤ 1/3, 2/3 up to 2/3, 0 above: (4 · 1 + 3 · 2/3) / 11.
+  EXPECT_NEAR(r.det_l_per_threshold[0], (4.0 + 3.0 * 2.0 / 3.0) / 11.0, 1e-6);
+  EXPECT_EQ(r.det_l_per_threshold[1], 1.0f);
+  EXPECT_EQ(r.det_l_per_threshold[2], 1.0f);
+}
+
+fs::path write(const test::TempDir& dir, const std::string& name, const std::string& text) {
+  test::write_text(dir / name, text);
+  return dir / name;
+}
+
+std::string one_frame(const std::string& lanes, const std::string& topology) {
+  return R"({"results": {"tok": {"predictions": {"lane_centerline": )" + lanes + R"(, "topology_lclc": )" + topology +
+         "}}}}";
+}
+
+TEST(FramesResults, HostileFilesAreRefusedByName) {
+  test::TempDir dir("frames-results");
+  const std::string lane = R"({"id": 0, "points": [[0, 0, 0], [1, 0, 0]], "confidence": 0.5})";
+  struct Case {
+    std::string name, text, check, pointer;
+  };
+  const std::vector<Case> cases = {
+      {"no-results", R"({"result": {}})", "frames.results.schema", ":"},
+      {"no-confidence", one_frame(R"([{"id": 0, "points": [[0, 0, 0], [1, 0, 0]]}])", "[[0]]"), "frames.results.finite",
+       "/results/tok/predictions/lane_centerline/0/confidence"},
+      {"one-point", one_frame(R"([{"id": 0, "points": [[0, 0, 0]], "confidence": 1}])", "[[0]]"), "frames.results.size",
+       "/lane_centerline/0/points"},
+      {"2d-point", one_frame(R"([{"id": 0, "points": [[0, 0], [1, 0]], "confidence": 1}])", "[[0]]"),
+       "frames.results.schema", "/lane_centerline/0/points/0"},
+      {"far", one_frame(R"([{"id": 0, "points": [[0, 0, 0], [1e9, 0, 0]], "confidence": 1}])", "[[0]]"),
+       "frames.results.finite", "/lane_centerline/0/points/1"},
+      {"topology-shape", one_frame("[" + lane + "]", "[[0, 1]]"), "frames.results.schema",
+       "/predictions/topology_lclc/0"},
+      {"probability", one_frame("[" + lane + "]", "[[1.5]]"), "frames.results.scores",
+       "/predictions/topology_lclc/0/0"},
+      {"duplicate-key", R"({"results": {"tok": {}, "tok": {}}})", "submission.json", ""},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    Issues issues;
+    EXPECT_FALSE(read_frames_results(write(dir, c.name + ".json", c.text), FrameResultsLimits{}, issues));
+    ASSERT_FALSE(issues.empty());
+    EXPECT_EQ(issues.items()[0].check, c.check) << issues.format();
+    EXPECT_NE(issues.items()[0].subject.find(c.pointer), std::string::npos) << issues.format();
+  }
+  // Too many centerlines, too many point pairs against the ground truth.
+  FrameResultsLimits small;
+  small.max_centerlines_per_frame = 1;
+  Issues many;
+  EXPECT_FALSE(read_frames_results(
+      write(dir, "many.json", one_frame("[" + lane + ", " + lane + "]", "[[0, 0], [0, 0]]")), small, many));
+  EXPECT_EQ(many.items().at(0).check, "frames.results.size");
+  FrameResultsLimits pairs;
+  pairs.max_point_pairs_per_frame = 32;  // 33 truth points × 2 predicted points
+  Issues work;
+  check_frame_work({{"tok", three_lanes()}}, {{"tok", FrameCenterlines{{{{0, 0, 0}, {1, 0, 0}}}, {1.0}, {0.0}}}}, pairs,
+                   "r.json", work);
+  ASSERT_EQ(work.size(), 1u);
+  EXPECT_EQ(work.items()[0].subject, "r.json:/results/tok");
+}
+
+}  // namespace
+}  // namespace nsg::metrics

@@ -1,0 +1,114 @@
+// `nsgraph frames`: the key frames of a release on a dataset's leak-free regions, in
+// OpenLane-V2's per-frame layout (lib/frames, docs/frames.md).
+#include <iostream>
+#include <optional>
+
+#include "commands.h"
+#include "options_listing.h"
+#include "nsg/core/error.h"
+#include "nsg/core/log.h"
+#include "nsg/core/strings.h"
+#include "nsg/frames/config.h"
+#include "nsg/frames/export.h"
+
+namespace nsg::cli {
+namespace {
+
+struct FramesCliOptions {
+  std::string dataset;
+  std::string out;
+  std::string config_path;
+  std::vector<std::string> settings;  // --set key=value, in order
+  // Flags that stand for config keys (unset = the config's value).
+  std::optional<std::string> dataroot, overlap, split_preset;
+  bool copy_images = false;
+  bool stats = false;
+  bool overwrite = false;
+  bool print_config = false;
+  bool list_options = false;
+  std::string format = "text";
+
+  std::vector<frames::FramesFlag> flags() const {
+    std::vector<frames::FramesFlag> out;
+    if (dataroot) out.push_back({"--dataroot", "dataroot", *dataroot});
+    if (overlap) out.push_back({"--overlap", "overlap", *overlap});
+    if (split_preset) out.push_back({"--split-preset", "split_preset", *split_preset});
+    if (copy_images) out.push_back({"--copy-images", "copy_images", true});
+    return out;
+  }
+};
+
+std::string share_text(const frames::Leakage& l) {
+  if (!l.share_within) return "no test frames";
+  std::string text =
+      strprintf("%.1f %% of %lld test frames", 100.0 * *l.share_within, static_cast<long long>(l.test_frames));
+  if (l.median_distance_m) text += strprintf(", median %.1f m", *l.median_distance_m);
+  return text;
+}
+
+int run_frames(const FramesCliOptions& o, const Context& ctx) {
+  if (o.list_options) {
+    std::cout << list_options_text("frames",
+                                   "Every option of the per-key-frame export (OpenLane-V2's layout on the dataset's "
+                                   "regions), as declared; a file may give any subset.",
+                                   frames::frames_option_table().specs(),
+                                   frames::frames_option_table().to_json(frames::FramesConfig{}),
+                                   frames::frames_config_schema(), o.format);
+    return kExitOk;
+  }
+  const frames::FramesConfig config = frames::resolve_frames_config(o.config_path, o.flags(), o.settings);
+  if (o.print_config) {
+    std::cout << frames::frames_option_table().to_json(config).dump(2) << "\n";
+    return kExitOk;
+  }
+  NSG_CHECK(!o.dataset.empty(), ConfigError, "", "--dataset", "a generated dataset folder (manifest.json)");
+  NSG_CHECK(o.stats || !o.out.empty(), ConfigError, "", "--out", "an output folder (or --stats to only count)");
+  frames::FramesRun run;
+  run.dataset = o.dataset;
+  run.out = o.out;
+  run.overwrite = o.overwrite;
+  run.stats_only = o.stats;
+  run.progress = !ctx.quiet;
+  const frames::FramesSummary s = frames::export_frames(config, run);
+  if (o.stats) {
+    std::cout << frames::summary_json(s, config).dump(2) << "\n";
+    return kExitOk;
+  }
+  log::info(strprintf("frames: within %.1f m of a train frame: %s (regions); %s (scenes-random, seed %llu)",
+                      config.leak_radius_m, share_text(s.regions).c_str(), share_text(s.scenes_random).c_str(),
+                      static_cast<unsigned long long>(config.seed)));
+  log::info("frames: " + std::to_string(s.files) + " files written to " + o.out);
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_frames_command(CLI::App& root, Context& ctx) {
+  auto o = std::make_shared<FramesCliOptions>();
+  CLI::App* cmd = root.add_subcommand(
+      "frames", "Export every key frame in a dataset's regions as OpenLane-V2 frame records (cameras, pose, lanes)");
+  cmd->add_option("--dataset", o->dataset, "A generated dataset (its manifest gives the release, regions and map)");
+  cmd->add_option("--out", o->out, "Output folder");
+  cmd->add_option("--config", o->config_path, "Frames config JSON (any subset of the keys; --list-options)");
+  cmd->add_option("--set", o->settings, "Any config key: key=value (repeatable; --list-options lists the keys)");
+  cmd->add_option("--dataroot", o->dataroot, "The release, when it moved since generate (config key dataroot)");
+  cmd->add_option("--overlap", o->overlap,
+                  "A frame whose window comes near another split's region: drop (default), keep or flag (config key "
+                  "overlap)");
+  cmd->add_option("--split-preset", o->split_preset,
+                  "regions (default: the dataset's leak-free regions) or scenes-random (a seeded draw per scene, as "
+                  "nuScenes' own split; it leaks) (config key split_preset)");
+  cmd->add_flag("--copy-images", o->copy_images,
+                "Copy the camera images next to the records (hard links where possible; config key copy_images)");
+  cmd->add_flag("--stats", o->stats,
+                "Count the frames and print the leakage figures of both split presets as JSON; write nothing");
+  cmd->add_flag("--overwrite", o->overwrite, "Replace a frames export already in --out");
+  cmd->add_flag("--print-config", o->print_config, "Print the resolved frames config and exit");
+  cmd->add_flag("--list-options", o->list_options,
+                "List every config key (key, type, default, unit, description) and exit");
+  cmd->add_option("--format", o->format, "--list-options as text, md (docs/options.md), json or schema")
+      ->check(CLI::IsMember({"text", "md", "json", "schema"}));
+  cmd->callback([o, &ctx] { ctx.run = [o, &ctx] { return run_frames(*o, ctx); }; });
+}
+
+}  // namespace nsg::cli
