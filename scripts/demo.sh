@@ -134,6 +134,16 @@ else
   next+=("score")
 fi
 
+step "frames baseline: the tile model's graphs stitched and cut around each test frame, scored OpenLane-V2's way"
+if have frames && [ -f "$out/model.yml.gz" ] && [ -f "$out/frames/manifest.json" ]; then
+  "$exe" predict --model "$out/model.yml.gz" --dataset "$out/dataset" --split test --frames "$out/frames" \
+    --out "$out/frames-results.json"
+  "$exe" score --frames --ground-truth "$out/frames" --submission "$out/frames-results.json" --split test \
+    --format md --out "$out/frames-score.json"
+else
+  next+=("frames baseline")
+fi
+
 step "report: the scored submission as HTML (open $out/report/index.html; no network needed)"
 if have report && [ -f "$out/submission.json" ]; then
   /usr/bin/time -f 'report: %e s wall, %M KiB peak RSS' \

@@ -7,6 +7,7 @@
 #include "bindings.h"
 #include "convert.h"
 #include "nsg/core/issues.h"
+#include "nsg/core/strings.h"
 #include "nsg/metrics/frames.h"
 #include "nsg/nuscenes/camera.h"
 

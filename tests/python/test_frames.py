@@ -13,11 +13,7 @@ import fixtures
 import nsgraph
 import nsgraph.frames
 
-try:
-    import torch
-    import nsgraph.torch
-except ImportError:  # python3-torch is in the test dependencies; a missing one fails loudly below
-    torch = None
+import nsgraph.torch  # python3-torch is a test dependency (cmake/debian-packages.txt)
 
 
 def export(tmp):
@@ -100,7 +96,6 @@ class FramesTest(unittest.TestCase):
         finally:
             shutil.rmtree(tmp, ignore_errors=True)
 
-    @unittest.skipIf(torch is None, "python3-torch missing")
     def test_collate_pads_centerlines_and_stacks_cameras(self):
         ds = nsgraph.frames.Dataset(self.root, "test", images=True)
         batch = nsgraph.torch.collate_frames([ds[0], ds[1]])

@@ -8,7 +8,10 @@
 #include "commands.h"
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
+#include "nsg/core/sha256.h"
 #include "nsg/core/strings.h"
+#include "nsg/core/atomic_file.h"
+#include "nsg/frames/from_tiles.h"
 #include "nsg/metrics/io.h"
 #include "nsg/model/model.h"
 #include "nsg/model/onnx_net.h"
@@ -21,6 +24,7 @@ struct PredictCliOptions {
   std::string dataset;
   std::string split = "test";
   std::string out;
+  std::string frames;  // --frames: an `nsgraph frames` export of the dataset; write its results instead
   int threads = 0;
 
   void validate() const {
@@ -30,6 +34,36 @@ struct PredictCliOptions {
 };
 
 bool is_onnx(const std::string& path) { return ends_with(path, ".onnx"); }
+
+// --frames: the tiles' graphs stitched and cut around each frame of the export's split,
+// written as an OpenLane-V2 results document (docs/frames.md "The tile baseline").
+int write_frame_results(const PredictCliOptions& o, const io::Dataset& dataset, const metrics::GraphSet& graphs,
+                        const std::string& model_name) {
+  const frames::ExportFrames ex = frames::read_export_frames(o.frames, o.split);
+  NSG_CHECK(ex.dataset_manifest_sha256 == sha256_file(dataset.root() / "manifest.json"), DataError,
+            (std::filesystem::path(o.frames) / "manifest.json").string(), "/source/dataset_manifest_sha256",
+            "the frames export of --dataset " + o.dataset + " (its manifest's sha256)");
+  std::vector<frames::TilePrediction> tiles;
+  double resolution_m = 0.2;
+  dataset.for_each_tile(o.split, [&](const io::DatasetTile& tile) {
+    const nlohmann::json meta = tile.json("meta.json");
+    frames::TilePrediction t;
+    t.key = tile.key;
+    t.location = meta.at("location").get<std::string>();
+    for (size_t i = 0; i < 4; ++i) t.bounds_m[i] = meta.at("bounds_m").at(i).get<double>();
+    resolution_m = meta.at("resolution_m").get<double>();
+    const auto it = graphs.find(tile.key);
+    if (it != graphs.end()) t.graph = it->second;
+    tiles.push_back(std::move(t));
+    return true;
+  });
+  const nlohmann::ordered_json results =
+      frames::tiles_to_frame_results(tiles, ex, resolution_m, "nsgraph " + model_name + " (tiles stitched)");
+  write_file_atomic(o.out, results.dump() + "\n");
+  log::info(strprintf("predicted %zu frames of '%s' from %zu tiles (%s) → %s", ex.frames.size(), o.split.c_str(),
+                      tiles.size(), model_name.c_str(), o.out.c_str()));
+  return kExitOk;
+}
 
 int run_predict(const PredictCliOptions& o, const Context& ctx) {
   o.validate();
@@ -41,6 +75,9 @@ int run_predict(const PredictCliOptions& o, const Context& ctx) {
                                        ? model::predict_dataset(*forest, dataset, o.split, o.threads, !ctx.quiet)
                                        : model::predict_dataset_onnx(o.model, dataset, o.split, o.threads, !ctx.quiet);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!o.frames.empty())
+    return write_frame_results(o, dataset, graphs,
+                               forest ? model::to_string(forest->options().variant) : "LaneGraphNet (ONNX)");
   metrics::write_submission(graphs, o.out);
   size_t nodes = 0, edges = 0;
   for (const auto& [key, g] : graphs) {
@@ -66,7 +103,11 @@ void add_predict_command(CLI::App& parent, Context& ctx) {
       ->required();
   cmd->add_option("--dataset", opts->dataset, "Dataset folder (manifest.json)")->required();
   cmd->add_option("--split", opts->split, "Split to predict")->capture_default_str();
-  cmd->add_option("--out", opts->out, "Submission JSON to write")->required();
+  cmd->add_option("--out", opts->out, "Submission JSON to write (with --frames: an OpenLane-V2 results JSON)")
+      ->required();
+  cmd->add_option("--frames", opts->frames,
+                  "An `nsgraph frames` export of --dataset: the tiles' graphs stitched and cut around each of its "
+                  "--split frames, written as OpenLane-V2 results (score them with `score --frames`)");
   cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores; results do not depend on it)")
       ->capture_default_str();
   cmd->callback([opts, &ctx]() { ctx.run = [opts, &ctx]() { return run_predict(*opts, ctx); }; });

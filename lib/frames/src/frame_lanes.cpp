@@ -18,8 +18,8 @@ Eigen::Vector3d lerp(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double 
 // The stretches of one lane's chain (already in the ego frame) inside the box.
 class PieceBuilder {
  public:
-  PieceBuilder(const graph::TileBounds& box, int32_t lane, const graph::Lane& source)
-      : box_(box), lane_(lane), source_(source) {}
+  PieceBuilder(const graph::TileBounds& box, int32_t lane, const std::string& token, bool is_connector)
+      : box_(box), lane_(lane), token_(token), is_connector_(is_connector) {}
 
   std::vector<FrameCenterline> run(const std::vector<Eigen::Vector3d>& chain) {
     const size_t last = chain.size() - 1;
@@ -48,8 +48,8 @@ class PieceBuilder {
   void open_piece(const Eigen::Vector3d& p, bool at_lane_start) {
     FrameCenterline c;
     c.lane = lane_;
-    c.lane_token = source_.token;
-    c.is_connector = source_.is_connector;
+    c.lane_token = token_;
+    c.is_connector = is_connector_;
     c.starts_at_lane_start = at_lane_start;
     c.points_2m.push_back(p);
     current_ = std::move(c);
@@ -70,13 +70,21 @@ class PieceBuilder {
 
   graph::TileBounds box_;
   int32_t lane_;
-  const graph::Lane& source_;
+  const std::string& token_;
+  bool is_connector_;
   bool open_ = false;
   FrameCenterline current_;
   std::vector<FrameCenterline> pieces_;
 };
 
 }  // namespace
+
+std::vector<FrameCenterline> clip_chain(const std::vector<Eigen::Vector3d>& chain, const WindowM& window, int32_t lane,
+                                        const std::string& token, bool is_connector) {
+  if (chain.size() < 2) return {};
+  const graph::TileBounds box{window.x_min_m, window.y_min_m, window.x_max_m, window.y_max_m};
+  return PieceBuilder(box, lane, token, is_connector).run(chain);
+}
 
 std::vector<Eigen::Vector3d> resample_by_count(const std::vector<Eigen::Vector3d>& polyline, int n) {
   std::vector<double> along(polyline.size(), 0.0);
@@ -122,7 +130,6 @@ FrameLanes cut_frame_lanes(const graph::LaneGraph& graph, const graph::SegmentIn
   lanes.erase(std::unique(lanes.begin(), lanes.end()), lanes.end());
 
   const geometry::Rigid3 ego_from_global = global_from_ego.inverse();
-  const graph::TileBounds box{window.x_min_m, window.y_min_m, window.x_max_m, window.y_max_m};
   FrameLanes out;
   std::vector<Eigen::Vector3d> chain;
   for (const int32_t lane : lanes) {
@@ -133,7 +140,7 @@ FrameLanes cut_frame_lanes(const graph::LaneGraph& graph, const graph::SegmentIn
       const graph::Node& node = graph.nodes[static_cast<size_t>(n)];
       chain.push_back(ego_from_global.apply(Eigen::Vector3d(node.x_m, node.y_m, 0.0)));
     }
-    for (FrameCenterline& c : PieceBuilder(box, lane, source).run(chain)) {
+    for (FrameCenterline& c : clip_chain(chain, window, lane, source.token, source.is_connector)) {
       c.points = resample_by_count(c.points_2m, centerline_points);
       out.centerlines.push_back(std::move(c));
     }

@@ -1,5 +1,6 @@
 // The inputs of frame scoring: the ground truth of an `nsgraph frames` export (through its
 // manifest) and an OpenLane-V2 results document, a stranger's file checked before use.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -9,6 +10,7 @@
 #include "nsg/core/json.h"
 #include "nsg/core/sha256.h"
 #include "nsg/metrics/frames.h"
+#include "nsg/metrics/measure.h"
 #include "nsg/validate/submission.h"
 
 namespace nsg::metrics {
@@ -109,7 +111,15 @@ class ResultsReader {
                   std::to_string(points) + ")");
       return false;
     }
-    return topology(p, at + "/predictions/topology_lclc", f);
+    if (!topology(p, at + "/predictions/topology_lclc", f)) return false;
+    const int64_t links = std::count_if(f.topology.begin(), f.topology.end(), [](double v) { return v > 0.5; });
+    if (links > limits_.max_links_per_frame) {
+      problem("frames.results.size", at + "/predictions/topology_lclc",
+              "at most " + std::to_string(limits_.max_links_per_frame) + " links above 0.5 in a frame (got " +
+                  std::to_string(links) + ")");
+      return false;
+    }
+    return true;
   }
 
   bool centerline(const json& lane, const std::string& at, FrameCenterlines& f, int64_t* points) {
@@ -255,6 +265,16 @@ void check_frame_work(const FrameSet& truth, const FrameSet& predictions, const 
   for (const auto& [key, f] : predictions) {
     const auto it = truth_points.find(key);
     if (it == truth_points.end()) continue;  // an extra frame is not measured
+    // Its graph (rule 9) within the tile limits, as a tile's prediction would be.
+    const Graph g = frame_graph(f, false);
+    double length_px = 0.0;
+    for (const auto& [a, b] : g.edges)
+      length_px += std::hypot(g.nodes[static_cast<size_t>(a)].u - g.nodes[static_cast<size_t>(b)].u,
+                              g.nodes[static_cast<size_t>(a)].v - g.nodes[static_cast<size_t>(b)].v);
+    validate::check_tile_limits(static_cast<int64_t>(g.nodes.size()), static_cast<int64_t>(g.edges.size()), length_px,
+                                validate::path_search_work(static_cast<int64_t>(g.nodes.size()), g.edges),
+                                results_label + ":/results/" + validate::json_pointer_token(key),
+                                validate::SubmissionLimits{}, issues);
     int64_t n = 0;
     for (const auto& lane : f.lanes) n += static_cast<int64_t>(lane.size());
     if (n > 0 && it->second > limits.max_point_pairs_per_frame / n)
@@ -274,7 +294,13 @@ ScoredFrames score_frames_submission(const FramesScoreInput& input) {
   if (!predictions) return out;
   check_frame_work(truth, *predictions, input.limits, input.results.string(), out.issues);
   if (!out.issues.empty()) return out;
-  out.report = score_frames(truth, *predictions);
+  try {
+    out.report = score_frames(truth, *predictions);
+  } catch (const SearchWorkExceeded& e) {  // a prediction costlier than the tile limit allows
+    out.issues.error("frames.results.size", input.results.string() + ":" + e.record(), e.expected());
+    out.report.reset();
+    return out;
+  }
   out.report->split = fs::is_directory(input.ground_truth) ? input.split : "";
   return out;
 }

@@ -11,6 +11,8 @@
 #include <numeric>
 
 #include "nsg/metrics/frames.h"
+#include "nsg/metrics/measure.h"
+#include "nsg/metrics/params.h"
 
 namespace nsg::metrics {
 namespace {
@@ -231,7 +233,95 @@ FrameCenterlines as_float32(const FrameCenterlines& f) {
   return out;
 }
 
+// The graph metrics reported for frames, in report order.
+constexpr std::array<int, 6> kFrameGraphMetrics = {kApls,  kAplsDirected, kDirectionAccuracy,
+                                                   kGeoF1, kTopoF1,       kTopoDirectedF1};
+
+// nsgraph's metrics per frame as a tile, macro means over frames (the frame's masks are
+// not meaningful — its extent is not a tile's — so they are computed on a 1-pixel square).
+std::vector<std::pair<std::string, std::optional<double>>> graph_means(
+    const FrameSet& truth, const std::vector<const FrameCenterlines*>& preds) {
+  MetricParams params;
+  params.size_px = 1;
+  std::array<double, 6> sums{};
+  std::array<int64_t, 6> defined{};
+  for (size_t f = 0; f < truth.size(); ++f) {
+    const Graph gt = frame_graph(truth[f].second, true);
+    const Graph pred = frame_graph(*preds[f], false);
+    const TileMeasurement m = measure(truth[f].first, gt, &pred, params);
+    for (size_t k = 0; k < kFrameGraphMetrics.size(); ++k)
+      if (const std::optional<double>& v = m.values[static_cast<size_t>(kFrameGraphMetrics[k])]) {
+        sums[k] += *v;
+        ++defined[k];
+      }
+  }
+  std::vector<std::pair<std::string, std::optional<double>>> out;
+  for (size_t k = 0; k < kFrameGraphMetrics.size(); ++k)
+    out.emplace_back(metric_name(kFrameGraphMetrics[k]),
+                     defined[k] ? std::optional<double>(sums[k] / static_cast<double>(defined[k])) : std::nullopt);
+  return out;
+}
+
+nlohmann::ordered_json graph_json(const FramesReport& r) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  for (const auto& [name, value] : r.graph_means) out[name] = value ? nlohmann::ordered_json(*value) : nullptr;
+  return out;
+}
+
 }  // namespace
+
+Graph frame_graph(const FrameCenterlines& frame, bool truth) {
+  constexpr double kPxPerM = 5.0;  // 0.2 m a pixel, as the tiles
+  // A link whose ends lie within this of each other joins the two centerlines at one node,
+  // as the lane graph joins lanes (APLS rule 3's distance); a farther one is an edge.
+  constexpr double kJoinM = 0.01;
+  std::vector<Point3> points;
+  std::vector<std::array<int64_t, 2>> chain_edges, link_edges;
+  std::vector<int64_t> first, last;
+  for (const Curve& lane : frame.lanes) {
+    first.push_back(static_cast<int64_t>(points.size()));
+    for (size_t i = 0; i < lane.size(); ++i) {
+      if (i > 0) chain_edges.push_back({static_cast<int64_t>(points.size()) - 1, static_cast<int64_t>(points.size())});
+      points.push_back(lane[i]);
+    }
+    last.push_back(static_cast<int64_t>(points.size()) - 1);
+  }
+  // Joined ends share their lowest-numbered node (union-find on node indices).
+  std::vector<int64_t> parent(points.size());
+  std::iota(parent.begin(), parent.end(), int64_t{0});
+  const auto root = [&parent](int64_t x) {
+    while (parent[static_cast<size_t>(x)] != x)
+      x = parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
+    return x;
+  };
+  const size_t n = frame.lanes.size();
+  for (size_t a = 0; a < n; ++a)
+    for (size_t b = 0; b < n; ++b) {
+      const double v = frame.topology[a * n + b];
+      if (!(truth ? v == 1.0 : v > kRelationshipThreshold)) continue;
+      const Point3& p = points[static_cast<size_t>(last[a])];
+      const Point3& q = points[static_cast<size_t>(first[b])];
+      if (std::hypot(p[0] - q[0], p[1] - q[1]) <= kJoinM) {
+        const int64_t ra = root(last[a]), rb = root(first[b]);
+        parent[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
+      } else {
+        link_edges.push_back({last[a], first[b]});
+      }
+    }
+  Graph g;
+  std::vector<int64_t> index(points.size(), -1);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const int64_t r = root(static_cast<int64_t>(i));
+    if (index[static_cast<size_t>(r)] < 0) {
+      index[static_cast<size_t>(r)] = static_cast<int64_t>(g.nodes.size());
+      g.nodes.push_back({points[static_cast<size_t>(r)][0] * kPxPerM, -points[static_cast<size_t>(r)][1] * kPxPerM});
+    }
+    index[i] = index[static_cast<size_t>(r)];
+  }
+  for (const auto& edges : {chain_edges, link_edges})
+    for (const auto& [a, b] : edges) g.edges.push_back({index[static_cast<size_t>(a)], index[static_cast<size_t>(b)]});
+  return g;
+}
 
 FramesReport score_frames(const FrameSet& truth_in, const FrameSet& predictions) {
   FramesReport r;
@@ -272,6 +362,7 @@ FramesReport score_frames(const FrameSet& truth_in, const FrameSet& predictions)
   for (const double v : vertex_aps) top_sum += v;
   r.top_ll = vertex_aps.empty() ? 0.0 : top_sum / static_cast<double>(vertex_aps.size());
   r.lane_score = (r.det_l + std::sqrt(r.top_ll)) / 2.0;
+  r.graph_means = graph_means(truth, preds);
   return r;
 }
 
@@ -293,6 +384,7 @@ nlohmann::ordered_json frames_report_to_json(const FramesReport& r) {
         {"extra_frames", r.extra_frames},
         {"gt_centerlines", r.gt_centerlines},
         {"pred_centerlines", r.pred_centerlines}}},
+      {"nsgraph_metrics", graph_json(r)},
       {"missing_examples", r.missing_examples},
       {"note",
        "DET_l and TOP_ll as OpenLane-V2's evaluator computes them; lane_score = (DET_l + sqrt(TOP_ll)) / 2, the lane "

@@ -356,6 +356,7 @@ TEST(ScoreFrames, APerfectSubmissionScoresOneThroughTheExportsManifest) {
   EXPECT_EQ(report["DET_l"], 1.0);
   EXPECT_EQ(report["TOP_ll"], 1.0);
   EXPECT_EQ(report["lane_score"], 1.0);
+  for (const auto& [name, value] : report["nsgraph_metrics"].items()) EXPECT_GT(value.get<double>(), 0.9999) << name;
   EXPECT_EQ(report["counts"]["frames"], read_json(dir / "manifest.json")["counts"]["frames"]["test"]);
   EXPECT_EQ(report["counts"]["missing_frames"], 0);
   // The train split's frames are other keys: all missing, nothing matched.

@@ -60,6 +60,25 @@ TEST(Frames, APerfectCopyScoresOneAndNothingScoresZero) {
   EXPECT_EQ(copy.det_l, 1.0);
   EXPECT_EQ(copy.top_ll, 1.0);
   EXPECT_EQ(copy.lane_score, 1.0);
+  // nsgraph's own metrics on the frame graphs.
+  ASSERT_EQ(copy.graph_means.size(), 6u);
+  for (const auto& [name, value] : copy.graph_means) {
+    ASSERT_TRUE(value) << name;
+    EXPECT_EQ(*value, 1.0) << name;
+  }
+  // Lanes 0 and 1 are 10 m apart: their link is an edge (33 nodes, 30 + 1 edges).
+  const Graph g = frame_graph(three_lanes(), true);
+  EXPECT_EQ(g.nodes.size(), 33u);
+  EXPECT_EQ(g.edges.size(), 31u);
+  // A link between ends at one place joins the two centerlines at one node.
+  FrameCenterlines joined;
+  joined.lanes = {{{0, 0, 0}, {5, 0, 0}, {10, 0, 0}}, {{10, 0, 0}, {10, 5, 0}}};
+  joined.confidence = {1, 1};
+  joined.topology = {0, 1, 0, 0};
+  const Graph j = frame_graph(joined, true);
+  EXPECT_EQ(j.nodes.size(), 4u);
+  ASSERT_EQ(j.edges.size(), 3u);
+  EXPECT_EQ(j.edges[2], (std::array<int64_t, 2>{2, 3}));  // lane 1 leaves lane 0's end node
   const FramesReport none = score_frames(truth, {});
   EXPECT_EQ(none.missing_frames, 1);
   EXPECT_EQ(none.missing_examples, std::vector<std::string>{"a"});

@@ -41,6 +41,11 @@ struct FrameLanes {
 FrameLanes cut_frame_lanes(const graph::LaneGraph& graph, const graph::SegmentIndex& index,
                            const geometry::Rigid3& global_from_ego, const WindowM& window, int centerline_points);
 
+// The stretches of one chain (already in the ego frame) inside the window, as centerlines
+// of lane `lane` (ids lane × 1000 + ordinal; `points` left empty).
+std::vector<FrameCenterline> clip_chain(const std::vector<Eigen::Vector3d>& chain, const WindowM& window, int32_t lane,
+                                        const std::string& token, bool is_connector);
+
 // `n` points evenly spaced along the polyline's length (first and last exact); n ≥ 2.
 std::vector<Eigen::Vector3d> resample_by_count(const std::vector<Eigen::Vector3d>& polyline, int n);
 

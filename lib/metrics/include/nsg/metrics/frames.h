@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "nsg/core/issues.h"
+#include "nsg/metrics/graph.h"
 
 namespace nsg::metrics {
 
@@ -38,7 +39,10 @@ using FrameSet = std::vector<std::pair<std::string, FrameCenterlines>>;
 struct FrameResultsLimits {
   int64_t max_centerlines_per_frame = 1000;  // OpenLane-V2's frames hold < 100
   int64_t max_points_per_centerline = 1000;  // its ground truth has 11 (evaluated) to 201
-  int64_t max_points_per_frame = 50'000;
+  // nsgraph's graph metrics score each frame as a tile: its points are the nodes and its
+  // links (probability > 0.5) edges, within the tile limits (5 000 nodes, 10 000 edges).
+  int64_t max_points_per_frame = 5'000;
+  int64_t max_links_per_frame = 5'000;
   // Chamfer and Fréchet compare every ground-truth point with every predicted point of a
   // frame: the product of the two point counts (5.5e7 pairs scored in 0.43 s on one core).
   int64_t max_point_pairs_per_frame = 100'000'000;
@@ -60,7 +64,16 @@ struct FramesReport {
   double det_l = 0.0;
   double top_ll = 0.0;
   double lane_score = 0.0;
+  // nsgraph's own metrics (docs/metrics.md) on each frame's graph — centerline points as
+  // nodes, consecutive points and links as edges, ego metres at 0.2 m a pixel — as macro
+  // means over the frames where defined: apls, apls_directed, direction_accuracy, geo_f1,
+  // topo_f1, topo_directed_f1 (metric_name order).
+  std::vector<std::pair<std::string, std::optional<double>>> graph_means;
 };
+
+// A frame as nsgraph's graph (see FramesReport::graph_means): the truth's links where
+// topology is 1, a prediction's where it is above 0.5.
+Graph frame_graph(const FrameCenterlines& frame, bool truth);
 
 // DET_l, TOP_ll and lane_score of `predictions` on `truth` (a missing prediction = none).
 FramesReport score_frames(const FrameSet& truth, const FrameSet& predictions);
