@@ -199,6 +199,14 @@ if [ -x "$exe" ]; then
   ran=$((ran + 1))
 fi
 
+if [ -x "$exe" ]; then
+  printf '\n== score --frames against OpenLane-V2'"'"'s evaluator on 200 frames (optional: OPENLANEV2_ROOT)\n'
+  "$py" "$root/bench/python/frames_score_ratio.py" --nsgraph "$exe" --python-package "$root/$build/python" \
+    --out "$out/frames_score_ratio.json" \
+    || failed+=("frames score ratio")
+  ran=$((ran + 1))
+fi
+
 cat /proc/loadavg >"$out/loadavg-end.txt"
 printf '\n== report\n'
 BENCH_REPORT_ONLY=0 "$py" "$root/bench/python/report.py" --dir "$out" || failed+=("targets (bench.md's verdicts)")

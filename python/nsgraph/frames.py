@@ -107,24 +107,24 @@ class Dataset:
         return item
 
 
-def score_frames(ground_truth, results, split="test", verify=True, max_file_mb=None):
+def score_frames(ground_truth, results, split="test", verify=True, max_file_mb=None, graph_metrics=False):
     """``nsgraph score --frames``: the report (dict) of an OpenLane-V2 results document
     (a path, or the dict itself) against a frames export (its ``split``) or a ground-truth
-    document file. Raises SubmissionError (with .issues) when the results have problems
+    document file; ``graph_metrics`` = ``--graph-metrics``. Raises SubmissionError (with .issues) when the results have problems
     (the CLI's exit 1), nsgraph.errors.* for a bad ground truth (exit 2)."""
     max_bytes = int(max_file_mb * 1024 * 1024) if max_file_mb else 0
     if isinstance(results, (str, os.PathLike)):
-        return _score(os.fspath(ground_truth), os.fspath(results), split, verify, max_bytes)
+        return _score(os.fspath(ground_truth), os.fspath(results), split, verify, max_bytes, graph_metrics)
     with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
         json.dump(results, f)
     try:
-        return _score(os.fspath(ground_truth), f.name, split, verify, max_bytes)
+        return _score(os.fspath(ground_truth), f.name, split, verify, max_bytes, graph_metrics)
     finally:
         os.unlink(f.name)
 
 
-def _score(ground_truth, results, split, verify, max_bytes):
-    report, issues, text = _nsgraph.score_frames(ground_truth, results, split, verify, max_bytes)
+def _score(ground_truth, results, split, verify, max_bytes, graph_metrics):
+    report, issues, text = _nsgraph.score_frames(ground_truth, results, split, verify, max_bytes, graph_metrics)
     if report is None:
         raise SubmissionError(f"{len(issues)} problem(s) in results {results}; not scored:\n{text}", issues)
     return json.loads(report)

@@ -16,12 +16,13 @@ namespace {
 
 // (report JSON text or None, issues, issues as text).
 py::tuple score_frames(const std::string& ground_truth, const std::string& results, const std::string& split,
-                       bool verify, int64_t max_file_bytes) {
+                       bool verify, int64_t max_file_bytes, bool graph_metrics) {
   metrics::FramesScoreInput in;
   in.ground_truth = ground_truth;
   in.results = results;
   in.split = split;
   in.verify = verify;
+  in.graph_metrics = graph_metrics;
   if (max_file_bytes > 0) in.limits.max_file_bytes = max_file_bytes;
   metrics::ScoredFrames scored;
   {
@@ -50,7 +51,7 @@ py::array_t<uint8_t> decode_jpeg(const std::string& path, int scale) {
 
 void bind_frames(py::module_& m) {
   m.def("score_frames", &score_frames, py::arg("ground_truth"), py::arg("results"), py::arg("split"),
-        py::arg("verify") = true, py::arg("max_file_bytes") = 0);
+        py::arg("verify") = true, py::arg("max_file_bytes") = 0, py::arg("graph_metrics") = false);
   m.def("decode_jpeg", &decode_jpeg, py::arg("path"), py::arg("scale") = 1);
 }
 

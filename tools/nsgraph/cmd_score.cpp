@@ -27,6 +27,7 @@ struct ScoreCliOptions {
   std::string format = "json";  // what stdout prints: json | md | csv
   std::string verify_receipt;   // a score report (or receipt) to recompute and compare
   bool frames = false;          // --frames: an `nsgraph frames` export and an OpenLane-V2 results file
+  bool graph_metrics = false;   // --graph-metrics (with --frames)
   metrics::SubmissionScoreOptions lib;
 
   void validate() const {
@@ -79,6 +80,7 @@ int run_score_frames(const ScoreCliOptions& o) {
   in.ground_truth = o.ground_truth;
   in.split = o.lib.split;
   in.verify = o.lib.verify_ground_truth;
+  in.graph_metrics = o.graph_metrics;
   in.results = o.submission;
   in.limits.max_file_bytes = o.lib.limits.max_file_bytes;
   const metrics::ScoredFrames scored = metrics::score_frames_submission(in);
@@ -149,6 +151,9 @@ void add_score_command(CLI::App& parent, Context& ctx) {
   cmd->add_flag("--frames", opts->frames,
                 "Per-key-frame scoring: --ground-truth is an `nsgraph frames` export (its --split) and --submission an "
                 "OpenLane-V2 results JSON; DET_l, TOP_ll, lane_score (docs/metrics.md \"Frames\")");
+  cmd->add_flag("--graph-metrics", opts->graph_metrics,
+                "With --frames: also nsgraph's APLS, direction, GEO and TOPO on each frame's graph (nsgraph_metrics; "
+                "about 20x slower)");
   cmd->add_flag("--no-verify{false}", opts->lib.verify_ground_truth,
                 "Do not hash a dataset's shards against its manifest (presence, sizes and unlisted shards are still "
                 "checked); the report's ground_truth_verification says \"sizes\"");

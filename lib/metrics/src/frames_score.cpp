@@ -323,7 +323,7 @@ Graph frame_graph(const FrameCenterlines& frame, bool truth) {
   return g;
 }
 
-FramesReport score_frames(const FrameSet& truth_in, const FrameSet& predictions) {
+FramesReport score_frames(const FrameSet& truth_in, const FrameSet& predictions, bool graph_metrics) {
   FramesReport r;
   FrameSet truth;
   for (const auto& [key, f] : truth_in) truth.emplace_back(key, as_float32(f));
@@ -362,7 +362,7 @@ FramesReport score_frames(const FrameSet& truth_in, const FrameSet& predictions)
   for (const double v : vertex_aps) top_sum += v;
   r.top_ll = vertex_aps.empty() ? 0.0 : top_sum / static_cast<double>(vertex_aps.size());
   r.lane_score = (r.det_l + std::sqrt(r.top_ll)) / 2.0;
-  r.graph_means = graph_means(truth, preds);
+  if (graph_metrics) r.graph_means = graph_means(truth, preds);
   return r;
 }
 
@@ -384,7 +384,7 @@ nlohmann::ordered_json frames_report_to_json(const FramesReport& r) {
         {"extra_frames", r.extra_frames},
         {"gt_centerlines", r.gt_centerlines},
         {"pred_centerlines", r.pred_centerlines}}},
-      {"nsgraph_metrics", graph_json(r)},
+      {"nsgraph_metrics", r.graph_means.empty() ? nlohmann::ordered_json(nullptr) : graph_json(r)},
       {"missing_examples", r.missing_examples},
       {"note",
        "DET_l and TOP_ll as OpenLane-V2's evaluator computes them; lane_score = (DET_l + sqrt(TOP_ll)) / 2, the lane "

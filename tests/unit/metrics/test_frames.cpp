@@ -56,7 +56,7 @@ FrameCenterlines three_lanes() {
 
 TEST(Frames, APerfectCopyScoresOneAndNothingScoresZero) {
   const FrameSet truth = {{"a", three_lanes()}};
-  const FramesReport copy = score_frames(truth, truth);
+  const FramesReport copy = score_frames(truth, truth, /*graph_metrics=*/true);
   EXPECT_EQ(copy.det_l, 1.0);
   EXPECT_EQ(copy.top_ll, 1.0);
   EXPECT_EQ(copy.lane_score, 1.0);

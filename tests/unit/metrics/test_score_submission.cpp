@@ -239,6 +239,8 @@ TEST(ScoreSubmission, AHundredthOfAPixelMovesEveryRatioMetricByAtMostOneThousand
       std::printf("[ figures ] %g px: %s %.6f\n", max_px, metric_name(m), *mean[m]);
       EXPECT_NEAR(*mean[m], 1.0, 1e-3) << metric_name(m);
     }
+    std::printf("[ figures ] %g px: chamfer_mean_m %.6f, chamfer_px2 %.6f\n", max_px, *mean[kChamferMeanM],
+                *mean[kChamferPx2]);
     EXPECT_LE(*mean[kChamferMeanM], max_px * 0.2 * std::sqrt(2.0));
   }
 }

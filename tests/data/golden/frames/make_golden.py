@@ -187,7 +187,8 @@ def copy_of(gt, seed):
     return results
 
 
-def evaluate(ev, gt, results):
+def evaluator_inputs(gt, results):
+    """The evaluator's two arguments, as its collect() and a results pickle give them."""
     ground_truth = {}
     for key, frame in gt.items():
         ground_truth[key] = {"annotation": {
@@ -207,6 +208,11 @@ def evaluate(ev, gt, results):
             "traffic_element": [],
             "topology_lclc": np.array(p["topology_lclc"], dtype=np.float64).reshape(n, n),
             "topology_lcte": np.zeros((n, 0))}}
+    return ground_truth, preds
+
+
+def evaluate(ev, gt, results):
+    ground_truth, preds = evaluator_inputs(gt, results)
     metrics = ev.evaluate(ground_truth, preds, verbose=False)["OpenLane-V2 Score"]
     # The per-threshold APs, by the evaluator's own function on its own distance matrices.
     gts = {k: v["annotation"] for k, v in ground_truth.items()}

@@ -75,8 +75,10 @@ struct FramesReport {
 // topology is 1, a prediction's where it is above 0.5.
 Graph frame_graph(const FrameCenterlines& frame, bool truth);
 
-// DET_l, TOP_ll and lane_score of `predictions` on `truth` (a missing prediction = none).
-FramesReport score_frames(const FrameSet& truth, const FrameSet& predictions);
+// DET_l, TOP_ll and lane_score of `predictions` on `truth` (a missing prediction = none);
+// with `graph_metrics` also nsgraph's own on each frame's graph (graph_means; about 20× the
+// time of the rest: APLS searches every frame's graph).
+FramesReport score_frames(const FrameSet& truth, const FrameSet& predictions, bool graph_metrics = false);
 
 // The records of `split` of an `nsgraph frames` export, through its manifest: every record
 // listed for the split must be present with its size and (when `verify`) sha256. Keys are
@@ -105,6 +107,7 @@ struct FramesScoreInput {
   std::filesystem::path ground_truth;
   std::string split = "test";
   bool verify = true;
+  bool graph_metrics = false;  // --graph-metrics
   std::filesystem::path results;
   FrameResultsLimits limits;
 };
