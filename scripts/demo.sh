@@ -138,7 +138,7 @@ step "frames baseline: the tile model's graphs stitched and cut around each test
 if have frames && [ -f "$out/model.yml.gz" ] && [ -f "$out/frames/manifest.json" ]; then
   "$exe" predict --model "$out/model.yml.gz" --dataset "$out/dataset" --split test --frames "$out/frames" \
     --out "$out/frames-results.json"
-  "$exe" score --frames --ground-truth "$out/frames" --submission "$out/frames-results.json" --split test \
+  "$exe" score --frames --graph-metrics --ground-truth "$out/frames" --submission "$out/frames-results.json" --split test \
     --format md --out "$out/frames-score.json"
 else
   next+=("frames baseline")

@@ -7,6 +7,9 @@
 
 #include "nsg/frames/frame_lanes.h"
 #include "nsg/geometry/transform.h"
+#include "nsg/graph/from_map.h"
+#include "nsg/nuscenes/map_expansion.h"
+#include "test_support.h"
 
 namespace nsg::frames {
 namespace {
@@ -152,6 +155,50 @@ TEST(FrameLanes, WindowCornersFollowThePose) {
   EXPECT_NEAR(c[0].y(), 150.0, 1e-9);
   EXPECT_NEAR(c[2].x(), 75.0, 1e-9);
   EXPECT_NEAR(c[2].y(), 250.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace nsg::frames
+
+namespace nsg::frames {
+namespace {
+
+// The hand-made map of tests/data/map/small-map.json: lane-a east along y = 12 from x = 10
+// to 40, conn-1 a U-turn of radius 2 onto lane-b, west along y = 16 back to x = 10.
+TEST(FrameLanesOnAMap, TheSmallMapsLanesAndConnectorAreCutAndLinkedAsDrawn) {
+  const nuscenes::MapExpansion map =
+      nuscenes::load_map_expansion_file(test::source_dir() / "tests/data/map/small-map.json");
+  Issues issues;
+  const graph::LaneGraph g = graph::build_lane_graph(map, graph::LaneGraphOptions{}, &issues);
+  const graph::SegmentIndex index(g);
+  const geometry::Rigid3 ego = geometry::Rigid3::from_pose({25.0, 14.0, 0.0}, geometry::Quaternion{});
+  // A window holding everything: three whole centerlines, a → conn-1 → b linked.
+  const FrameLanes all = cut_frame_lanes(g, index, ego, WindowM{-20, 20, -10, 10}, 11);
+  ASSERT_EQ(all.centerlines.size(), 3u);
+  std::vector<std::string> tokens;
+  for (const FrameCenterline& c : all.centerlines) {
+    tokens.push_back(c.lane_token);
+    EXPECT_TRUE(c.starts_at_lane_start && c.ends_at_lane_end) << c.lane_token;
+  }
+  EXPECT_EQ(tokens, (std::vector<std::string>{"lane-a", "lane-b", "conn-1"}));
+  EXPECT_TRUE(all.centerlines[2].is_connector);
+  const std::vector<std::pair<int32_t, int32_t>> links = {{0, 2}, {2, 1}};
+  EXPECT_EQ(all.successors, links);
+  expect_point(all.centerlines[0].points.front(), -15.0, -2.0);
+  expect_point(all.centerlines[0].points.back(), 15.0, -2.0);
+  expect_point(all.centerlines[1].points.back(), -15.0, 2.0);
+  // The U-turn's farthest point is 2 m beyond x = 40: ego x = 17.
+  double far = 0.0;
+  for (const Eigen::Vector3d& p : all.centerlines[2].points_2m) far = std::max(far, p.x());
+  EXPECT_NEAR(far, 17.0, 0.02);
+  // A narrower window cuts both lanes at x = ±10 and leaves the connector out: no links.
+  const FrameLanes cut = cut_frame_lanes(g, index, ego, WindowM{-10, 10, -5, 5}, 11);
+  ASSERT_EQ(cut.centerlines.size(), 2u);
+  EXPECT_FALSE(cut.centerlines[0].starts_at_lane_start || cut.centerlines[0].ends_at_lane_end);
+  expect_point(cut.centerlines[0].points.front(), -10.0, -2.0);
+  expect_point(cut.centerlines[0].points.back(), 10.0, -2.0);
+  expect_point(cut.centerlines[1].points.front(), 10.0, 2.0);
+  EXPECT_TRUE(cut.successors.empty());
 }
 
 }  // namespace
