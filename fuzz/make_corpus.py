@@ -179,6 +179,24 @@ def models(out):
     put(out, "model", "cut-yml", text[: len(text) // 3])
 
 
+def frames_results(out):
+    """OpenLane-V2 results documents: a golden frame renamed to the target's key, a copy of
+    the target's ground truth, and broken ones (topology of the wrong shape, a NaN)."""
+    with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "golden", "frames",
+                           "pred.json")) as f:
+        golden = json.load(f)["results"]
+    first = next(iter(golden.values()))
+    put(out, "frames", "golden-frame", json.dumps({"results": {"tok": first}}))
+    lanes = [{"id": k, "points": [[-20.0 + 4.0 * i, 3.5 * k, 0.0] for i in range(11)], "confidence": 0.9 - 0.1 * k}
+             for k in range(2)]
+    copy = {"results": {"tok": {"predictions": {"lane_centerline": lanes, "topology_lclc": [[0, 1], [0, 0]]}}}}
+    put(out, "frames", "copy", json.dumps(copy))
+    bad = json.loads(json.dumps(copy))
+    bad["results"]["tok"]["predictions"]["topology_lclc"] = [[0, 1]]
+    put(out, "frames", "bad-shape", json.dumps(bad))
+    put(out, "frames", "nan", json.dumps(copy).replace("0.9", "NaN", 1))
+
+
 def main():
     release, out = sys.argv[1], sys.argv[2]
     tables(release, out)
@@ -192,6 +210,7 @@ def main():
     scores(out)
     merge_records(out)
     models(out)
+    frames_results(out)
 
 
 if __name__ == "__main__":
