@@ -2,7 +2,18 @@
 nsgraph.torch), score submissions (tiles, and per key frame with nsgraph.frames), build the paper's
 adaptive ground truth. Everything
 runs in the C++ library of the nsgraph toolkit (the _nsgraph extension)."""
-from . import _nsgraph
+try:
+    from . import _nsgraph
+except ImportError as _error:  # most often: another interpreter than the extension was built for
+    import glob as _glob
+    import os as _os
+    import sys as _sys
+    _built = [_os.path.basename(p) for p in _glob.glob(_os.path.join(_os.path.dirname(__file__), "_nsgraph*.so"))]
+    raise ImportError(
+        f"nsgraph's C++ extension cannot be loaded by this interpreter ({_sys.executable}, Python "
+        f"{_sys.version.split()[0]}): {_error}. The extension here is {', '.join(_built) or 'missing'}; it runs "
+        f"with the interpreter it was built for (Debian's /usr/bin/python3 for `make`) — use that one, or "
+        f"rebuild (cmake --build build --target nsgraph_python) with this one.") from _error
 from .dataset import LAYERS, MODALITIES, TILE_MEMBERS, Dataset
 from .errors import ConfigError, DataError, Error, InternalError, IoError, ParseError, SubmissionError
 from .groundtruth import adaptive_ground_truth

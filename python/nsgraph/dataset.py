@@ -12,6 +12,13 @@ LAYERS = {m["name"]: m for m in TILE_MEMBERS if m["raster"]}
 MODALITIES = tuple(name for name in LAYERS if name != "coverage")
 
 
+def _modalities(value):
+    """A tuple of layer names from "all", "lidar", "lidar,rgb" or a list of names."""
+    if isinstance(value, str):
+        return MODALITIES if value == "all" else tuple(m.strip() for m in value.split(",") if m.strip())
+    return tuple(value)
+
+
 class Dataset(collections.abc.Sequence):
     """The tiles of one split of a NuScenesGraph dataset (tar shards or folder layout).
 
@@ -27,13 +34,15 @@ class Dataset(collections.abc.Sequence):
                    edges (E, 2) int64 node indices;  lane_tokens [E str];  node_ids (N,) int64}
         meta      the tile's meta.json as a dict
 
+    ``ds[i]`` by position or ``ds[key]`` / ``ds.get(key)`` by tile key (``ds.keys``).
+    ``modalities``: "all", one name, a comma list ("lidar,rgb") or a list of names.
     Only the requested ``modalities`` are read (coverage always). Shards are indexed once
     per process (member offsets), tiles are read with positioned reads and decoded in C++
     without the GIL: safe and parallel in DataLoader workers (fork or spawn).
     """
 
     def __init__(self, root, split, modalities=MODALITIES, graph=True, meta=True):
-        modalities = tuple(modalities)
+        modalities = _modalities(modalities)
         unknown = [m for m in modalities if m not in MODALITIES]
         if unknown:
             from .errors import ConfigError
@@ -52,6 +61,11 @@ class Dataset(collections.abc.Sequence):
     def __getitem__(self, i):
         if isinstance(i, slice):
             return [self[j] for j in range(*i.indices(len(self)))]
+        if isinstance(i, str):
+            try:
+                return self[self.index(i)]
+            except ValueError as e:
+                raise KeyError(str(e)) from None
         n = len(self)
         if i < 0:
             i += n
@@ -68,7 +82,30 @@ class Dataset(collections.abc.Sequence):
 
     @property
     def keys(self):
+        """The tile keys of the split, in dataset order (``ds[key]`` and ``ds.get(key)`` take them)."""
         return [self._index.key(i) for i in range(len(self))]
+
+    def _positions(self):
+        if not hasattr(self, "_by_key"):
+            self._by_key = {k: i for i, k in enumerate(self.keys)}
+        return self._by_key
+
+    def index(self, key, *args):
+        """The position of tile ``key`` (no tile is decoded); ValueError naming the split when
+        it is not one of its tiles."""
+        try:
+            return self._positions()[key]
+        except (KeyError, TypeError):
+            example = self.key(0) if len(self) else "none"
+            raise ValueError(f"{key!r} is not a tile of split '{self.split}' ({len(self)} tiles, e.g. "
+                             f"{example!r})") from None
+
+    def __contains__(self, key):
+        return isinstance(key, str) and key in self._positions()
+
+    def get(self, key, default=None):
+        """``ds[key]``, or ``default`` when ``key`` is not a tile of the split."""
+        return self[self._positions()[key]] if key in self else default
 
     def member_bytes(self, i, suffix):
         """Raw bytes of one member of tile i ("lidar.tif", "graph.json", ...)."""

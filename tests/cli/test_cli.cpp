@@ -1,10 +1,13 @@
 // Runs the real nsgraph binary and checks exit codes and messages (docs/architecture.md).
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "nsg/core/version.h"
 #include "test_support.h"
 
 namespace nsg {
+namespace fs = std::filesystem;
 
 TEST(Cli, VersionPrintsTheProjectVersion) {
   const auto r = test::run_nsgraph({"--version"});
@@ -64,6 +67,61 @@ TEST(Cli, VersionAfterACommandWithoutOneIsRefusedByName) {
   }
 }
 
-TEST(Cli, NoCommandIsAUsageError) { EXPECT_EQ(test::run_nsgraph({}).exit_code, 2); }
+TEST(Cli, NoCommandIsAUsageErrorListingTheCommands) {
+  const test::CommandResult r = test::run_nsgraph({});
+  EXPECT_EQ(r.exit_code, 2);
+  for (const char* command : {"generate", "score", "frames", "train", "predict"})
+    EXPECT_NE(r.err.find(std::string("  ") + command), std::string::npos) << command << " not listed:\n" << r.err;
+  EXPECT_NE(r.err.find("no command given"), std::string::npos) << r.err;
+}
+
+// The common first mistakes get the problem first, for the right argument, and no parser
+// library text.
+TEST(Cli, CommonMistakesAreNamedProblemFirst) {
+  test::TempDir tmp("mistakes");
+  const std::string pred = (test::data_dir() / "golden/metrics/pred.json").string();
+  const test::CommandResult gt =
+      test::run_nsgraph({"score", "--ground-truth", (tmp / "nope").string(), "--submission", pred});
+  EXPECT_EQ(gt.exit_code, 2);
+  EXPECT_NE(gt.err.find("cannot open the ground truth: no such file"), std::string::npos) << gt.err;
+  fs::create_directories(tmp / "folder");
+  const std::string truth = (test::data_dir() / "golden/metrics/gt.json").string();
+  const test::CommandResult dir =
+      test::run_nsgraph({"score", "--ground-truth", truth, "--submission", (tmp / "folder").string()});
+  EXPECT_EQ(dir.exit_code, 2);
+  EXPECT_NE(dir.err.find("is a directory, not a submission"), std::string::npos) << dir.err;
+  test::write_text(tmp / "empty.json", "");
+  const test::CommandResult empty =
+      test::run_nsgraph({"score", "--ground-truth", truth, "--submission", (tmp / "empty.json").string()});
+  EXPECT_EQ(empty.exit_code, 1);
+  EXPECT_NE(empty.err.find("got an empty file (0 bytes)"), std::string::npos) << empty.err;
+  test::write_text(tmp / "cut.json", "{\"tiles\": ");
+  const test::CommandResult cut =
+      test::run_nsgraph({"score", "--ground-truth", truth, "--submission", (tmp / "cut.json").string()});
+  EXPECT_EQ(cut.exit_code, 1);
+  EXPECT_EQ(cut.err.find("json.exception"), std::string::npos) << cut.err;
+}
+
+}  // namespace nsg
+
+namespace nsg {
+
+// A flag that stands for a config key says what giving it does, with the key's type, range
+// and default (it said "Colour the kept LiDAR points" for --no-rgb, and TEXT for numbers).
+TEST(Cli, ConfigFlagsSayWhatTheyDoWithTypeAndDefault) {
+  const auto r = test::run_nsgraph({"generate", "--help"});
+  ASSERT_EQ(r.exit_code, 0);
+  const auto line = [&](const std::string& flag) {
+    const size_t at = r.out.find("  " + flag + " ");
+    return at == std::string::npos ? std::string() : r.out.substr(at, r.out.find('\n', at) - at);
+  };
+  EXPECT_NE(line("--no-rgb").find("Sets config camera.rgb to false (default true)"), std::string::npos)
+      << line("--no-rgb");
+  EXPECT_NE(line("--no-semantic").find("to false"), std::string::npos) << line("--no-semantic");
+  EXPECT_NE(line("--min-coverage").find("NUMBER"), std::string::npos) << line("--min-coverage");
+  EXPECT_NE(line("--min-coverage").find("default "), std::string::npos) << line("--min-coverage");
+  EXPECT_NE(line("--tiles-per-shard").find("INTEGER"), std::string::npos) << line("--tiles-per-shard");
+  EXPECT_EQ(line("--min-coverage").find("TEXT"), std::string::npos) << line("--min-coverage");
+}
 
 }  // namespace nsg

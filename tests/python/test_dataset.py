@@ -124,6 +124,24 @@ class DatasetTest(unittest.TestCase):
         with self.assertRaises(IndexError):
             ds[n]
 
+    def test_tiles_by_key_and_modalities_as_text(self):
+        ds = nsgraph.Dataset(self.root, "train", modalities="lidar", meta=False)
+        self.assertEqual(ds.modalities, ("lidar",))  # not five letters
+        self.assertEqual(nsgraph.Dataset(self.root, "train", modalities="lidar, rgb").modalities, ("lidar", "rgb"))
+        self.assertEqual(nsgraph.Dataset(self.root, "train", modalities="all").modalities, nsgraph.MODALITIES)
+        key = ds.keys[2]
+        self.assertEqual(ds.index(key), 2)
+        self.assertIn(key, ds)
+        self.assertNotIn("nope", ds)
+        np.testing.assert_array_equal(ds[key]["lidar"], ds[2]["lidar"])
+        self.assertEqual(ds.get(key)["key"], key)
+        self.assertIsNone(ds.get("nope"))
+        with self.assertRaises(ValueError) as e:
+            ds.index("nope")
+        self.assertIn("split 'train'", str(e.exception))
+        with self.assertRaises(nsgraph.ConfigError):
+            nsgraph.Dataset(self.root, "train", modalities="lidar,rbg")
+
     def test_threads_read_in_parallel_without_interference(self):
         ds = nsgraph.Dataset(self.root, "train")
         expected = [t["lidar"].copy() for t in ds]

@@ -1,5 +1,8 @@
 #include "config_flags.h"
 
+#include <algorithm>
+#include <cctype>
+
 #include <nlohmann/json.hpp>
 
 #include "nsg/core/error.h"
@@ -56,8 +59,11 @@ void add_config_flags(CLI::App* cmd, const std::shared_ptr<ConfigArgs>& args, co
     if (f == nullptr) throw InternalError("", name, "a flag of kConfigFlags");
     const options::Option<pipeline::GenerateConfig>* opt = pipeline::generate_option_table().find(f->key);
     if (opt == nullptr) throw InternalError("", f->flag, std::string("a declared config key (") + f->key + ")");
-    const std::string help = opt->spec.description + " (config " + f->key + ")";
+    const std::string default_value = opt->get(pipeline::GenerateConfig{}).dump();
     if (f->value_when_given) {
+      // Say what giving the flag does: "--no-rgb" sets camera.rgb to false.
+      const std::string help = std::string("Sets config ") + f->key + " to " + f->value_when_given + " (default " +
+                               default_value + "): " + opt->spec.description;
       cmd->add_flag_callback(
           f->flag,
           [args, f] {
@@ -65,12 +71,17 @@ void add_config_flags(CLI::App* cmd, const std::shared_ptr<ConfigArgs>& args, co
           },
           help);
     } else {
+      const std::string help = opt->spec.description + " (config " + f->key + "; " + opt->spec.expected() +
+                               ", default " + default_value + ")";
+      std::string type = opt->spec.type == "choice" ? "CHOICE" : opt->spec.type == "shape" ? "JSON" : opt->spec.type;
+      std::transform(type.begin(), type.end(), type.begin(), [](unsigned char c) { return std::toupper(c); });
       cmd->add_option_function<std::string>(
-          f->flag,
-          [args, f](const std::string& v) {
-            args->values.push_back({f->flag, f->key, v});
-          },
-          help);
+             f->flag,
+             [args, f](const std::string& v) {
+               args->values.push_back({f->flag, f->key, v});
+             },
+             help)
+          ->type_name(type);
     }
   }
 }

@@ -105,6 +105,11 @@ int run(int argc, char** argv) {
   app.add_flag("-v,--verbose", ctx.verbose, "Debug log lines");
   for (nsg::cli::AddCommand add : kCommands) add(app, ctx);
   if (!check_command_word(app, argc, argv) || !check_version_flag(app, argc, argv)) return nsg::kExitInput;
+  if (argc == 1) {  // a bare `nsgraph`: the commands there are, not only "a subcommand is required"
+    std::fprintf(stderr, "%s\nnsgraph: error: no command given (one of those above; `nsgraph <command> --help`)\n",
+                 app.help().c_str());
+    return nsg::kExitInput;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

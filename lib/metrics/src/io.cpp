@@ -170,6 +170,9 @@ GraphSet load_ground_truth(const fs::path& path, const std::string& split, const
     if (sha256 != nullptr) *sha256 = sha256_file(path / "manifest.json");
     return out;
   }
+  NSG_CHECK(fs::exists(path), IoError, path.string(), "",
+            "cannot open the ground truth: no such file or folder (--ground-truth takes a dataset folder or a "
+            "ground-truth file in the submission format)");
   Issues issues;
   const std::optional<std::string> text = validate::read_submission_bytes(path, limits, issues);
   std::optional<nlohmann::json> doc;

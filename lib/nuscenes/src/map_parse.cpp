@@ -8,6 +8,7 @@
 // they are collected into MapExpansion::issues() (map_defects.h).
 #include <simdjson.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -635,9 +636,34 @@ MapExpansion MapExpansionBuilder::load(const std::filesystem::path& path) {
 
 MapExpansion load_map_expansion_file(const std::filesystem::path& path) { return MapExpansionBuilder::load(path); }
 
+namespace {
+
+// The locations whose map expansion this release holds, for messages: "boston-seaport, …".
+std::string locations_here(const std::filesystem::path& folder) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(folder, ec))
+    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out.empty() ? "none" : out;
+}
+
+}  // namespace
+
 MapExpansion load_map_expansion(const std::filesystem::path& dataroot, std::string_view location) {
-  (void)geometry::location_info(location);  // ConfigError unless one of the four names
-  return MapExpansionBuilder::load(dataroot / "maps" / "expansion" / (std::string(location) + ".json"));
+  const std::filesystem::path folder = dataroot / "maps" / "expansion";
+  const std::filesystem::path file = folder / (std::string(location) + ".json");
+  try {
+    (void)geometry::location_info(location);  // ConfigError unless one of the four names
+  } catch (const ConfigError&) {
+    throw ConfigError("", "location '" + std::string(location) + "'",
+                      "unknown: not a nuScenes location (this release has: " + locations_here(folder) + ")");
+  }
+  NSG_CHECK(std::filesystem::exists(file), IoError, file.string(), "location '" + std::string(location) + "'",
+            "no map expansion of this location in the release (it has: " + locations_here(folder) + ")");
+  return MapExpansionBuilder::load(file);
 }
 
 }  // namespace nsg::nuscenes

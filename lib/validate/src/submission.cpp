@@ -212,8 +212,12 @@ class CountingSax : public nlohmann::json_sax<nlohmann::json> {
   bool end_array() override { return close(); }
   bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception& ex) override {
     problem_check = "submission.json";
+    // The parser's own words without its exception id ("[json.exception.parse_error.101]").
+    std::string reason = ex.what();
+    if (const size_t cut = reason.find("] "); reason.rfind("[json.exception.", 0) == 0 && cut != std::string::npos)
+      reason.erase(0, cut + 2);
     problem = "valid JSON (NaN and Infinity are not JSON; numbers must fit a double) at byte " +
-              std::to_string(position) + ": " + printable_utf8(ex.what());
+              std::to_string(position) + ": " + printable_utf8(reason);
     return false;
   }
 
@@ -256,11 +260,16 @@ std::string size_problem(int64_t limit_bytes, const std::string& got) {
 std::optional<std::string> read_bounded_text(const std::filesystem::path& file, int64_t limit_bytes, Issues& issues) {
   std::error_code ec;
   const auto status = std::filesystem::status(file, ec);
-  if (ec || !std::filesystem::exists(status) || std::filesystem::is_directory(status))
-    throw IoError(file.string(), "", "a readable submission file");
+  // The problem first, then what the argument takes.
+  if (ec || !std::filesystem::exists(status))
+    throw IoError(file.string(), "", "cannot open: no such file (expected a submission JSON file)");
+  if (std::filesystem::is_directory(status))
+    throw IoError(file.string(), "",
+                  "is a directory, not a submission: the JSON file `nsgraph predict` writes "
+                  "(schemas/v1/submission.schema.json)");
   if (std::filesystem::is_regular_file(status)) {
     const auto bytes = std::filesystem::file_size(file, ec);
-    if (ec) throw IoError(file.string(), "", "a readable submission file: " + ec.message());
+    if (ec) throw IoError(file.string(), "", "cannot read: " + ec.message() + " (expected a submission JSON file)");
     if (static_cast<int64_t>(bytes) > limit_bytes) {
       issues.error("submission.size", file.string(),
                    size_problem(limit_bytes, strprintf("%.1f MiB", static_cast<double>(bytes) / (1 << 20))));
@@ -269,7 +278,7 @@ std::optional<std::string> read_bounded_text(const std::filesystem::path& file, 
     return read_file(file);
   }
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw IoError(file.string(), "", "a readable submission file or stream");
+  if (!in) throw IoError(file.string(), "", "cannot open for reading (expected a submission file or stream)");
   std::string text;
   char buf[1 << 16];
   while (in.read(buf, sizeof buf) || in.gcount() > 0) {
@@ -303,6 +312,12 @@ std::optional<nlohmann::json> parse_submission_text(const std::string& text, con
     issues.error(
         "submission.size", label,
         size_problem(limits.max_file_bytes, strprintf("%.1f MiB", static_cast<double>(text.size()) / (1 << 20))));
+    return std::nullopt;
+  }
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
+    issues.error(
+        "submission.json", label,
+        text.empty() ? "a JSON document, got an empty file (0 bytes)" : "a JSON document, got only whitespace");
     return std::nullopt;
   }
   CountingSax sax(limits);

@@ -244,7 +244,7 @@ TEST_F(Submission, WrongSchemaVersionAndTopLevelArray) {
   sub["schema_version"] = "2";
   expect_rejected(check_doc(sub), "submission.schema", "/schema_version");
   expect_rejected(check_text("[1, 2]"), "submission.schema", ":/");
-  expect_rejected(check_text(""), "submission.json", "valid JSON");
+  expect_rejected(check_text(""), "submission.json", "got an empty file (0 bytes)");
 }
 
 TEST_F(Submission, ScoresOfTheWrongLength) {
