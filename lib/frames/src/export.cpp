@@ -11,6 +11,8 @@
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/version.h"
 #include "nsg/core/error.h"
+#include "nsg/core/files.h"
+#include "nsg/core/json.h"
 #include "nsg/core/log.h"
 #include "nsg/core/progress.h"
 #include "nsg/core/rng.h"
@@ -147,6 +149,16 @@ void prepare_out(const fs::path& out, bool overwrite) {
   if (fs::exists(manifest)) {
     NSG_CHECK(overwrite, ConfigError, manifest.string(), "--out",
               "a folder without a frames export (or --overwrite to replace it)");
+    // --overwrite replaces a frames export only: a dataset's (or anything else's) manifest
+    // there means --out points at the wrong folder.
+    std::string kind;
+    try {
+      kind = parse_json_strict(read_file(manifest), manifest.string()).value("kind", "");
+    } catch (const Error&) {
+    }
+    NSG_CHECK(kind == "nsgraph-frames", ConfigError, manifest.string(), "--out",
+              "a frames export to replace: this manifest.json is not one (kind \"nsgraph-frames\"); is --out the "
+              "dataset's folder?");
     fs::remove(manifest);
   }
   if (overwrite) {

@@ -267,6 +267,15 @@ TEST(FramesExport, TheSameInputsGiveTheSameBytesAndAnExportIsNotOverwrittenUnask
   EXPECT_NE(again.err.find("--overwrite"), std::string::npos) << again.err;
   const CommandResult replaced = frames(tmp / "out", {"--overwrite"});
   ASSERT_EQ(replaced.exit_code, 0) << replaced.err;
+  // --overwrite replaces a frames export only, never a dataset given as --out by mistake
+  // (a copy of the dataset's manifest stands for it here).
+  const std::string dataset_manifest = read_text(e2e_dataset() / "manifest.json");
+  write_text(tmp / "dataset-like/manifest.json", dataset_manifest);
+  const CommandResult wrong = run_nsgraph({"frames", "--quiet", "--dataset", e2e_dataset().string(), "--out",
+                                           (tmp / "dataset-like").string(), "--overwrite"});
+  EXPECT_EQ(wrong.exit_code, 2);
+  EXPECT_NE(wrong.err.find("is not one"), std::string::npos) << wrong.err;
+  EXPECT_EQ(read_text(tmp / "dataset-like/manifest.json"), dataset_manifest);
   // The overlapping frames of the first run are gone with it.
   const json counts = read_json(tmp / "out/manifest.json")["counts"];
   int64_t on_disk = 0;
