@@ -10,8 +10,8 @@
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
 #include "nsg/core/json.h"
-#include "nsg/core/sha256.h"
 #include "nsg/frames/frame_lanes.h"
+#include "nsg/metrics/frames.h"
 
 namespace nsg::frames {
 namespace {
@@ -195,11 +195,7 @@ ordered_json frame_results(const FrameGraph& g, const geometry::Rigid3& global_f
 }  // namespace
 
 ExportFrames read_export_frames(const fs::path& export_dir, const std::string& split) {
-  const fs::path manifest_path = export_dir / "manifest.json";
-  NSG_CHECK(fs::exists(manifest_path), IoError, manifest_path.string(), "", "an nsgraph frames export");
-  const json manifest = parse_json_strict(read_file(manifest_path), manifest_path.string());
-  NSG_CHECK(manifest.value("kind", "") == "nsgraph-frames", ParseError, manifest_path.string(), "/kind",
-            "\"nsgraph-frames\"");
+  const json manifest = metrics::read_frames_manifest(export_dir);
   ExportFrames out;
   const json& config = manifest.at("config");
   const json& w = config.at("window");
@@ -207,17 +203,13 @@ ExportFrames read_export_frames(const fs::path& export_dir, const std::string& s
                 w.at("y_max_m").get<double>()};
   out.centerline_points = config.at("centerline_points").get<int>();
   out.dataset_manifest_sha256 = manifest.at("source").at("dataset_manifest_sha256").get<std::string>();
-  for (const json& f : manifest.at("files")) {
-    const std::string rel = f.at("path").get<std::string>();
-    if (rel.rfind(split + "/", 0) != 0 || rel.find("/info/") == std::string::npos) continue;
-    const fs::path file = export_dir / rel;
-    const std::string text = read_file(file);
-    NSG_CHECK(sha256_hex(text) == f.value("sha256", ""), DataError, file.string(), rel,
-              "the sha256 " + manifest_path.string() + " records");
-    const json r = parse_json_strict(text, file.string());
-    out.frames.push_back({r.at("sample_token").get<std::string>(), r.at("meta_data").at("location").get<std::string>(),
-                          transform_of(r.at("pose"), file.string())});
-  }
+  metrics::for_each_frames_record(export_dir, split, /*verify=*/true,
+                                  [&](const std::string& text, const fs::path& file) {
+                                    const json r = parse_json_strict(text, file.string());
+                                    out.frames.push_back({r.at("sample_token").get<std::string>(),
+                                                          r.at("meta_data").at("location").get<std::string>(),
+                                                          transform_of(r.at("pose"), file.string())});
+                                  });
   return out;
 }
 

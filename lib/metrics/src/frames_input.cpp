@@ -89,17 +89,22 @@ simdjson::dom::element parse_truth(simdjson::dom::parser& parser, const std::str
 
 }  // namespace
 
-FrameSet read_frames_ground_truth(const fs::path& export_dir, const std::string& split, bool verify) {
+json read_frames_manifest(const fs::path& export_dir) {
   const fs::path manifest_path = export_dir / "manifest.json";
   NSG_CHECK(fs::exists(manifest_path), IoError, manifest_path.string(), "",
             "an nsgraph frames export (its manifest.json)");
-  const json manifest = parse_json_strict(read_file(manifest_path), manifest_path.string());
+  json manifest = parse_json_strict(read_file(manifest_path), manifest_path.string());
   NSG_CHECK(manifest.value("kind", "") == "nsgraph-frames", ParseError, manifest_path.string(), "/kind",
             "\"nsgraph-frames\" (the manifest of an `nsgraph frames` export)");
+  return manifest;
+}
+
+void for_each_frames_record(const fs::path& export_dir, const std::string& split, bool verify,
+                            const std::function<void(const std::string& text, const fs::path& file)>& fn) {
+  const fs::path manifest_path = export_dir / "manifest.json";
+  const json manifest = read_frames_manifest(export_dir);
   const json& files = need(manifest, "files", manifest_path.string(), "", "the export's files");
   NSG_CHECK(files.is_array(), ParseError, manifest_path.string(), "/files", "an array of files");
-  FrameSet out;
-  simdjson::dom::parser parser;
   const std::string prefix = split + "/";
   for (size_t i = 0; i < files.size(); ++i) {
     const json& f = files[i];
@@ -118,15 +123,23 @@ FrameSet read_frames_ground_truth(const fs::path& export_dir, const std::string&
     if (verify)
       NSG_CHECK(sha256_hex(text) == f.value("sha256", ""), DataError, file.string(), rel,
                 "the sha256 " + manifest_path.string() + " records");
+    fn(text, file);
+  }
+}
+
+FrameSet read_frames_ground_truth(const fs::path& export_dir, const std::string& split, bool verify) {
+  FrameSet out;
+  simdjson::dom::parser parser;
+  for_each_frames_record(export_dir, split, verify, [&](const std::string& text, const fs::path& file) {
     const simdjson::dom::element record = parse_truth(parser, text, file.string());
     std::string_view token;
     NSG_CHECK(!member(record, "sample_token", file.string(), "", "the frame's sample token").get_string().get(token),
               ParseError, file.string(), "/sample_token", "a sample token");
     out.emplace_back(std::string(token), truth_of(member(record, "annotation", file.string(), "", "the annotation"),
                                                   file.string(), "/annotation"));
-  }
-  NSG_CHECK(!out.empty(), DataError, manifest_path.string(), split,
-            "a split with frames (the manifest lists no record under " + prefix + ")");
+  });
+  NSG_CHECK(!out.empty(), DataError, (export_dir / "manifest.json").string(), split,
+            "a split with frames (the manifest lists no record under " + split + "/)");
   return out;
 }
 

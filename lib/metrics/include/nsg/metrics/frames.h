@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -79,6 +80,15 @@ Graph frame_graph(const FrameCenterlines& frame, bool truth);
 // with `graph_metrics` also nsgraph's own on each frame's graph (graph_means; about 20× the
 // time of the rest: APLS searches every frame's graph).
 FramesReport score_frames(const FrameSet& truth, const FrameSet& predictions, bool graph_metrics = false);
+
+// An `nsgraph frames` export's manifest (kind checked; IoError / ParseError naming it).
+nlohmann::json read_frames_manifest(const std::filesystem::path& export_dir);
+// Calls fn(text, file) for every record of `split` the manifest lists, in its order, after
+// checking the path stays inside the export and the record is present with its recorded
+// size and (when `verify`) sha256 (DataError naming the file). The one reader of an
+// export's records: the scorer and `predict --frames` both go through it.
+void for_each_frames_record(const std::filesystem::path& export_dir, const std::string& split, bool verify,
+                            const std::function<void(const std::string& text, const std::filesystem::path& file)>& fn);
 
 // The records of `split` of an `nsgraph frames` export, through its manifest: every record
 // listed for the split must be present with its size and (when `verify`) sha256. Keys are
