@@ -71,10 +71,11 @@ def _params_json(params):
     return json.dumps(params)
 
 
-def score(ground_truth, submission, split=None, threads=1, verify=True, max_seconds=3600, **params):
+def score(ground_truth, submission, split=None, threads=0, verify=True, max_seconds=3600, **params):
     """Scores a submission like ``nsgraph score`` and returns its JSON report as a dict.
 
-    ground_truth: a dataset folder (its ``split``, default "test"), a ground-truth file in
+    ground_truth: a dataset folder (its ``split``; default: the split the submission's keys
+    are tiles of, as the CLI), a ground-truth file in
     the submission format, or in memory {key: graph} / a submission-format dict.
     submission: a submission file, or in memory likewise. params: docs/metrics.md parameters
     (resolution_m, snap_m, ...). Raises SubmissionError (with .issues) when the submission
@@ -87,7 +88,7 @@ def score(ground_truth, submission, split=None, threads=1, verify=True, max_seco
     """
     gt, gt_is_path, gt_label = _source(ground_truth)
     sub, sub_is_path, sub_label = _source(submission)
-    report, issues, text = _nsgraph.score(gt, gt_is_path, sub, sub_is_path, split or "test", _params_json(params),
+    report, issues, text = _nsgraph.score(gt, gt_is_path, sub, sub_is_path, split or "", _params_json(params),
                                           threads, SCHEMAS_DIR, gt_label, sub_label, bool(verify), float(max_seconds))
     if report is None:
         raise SubmissionError(f"{len(issues)} problem(s) in submission {sub_label}; not scored:\n{text}", issues)

@@ -125,3 +125,27 @@ TEST(Cli, ConfigFlagsSayWhatTheyDoWithTypeAndDefault) {
 }
 
 }  // namespace nsg
+
+namespace nsg {
+
+// A mistyped option gets the name it was probably meant to be, before any complaint about
+// required options (CLI11 said "The following arguments were not expected: 2 --thread",
+// and only once every required option was given).
+TEST(Cli, AMistypedOptionGetsDidYouMean) {
+  const auto r = test::run_nsgraph({"score", "--thread", "2", "--submission", "s.json"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("score: unknown option '--thread' (did you mean '--threads'?)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("Run 'nsgraph score --help'"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("not expected"), std::string::npos) << r.err;
+  // Inside a command group, with `=`, and a global flag after the command is known.
+  const auto sub = test::run_nsgraph({"inspect", "graph", "--dataroot=x", "--quiet", "--lcation=boston"});
+  EXPECT_EQ(sub.exit_code, 2);
+  EXPECT_NE(sub.err.find("inspect graph: unknown option '--lcation' (did you mean '--location'?)"), std::string::npos)
+      << sub.err;
+  // Nothing close: no suggestion, still the command named.
+  const auto far = test::run_nsgraph({"stats", "ds", "--zzzzzzzz"});
+  EXPECT_EQ(far.exit_code, 2);
+  EXPECT_NE(far.err.find("stats: unknown option '--zzzzzzzz'\n"), std::string::npos) << far.err;
+}
+
+}  // namespace nsg

@@ -33,7 +33,7 @@ int run(const ExportCloudCommandOptions& in) {
   const nlohmann::ordered_json out = {{"scene", cloud.scene},
                                       {"location", cloud.location},
                                       {"file", o.out.string()},
-                                      {"format", pipeline::pcd_format_name(o.format)},
+                                      {"encoding", pipeline::pcd_format_name(o.format)},
                                       {"bytes", std::filesystem::file_size(o.out)},
                                       {"points", cloud.points.size()},
                                       {"sweeps", cloud.sweeps},
@@ -54,11 +54,13 @@ void add_export_cloud_command(CLI::App& root, Context& ctx) {
   cmd->add_option("--version", o->cloud.version, "Release version")->capture_default_str();
   cmd->add_option("--scene", o->cloud.scene, "Scene name (scene.json 'name', e.g. scene-0061)")->required();
   cmd->add_option("--out", o->cloud.out, "The .pcd file to write")->required();
-  cmd->add_option("--format", o->format, "binary, ascii or binary_compressed")->capture_default_str();
+  // --encoding, not --format: --format is what a command prints on stdout (docs/cli.md).
+  cmd->add_option("--encoding", o->format, "How the PCD file stores points: binary, ascii or binary_compressed")
+      ->capture_default_str();
   cmd->add_option("--semantic-root", o->semantic_root, "Semantic masks root (default <dataroot>/semantic)");
   cmd->add_flag("--no-rgb", o->no_rgb, "Skip camera colours (rgb = 0)");
   cmd->add_flag("--no-semantic", o->no_semantic, "Skip semantic masks (label = 255)");
-  cmd->add_option("--threads", o->cloud.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+  add_threads_option(cmd, o->cloud.threads);
   cmd->callback([o, &ctx] { ctx.run = [o] { return run(*o); }; });
 }
 

@@ -106,7 +106,8 @@ void add_frames_command(CLI::App& root, Context& ctx) {
   cmd->add_flag("--print-config", o->print_config, "Print the resolved frames config and exit");
   cmd->add_flag("--list-options", o->list_options,
                 "List every config key (key, type, default, unit, description) and exit");
-  cmd->add_option("--format", o->format, "--list-options as text, md (docs/options.md), json or schema")
+  cmd->add_option("--format", o->format,
+                  "What --list-options prints on stdout: text, md (docs/options.md), json or schema")
       ->check(CLI::IsMember({"text", "md", "json", "schema"}));
   cmd->callback([o, &ctx] { ctx.run = [o, &ctx] { return run_frames(*o, ctx); }; });
 }

@@ -84,11 +84,12 @@ void add_generate_command(CLI::App& root, Context& ctx) {
                     "--train-per-km2", "--train-total", "--tiles-per-shard", "--deflate-level", "--layout"});
   cmd->add_option("--shard-index", o->shard_index, "This process's share of the work (with --num-shards)");
   cmd->add_option("--num-shards", o->num_shards, "Number of processes sharing the work");
-  cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+  add_threads_option(cmd, o->threads);
   cmd->add_flag("--print-config", o->print_config, "Print the resolved config and exit");
   cmd->add_flag("--list-options", o->list_options,
                 "List every config key (key, type, default, unit, description) and exit");
-  cmd->add_option("--format", o->format, "--list-options as text, md (docs/options.md), json or schema")
+  cmd->add_option("--format", o->format,
+                  "What --list-options prints on stdout: text, md (docs/options.md), json or schema")
       ->check(CLI::IsMember({"text", "md", "json", "schema"}));
   cmd->add_option("--max-memory", o->max_memory,
                   "Refuse to start when the estimated peak memory exceeds this (e.g. 16G; default: the machine's "

@@ -15,6 +15,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/strings.h"
 #include "nsg/io/raster.h"
+#include "nsg/raster/color_layer.h"
 #include "nsg/io/tile_members.h"
 #include "nsg/nuscenes/database.h"
 #include "nsg/pipeline/location_layers.h"
@@ -59,6 +60,7 @@ int run(const InspectLayersOptions& o) {
   pipeline::GenerateConfig config = o.config->resolve(&origins);
   if (!origins.count("version")) config.version = "v1.0-mini";  // inspect's default release
   if (config.dataroot.empty()) throw ConfigError("", "--dataroot", "the nuScenes dataroot");
+  raster::resolve_semantic_source(config.raster.camera, config.dataroot, config.version);
   std::optional<std::array<double, 4>> bbox;
   if (!o.bbox_text.empty()) {
     const graph::TileBounds b = parse_bbox(o.bbox_text);
@@ -112,7 +114,7 @@ void add_inspect_layers(CLI::App& inspect, Context& ctx) {
   cmd->add_option("--out", o->out_dir, "Folder for <location>.<layer>.tif")->required();
   cmd->add_option("--bbox", o->bbox_text, "Only xmin,ymin,xmax,ymax (map metres); default: the covered extent");
   cmd->add_option("--png", o->png, "Also write the LiDAR and RGB layers side by side as this PNG");
-  cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+  add_threads_option(cmd, o->threads);
   cmd->callback([o, &ctx] { ctx.run = [o] { return run(*o); }; });
 }
 

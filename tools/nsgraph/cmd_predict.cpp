@@ -108,8 +108,7 @@ void add_predict_command(CLI::App& parent, Context& ctx) {
   cmd->add_option("--frames", opts->frames,
                   "An `nsgraph frames` export of --dataset: the tiles' graphs stitched and cut around each of its "
                   "--split frames, written as OpenLane-V2 results (score them with `score --frames`)");
-  cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores; results do not depend on it)")
-      ->capture_default_str();
+  add_threads_option(cmd, opts->threads);
   cmd->callback([opts, &ctx]() { ctx.run = [opts, &ctx]() { return run_predict(*opts, ctx); }; });
 }
 

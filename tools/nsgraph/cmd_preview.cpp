@@ -33,9 +33,10 @@ int run_preview(PreviewCliOptions o) {
 void add_preview_command(CLI::App& parent, Context& ctx) {
   auto opts = std::make_shared<PreviewCliOptions>();
   CLI::App* cmd = parent.add_subcommand("preview", "PNG previews of a dataset or a submission for checking by eye");
-  cmd->add_option("dataset", opts->dataset, "Dataset folder (manifest.json)")->required();
+  cmd->add_option("dataset,--dataset", opts->dataset, "Dataset folder (manifest.json)")->required();
   cmd->add_option("--out", opts->out, "Folder for the PNGs")->required();
-  cmd->add_option("--split", opts->lib.split, "Only this split (default: all)");
+  cmd->add_option("--split", opts->lib.split,
+                  "Only this split (default: all; with --submission the split its keys are tiles of)");
   cmd->add_option("--shard", opts->shard, "Only the shard numbered N (<split>-NNNNNN)");
   cmd->add_option("--max-tiles", opts->lib.max_tiles, "Tiles per image (the first K, or the worst K with --sort)")
       ->capture_default_str();

@@ -66,9 +66,9 @@ void add_report_command(CLI::App& parent, Context& ctx) {
   cmd->add_option("--out", opts->out, "Report folder (new, empty or an earlier report, which is replaced)")->required();
   cmd->add_option("--submission", opts->lib.submission, "Submission JSON: scores per tile against the dataset");
   cmd->add_option("--baseline", opts->lib.baseline, "A second submission: both scores and their paired difference");
-  cmd->add_option("--split", opts->lib.split, "Split to report (default: test with a submission, else all)");
-  cmd->add_option("--threads", opts->lib.threads, "Worker threads (0 = all cores); output does not depend on it")
-      ->capture_default_str();
+  cmd->add_option("--split", opts->lib.split,
+                  "Split to report (default: with a submission the split its keys are tiles of, else all)");
+  add_threads_option(cmd, opts->lib.threads);
   cmd->add_option("--schemas", opts->lib.schemas, "Folder of the published schemas (default: installed/source)");
   cmd->callback([opts, &ctx]() { ctx.run = [opts]() { return run_report(*opts); }; });
 }

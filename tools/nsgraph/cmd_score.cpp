@@ -78,7 +78,7 @@ int run_score_frames(const ScoreCliOptions& o) {
   NSG_CHECK(o.format != "csv", ConfigError, "", "--format", "json or md with --frames (no per-tile table)");
   metrics::FramesScoreInput in;
   in.ground_truth = o.ground_truth;
-  in.split = o.lib.split;
+  in.split = o.lib.split.empty() ? std::string("test") : o.lib.split;
   in.verify = o.lib.verify_ground_truth;
   in.graph_metrics = o.graph_metrics;
   in.results = o.submission;
@@ -147,7 +147,10 @@ void add_score_command(CLI::App& parent, Context& ctx) {
   cmd->add_option("--submission", opts->submission,
                   "Submission JSON (schemas/v1/submission.schema.json): a file, or a pipe / /dev/stdin")
       ->required();
-  cmd->add_option("--split", opts->lib.split, "Split of a dataset ground truth")->capture_default_str();
+  opts->lib.split.clear();  // "" = from the submission's keys
+  cmd->add_option("--split", opts->lib.split,
+                  "Split of a dataset ground truth (default: the split the submission's keys are tiles of; with "
+                  "--frames: test)");
   cmd->add_flag("--frames", opts->frames,
                 "Per-key-frame scoring: --ground-truth is an `nsgraph frames` export (its --split) and --submission an "
                 "OpenLane-V2 results JSON; DET_l, TOP_ll, lane_score (docs/metrics.md \"Frames\")");
@@ -161,10 +164,10 @@ void add_score_command(CLI::App& parent, Context& ctx) {
   cmd->add_option("--verify-receipt", opts->verify_receipt,
                   "A score report (or its receipt) to verify: recompute with its options and limits from "
                   "--ground-truth and --submission, print \"same\" or what differs (exit 0 / 1)");
-  cmd->add_option("--format", opts->format, "What stdout prints: json, md (paper-style table) or csv (per tile)")
+  cmd->add_option("--format", opts->format,
+                  "What score prints on stdout: json, md (paper-style table) or csv (per tile)")
       ->capture_default_str();
-  cmd->add_option("--threads", opts->lib.score.threads, "Worker threads (0 = all cores); output does not depend on it")
-      ->capture_default_str();
+  add_threads_option(cmd, opts->lib.score.threads);
   cmd->add_option("--max-seconds", opts->lib.score.max_seconds,
                   "Wall-clock budget of scoring the tiles; beyond it the run stops, exit 2 (0 = none)")
       ->capture_default_str();

@@ -51,8 +51,7 @@ void add_segment_command(CLI::App& root, Context& ctx) {
                   "camera.semantic_root)")
       ->required();
   cmd->add_option("--channels", o->run.channels, "Camera channels (default: every camera)")->delimiter(',');
-  cmd->add_option("--threads", o->run.threads, "Images in parallel, one model each (0 = all cores)")
-      ->check(CLI::Range(0, 1024));
+  add_threads_option(cmd, o->run.threads, "Images in parallel, one model each");
   cmd->add_option("--mask-scale", o->run.mask_scale_denom,
                   "Write masks at 1/N of the image's size (default 2: the scale generate samples at, "
                   "camera.jpeg_scale_denom; 1 = full size)")

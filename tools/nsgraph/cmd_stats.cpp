@@ -15,7 +15,7 @@ void add_stats_command(CLI::App& root, Context& ctx) {
   };
   auto o = std::make_shared<StatsOptions>();
   CLI::App* cmd = root.add_subcommand("stats", "A dataset's key figures per split (the paper's Table I fields)");
-  cmd->add_option("dataset", o->dataset, "Dataset folder (holds manifest.json)")->required();
+  cmd->add_option("dataset,--dataset", o->dataset, "Dataset folder (holds manifest.json)")->required();
   cmd->add_flag("--json", o->json, "JSON instead of a text table");
   cmd->callback([o, &ctx] {
     ctx.run = [o] {

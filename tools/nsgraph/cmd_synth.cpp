@@ -74,9 +74,10 @@ void add_synth_command(CLI::App& parent, Context& ctx) {
   cmd->add_flag("--print-config", opts->print_config, "Print the resolved world config and exit");
   cmd->add_flag("--list-options", opts->list_options,
                 "List every config key (key, type, default, unit, description) and exit");
-  cmd->add_option("--format", opts->format, "--list-options as text, md (docs/options.md), json or schema")
+  cmd->add_option("--format", opts->format,
+                  "What --list-options prints on stdout: text, md (docs/options.md), json or schema")
       ->check(CLI::IsMember({"text", "md", "json", "schema"}));
-  cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+  add_threads_option(cmd, opts->threads);
   cmd->callback([opts, &ctx]() { ctx.run = [opts, &ctx]() { return run_synth(*opts, ctx); }; });
 }
 

@@ -109,8 +109,7 @@ void add_train_command(CLI::App& parent, Context& ctx) {
                   "Model (the paper's Table II): b1 skeletonized centrelines, b2 anchors joined to their two "
                   "nearest neighbours, graph anchors joined by a trained has-connection classifier; recorded in "
                   "the model file (config key variant; default graph)");
-  cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores; results do not depend on it)")
-      ->capture_default_str();
+  add_threads_option(cmd, opts->threads);
   cmd->add_option("--seed", opts->seed, "Seed of the pixel sampling (config key seed; default 1)");
   cmd->add_option("--trees", opts->trees,
                   "Trees per forest (sets <forest>_forest.trees; default: 32 centreline, 40 direction, 24 anchor, 60 "
@@ -118,7 +117,8 @@ void add_train_command(CLI::App& parent, Context& ctx) {
   cmd->add_flag("--print-config", opts->print_config, "Print the resolved train config and exit");
   cmd->add_flag("--list-options", opts->list_options,
                 "List every config key (key, type, default, unit, description) and exit");
-  cmd->add_option("--format", opts->format, "--list-options as text, md (docs/options.md), json or schema")
+  cmd->add_option("--format", opts->format,
+                  "What --list-options prints on stdout: text, md (docs/options.md), json or schema")
       ->check(CLI::IsMember({"text", "md", "json", "schema"}));
   cmd->callback([opts, &ctx]() { ctx.run = [opts, &ctx]() { return run_train(*opts, ctx); }; });
 }

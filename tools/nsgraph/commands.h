@@ -5,6 +5,7 @@
 // validate their options and call a library function: no logic a test would want here.
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
 
 namespace nsg::cli {
 
@@ -31,6 +32,10 @@ void add_predict_command(CLI::App& root, Context& ctx);
 void add_segment_command(CLI::App& root, Context& ctx);
 void add_report_command(CLI::App& root, Context& ctx);
 void add_frames_command(CLI::App& root, Context& ctx);
+
+// --threads N with the one default (0 = all cores) and range; `what` says what runs in
+// parallel ("Worker threads").
+CLI::Option* add_threads_option(CLI::App* cmd, int& threads, const std::string& what = "Worker threads");
 
 // `inspect` subcommands (cmd_inspect_<what>.cpp), added by add_inspect_command.
 void add_inspect_centerlines(CLI::App& inspect, Context& ctx);

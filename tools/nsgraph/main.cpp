@@ -95,6 +95,52 @@ bool check_version_flag(CLI::App& app, int argc, char** argv) {
   return true;
 }
 
+// A mistyped option gets the option it was probably meant to be, like commands and config
+// keys: CLI11 alone says "The following arguments were not expected: 2 --thread", and only
+// after any missing required option. Checked before parsing, against the options of the
+// command named so far and of the commands above it (global flags fall through).
+bool check_option_words(CLI::App& app, int argc, char** argv) {
+  CLI::App* command = &app;
+  std::string path;
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word == "--") break;
+    if (!word.starts_with("--")) {
+      for (CLI::App* sub : command->get_subcommands([](CLI::App*) { return true; }))
+        if (sub->get_name() == word) {
+          command = sub;
+          path += (path.empty() ? "" : " ") + word;
+          break;
+        }
+      continue;
+    }
+    const std::string name = word.substr(0, word.find('='));
+    std::vector<std::string> known;  // every long name in reach, "--threads"
+    bool found = false;
+    for (CLI::App* at = command; at != nullptr && !found; at = at->get_parent()) {
+      for (const CLI::Option* opt : at->get_options()) {
+        if (opt->check_name(name)) found = true;
+        for (const std::string& l : opt->get_lnames()) known.push_back("--" + l);
+      }
+    }
+    if (found) continue;
+    std::string hint;
+    size_t best = std::max<size_t>(3, name.size() / 4);  // suggest only close names
+    for (const std::string& k : known) {
+      const size_t d = nsg::options::edit_distance(name, k);
+      if (d < best) {
+        best = d;
+        hint = " (did you mean '" + k + "'?)";
+      }
+    }
+    const std::string where = path.empty() ? "nsgraph" : "nsgraph " + path;
+    std::fprintf(stderr, "nsgraph: error: %s: unknown option '%s'%s\nRun '%s --help' for its options.\n",
+                 path.empty() ? "nsgraph" : path.c_str(), name.c_str(), hint.c_str(), where.c_str());
+    return false;
+  }
+  return true;
+}
+
 int run(int argc, char** argv) {
   CLI::App app{"nsgraph — build, validate and score the NuScenesGraph lane-graph benchmark"};
   app.set_version_flag("--version", std::string("nsgraph ") + nsg::kVersion);
@@ -104,7 +150,9 @@ int run(int argc, char** argv) {
   app.add_flag("-q,--quiet", ctx.quiet, "Only errors on stderr");
   app.add_flag("-v,--verbose", ctx.verbose, "Debug log lines");
   for (nsg::cli::AddCommand add : kCommands) add(app, ctx);
-  if (!check_command_word(app, argc, argv) || !check_version_flag(app, argc, argv)) return nsg::kExitInput;
+  if (!check_command_word(app, argc, argv) || !check_version_flag(app, argc, argv) ||
+      !check_option_words(app, argc, argv))
+    return nsg::kExitInput;
   if (argc == 1) {  // a bare `nsgraph`: the commands there are, not only "a subcommand is required"
     std::fprintf(stderr, "%s\nnsgraph: error: no command given (one of those above; `nsgraph <command> --help`)\n",
                  app.help().c_str());

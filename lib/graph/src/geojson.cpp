@@ -41,12 +41,15 @@ void write_geojson(const LaneGraph& graph, std::string_view location, std::ostre
     const Node& b = graph.nodes[edge.target];
     const Lane& lane = graph.lanes[edge.lane];
     // Bearing clockwise from map north, the way a map reader states a direction.
+    // In [0, 360) after rounding to 0.01°: 359.996 is 0, not 360; +0.0 turns −0 into 0.
     double bearing = std::atan2(b.x_m - a.x_m, b.y_m - a.y_m) * 180.0 / std::numbers::pi;
     if (bearing < 0) bearing += 360.0;
+    bearing = std::round(bearing * 100.0) / 100.0;
+    if (bearing >= 360.0) bearing -= 360.0;
+    bearing += 0.0;
     out << (e ? ",\n" : "\n") << "{\"type\": \"Feature\", \"properties\": {\"lane_token\": " << json_string(lane.token)
         << ", \"layer\": \"" << (lane.is_connector ? "lane_connector" : "lane") << "\", \"source\": " << edge.source
-        << ", \"target\": " << edge.target
-        << ", \"bearing_deg\": " << format_double(std::round(bearing * 100.0) / 100.0)
+        << ", \"target\": " << edge.target << ", \"bearing_deg\": " << format_double(bearing)
         << "}, \"geometry\": {\"type\": \"LineString\", \"coordinates\": [";
     write_position(out, projection.to_lonlat(a.x_m, a.y_m));
     out << ", ";

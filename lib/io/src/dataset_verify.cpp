@@ -69,6 +69,29 @@ std::vector<std::string> Dataset::splits() const {
   return {names.begin(), names.end()};
 }
 
+std::map<std::string, int64_t> Dataset::split_counts_of_keys(const std::vector<std::string>& keys) const {
+  struct Range {
+    std::string split, first, last;
+  };
+  std::vector<Range> ranges;
+  for (const nlohmann::json& s : manifest_["shards"]) {
+    if (!s.is_object()) continue;
+    const auto text = [&](const char* name) {
+      const auto it = s.find(name);
+      return it != s.end() && it->is_string() ? it->get<std::string>() : std::string();
+    };
+    if (!text("split").empty()) ranges.push_back({text("split"), text("first_key"), text("last_key")});
+  }
+  std::map<std::string, int64_t> counts;
+  for (const std::string& key : keys) {
+    std::set<std::string> in;  // a key in the ranges of two splits counts for both
+    for (const Range& r : ranges)
+      if (key >= r.first && key <= r.last) in.insert(r.split);
+    for (const std::string& split : in) ++counts[split];
+  }
+  return counts;
+}
+
 void Dataset::require_split(const std::string& split) const {
   if (split.empty()) return;
   const std::vector<std::string> known = splits();

@@ -3,19 +3,49 @@
 #include <algorithm>
 
 #include "nsg/core/error.h"
+#include "nsg/core/log.h"
 #include "nsg/core/json.h"
 #include "nsg/core/sha256.h"
 #include "nsg/core/strings.h"
+#include "nsg/io/dataset.h"
 #include "nsg/metrics/io.h"
 #include "nsg/metrics/receipt.h"
 #include "nsg/metrics/submission_input.h"
 
 namespace nsg::metrics {
 
-void SubmissionScoreOptions::validate() const {
-  score.validate();
-  NSG_CHECK(!split.empty(), ConfigError, "", "split", "a split name");
+void SubmissionScoreOptions::validate() const { score.validate(); }
+
+namespace {
+
+// The split to score: the one given, else the one split of a dataset ground truth whose
+// shards' key ranges hold the submission's keys. nullopt (and an issue) when they fall in
+// no split or in several: the user says which with --split.
+std::optional<std::string> split_to_score(const ScoreSource& truth, const GraphSet& graphs, const std::string& given,
+                                          const std::string& label, Issues& issues) {
+  if (!given.empty()) return given;
+  if (truth.text || !std::filesystem::is_directory(truth.path) || graphs.empty()) return std::string("test");
+  std::vector<std::string> keys;
+  for (const auto& kv : graphs) keys.push_back(kv.first);
+  const io::Dataset dataset = io::Dataset::open(truth.path);
+  const std::map<std::string, int64_t> counts = dataset.split_counts_of_keys(keys);
+  if (counts.size() == 1) {
+    log::info("split '" + counts.begin()->first + "' (the split the submission's keys are tiles of)");
+    return counts.begin()->first;
+  }
+  std::string found;
+  for (const auto& [split, n] : counts)
+    found += strprintf("%s%s: %lld", found.empty() ? "" : ", ", split.c_str(), static_cast<long long>(n));
+  issues.error("submission.keys", label,
+               counts.empty()
+                   ? strprintf("tiles of this dataset: none of its %zu keys (e.g. '%s') is a tile of any of its "
+                               "splits (%s); is this the dataset it was predicted for?",
+                               keys.size(), printable_text(keys.front()).c_str(), join(dataset.splits(), ", ").c_str())
+                   : "keys of one split, to know which to score: they fall in several (" + found + "); give --split");
+  return std::nullopt;
 }
+
+}  // namespace
 
 ScoredSubmission score_submission(const ScoreSource& ground_truth, const ScoreSource& submission,
                                   const SubmissionScoreOptions& options) {
@@ -29,8 +59,11 @@ ScoredSubmission score_submission(const ScoreSource& ground_truth, const ScoreSo
     return out;
   }
   out.graphs = std::move(checked.graphs);
+  const std::optional<std::string> split =
+      split_to_score(ground_truth, out.graphs, options.split, submission.label, out.issues);
+  if (!split) return out;
   ReceiptInputs inputs;
-  inputs.split = options.split;
+  inputs.split = *split;
   inputs.verify_ground_truth = options.verify_ground_truth;
   inputs.submission_sha256 = checked.sha256;
   inputs.submission_bytes = checked.bytes;
@@ -40,7 +73,7 @@ ScoredSubmission score_submission(const ScoreSource& ground_truth, const ScoreSo
     inputs.ground_truth_kind = "memory";
     inputs.ground_truth_sha256 = sha256_hex(*ground_truth.text);
   } else {
-    truth = load_ground_truth(ground_truth.path, options.split, options.limits, options.verify_ground_truth,
+    truth = load_ground_truth(ground_truth.path, *split, options.limits, options.verify_ground_truth,
                               &inputs.ground_truth_sha256);
     inputs.ground_truth_kind = std::filesystem::is_directory(ground_truth.path) ? "dataset" : "file";
   }
@@ -48,12 +81,12 @@ ScoredSubmission score_submission(const ScoreSource& ground_truth, const ScoreSo
   // another dataset): scoring it would report every tile missing, exit 0, all zeros.
   if (!out.graphs.empty() && !truth.empty() &&
       std::none_of(out.graphs.begin(), out.graphs.end(), [&](const auto& kv) { return truth.count(kv.first) > 0; })) {
-    out.issues.error("submission.keys", submission.label,
-                     strprintf("tiles of split '%s': none of its %zu keys (e.g. '%s') is one of the split's %zu "
-                               "tiles (e.g. '%s'); is --split right, and is this the dataset it was predicted for?",
-                               printable_text(options.split).c_str(), out.graphs.size(),
-                               printable_text(out.graphs.begin()->first).c_str(), truth.size(),
-                               printable_text(truth.begin()->first).c_str()));
+    out.issues.error(
+        "submission.keys", submission.label,
+        strprintf("tiles of split '%s': none of its %zu keys (e.g. '%s') is one of the split's %zu "
+                  "tiles (e.g. '%s'); is --split right, and is this the dataset it was predicted for?",
+                  printable_text(*split).c_str(), out.graphs.size(), printable_text(out.graphs.begin()->first).c_str(),
+                  truth.size(), printable_text(truth.begin()->first).c_str()));
     return out;
   }
   try {
@@ -66,7 +99,7 @@ ScoredSubmission score_submission(const ScoreSource& ground_truth, const ScoreSo
   }
   out.report.ground_truth = ground_truth.label;
   out.report.submission = submission.label;
-  out.report.split = options.split;
+  out.report.split = *split;
   out.report.ground_truth_verification = inputs.ground_truth_kind == "memory" ? "memory"
                                          : inputs.ground_truth_kind == "file" ? "file"
                                          : options.verify_ground_truth        ? "sha256"

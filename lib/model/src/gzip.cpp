@@ -11,7 +11,11 @@
 namespace nsg::model {
 namespace {
 constexpr int kGzipWindowBits = 15 + 16;  // zlib: +16 = gzip wrapper with a zero header
+std::string mib(uint64_t bytes) {
+  return bytes % (1 << 20) == 0 ? strprintf("%llu MiB", static_cast<unsigned long long>(bytes >> 20))
+                                : strprintf("%llu bytes", static_cast<unsigned long long>(bytes));
 }
+}  // namespace
 
 std::string gzip_compress(const std::string& data) {
   z_stream z{};
@@ -30,14 +34,14 @@ std::string gzip_compress(const std::string& data) {
   return out;
 }
 
-std::string read_maybe_gzip(const std::filesystem::path& path) {
+std::string read_maybe_gzip(const std::filesystem::path& path, uint64_t max_text_bytes) {
   const std::string file = path.string();
   std::ifstream in(path, std::ios::binary);
   NSG_CHECK(in.good(), IoError, file, "file", "a readable file");
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
-  NSG_CHECK(!ec && size <= kMaxModelTextBytes, ParseError, file, "file",
-            strprintf("a model file of at most %llu MiB", static_cast<unsigned long long>(kMaxModelTextBytes >> 20)));
+  NSG_CHECK(!ec && size <= max_text_bytes, ParseError, file, "file",
+            strprintf("a model file of at most %s", mib(max_text_bytes).c_str()));
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (bytes.size() < 2 || static_cast<unsigned char>(bytes[0]) != 0x1f ||
       static_cast<unsigned char>(bytes[1]) != 0x8b) {
@@ -55,11 +59,10 @@ std::string read_maybe_gzip(const std::filesystem::path& path) {
     z.avail_out = sizeof buf;
     rc = inflate(&z, Z_NO_FLUSH);
     out.append(buf, sizeof buf - z.avail_out);
-    if (out.size() > kMaxModelTextBytes) {
+    if (out.size() > max_text_bytes) {
       inflateEnd(&z);
       throw ParseError(file, "gzip",
-                       strprintf("a model of at most %llu MiB inflated (a gzip bomb?)",
-                                 static_cast<unsigned long long>(kMaxModelTextBytes >> 20)));
+                       strprintf("a model of at most %s inflated (a gzip bomb?)", mib(max_text_bytes).c_str()));
     }
     if (rc == Z_OK && z.avail_in == 0 && z.avail_out != 0) break;  // truncated stream
   }

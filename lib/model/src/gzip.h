@@ -13,6 +13,6 @@ inline constexpr uint64_t kMaxModelTextBytes = uint64_t{256} << 20;
 std::string gzip_compress(const std::string& data);
 // The file's bytes, gunzipped when they start with the gzip magic. IoError / ParseError
 // naming the file.
-std::string read_maybe_gzip(const std::filesystem::path& path);
+std::string read_maybe_gzip(const std::filesystem::path& path, uint64_t max_text_bytes = kMaxModelTextBytes);
 
 }  // namespace nsg::model

@@ -1,7 +1,10 @@
 // The model file (OpenCV FileStorage YAML, gzip when the name ends in .gz) and the
 // submission writer.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
+#include <type_traits>
 
 #include "gzip.h"
 #include "model_impl.h"
@@ -16,9 +19,20 @@ constexpr const char* kFormat = "nsgraph-lane-model";
 constexpr int kFormatVersion = 1;
 
 // A stored number, or `fallback` when the field is absent (files from before it existed).
+// An integer field must hold a number within its type: casting 1e308 to int is undefined
+// behaviour (found by fuzz_model); the options' own checks judge the value after.
 template <typename T>
-T value_or(const cv::FileNode& n, T fallback) {
-  return n.empty() ? fallback : static_cast<T>(static_cast<double>(n));
+T value_or(const cv::FileNode& n, T fallback, const std::string& file, const std::string& key) {
+  if (n.empty()) return fallback;
+  NSG_CHECK(n.isInt() || n.isReal(), ParseError, file, key, "a number");
+  const double v = static_cast<double>(n);
+  if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+    static_assert(sizeof(T) <= 4, "the bounds below are exact in double for 32-bit types only");
+    NSG_CHECK(v >= static_cast<double>(std::numeric_limits<T>::min()) &&
+                  v <= static_cast<double>(std::numeric_limits<T>::max()),
+              ParseError, file, key, "an integer within " + std::string(sizeof(T) == 4 ? "32" : "16") + " bits");
+  }
+  return static_cast<T>(v);
 }
 
 // The named number fields of the option groups, in file order: one list each for the
@@ -58,10 +72,11 @@ void write_fields(cv::FileStorage& fs, const char* name, const Options& options,
   fields(options, [&](const char* key, const auto& value) { fs << key << value; });
   fs << "}";
 }
-// The fields of node `n` into `options`, each keeping its value when absent.
+// The fields of node `n` (the file's `group`) into `options`, each keeping its value when absent.
 template <typename Options, typename Fields>
-void read_fields(const cv::FileNode& n, Options& options, Fields fields) {
-  fields(options, [&](const char* key, auto& value) { value = value_or(n[key], value); });
+void read_fields(const cv::FileNode& n, Options& options, Fields fields, const std::string& file,
+                 const std::string& group) {
+  fields(options, [&](const char* key, auto& value) { value = value_or(n[key], value, file, group + "/" + key); });
 }
 
 void write_forest_options(cv::FileStorage& fs, const std::string& name, const ForestOptions& f) {
@@ -91,16 +106,20 @@ void check_forest_structure(const cv::FileNode& forest, const std::string& file,
   NSG_CHECK(var_all > 0 && var_all < (1 << 20), ParseError, file, name + "/var_all", "a variable count");
   const cv::FileNode trees = forest["trees"];
   NSG_CHECK(trees.isSeq() && trees.size() > 0, ParseError, file, name + "/trees", "a list of trees");
+  // Iterators, not operator[]: FileNode indexes a sequence by walking it, so indexing
+  // every node of a long tree is quadratic (a 64 KiB file of nodes took seconds).
   int64_t total = 0;
-  for (size_t t = 0; t < trees.size(); ++t) {
+  size_t t = 0;
+  for (auto tree = trees.begin(); tree != trees.end(); ++tree, ++t) {
     const std::string at = name + "/trees/" + std::to_string(t) + "/nodes";
-    const cv::FileNode nodes = trees[static_cast<int>(t)]["nodes"];
+    const cv::FileNode nodes = (*tree)["nodes"];
     NSG_CHECK(nodes.isSeq() && nodes.size() > 0, ParseError, file, at, "a tree's nodes");
     total += static_cast<int64_t>(nodes.size());
     NSG_CHECK(total <= kMaxNodes, ParseError, file, at, "at most 2^26 nodes in all");
     std::vector<int> expected{0};  // depths of the subtrees still to come, next on top
-    for (size_t k = 0; k < nodes.size(); ++k) {
-      const cv::FileNode node = nodes[static_cast<int>(k)];
+    size_t k = 0;
+    for (auto it = nodes.begin(); it != nodes.end(); ++it, ++k) {
+      const cv::FileNode node = *it;
       const std::string nat = at + "/" + std::to_string(k);
       NSG_CHECK(!expected.empty(), ParseError, file, nat, "no node after the tree is complete");
       const int want = expected.back();
@@ -110,8 +129,9 @@ void check_forest_structure(const cv::FileNode& forest, const std::string& file,
       const cv::FileNode splits = node["splits"];
       if (splits.empty()) continue;  // a leaf
       NSG_CHECK(want < kMaxTreeDepth, ParseError, file, nat, "a tree at most 64 deep");
-      for (size_t s = 0; s < splits.size(); ++s) {
-        const cv::FileNode var = splits[static_cast<int>(s)]["var"];
+      size_t s = 0;
+      for (auto split = splits.begin(); split != splits.end(); ++split, ++s) {
+        const cv::FileNode var = (*split)["var"];
         NSG_CHECK(var.isInt() && static_cast<int>(var) >= 0 && static_cast<int>(var) < var_all, ParseError, file,
                   nat + "/splits/" + std::to_string(s) + "/var",
                   "a variable index below var_all " + std::to_string(var_all));
@@ -149,10 +169,10 @@ void write_variant_options(cv::FileStorage& fs, const ModelOptions& o) {
 void read_variant_options(const cv::FileStorage& fs, ModelOptions& o, const std::string& file) {
   if (o.variant == Variant::kB1) return;
   o.anchor = read_forest_options(fs["anchor_forest"]);
-  read_fields(fs["anchors"], o.anchors, kAnchorFields);
+  read_fields(fs["anchors"], o.anchors, kAnchorFields, file, "anchors");
   if (o.variant != Variant::kGraph) return;
   o.connection = read_forest_options(fs["connection_forest"]);
-  read_fields(fs["pairs"], o.pairs, kPairFields);
+  read_fields(fs["pairs"], o.pairs, kPairFields, file, "pairs");
   std::vector<std::string> names;
   for (const auto& n : fs["pair_features"]) names.push_back(static_cast<std::string>(n));
   NSG_CHECK(names == pair_feature_names(), ParseError, file, "pair_features",
@@ -199,9 +219,11 @@ void LaneModel::save(const std::filesystem::path& path) const {
   write_file_atomic(path, gz ? gzip_compress(text) : text);
 }
 
-LaneModel LaneModel::load(const std::filesystem::path& path) {
+LaneModel LaneModel::load(const std::filesystem::path& path) { return load(path, kMaxModelTextBytes); }
+
+LaneModel LaneModel::load(const std::filesystem::path& path, uint64_t max_text_bytes) {
   const std::string file = path.string();
-  std::string text = read_maybe_gzip(path);
+  std::string text = read_maybe_gzip(path, std::min(max_text_bytes, kMaxModelTextBytes));
   LaneModel model;
   Impl& m = *model.impl_;
   try {
@@ -226,7 +248,7 @@ LaneModel LaneModel::load(const std::filesystem::path& path) {
               "an unsigned integer as text");
     m.options.centre = read_forest_options(fs["centre_forest"]);
     m.options.direction = read_forest_options(fs["direction_forest"]);
-    read_fields(fs["extraction"], m.options.extraction, kExtractionFields);
+    read_fields(fs["extraction"], m.options.extraction, kExtractionFields, file, "extraction");
     read_variant_options(fs, m.options, file);
     m.report = nlohmann::json::object();
     for (const auto& n : fs["training_report"]) m.report[n.name()] = static_cast<double>(n);

@@ -17,7 +17,7 @@ PcdFormat parse_pcd_format(const std::string& text) {
   if (text == "ascii") return PcdFormat::kAscii;
   if (text == "binary") return PcdFormat::kBinary;
   if (text == "binary_compressed") return PcdFormat::kBinaryCompressed;
-  throw ConfigError("", "--format '" + text + "'", "one of binary, ascii, binary_compressed");
+  throw ConfigError("", "--encoding '" + text + "'", "one of binary, ascii, binary_compressed");
 }
 
 const char* pcd_format_name(PcdFormat format) {
@@ -113,8 +113,10 @@ SceneCloud scene_cloud(const Database& db, const std::string& scene, const raste
   return cloud;
 }
 
-SceneCloud export_cloud(const ExportCloudOptions& options) {
-  options.validate();
+SceneCloud export_cloud(const ExportCloudOptions& given) {
+  given.validate();
+  ExportCloudOptions options = given;
+  raster::resolve_semantic_source(options.raster.camera, options.dataroot, options.version);
   Database db = Database::load(options.dataroot, options.version);
   SceneCloud cloud = scene_cloud(db, options.scene, options.raster, options.threads);
   if (cloud.points.empty())  // PCL refuses an empty cloud; say why instead

@@ -268,10 +268,14 @@ void assign_keys_and_shards(LocationPlan& plan, int64_t per_shard, std::map<std:
 
 }  // namespace
 
-GenerateSummary generate(const GenerateConfig& config, const GenerateRun& run) {
+GenerateSummary generate(const GenerateConfig& given, const GenerateRun& run) {
   // The values were checked where they were read (the config's declarations); a run needs
   // its inputs too.
-  config.check_inputs();
+  given.check_inputs();
+  // camera.semantic_source auto becomes the source this release has, before anything reads
+  // the config: the manifest records it, and a resumed run resolves the same way.
+  GenerateConfig config = given;
+  raster::resolve_semantic_source(config.raster.camera, config.dataroot, config.version);
   run.share.validate();
   prepare_output_folder(run.out, config, run.share, run.overwrite);
   log::info("generate: " + data_licence_line());

@@ -81,14 +81,34 @@ void write_shard_mosaics(const io::Dataset& ds, const fs::path& out, const Previ
   }
 }
 
-void write_submission_mosaic(const io::Dataset& ds, const fs::path& out, const PreviewOptions& o,
+// The split a submission's keys are tiles of, when --split is not given: without it the
+// train tiles (no prediction) were scored too and shown as the worst.
+std::string split_of_submission(const io::Dataset& ds, const metrics::GraphSet& pred, const std::string& file) {
+  std::vector<std::string> keys;
+  for (const auto& kv : pred) keys.push_back(kv.first);
+  const std::map<std::string, int64_t> counts = ds.split_counts_of_keys(keys);
+  std::string found;
+  for (const auto& [split, n] : counts)
+    found += strprintf("%s%s: %lld", found.empty() ? "" : ", ", split.c_str(), static_cast<long long>(n));
+  NSG_CHECK(!counts.empty(), DataError, file, "tiles",
+            strprintf("keys of this dataset's tiles (none of its %zu keys is; splits: %s)", keys.size(),
+                      join(ds.splits(), ", ").c_str()));
+  NSG_CHECK(counts.size() == 1, DataError, file, "tiles",
+            "keys of one split (they fall in " + found + "); give --split");
+  log::info("split '" + counts.begin()->first + "' (the split the submission's keys are tiles of)");
+  return counts.begin()->first;
+}
+
+void write_submission_mosaic(const io::Dataset& ds, const fs::path& out, const PreviewOptions& given,
                              std::vector<fs::path>& written) {
-  const nlohmann::json doc = metrics::read_json_file(o.submission);
+  const nlohmann::json doc = metrics::read_json_file(given.submission);
   // Out-of-range indices or non-finite numbers would otherwise reach the scorer.
-  const Issues issues = validate::check_submission_structure(doc, o.submission);
-  NSG_CHECK(issues.empty(), DataError, o.submission, "structure",
+  const Issues issues = validate::check_submission_structure(doc, given.submission);
+  NSG_CHECK(issues.empty(), DataError, given.submission, "structure",
             "a valid submission (run `nsgraph validate`):\n" + issues.format());
-  const metrics::GraphSet pred = metrics::graphs_from_submission(doc, o.submission);
+  const metrics::GraphSet pred = metrics::graphs_from_submission(doc, given.submission);
+  PreviewOptions o = given;
+  if (o.split.empty()) o.split = split_of_submission(ds, pred, o.submission);
   const auto shards = selected_shards(ds, o);
   // Pass 1: scores of every tile (graphs only), to choose the tiles shown.
   std::vector<metrics::TileMeasurement> scored;

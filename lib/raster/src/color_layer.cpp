@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "nsg/core/error.h"
+#include "nsg/core/log.h"
 #include "nsg/core/parallel.h"
 #include "nsg/raster/accumulate.h"
 #include "nsg/raster/raster_options.h"
@@ -394,6 +395,29 @@ ImageResult process_image(const Database& db, const ImageJob& job, const Occlusi
 
 }  // namespace
 
+std::string resolve_semantic_source(CameraOptions& camera, const fs::path& dataroot, const std::string& version) {
+  if (!camera.semantic || camera.semantic_source != SemanticSource::kAuto) return "";
+  std::error_code ec;
+  const fs::path masks = camera.semantic_root.empty() ? dataroot / "semantic" : camera.semantic_root;
+  if (fs::is_directory(masks, ec)) {
+    camera.semantic_source = SemanticSource::kMasks;
+    log::debug("camera.semantic_source auto: masks under " + masks.string());
+    return "masks";
+  }
+  const fs::path lidarseg = dataroot / version / "lidarseg.json";
+  if (fs::is_regular_file(lidarseg, ec)) {
+    camera.semantic_source = SemanticSource::kLidarseg;
+    log::info("camera.semantic_source auto: nuScenes-lidarseg (" + lidarseg.string() + "; no masks under " +
+              masks.string() + ")");
+    return "lidarseg";
+  }
+  camera.semantic = false;
+  log::info("camera.semantic_source auto: no semantic layer (no masks under " + masks.string() +
+            ", no nuScenes-lidarseg " + lidarseg.string() +
+            "); `nsgraph segment` makes masks, camera.semantic_source=masks|lidarseg requires one");
+  return "none";
+}
+
 ColorLayer colorize_location(const Database& db, const std::string& location, const LidarLayer& lidar,
                              const std::vector<CellRect>& regions, const CameraOptions& options, int threads) {
   options.validate();
@@ -401,8 +425,11 @@ ColorLayer colorize_location(const Database& db, const std::string& location, co
 }
 
 ColorLayer colorize_scenes(const Database& db, const std::vector<Index>& scenes, const LidarLayer& lidar,
-                           const std::vector<CellRect>& regions, const CameraOptions& options, int threads) {
-  // `options` were checked where they were read (config reader, or colorize_location).
+                           const std::vector<CellRect>& regions, const CameraOptions& given, int threads) {
+  // `given` was checked where it was read (config reader, or colorize_location). A source
+  // still "auto" (a caller of this library) is made concrete for this release here.
+  CameraOptions options = given;
+  resolve_semantic_source(options, db.dataroot(), db.version());
   // Both off is a valid generate config (no camera layers) but nothing to colour here.
   if (!options.rgb && !options.semantic_masks())
     throw ConfigError("", "camera.rgb / camera.semantic",

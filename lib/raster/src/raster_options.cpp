@@ -40,11 +40,14 @@ const options::Table<CameraOptions>& camera_option_table() {
     t.boolean("camera.semantic", &CameraOptions::semantic).help("Write the semantic layer");
     t.path("camera.semantic_root", &CameraOptions::semantic_root)
         .help("Folder of the class-id masks, <root>/<CHANNEL>/<image basename>.png (\"\" = <dataroot>/semantic)");
-    t.choice("camera.semantic_source", &CameraOptions::semantic_source,
-             {{"masks", SemanticSource::kMasks}, {"lidarseg", SemanticSource::kLidarseg}})
+    t.choice(
+         "camera.semantic_source", &CameraOptions::semantic_source,
+         {{"masks", SemanticSource::kMasks}, {"lidarseg", SemanticSource::kLidarseg}, {"auto", SemanticSource::kAuto}})
         .help(
-            "Semantics from the camera images' class-id masks, or from nuScenes-lidarseg's point labels "
-            "(a cell takes the class of its lowest labelled key-frame point)");
+            "Semantics from the camera images' class-id masks, from nuScenes-lidarseg's point labels (a cell takes "
+            "the class of its lowest labelled key-frame point), or auto: masks when the mask folder exists, else "
+            "lidarseg when the release has it, else no semantic layer (one notice line); the dataset's manifest "
+            "records the source used");
     t.path("camera.lidarseg_labels", &CameraOptions::lidarseg_labels)
         .help(
             "Labels file mapping the lidarseg labels to our classes (\"\" = the built-in "

@@ -34,7 +34,8 @@ constexpr Column kColumns[] = {
     {"direction_accuracy", "Dir. acc.", "higher", 4},
     {"f1", "F1", "higher", 4},
     {"iou", "IoU", "higher", 4},
-    {"chamfer_m2", "Chamfer m²", "lower", 3},
+    // The mean Chamfer distance, not the summed m² one (it grows with a tile's nodes).
+    {"chamfer_mean_m", "mean Chamfer m", "lower", 3},
     {"geo_f1", "GEO F1", "higher", 4},
     {"topo_f1", "TOPO F1", "higher", 4},
 };

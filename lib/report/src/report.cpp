@@ -78,7 +78,8 @@ ReportResult write_report(const fs::path& dataset_root, const fs::path& out, con
   }
   const io::Dataset dataset = io::Dataset::open(dataset_root);
   const bool scored = !options.submission.empty();
-  const std::string split = !options.split.empty() ? options.split : scored ? "test" : "";
+  // With a submission and no split: the split its keys are tiles of (score_submission).
+  std::string split = options.split;
 
   ReportResult result;
   metrics::ScoredSubmission sub, base;
@@ -95,6 +96,8 @@ ReportResult write_report(const fs::path& dataset_root, const fs::path& out, con
       result.rejected = options.submission.string();
       return result;
     }
+    split = sub.report.split;
+    scoring.split = split;  // the baseline is scored on the submission's split
     if (!options.baseline.empty()) {
       log::info("report: scoring the baseline " + options.baseline.string());
       base = metrics::score_submission(truth, metrics::ScoreSource::file(options.baseline), scoring);

@@ -46,5 +46,20 @@ TEST(GeoJson, EdgesRoundTripToMapMetresWithinOneMillimetre) {
   EXPECT_GT(doc["features"][0]["geometry"]["coordinates"][0][1].get<double>(), 42.0);
 }
 
+// bearing_deg is in [0, 360): a heading a hair west of north rounds to 0, not 360.
+TEST(GeoJson, BearingStaysBelow360AfterRounding) {
+  LaneGraph g;
+  g.nodes = {{2900.0, 2050.0}, {2900.0 - 1e-5, 2060.0}, {2910.0, 2050.0}, {2900.0, 2040.0}, {2890.0, 2050.0}};
+  g.lanes = {{"lane", false, 10.0, {}, {}}};
+  g.edges = {{0, 1, 0}, {0, 2, 0}, {0, 3, 0}, {0, 4, 0}};
+  std::ostringstream text;
+  write_geojson(g, "boston-seaport", text);
+  const nlohmann::json doc = nlohmann::json::parse(text.str());
+  std::vector<double> bearings;
+  for (const nlohmann::json& f : doc["features"]) bearings.push_back(f["properties"]["bearing_deg"].get<double>());
+  EXPECT_EQ(bearings, (std::vector<double>{0.0, 90.0, 180.0, 270.0}));
+  EXPECT_EQ(text.str().find("-0"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace nsg::graph

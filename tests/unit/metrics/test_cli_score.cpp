@@ -41,6 +41,11 @@ TEST(CliScore, MarkdownTable) {
   EXPECT_NE(r.out.find("| APLS ↑ | APLS dir. ↑"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("| 0.8244 | 0.7434 |"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("| `topo_directed_f1` |"), std::string::npos);
+  // The summed Chamfer (m², grows with nodes) is in the table of every metric, not the headline.
+  const std::string headline = r.out.substr(0, r.out.find('\n'));
+  EXPECT_EQ(headline.find("m²"), std::string::npos) << headline;
+  EXPECT_NE(headline.find("mean Chamfer (m)"), std::string::npos) << headline;
+  EXPECT_NE(r.out.find("| `chamfer_m2` |"), std::string::npos);
 }
 
 TEST(CliScore, CsvHasOneRowPerTile) {

@@ -60,6 +60,20 @@ TEST(HostileModel, TreeStructureIsCheckedBeforeOpenCv) {
   EXPECT_EQ(refused_record(dir.path(), depth), "centre/trees/0/nodes/1/depth");
 }
 
+// An integer option stored as a number beyond int (a cast of 1e308 to int is undefined
+// behaviour: found by fuzz_model) or as text is refused by name.
+TEST(HostileModel, IntegerOptionsOutsideTheirTypeAreRefusedByName) {
+  nsg::test::TempDir dir("hostile-model-int");
+  const std::string yaml = golden_yaml();
+  const size_t at = yaml.find("   min_component_px: 20\n");
+  ASSERT_NE(at, std::string::npos);
+  for (const char* value : {"1.7976931348623157e+308", "-1e10", "\"20\""}) {
+    std::string edited = yaml;
+    edited.replace(at, std::string("   min_component_px: 20").size(), std::string("   min_component_px: ") + value);
+    EXPECT_EQ(refused_record(dir.path(), edited), "extraction/min_component_px") << value;
+  }
+}
+
 TEST(HostileModel, GzipBombIsStoppedAtTheLimit) {
   nsg::test::TempDir dir("hostile-model-gz");
   const fs::path bomb = dir / "bomb.yml.gz";

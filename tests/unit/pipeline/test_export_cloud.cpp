@@ -44,7 +44,7 @@ class ExportCloud : public ::testing::Test {
   static test::CommandResult export_scene(const fs::path& out, const std::string& scene, const std::string& format,
                                           int threads = 2) {
     return test::run_nsgraph({"export-cloud", "--dataroot", test::e2e_release().string(), "--version", "v1.0-mini",
-                              "--scene", scene, "--out", out.string(), "--format", format, "--threads",
+                              "--scene", scene, "--out", out.string(), "--encoding", format, "--threads",
                               std::to_string(threads)});
   }
 
@@ -288,7 +288,7 @@ TEST_F(ExportCloud, UnknownSceneExitsTwoNamingItAndValidNames) {
   EXPECT_FALSE(fs::exists(tmp / "x.pcd"));
   const test::CommandResult f = export_scene(tmp / "x.pcd", scene_, "xyz");
   EXPECT_EQ(f.exit_code, 2);
-  EXPECT_NE(f.err.find("--format"), std::string::npos) << f.err;
+  EXPECT_NE(f.err.find("--encoding"), std::string::npos) << f.err;
 }
 
 }  // namespace

@@ -435,6 +435,92 @@ TEST(Stats, CountsAndAreasFollowTheTiles) {
   EXPECT_EQ(run_nsgraph({"stats", "/nonexistent-dataset"}).exit_code, 2);
 }
 
+// Train crops are cut at random and overlap: stats measures lanes and vehicles on the
+// union of the tiles, as the area. Checked against an independent count: lanes sampled
+// every 5 mm in map metres, each sample counted in the first tile (key order) whose box
+// holds it; vehicle pixels deduplicated by their centres' map coordinates.
+TEST(Stats, LanesAndVehiclesAreMeasuredOnTheUnionOfOverlappingCrops) {
+  const fs::path dataset = e2e_dataset();
+  const CommandResult r = run_nsgraph({"stats", dataset.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json s = json::parse(r.out);
+  struct Tile {
+    json meta, graph;
+  };
+  std::map<std::string, std::vector<Tile>> tiles;  // split → tiles in key order
+  std::map<std::string, std::set<std::tuple<std::string, int64_t, int64_t>>> vehicle_centres;
+  const io::Dataset ds = io::Dataset::open(dataset);
+  ds.for_each_tile("", [&](const io::DatasetTile& t) {
+    const json meta = t.json("meta.json");
+    const std::string split = meta["split"];
+    tiles[split].push_back({meta, t.json("graph.json")});
+    const io::Raster vehicle = t.raster("vehicle.tif");
+    const double res = meta["resolution_m"], west = meta["bounds_m"][0], north = meta["bounds_m"][3];
+    for (int py = 0; py < vehicle.height; ++py)
+      for (int px = 0; px < vehicle.width; ++px) {
+        float v;
+        std::memcpy(&v, vehicle.data.data() + 4 * (static_cast<size_t>(py) * vehicle.width + px), 4);
+        if (v < 0.0f) continue;
+        // Pixel centres in half pixels: exact integers whichever tile holds the pixel.
+        vehicle_centres[split].insert({meta["location"].get<std::string>(),
+                                       std::llround((west + (px + 0.5) * res) / res * 2),
+                                       std::llround((north - (py + 0.5) * res) / res * 2)});
+      }
+    return true;
+  });
+  for (const std::string split : {"train", "test"}) {
+    auto& list = tiles[split];
+    ASSERT_GT(list.size(), 1u) << split;
+    std::sort(list.begin(), list.end(), [](const Tile& a, const Tile& b) { return a.meta["key"] < b.meta["key"]; });
+    const auto holds = [](const json& meta, double x, double y) {
+      const json& b = meta["bounds_m"];
+      return x >= b[0].get<double>() && x <= b[2].get<double>() && y >= b[1].get<double>() && y <= b[3].get<double>();
+    };
+    double union_m = 0.0, summed_m = 0.0;
+    for (size_t i = 0; i < list.size(); ++i) {
+      std::map<int64_t, const json*> node_of;
+      for (const json& n : list[i].graph["nodes"]) node_of[n["id"].get<int64_t>()] = &n;
+      for (const json& e : list[i].graph["edges"]) {
+        const json &a = *node_of.at(e["source"]), &c = *node_of.at(e["target"]);
+        const double ax = a["x"], ay = a["y"], cx = c["x"], cy = c["y"];
+        const double length = std::hypot(cx - ax, cy - ay);
+        summed_m += length;
+        const int samples = std::max(1, static_cast<int>(std::ceil(length / 0.005)));
+        for (int k = 0; k < samples; ++k) {
+          const double t = (k + 0.5) / samples, x = ax + t * (cx - ax), y = ay + t * (cy - ay);
+          size_t owner = 0;
+          while (owner < list.size() &&
+                 !(list[owner].meta["location"] == list[i].meta["location"] && holds(list[owner].meta, x, y)))
+            ++owner;
+          if (owner == i) union_m += length / samples;
+        }
+      }
+    }
+    EXPECT_NEAR(s[split]["lane_length_km"].get<double>(), union_m / 1000.0, 1e-3 * union_m / 1000.0) << split;
+    const double res = list[0].meta["resolution_m"];
+    EXPECT_EQ(s[split]["vehicle_px"].get<int64_t>(), static_cast<int64_t>(vehicle_centres[split].size())) << split;
+    EXPECT_NEAR(s[split]["vehicle_area_km2"].get<double>(), vehicle_centres[split].size() * res * res / 1e6, 1e-12);
+    // Train crops overlap (the old sum over tiles counted lanes twice), test crops do not.
+    if (split == "train") EXPECT_LT(union_m, 0.9 * summed_m);
+    else EXPECT_NEAR(union_m, summed_m, 1e-6 * summed_m);
+  }
+  // Class names, not ids.
+  for (const json& name : s["all"]["semantic_classes"]) EXPECT_TRUE(name.is_string()) << name;
+}
+
+// Each command that reads a dataset takes it as --dataset; stats and preview keep the
+// positional form.
+TEST(CliConventions, DatasetIsAnOptionAndStaysPositionalWhereItWas) {
+  const std::string ds = e2e_dataset().string();
+  const CommandResult a = run_nsgraph({"stats", "--dataset", ds, "--json"});
+  const CommandResult b = run_nsgraph({"stats", ds, "--json"});
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_EQ(a.out, b.out);
+  TempDir tmp("cli-dataset");
+  const CommandResult p = run_nsgraph({"preview", "-q", "--dataset", ds, "--out", tmp.path().string(), "--shard", "0"});
+  EXPECT_EQ(p.exit_code, 0) << p.err;
+}
+
 // stats and the dataset report read tile documents through the checked readers: a
 // crafted meta.json or graph.json in a shard is named (exit 2) in bounded time, never a
 // crash, a hang or "internal error".

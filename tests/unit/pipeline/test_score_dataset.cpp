@@ -85,6 +85,57 @@ TEST(ScoreDataset, LeftoverShardIsRefusedByNameAndTheListedOnesScore) {
   EXPECT_NE(r.err.find("test-000001"), std::string::npos) << r.err;
 }
 
+// Without --split, score takes the split the submission's keys are tiles of (it scored
+// "test" whatever the keys were); keys of several splits are refused, naming the counts.
+TEST(ScoreDataset, TheSplitComesFromTheSubmissionsKeys) {
+  TempDir dir("score-split");
+  const fs::path ds = e2e_dataset();
+  const fs::path test_sub = perfect_submission(ds, dir.path());
+  const auto score = [&](const fs::path& sub, std::vector<std::string> extra = {}) {
+    std::vector<std::string> args = {"score",      "--ground-truth", ds.string(), "--submission",
+                                     sub.string(), "--no-verify",    "--out",     (dir / "r.json").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_nsgraph(args);
+  };
+  CommandResult r = score(test_sub);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_json(dir / "r.json")["split"], "test");
+  EXPECT_EQ(read_json(dir / "r.json")["receipt"]["ground_truth"]["split"], "test");
+
+  // One train key: scored as train (every other train tile missing).
+  const nlohmann::json manifest = read_json(ds / "manifest.json");
+  std::string train_key;
+  for (const auto& shard : manifest["shards"])
+    if (shard["split"] == "train" && train_key.empty()) train_key = shard["first_key"];
+  ASSERT_FALSE(train_key.empty());
+  nlohmann::json sub = read_json(test_sub);
+  const nlohmann::json some_tile = sub["tiles"].begin().value();
+  const fs::path train_sub = dir / "train.json";
+  write_text(train_sub, nlohmann::json({{"schema_version", "1"}, {"tiles", {{train_key, some_tile}}}}).dump());
+  r = score(train_sub);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json train = read_json(dir / "r.json");
+  EXPECT_EQ(train["split"], "train");
+  EXPECT_EQ(train["aggregate"]["n_missing_predictions"].get<int>(),
+            manifest["counts"]["train"]["tiles"].get<int>() - 1);
+
+  sub["tiles"][train_key] = some_tile;
+  const fs::path mixed = dir / "mixed.json";
+  write_text(mixed, sub.dump());
+  fs::remove(dir / "r.json");
+  r = score(mixed);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("submission.keys"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(test: " + std::to_string(sub["tiles"].size() - 1) + ", train: 1); give --split"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "r.json"));
+  // Given, the split is the user's: the train key is an extra tile of test.
+  r = score(mixed, {"--split", "test"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_json(dir / "r.json")["aggregate"]["n_extra_predictions"], 1);
+}
+
 }  // namespace
 }  // namespace nsg::test
 

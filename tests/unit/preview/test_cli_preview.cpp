@@ -71,6 +71,32 @@ TEST(CliPreview, OverviewAndSubmission) {
                    (out / "sub.json").string(), "--sort", "apls", "--max-tiles", "5"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(png_size(out / "submission-test.png")[0], 2u * 12 + 5 * 484 + 4 * 12);
+  // Without --split: the split the keys are tiles of (all splits were scored, the train
+  // tiles shown as the worst); keys of no split or of several are refused by name.
+  fs::remove(out / "submission-test.png");
+  r = run_nsgraph({"preview", ds.string(), "--out", out.path().string(), "--submission", (out / "sub.json").string(),
+                   "--sort", "apls", "--max-tiles", "5"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("split 'test' (the split the submission's keys are tiles of)"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(out / "submission-test.png"));
+  const int test_tiles = d.manifest()["counts"]["test"]["tiles"].get<int>();
+  EXPECT_NE(r.err.find(std::to_string(test_tiles) + " tile(s) scored"), std::string::npos) << r.err;
+  nlohmann::json elsewhere = sub, mixed = sub;
+  elsewhere["tiles"] = {{"nowhere-000000", sub["tiles"].begin().value()}};
+  d.for_each_tile("train", [&](const io::DatasetTile& t) {
+    mixed["tiles"][t.key] = sub["tiles"].begin().value();
+    return false;
+  });
+  write_text(out / "elsewhere.json", elsewhere.dump());
+  write_text(out / "mixed.json", mixed.dump());
+  r = run_nsgraph(
+      {"preview", ds.string(), "--out", out.path().string(), "--submission", (out / "elsewhere.json").string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("none of its 1 keys is"), std::string::npos) << r.err;
+  r = run_nsgraph(
+      {"preview", ds.string(), "--out", out.path().string(), "--submission", (out / "mixed.json").string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("give --split"), std::string::npos) << r.err;
 
   r = run_nsgraph({"preview", ds.string(), "--out", out.path().string(), "--submission", (out / "sub.json").string(),
                    "--sort", "nonsense"});

@@ -177,15 +177,24 @@ TEST_F(RealKeyFrame, RgbColoursWhatTheDevkitsCamerasSee) {
   EXPECT_GT(coloured_blind, coloured);
 }
 
-// The same frame through the CLI, as a user would look at it: `inspect layers --png` writes
-// the five GeoTIFFs and the LiDAR/RGB picture, and reports the cell counts of the layers.
+// The same frame through the CLI, as a user would look at it, with the README's command
+// and the default config (a real release has no masks and this one no lidarseg:
+// camera.semantic_source auto leaves the semantic layer out and says so; it exited 2):
+// `inspect layers --png` writes the five GeoTIFFs and the LiDAR/RGB picture, and reports
+// the cell counts of the layers; export-cloud writes the frame's cloud.
 TEST_F(RealKeyFrame, InspectLayersOnTheRealKeyFrame) {
   test::TempDir out("real_inspect_layers");
   const std::string png = (out.path() / "panels.png").string();
-  const test::CommandResult r = test::run_nsgraph({"inspect", "layers", "--dataroot", real_root().string(), "--version",
-                                                   "v1.0-mini", "--location", "singapore-onenorth", "--out",
-                                                   out.path().string(), "--no-semantic", "--png", png});
+  const test::CommandResult r =
+      test::run_nsgraph({"inspect", "layers", "--dataroot", real_root().string(), "--version", "v1.0-mini",
+                         "--location", "singapore-onenorth", "--out", out.path().string(), "--png", png});
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("camera.semantic_source auto: no semantic layer"), std::string::npos) << r.err;
+  const test::CommandResult cloud =
+      test::run_nsgraph({"export-cloud", "--dataroot", real_root().string(), "--version", "v1.0-mini", "--scene",
+                         "scene-0061", "--out", (out.path() / "scene-0061.pcd").string()});
+  ASSERT_EQ(cloud.exit_code, 0) << cloud.err;
+  EXPECT_GT(nlohmann::json::parse(cloud.out)["points"].get<size_t>(), 8000u);
   const nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["sweeps"], 1);
   EXPECT_EQ(j["cells"]["lidar"], layers_->stats.covered_cells);  // 8 975: the devkit chain's cells

@@ -183,7 +183,7 @@ TEST(Browser, LeaderboardLoadsAndSorts) {
   const std::string url = "file://" + fs::absolute(out / "index.html").string();
   int profile = 0;
   for (const auto& [column, dir_arg] :
-       std::vector<std::pair<std::string, std::string>>{{"apls", ""}, {"chamfer_m2", ""}, {"f1", "asc"}}) {
+       std::vector<std::pair<std::string, std::string>>{{"apls", ""}, {"chamfer_mean_m", ""}, {"f1", "asc"}}) {
     const std::string spec = column + (dir_arg.empty() ? "" : ":" + dir_arg);
     r = chromium(dir / ("profile" + std::to_string(++profile)), {"--dump-dom"}, url + "#selftest=sort:" + spec);
     ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -57,6 +57,10 @@ class Dataset {
   // one of them ("" = all: always fine). For every command that takes --split, so a typo
   // is named instead of giving an empty result.
   void require_split(const std::string& split) const;
+  // How many of `keys` fall in each split's shards, by the key ranges (first_key …
+  // last_key) the manifest records: reads no shard, so a command given a submission and no
+  // split can take the split its keys are tiles of. Keys in no range are not counted.
+  std::map<std::string, int64_t> split_counts_of_keys(const std::vector<std::string>& keys) const;
   // Checks that a split can be trusted before it is scored: the manifest lists it, every
   // shard listed for it is present with its recorded size (and, when `hash`, its sha256;
   // a folder shard's digest over its files), and the split's folder holds nothing the

@@ -25,8 +25,11 @@ struct ScoreSource {
 };
 
 struct SubmissionScoreOptions {
-  ScoreOptions score;                 // metric parameters and threads
-  std::string split = "test";         // the split of a dataset-folder ground truth
+  ScoreOptions score;  // metric parameters and threads
+  // The split of a dataset-folder ground truth; "" = the one split the submission's keys
+  // are tiles of (refused as submission.keys when they fall in none or in several). A
+  // file or in-memory ground truth has no splits: "" records "test", as before.
+  std::string split = "test";
   std::filesystem::path schemas_dir;  // "" = validate::find_schemas_dir()
   validate::SubmissionLimits limits;  // for the submission and a ground-truth file alike
   bool verify_ground_truth = true;    // hash a dataset's shards against its manifest

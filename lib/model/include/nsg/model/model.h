@@ -91,6 +91,10 @@ class LaneModel {
   // ParseError naming the file when it is not a model of this format version. Files
   // without a variant (written before the variants existed) load as b1.
   static LaneModel load(const std::filesystem::path& path);
+  // The same with a smaller bound on the model text, on disk or inflated, than the
+  // 256 MiB kMaxModelTextBytes (the YAML parse takes ~40 ns a byte): the fuzz target's
+  // inputs stay within its per-input time budget under the sanitizers.
+  static LaneModel load(const std::filesystem::path& path, uint64_t max_text_bytes);
 
   TilePrediction predict(const TileInput& tile) const;
   const ModelOptions& options() const;

@@ -13,12 +13,14 @@ namespace nsg::pipeline {
 
 struct SplitStats {
   int64_t tiles = 0;
-  double labeled_area_km2 = 0.0;  // union of the tiles' footprints (overlapping crops count once)
-  int64_t lane_segments = 0;      // directed graph edges over all tiles
-  double lane_length_km = 0.0;
-  int64_t vehicle_px = 0;
-  double vehicle_area_km2 = 0.0;   // vehicle pixels × pixel area (overlaps counted per tile)
-  std::set<int> semantic_classes;  // class ids present in the semantic layers
+  // Every figure but the coverage is measured on the union of the split's tiles, so
+  // overlapping crops count each place once (the paper's Table I figures).
+  double labeled_area_km2 = 0.0;   // the tiles' footprints
+  int64_t lane_segments = 0;       // directed graph edges, each in the tile first covering its middle
+  double lane_length_km = 0.0;     // lane centreline length
+  int64_t vehicle_px = 0;          // pixels a vehicle drove over
+  double vehicle_area_km2 = 0.0;   // vehicle_px × pixel area
+  std::set<int> semantic_classes;  // class ids present in the semantic layers (names in JSON and text)
   double mean_coverage_lidar = 0.0, mean_coverage_rgb = 0.0, mean_coverage_semantic = 0.0;
 };
 

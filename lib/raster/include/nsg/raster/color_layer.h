@@ -37,13 +37,14 @@ struct CellRect {
 };
 
 // Where the semantic layer comes from: class-id masks of the camera images (projected like
-// RGB), or nuScenes-lidarseg's per-point labels of the key-frame sweeps (lidarseg_layer.h).
-enum class SemanticSource { kMasks, kLidarseg };
+// RGB), nuScenes-lidarseg's per-point labels of the key-frame sweeps (lidarseg_layer.h), or
+// whichever of the two the release has (resolve_semantic_source, before a run).
+enum class SemanticSource { kMasks, kLidarseg, kAuto };
 
 struct CameraOptions {
   bool rgb = true;
   bool semantic = true;
-  SemanticSource semantic_source = SemanticSource::kMasks;
+  SemanticSource semantic_source = SemanticSource::kAuto;
   std::filesystem::path semantic_root;  // empty = <dataroot>/semantic; masks at <root>/<CHANNEL>/<basename>.png,
                                         // the image's size or 1/n of it (n ≤ 8, sides rounded up)
   // lidarseg label → our class (a labels file, schemas/v1/segment-labels.schema.json);
@@ -72,6 +73,17 @@ struct CameraOptions {
   // True when the semantic layer comes from the camera masks (read by the colouring).
   bool semantic_masks() const { return semantic && semantic_source == SemanticSource::kMasks; }
 };
+
+// camera.semantic_source "auto" made concrete for one release, before a run reads it (so
+// a dataset's manifest records what was used): masks when the mask root (semantic_root,
+// or <dataroot>/semantic) is a folder — the camera segmentation the paper projects, made
+// by `nsgraph segment` or shipped with the release; else lidarseg when
+// <dataroot>/<version>/lidarseg.json exists; else no semantic layer (camera.semantic off),
+// with one notice line. Real releases ship neither, so the defaults work on them. Other
+// sources and camera.semantic off are left as they are. Returns what it chose, as the
+// config value ("masks", "lidarseg", "none"), or "" when there was nothing to choose.
+std::string resolve_semantic_source(CameraOptions& camera, const std::filesystem::path& dataroot,
+                                    const std::string& version);
 
 struct ColorStats {
   size_t points = 0;          // kept LiDAR points considered (inside the regions)

@@ -18,7 +18,7 @@
 namespace nsg::report {
 
 struct ReportOptions {
-  std::string split;                 // "" = "test" with a submission, every split without
+  std::string split;                 // "" = the submission's split (from its keys), every split without
   std::filesystem::path submission;  // "" = dataset report (stats per split, no scores)
   std::filesystem::path baseline;    // a second submission to compare with (needs submission)
   std::filesystem::path schemas;     // schemas folder ("" = installed/source)
