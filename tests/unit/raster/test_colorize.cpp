@@ -345,9 +345,15 @@ TEST_F(RasterRelease, RegionsRestrictTheColouredCells) {
   EXPECT_LT(part.stats().points, full.stats().points);
 }
 
+// Masks required (semantic_source masks) and missing: the file is named. With the default
+// "auto" a missing mask folder is no error: the release's lidarseg or no semantic layer.
 TEST_F(RasterRelease, MissingMasksNameTheFileUnlessSemanticsAreOff) {
   CameraOptions options;
   options.semantic_root = dir_->path() / "no-such-masks";
+  const ColorLayer automatic = colorize_location(*db_, config_->location, layers_->lidar, {}, options, 1);
+  EXPECT_EQ(automatic.semantic_cells(), 0u);  // lidarseg labels come from the LiDAR stage, not from colouring
+  EXPECT_GT(automatic.rgb_cells(), 1000u);
+  options.semantic_source = SemanticSource::kMasks;
   try {
     colorize_location(*db_, config_->location, layers_->lidar, {}, options, 1);
     FAIL() << "expected IoError";
