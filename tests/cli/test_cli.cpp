@@ -3,6 +3,8 @@
 
 #include <filesystem>
 
+#include <nlohmann/json.hpp>
+
 #include "nsg/core/version.h"
 #include "test_support.h"
 
@@ -146,6 +148,40 @@ TEST(Cli, AMistypedOptionGetsDidYouMean) {
   const auto far = test::run_nsgraph({"stats", "ds", "--zzzzzzzz"});
   EXPECT_EQ(far.exit_code, 2);
   EXPECT_NE(far.err.find("stats: unknown option '--zzzzzzzz'\n"), std::string::npos) << far.err;
+}
+
+}  // namespace nsg
+
+namespace nsg {
+
+// What a release holds, listed as the devkit's list_scenes / list_samples do: the scene
+// names export-cloud takes and the sample_data tokens inspect sweep takes (the README had
+// `<sample_data token>` with no way to list them). On the real key frame.
+TEST(Cli, InspectScenesAndSamplesListWhatTheReleaseHolds) {
+  const std::string root = (test::data_dir() / "real/scene-0061-keyframe").string();
+  const auto scenes = test::run_nsgraph({"inspect", "scenes", "--dataroot", root});
+  ASSERT_EQ(scenes.exit_code, 0) << scenes.err;
+  const nlohmann::json s = nlohmann::json::parse(scenes.out);
+  ASSERT_EQ(s["scenes"].size(), 1u);
+  EXPECT_EQ(s["scenes"][0]["name"], "scene-0061");
+  EXPECT_EQ(s["scenes"][0]["location"], "singapore-onenorth");
+  EXPECT_EQ(s["scenes"][0]["samples"], 1);
+  const auto samples = test::run_nsgraph({"inspect", "samples", "--dataroot", root, "--scene", "scene-0061"});
+  ASSERT_EQ(samples.exit_code, 0) << samples.err;
+  const nlohmann::json list = nlohmann::json::parse(samples.out)["samples"];
+  ASSERT_EQ(list.size(), 1u);
+  const nlohmann::json& data = list[0]["sample_data"];
+  for (const char* channel : {"LIDAR_TOP", "CAM_FRONT", "CAM_BACK_LEFT"})
+    EXPECT_TRUE(data.contains(channel)) << channel << " " << data.dump();
+  // The listed LiDAR token is one inspect sweep reads: the real sweep's 34 688 points.
+  const auto sweep = test::run_nsgraph(
+      {"inspect", "sweep", "--dataroot", root, "--token", data["LIDAR_TOP"].get<std::string>(), "--head", "1"});
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
+  EXPECT_EQ(nlohmann::json::parse(sweep.out)["total"], 34688);
+  const auto unknown = test::run_nsgraph({"inspect", "samples", "--dataroot", root, "--scene", "scene-9999"});
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("scene-0061"), std::string::npos) << unknown.err;
+  EXPECT_NE(unknown.err.find("nsgraph inspect scenes"), std::string::npos) << unknown.err;
 }
 
 }  // namespace nsg

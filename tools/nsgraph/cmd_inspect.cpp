@@ -10,6 +10,7 @@ void add_inspect_command(CLI::App& root, Context& ctx) {
   add_inspect_sweep(*inspect, ctx);
   add_inspect_graph(*inspect, ctx);
   add_inspect_layers(*inspect, ctx);
+  add_inspect_scenes(*inspect, ctx);
 }
 
 }  // namespace nsg::cli

@@ -42,5 +42,6 @@ void add_inspect_centerlines(CLI::App& inspect, Context& ctx);
 void add_inspect_sweep(CLI::App& inspect, Context& ctx);
 void add_inspect_graph(CLI::App& inspect, Context& ctx);
 void add_inspect_layers(CLI::App& inspect, Context& ctx);
+void add_inspect_scenes(CLI::App& inspect, Context& ctx);  // scenes and samples
 
 }  // namespace nsg::cli

@@ -43,7 +43,7 @@ Index find_scene(const Database& db, const std::string& name) {
   constexpr size_t kShown = 5;
   std::vector<std::string> some;
   for (size_t s = 0; s < std::min(kShown, db.scene.size()); ++s) some.push_back(db.scene[static_cast<Index>(s)].name);
-  std::string expected = "the name of a scene of the release";
+  std::string expected = "the name of a scene of the release (`nsgraph inspect scenes` lists them)";
   if (!some.empty())
     expected += " (" + join(some, ", ") + (db.scene.size() > kShown ? ", ..." : "") +
                 strprintf("; %zu scenes)", db.scene.size());
