@@ -26,6 +26,7 @@ struct GenerateCommandOptions {
   std::string format = "text";
   bool allow_empty = false;
   bool overwrite = false;
+  bool check_inputs = false;
   std::string max_memory;  // "16G"; empty = the memory available (available_memory_bytes)
   int threads = 0;
 };
@@ -45,8 +46,9 @@ int run_generate(const GenerateCommandOptions& o, const Context& ctx) {
     std::cout << pipeline::config_to_json(config).dump(2) << "\n";
     return kExitOk;
   }
-  if (o.out_dir.empty()) throw ConfigError("", "--out", "an output folder");
+  if (o.out_dir.empty() && !o.check_inputs) throw ConfigError("", "--out", "an output folder");
   pipeline::GenerateRun run;
+  run.check_inputs_only = o.check_inputs;
   run.out = o.out_dir;
   run.share = pipeline::resolve_share(o.shard_index, o.num_shards);
   run.threads = o.threads;
@@ -60,6 +62,7 @@ int run_generate(const GenerateCommandOptions& o, const Context& ctx) {
   run.max_memory_from_machine = o.max_memory.empty();
   const auto start = std::chrono::steady_clock::now();
   const pipeline::GenerateSummary s = pipeline::generate(config, run);
+  if (run.check_inputs_only) return kExitOk;
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const pipeline::StageTimes& t = s.seconds;
   log::info(
@@ -94,6 +97,9 @@ void add_generate_command(CLI::App& root, Context& ctx) {
   cmd->add_option("--max-memory", o->max_memory,
                   "Refuse to start when the estimated peak memory exceeds this (e.g. 16G; default: the machine's "
                   "memory, or the cgroup's limit when lower; the estimate is logged)");
+  cmd->add_flag("--check-inputs", o->check_inputs,
+                "Only check the inputs — the config, the tables, every map, sweep, image and mask the run would open, "
+                "the memory estimate — and exit (0: complete; 2 naming the first missing file); writes nothing");
   cmd->add_flag("--allow-empty", o->allow_empty,
                 "Write the dataset even when no crop passes the filters (else: exit 1 naming the filters)");
   cmd->add_flag("--overwrite", o->overwrite,

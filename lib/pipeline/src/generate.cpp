@@ -31,6 +31,7 @@
 #include "nsg/pipeline/tile_files.h"
 #include "nsg/raster/accumulate.h"
 #include "nsg/raster/color_layer.h"
+#include "nsg/pipeline/input_checks.h"
 #include "nsg/tiling/tile.h"
 #include "memory_plan.h"
 #include "outputs.h"
@@ -277,7 +278,7 @@ GenerateSummary generate(const GenerateConfig& given, const GenerateRun& run) {
   GenerateConfig config = given;
   raster::resolve_semantic_source(config.raster.camera, config.dataroot, config.version);
   run.share.validate();
-  prepare_output_folder(run.out, config, run.share, run.overwrite);
+  if (!run.check_inputs_only) prepare_output_folder(run.out, config, run.share, run.overwrite);
   log::info("generate: " + data_licence_line());
   GenerateSummary summary;
   auto t0 = std::chrono::steady_clock::now();
@@ -297,7 +298,14 @@ GenerateSummary generate(const GenerateConfig& given, const GenerateRun& run) {
               join(named, ", "));
   }
   std::vector<PlanFilters> filters;
+  // Every file the stages will open, before the first of them (a missing mask was found
+  // only after the LiDAR stage).
+  log::info("generate: inputs present: " + check_run_inputs(db, config, summary.locations, excluded).describe());
   check_memory(db, summary.locations, excluded, config, run);
+  if (run.check_inputs_only) {
+    log::info("generate: --check-inputs: the inputs are complete; nothing written");
+    return summary;
+  }
 
   OutputWriter out(run.out, config, run.share);
   const int64_t per_shard = config.output.resolved_tiles_per_shard();

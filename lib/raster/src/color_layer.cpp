@@ -160,7 +160,6 @@ struct ImageJob {
 std::vector<ImageJob> plan_images(const Database& db, const std::vector<Index>& scenes, const CameraOptions& options) {
   std::vector<char> at_location(db.scene.size(), 0);  // the selected scenes
   for (Index s : scenes) at_location[static_cast<size_t>(s)] = 1;
-  const fs::path root = options.semantic_root.empty() ? db.dataroot() / "semantic" : options.semantic_root;
   std::vector<ImageJob> jobs;
   for (Index i = 0; i < static_cast<Index>(db.sample_data.size()); ++i) {
     const nuscenes::SampleData& sd = db.sample_data[i];
@@ -168,7 +167,7 @@ std::vector<ImageJob> plan_images(const Database& db, const std::vector<Index>& 
     if (!at_location[static_cast<size_t>(db.sample[sd.sample].scene)]) continue;
     ImageJob job{static_cast<uint32_t>(jobs.size()), i, db.key_frame(sd.sample, options.lidar_channel), {}};
     if (options.semantic_masks()) {
-      job.mask = root / db.channel(sd) / (fs::path(sd.filename).stem().string() + ".png");
+      job.mask = semantic_mask_path(db, sd, options);
       // Fail before any work: a release without masks is a configuration question.
       if (!fs::exists(job.mask))
         throw IoError(job.mask.string(), "sample_data " + sd.token.str(),
@@ -394,6 +393,11 @@ ImageResult process_image(const Database& db, const ImageJob& job, const Occlusi
 }
 
 }  // namespace
+
+fs::path semantic_mask_path(const Database& db, const nuscenes::SampleData& sd, const CameraOptions& camera) {
+  const fs::path root = camera.semantic_root.empty() ? db.dataroot() / "semantic" : camera.semantic_root;
+  return root / db.channel(sd) / (fs::path(sd.filename).stem().string() + ".png");
+}
 
 std::string resolve_semantic_source(CameraOptions& camera, const fs::path& dataroot, const std::string& version) {
   if (!camera.semantic || camera.semantic_source != SemanticSource::kAuto) return "";

@@ -2,6 +2,7 @@
 // on the small synthetic releases.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <set>
 
@@ -196,6 +197,76 @@ TEST(GenerateEmpty, ASplitWithoutTilesIsAWarning) {
   const json m = read_json(dir / "out/manifest.json");
   EXPECT_GT(m["counts"]["train"]["tiles"].get<int>(), 0);
   EXPECT_EQ(m["counts"]["test"]["tiles"], 0);
+}
+
+}  // namespace
+}  // namespace nsg::test
+
+namespace nsg::test {
+namespace {
+
+// A view of `release` under `dir`: its folders recreated, its files symlinked (cheap to
+// make and to break one file of).
+fs::path release_view(const fs::path& release, const fs::path& dir) {
+  const fs::path view = dir / "release", from = fs::absolute(release);
+  fs::create_directories(view);
+  for (const auto& e : fs::recursive_directory_iterator(from)) {
+    const fs::path to = view / fs::relative(e.path(), from);
+    if (e.is_directory()) fs::create_directories(to);
+    else fs::create_symlink(e.path(), to);
+  }
+  return view;
+}
+
+// Every file a run would open is checked before the first heavy stage, and
+// `generate --check-inputs` runs only that: a missing sweep or mask was found only when its
+// stage reached it (after the LiDAR stage: minutes on trainval).
+TEST(GenerateInputs, CheckInputsNamesTheFirstMissingFileAndWritesNothing) {
+  TempDir dir("gen-inputs");
+  const fs::path view = release_view(e2e_release(), dir.path());
+  std::vector<std::string> args = e2e_generate_args(dir / "out");
+  for (size_t i = 0; i + 1 < args.size(); ++i)
+    if (args[i] == "--dataroot") args[i + 1] = view.string();
+  args.erase(std::find(args.begin(), args.end(), "--quiet"));
+  args.push_back("--check-inputs");
+  CommandResult r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("generate: inputs present: 5 scene(s), 1 map expansion(s)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nothing written"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+
+  // One sweep (not a key frame) gone.
+  fs::path sweep;
+  for (const auto& e : fs::directory_iterator(view / "sweeps" / "LIDAR_TOP")) sweep = std::max(sweep, e.path());
+  ASSERT_FALSE(sweep.empty());
+  const fs::path sweep_target = fs::read_symlink(sweep);
+  fs::remove(sweep);
+  r = run_nsgraph(args);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find(sweep.string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("LiDAR sweeps (1 missing, this one first)"), std::string::npos) << r.err;
+  // A real run stops there too, before the LiDAR stage and without a manifest.
+  std::vector<std::string> real_run(args.begin(), args.end() - 1);
+  r = run_nsgraph(real_run);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(r.err.find("accumulating LiDAR"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out" / "manifest.json"));
+  fs::create_symlink(sweep_target, sweep);
+
+  // One mask gone: the default semantic_source auto takes the masks (their folder is
+  // there), so the missing one is named; without semantics the inputs are complete.
+  fs::path mask;
+  for (const auto& e : fs::directory_iterator(view / "semantic" / "CAM_FRONT")) mask = std::max(mask, e.path());
+  ASSERT_FALSE(mask.empty());
+  fs::remove(mask);
+  r = run_nsgraph(args);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find(mask.string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("semantic masks"), std::string::npos) << r.err;
+  args.push_back("--no-semantic");
+  r = run_nsgraph(args);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("0 mask(s)"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -72,6 +72,9 @@ struct GenerateRun {
   // either way.
   uint64_t max_memory_bytes = 0;
   bool max_memory_from_machine = false;  // the limit is available_memory_bytes() (logged so)
+  // Only check the inputs (config, tables, every file the run would open, the memory
+  // estimate) and return: nothing is written, `out` is not needed.
+  bool check_inputs_only = false;
 };
 
 // Splits that end with no tile while others have tiles are reported with log::warn.

@@ -17,7 +17,8 @@
 
 namespace nsg::nuscenes {
 class Database;
-}
+struct SampleData;
+}  // namespace nsg::nuscenes
 
 namespace nsg::raster {
 
@@ -84,6 +85,11 @@ struct CameraOptions {
 // config value ("masks", "lidarseg", "none"), or "" when there was nothing to choose.
 std::string resolve_semantic_source(CameraOptions& camera, const std::filesystem::path& dataroot,
                                     const std::string& version);
+
+// Where the colouring reads the class-id mask of key-frame camera image `sd`:
+// <semantic_root or dataroot/semantic>/<CHANNEL>/<image basename>.png.
+std::filesystem::path semantic_mask_path(const nuscenes::Database& db, const nuscenes::SampleData& sd,
+                                         const CameraOptions& camera);
 
 struct ColorStats {
   size_t points = 0;          // kept LiDAR points considered (inside the regions)
