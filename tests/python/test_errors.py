@@ -123,3 +123,25 @@ class ErrorsTest(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class ModelCommandHelpTest(unittest.TestCase):
+    """`python -m nsgraph.models.<command> --help` shows each option's default, as the C++
+    commands' --help does (it showed none)."""
+
+    def test_every_option_with_a_default_shows_it(self):
+        import subprocess
+        import sys
+        expected = {"train": ["passes over the split (default: 60)", "(default: 0.003)", "(default: 0)"],
+                    "predict": ["the split to predict (default: test)"],
+                    "calibrate": ["(default: train)", "(default: 4)"],
+                    "export": ["(default: 0)"]}
+        for module, parts in expected.items():
+            r = subprocess.run([sys.executable, "-m", "nsgraph.models." + module, "--help"], capture_output=True,
+                               text=True, timeout=60)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            text = " ".join(r.stdout.split())  # argparse wraps lines
+            for part in parts:
+                self.assertIn(part, text, module)
+            self.assertNotIn("(default: None)", text, module)
+            self.assertNotIn("(default: False)", text, module)

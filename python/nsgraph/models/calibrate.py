@@ -20,6 +20,7 @@ import time
 import numpy as np
 import torch
 
+from .cli_help import DefaultsHelpFormatter
 from .. import _nsgraph
 from ..dataset import Dataset
 from ..scoring import score_tile
@@ -87,13 +88,14 @@ def calibrate(model_path, dataset, split="train", every=4, threads=1, progress=F
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(prog="python -m nsgraph.models.calibrate", description=__doc__.split("\n\n")[0])
+    p = argparse.ArgumentParser(prog="python -m nsgraph.models.calibrate", description=__doc__.split("\n\n")[0],
+                                formatter_class=DefaultsHelpFormatter)
     p.add_argument("--model", required=True, help="model.pt from nsgraph.models.train (rewritten)")
-    p.add_argument("--dataset", required=True)
+    p.add_argument("--dataset", required=True, help="dataset folder (manifest.json)")
     p.add_argument("--split", default="train", help="never the split you report on")
     p.add_argument("--every", type=int, default=4, help="use every N-th tile of the split")
-    p.add_argument("--threads", type=int, default=1)
-    p.add_argument("--quiet", action="store_true")
+    p.add_argument("--threads", type=int, default=1, help="torch threads")
+    p.add_argument("--quiet", action="store_true", help="no progress lines")
     a = p.parse_args(argv)
     if a.every < 1:
         p.error("--every: expected ≥ 1")

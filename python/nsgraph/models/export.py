@@ -12,6 +12,7 @@ import sys
 
 import torch
 
+from .cli_help import DefaultsHelpFormatter
 from .lanegraphnet import INPUTS, PAIR_INPUTS
 from .predict import load
 
@@ -51,7 +52,8 @@ def export(model_path, out_path, tile_size_px=None):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(prog="python -m nsgraph.models.export", description=__doc__.split("\n\n")[0])
+    p = argparse.ArgumentParser(prog="python -m nsgraph.models.export", description=__doc__.split("\n\n")[0],
+                                formatter_class=DefaultsHelpFormatter)
     p.add_argument("--model", required=True, help="model.pt from nsgraph.models.train")
     p.add_argument("--out", required=True, help="M.onnx (M.pairs.onnx is written next to it)")
     p.add_argument("--tile-size", type=int, default=0, help="input size in px (default: the training tiles')")

@@ -11,6 +11,7 @@ import time
 import numpy as np
 import torch
 
+from .cli_help import DefaultsHelpFormatter
 from .. import _nsgraph
 from ..dataset import Dataset
 from ..scoring import write_submission
@@ -61,13 +62,14 @@ def predict_split(model_path, dataset, split, threads=2, progress=False):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(prog="python -m nsgraph.models.predict", description=__doc__.split("\n\n")[0])
+    p = argparse.ArgumentParser(prog="python -m nsgraph.models.predict", description=__doc__.split("\n\n")[0],
+                                formatter_class=DefaultsHelpFormatter)
     p.add_argument("--model", required=True, help="model.pt from nsgraph.models.train")
-    p.add_argument("--dataset", required=True)
-    p.add_argument("--split", default="test")
+    p.add_argument("--dataset", required=True, help="dataset folder (manifest.json)")
+    p.add_argument("--split", default="test", help="the split to predict")
     p.add_argument("--out", required=True, help="submission JSON to write")
-    p.add_argument("--threads", type=int, default=2)
-    p.add_argument("--quiet", action="store_true")
+    p.add_argument("--threads", type=int, default=2, help="torch threads")
+    p.add_argument("--quiet", action="store_true", help="no progress lines")
     a = p.parse_args(argv)
     t0 = time.monotonic()
     graphs = predict_split(a.model, a.dataset, a.split, a.threads, progress=not a.quiet)

@@ -17,6 +17,7 @@ import numpy as np
 import torch
 from torch.nn import functional as F
 
+from .cli_help import DefaultsHelpFormatter
 from .. import _nsgraph
 from ..dataset import LAYERS
 from ..torch import Augment, TorchDataset, _transform
@@ -178,13 +179,14 @@ def save(path, state):
 
 
 def parse_args(argv=None):
-    p = argparse.ArgumentParser(prog="python -m nsgraph.models.train", description=__doc__.split("\n\n")[0])
+    p = argparse.ArgumentParser(prog="python -m nsgraph.models.train", description=__doc__.split("\n\n")[0],
+                                formatter_class=DefaultsHelpFormatter)
     p.add_argument("--dataset", required=True, help="dataset folder (manifest.json) from nsgraph generate")
-    p.add_argument("--split", default="train")
+    p.add_argument("--split", default="train", help="the split to train on")
     p.add_argument("--out", required=True, help="run folder: checkpoint.pt, model.pt, train.json")
-    p.add_argument("--epochs", type=int, default=60)
-    p.add_argument("--batch-size", type=int, default=8)
-    p.add_argument("--lr", type=float, default=3e-3)
+    p.add_argument("--epochs", type=int, default=60, help="passes over the split")
+    p.add_argument("--batch-size", type=int, default=8, help="crops per step")
+    p.add_argument("--lr", type=float, default=3e-3, help="Adam learning rate")
     p.add_argument("--crop", type=int, default=128,
                    help="train on random CROP × CROP px windows of the tiles (a multiple of 64; 0 = whole tiles)")
     p.add_argument("--direction-weight", type=float, default=2.0, help="weight of LaneDirNet's loss")
@@ -192,19 +194,19 @@ def parse_args(argv=None):
     p.add_argument("--max-steps", type=int, default=0, help="stop after N steps in total (0 = all epochs)")
     p.add_argument("--own-anchors-from", type=int, default=1,
                    help="epoch from which the relationship head also trains on the network's own anchors")
-    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--seed", type=int, default=1, help="seeds the crops, augmentation and weights")
     p.add_argument("--threads", type=int, default=1,
                    help="torch threads (fixed: results depend on it; 1 is fastest on a shared 2-core machine, "
                         "where OpenMP's spinning barriers waste the other core)")
     p.add_argument("--resume", action="store_true", help="continue from OUT/checkpoint.pt")
     p.add_argument("--stop-after", type=int, default=0,
                    help="end this run after N epochs (a checkpoint to --resume from; 0 = train to the end)")
-    p.add_argument("--no-augment", action="store_true")
+    p.add_argument("--no-augment", action="store_true", help="no random crops, rotations or mirroring")
     p.add_argument("--flips", action="store_true",
                    help="nsgraph.torch's mirror flips (off: they swap the traffic side, edges kept)")
     p.add_argument("--no-mirror", action="store_true",
                    help="no mirroring with the traffic reversed (on by default, half of the tiles)")
-    p.add_argument("--quiet", action="store_true")
+    p.add_argument("--quiet", action="store_true", help="no progress lines")
     a = p.parse_args(argv)
     for name in ("epochs", "batch_size", "threads"):
         if getattr(a, name) < 1:
