@@ -30,6 +30,26 @@ std::vector<std::string> command_names(CLI::App& app) {
   return names;
 }
 
+// The subcommand of `parent` called `word`, or nullptr.
+CLI::App* subcommand_named(CLI::App& parent, const std::string& word) {
+  for (CLI::App* sub : parent.get_subcommands([](CLI::App*) { return true; }))
+    if (sub->get_name() == word) return sub;
+  return nullptr;
+}
+
+// " (did you mean 'x'?)" for the closest of `names` fewer than `limit` edits away, else "".
+std::string did_you_mean(const std::string& word, const std::vector<std::string>& names, size_t limit) {
+  std::string hint;
+  for (const std::string& n : names) {
+    const size_t d = nsg::options::edit_distance(word, n);
+    if (d < limit) {
+      limit = d;
+      hint = " (did you mean '" + n + "'?)";
+    }
+  }
+  return hint;
+}
+
 // The first word that is not a global flag names the command. Checked before CLI11 parses:
 // with an unknown command CLI11 would treat the rest as extras and act on global flags
 // among them (`nsgraph generat --version v1.0-mini` printed the program version, exit 0).
@@ -41,15 +61,7 @@ bool check_command_word(CLI::App& app, int argc, char** argv) {
     if (!word.empty() && word[0] == '-') continue;
     const std::vector<std::string> names = command_names(app);
     if (std::find(names.begin(), names.end(), word) != names.end()) return true;
-    std::string hint;
-    size_t best = 3;  // suggest only close names
-    for (const std::string& n : names) {
-      const size_t d = nsg::options::edit_distance(word, n);
-      if (d < best) {
-        best = d;
-        hint = " (did you mean '" + n + "'?)";
-      }
-    }
+    const std::string hint = did_you_mean(word, names, 3);  // only close names
     std::string list;
     for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
     std::fprintf(stderr, "nsgraph: error: unknown command '%s'%s\ncommands: %s\nRun 'nsgraph --help' for more.\n",
@@ -84,13 +96,10 @@ bool check_version_flag(CLI::App& app, int argc, char** argv) {
     if (word.empty() || word[0] == '-') continue;
     // A word naming a subcommand of the current command descends into it; any other word
     // is an option's value or a positional argument.
-    CLI::App* parent = command != nullptr ? command : &app;
-    for (CLI::App* sub : parent->get_subcommands([](CLI::App*) { return true; }))
-      if (sub->get_name() == word) {
-        command = sub;
-        path += (path.empty() ? "" : " ") + word;
-        break;
-      }
+    if (CLI::App* sub = subcommand_named(command != nullptr ? *command : app, word)) {
+      command = sub;
+      path += (path.empty() ? "" : " ") + word;
+    }
   }
   return true;
 }
@@ -106,12 +115,10 @@ bool check_option_words(CLI::App& app, int argc, char** argv) {
     const std::string word = argv[i];
     if (word == "--") break;
     if (!word.starts_with("--")) {
-      for (CLI::App* sub : command->get_subcommands([](CLI::App*) { return true; }))
-        if (sub->get_name() == word) {
-          command = sub;
-          path += (path.empty() ? "" : " ") + word;
-          break;
-        }
+      if (CLI::App* sub = subcommand_named(*command, word)) {
+        command = sub;
+        path += (path.empty() ? "" : " ") + word;
+      }
       continue;
     }
     const std::string name = word.substr(0, word.find('='));
@@ -124,15 +131,7 @@ bool check_option_words(CLI::App& app, int argc, char** argv) {
       }
     }
     if (found) continue;
-    std::string hint;
-    size_t best = std::max<size_t>(3, name.size() / 4);  // suggest only close names
-    for (const std::string& k : known) {
-      const size_t d = nsg::options::edit_distance(name, k);
-      if (d < best) {
-        best = d;
-        hint = " (did you mean '" + k + "'?)";
-      }
-    }
+    const std::string hint = did_you_mean(name, known, std::max<size_t>(3, name.size() / 4));  // only close names
     const std::string where = path.empty() ? "nsgraph" : "nsgraph " + path;
     std::fprintf(stderr, "nsgraph: error: %s: unknown option '%s'%s\nRun '%s --help' for its options.\n",
                  path.empty() ? "nsgraph" : path.c_str(), name.c_str(), hint.c_str(), where.c_str());

@@ -69,7 +69,7 @@ std::vector<std::string> Dataset::splits() const {
   return {names.begin(), names.end()};
 }
 
-std::map<std::string, int64_t> Dataset::split_counts_of_keys(const std::vector<std::string>& keys) const {
+std::optional<std::string> Dataset::split_of_keys(const std::vector<std::string>& keys, std::string& why) const {
   struct Range {
     std::string split, first, last;
   };
@@ -89,7 +89,18 @@ std::map<std::string, int64_t> Dataset::split_counts_of_keys(const std::vector<s
       if (key >= r.first && key <= r.last) in.insert(r.split);
     for (const std::string& split : in) ++counts[split];
   }
-  return counts;
+  if (counts.size() == 1) return counts.begin()->first;
+  if (counts.empty()) {
+    why =
+        strprintf("none of its %zu keys is a tile of any of this dataset's splits (e.g. '%s'; splits: %s)", keys.size(),
+                  keys.empty() ? "" : printable_text(keys.front()).c_str(), join(splits(), ", ").c_str());
+  } else {
+    std::string found;
+    for (const auto& [split, n] : counts)
+      found += strprintf("%s%s: %lld", found.empty() ? "" : ", ", split.c_str(), static_cast<long long>(n));
+    why = "they fall in several (" + found + "); give --split";
+  }
+  return std::nullopt;
 }
 
 void Dataset::require_split(const std::string& split) const {

@@ -27,22 +27,11 @@ std::optional<std::string> split_to_score(const ScoreSource& truth, const GraphS
   if (truth.text || !std::filesystem::is_directory(truth.path) || graphs.empty()) return std::string("test");
   std::vector<std::string> keys;
   for (const auto& kv : graphs) keys.push_back(kv.first);
-  const io::Dataset dataset = io::Dataset::open(truth.path);
-  const std::map<std::string, int64_t> counts = dataset.split_counts_of_keys(keys);
-  if (counts.size() == 1) {
-    log::info("split '" + counts.begin()->first + "' (the split the submission's keys are tiles of)");
-    return counts.begin()->first;
-  }
-  std::string found;
-  for (const auto& [split, n] : counts)
-    found += strprintf("%s%s: %lld", found.empty() ? "" : ", ", split.c_str(), static_cast<long long>(n));
-  issues.error("submission.keys", label,
-               counts.empty()
-                   ? strprintf("tiles of this dataset: none of its %zu keys (e.g. '%s') is a tile of any of its "
-                               "splits (%s); is this the dataset it was predicted for?",
-                               keys.size(), printable_text(keys.front()).c_str(), join(dataset.splits(), ", ").c_str())
-                   : "keys of one split, to know which to score: they fall in several (" + found + "); give --split");
-  return std::nullopt;
+  std::string why;
+  const std::optional<std::string> split = io::Dataset::open(truth.path).split_of_keys(keys, why);
+  if (split) log::info("split '" + *split + "' (the split the submission's keys are tiles of)");
+  else issues.error("submission.keys", label, "keys of one split of the dataset, to know which to score: " + why);
+  return split;
 }
 
 }  // namespace

@@ -86,17 +86,11 @@ void write_shard_mosaics(const io::Dataset& ds, const fs::path& out, const Previ
 std::string split_of_submission(const io::Dataset& ds, const metrics::GraphSet& pred, const std::string& file) {
   std::vector<std::string> keys;
   for (const auto& kv : pred) keys.push_back(kv.first);
-  const std::map<std::string, int64_t> counts = ds.split_counts_of_keys(keys);
-  std::string found;
-  for (const auto& [split, n] : counts)
-    found += strprintf("%s%s: %lld", found.empty() ? "" : ", ", split.c_str(), static_cast<long long>(n));
-  NSG_CHECK(!counts.empty(), DataError, file, "tiles",
-            strprintf("keys of this dataset's tiles (none of its %zu keys is; splits: %s)", keys.size(),
-                      join(ds.splits(), ", ").c_str()));
-  NSG_CHECK(counts.size() == 1, DataError, file, "tiles",
-            "keys of one split (they fall in " + found + "); give --split");
-  log::info("split '" + counts.begin()->first + "' (the split the submission's keys are tiles of)");
-  return counts.begin()->first;
+  std::string why;
+  const std::optional<std::string> split = ds.split_of_keys(keys, why);
+  NSG_CHECK(split, DataError, file, "tiles", "keys of one split of the dataset: " + why);
+  log::info("split '" + *split + "' (the split the submission's keys are tiles of)");
+  return *split;
 }
 
 void write_submission_mosaic(const io::Dataset& ds, const fs::path& out, const PreviewOptions& given,

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "nsg/core/error.h"
+#include "nsg/core/files.h"
 #include "nsg/core/log.h"
 #include "nsg/core/parallel.h"
 #include "nsg/raster/accumulate.h"
@@ -399,6 +400,19 @@ fs::path semantic_mask_path(const Database& db, const nuscenes::SampleData& sd, 
   return root / db.channel(sd) / (fs::path(sd.filename).stem().string() + ".png");
 }
 
+namespace {
+// Whether nuScenes-lidarseg's table exists with records: the test split ships an empty one
+// ("[]"), which would give an empty semantic layer without a word. A record is longer than
+// 64 bytes, so only a shorter file is read.
+bool lidarseg_has_records(const fs::path& table) {
+  std::error_code ec;
+  if (!fs::is_regular_file(table, ec)) return false;
+  const auto bytes = fs::file_size(table, ec);
+  if (ec) return false;
+  return bytes > 64 || read_file(table).find('{') != std::string::npos;
+}
+}  // namespace
+
 std::string resolve_semantic_source(CameraOptions& camera, const fs::path& dataroot, const std::string& version) {
   if (!camera.semantic || camera.semantic_source != SemanticSource::kAuto) return "";
   std::error_code ec;
@@ -409,7 +423,7 @@ std::string resolve_semantic_source(CameraOptions& camera, const fs::path& datar
     return "masks";
   }
   const fs::path lidarseg = dataroot / version / "lidarseg.json";
-  if (fs::is_regular_file(lidarseg, ec)) {
+  if (lidarseg_has_records(lidarseg)) {
     camera.semantic_source = SemanticSource::kLidarseg;
     log::info("camera.semantic_source auto: nuScenes-lidarseg (" + lidarseg.string() + "; no masks under " +
               masks.string() + ")");
@@ -417,7 +431,7 @@ std::string resolve_semantic_source(CameraOptions& camera, const fs::path& datar
   }
   camera.semantic = false;
   log::info("camera.semantic_source auto: no semantic layer (no masks under " + masks.string() +
-            ", no nuScenes-lidarseg " + lidarseg.string() +
+            ", no nuScenes-lidarseg records in " + lidarseg.string() +
             "); `nsgraph segment` makes masks, camera.semantic_source=masks|lidarseg requires one");
   return "none";
 }

@@ -195,6 +195,13 @@ TEST_F(RealKeyFrame, InspectLayersOnTheRealKeyFrame) {
                          "scene-0061", "--out", (out.path() / "scene-0061.pcd").string()});
   ASSERT_EQ(cloud.exit_code, 0) << cloud.err;
   EXPECT_GT(nlohmann::json::parse(cloud.out)["points"].get<size_t>(), 8000u);
+  // Every file a generate run would open is there, found by the check before any stage.
+  const test::CommandResult inputs =
+      test::run_nsgraph({"generate", "--dataroot", real_root().string(), "--version", "v1.0-mini", "--check-inputs"});
+  ASSERT_EQ(inputs.exit_code, 0) << inputs.err;
+  EXPECT_NE(inputs.err.find("inputs present: 1 scene(s), 1 map expansion(s), 1 sweep(s), 6 camera image(s), 0 mask(s)"),
+            std::string::npos)
+      << inputs.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["sweeps"], 1);
   EXPECT_EQ(j["cells"]["lidar"], layers_->stats.covered_cells);  // 8 975: the devkit chain's cells

@@ -23,8 +23,12 @@ TEST(SemanticSource, AutoTakesMasksThenLidarsegThenNone) {
   EXPECT_EQ(none, "none");
   EXPECT_FALSE(none_camera.semantic);
   EXPECT_TRUE(none_camera.rgb);
-  // lidarseg.json only.
-  test::write_text(root / "v1.0-mini" / "lidarseg.json", "[]");
+  // An empty lidarseg table (the test split ships one) is no lidarseg.
+  test::write_text(root / "v1.0-mini" / "lidarseg.json", "[]\n");
+  EXPECT_EQ(resolved(CameraOptions{}).first, "none");
+  // lidarseg.json with records only.
+  test::write_text(root / "v1.0-mini" / "lidarseg.json",
+                   R"([{"token": "a", "sample_data_token": "b", "filename": "lidarseg/v1.0-mini/b_lidarseg.bin"}])");
   auto [lidarseg, lidarseg_camera] = resolved(CameraOptions{});
   EXPECT_EQ(lidarseg, "lidarseg");
   EXPECT_TRUE(lidarseg_camera.semantic);

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -57,10 +58,11 @@ class Dataset {
   // one of them ("" = all: always fine). For every command that takes --split, so a typo
   // is named instead of giving an empty result.
   void require_split(const std::string& split) const;
-  // How many of `keys` fall in each split's shards, by the key ranges (first_key …
-  // last_key) the manifest records: reads no shard, so a command given a submission and no
-  // split can take the split its keys are tiles of. Keys in no range are not counted.
-  std::map<std::string, int64_t> split_counts_of_keys(const std::vector<std::string>& keys) const;
+  // The one split whose shards hold `keys`, by the key ranges (first_key … last_key) the
+  // manifest records: reads no shard, so a command given a submission and no split takes
+  // the split its keys are tiles of. nullopt when they fall in no split or in several;
+  // `why` then says which ("none of its 2 keys is a tile of …" / "(test: 10, train: 1)").
+  std::optional<std::string> split_of_keys(const std::vector<std::string>& keys, std::string& why) const;
   // Checks that a split can be trusted before it is scored: the manifest lists it, every
   // shard listed for it is present with its recorded size (and, when `hash`, its sha256;
   // a folder shard's digest over its files), and the split's folder holds nothing the

@@ -79,7 +79,8 @@ struct CameraOptions {
 // a dataset's manifest records what was used): masks when the mask root (semantic_root,
 // or <dataroot>/semantic) is a folder — the camera segmentation the paper projects, made
 // by `nsgraph segment` or shipped with the release; else lidarseg when
-// <dataroot>/<version>/lidarseg.json exists; else no semantic layer (camera.semantic off),
+// <dataroot>/<version>/lidarseg.json holds records (the test split's is empty); else no
+// semantic layer (camera.semantic off),
 // with one notice line. Real releases ship neither, so the defaults work on them. Other
 // sources and camera.semantic off are left as they are. Returns what it chose, as the
 // config value ("masks", "lidarseg", "none"), or "" when there was nothing to choose.
