@@ -35,12 +35,41 @@ struct InspectLayersOptions {
   int threads = 0;
 };
 
-// The window in cells: the bbox, or the extent of the LiDAR cells holding data.
-void write_tif(const std::string& path, const io::Raster& r, const io::GeoRef& geo, std::optional<double> nodata) {
+// What a GIS shows of a layer: band names (the member's description), and for the
+// semantic layer the preview's palette as a colour table and the class names as items.
+io::GeoTiffOptions gis_options(const io::TileMember& m) {
   io::GeoTiffOptions opt;
-  opt.nodata = nodata;
-  const std::vector<uint8_t> bytes = io::encode_geotiff(r, geo, opt);
+  opt.nodata = m.nodata;
+  if (m.bands == 3) {
+    for (const char* c : {"red", "green", "blue"}) opt.band_descriptions.push_back(std::string("camera ") + c);
+  } else {
+    opt.band_descriptions.push_back(m.name + ": " + m.description);
+  }
+  if (m.name == "semantic") {
+    opt.color_table.assign(256, {0, 0, 0});
+    for (int c = 0; c < preview::kSemanticClassCount; ++c) {
+      const preview::Rgb rgb = preview::semantic_color(c);
+      opt.color_table[c] = {rgb.r, rgb.g, rgb.b};
+      opt.band_metadata.emplace_back("CLASS_" + std::to_string(c), preview::semantic_name(c));
+    }
+    opt.color_table[255] = {preview::kNoData.r, preview::kNoData.g, preview::kNoData.b};
+  }
+  return opt;
+}
+
+// GDAL's sidecar (.aux.xml) with the class names as the band's categories: QGIS's
+// "Paletted/Unique values" and gdalinfo label the values with them (TIFF has no tag for it).
+std::string category_sidecar() {
+  std::string xml = "<PAMDataset>\n  <PAMRasterBand band=\"1\">\n    <CategoryNames>\n";
+  for (int c = 0; c < preview::kSemanticClassCount; ++c)
+    xml += std::string("      <Category>") + preview::semantic_name(c) + "</Category>\n";
+  return xml + "    </CategoryNames>\n  </PAMRasterBand>\n</PAMDataset>\n";
+}
+
+void write_tif(const std::string& path, const io::Raster& r, const io::GeoRef& geo, const io::TileMember& m) {
+  const std::vector<uint8_t> bytes = io::encode_geotiff(r, geo, gis_options(m));
   write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  if (m.name == "semantic") write_file_atomic(path + ".aux.xml", category_sidecar());
 }
 
 // The LiDAR and RGB panels as one PNG (the README's picture of the real key frame).
@@ -78,7 +107,7 @@ int run(const InspectLayersOptions& o) {
   const std::string base = o.out_dir + "/" + o.location;
   nlohmann::ordered_json files = nlohmann::ordered_json::array();
   for (const io::TileMember* m : io::raster_members()) {
-    write_tif(base + "." + m->file, pipeline::layer_raster(r, *m), geo, m->nodata);
+    write_tif(base + "." + m->file, pipeline::layer_raster(r, *m), geo, *m);
     files.push_back(base + "." + m->file);
   }
   if (!o.png.empty()) write_panels(o, config.version, r, w, h, res, db.sample.size());

@@ -48,8 +48,9 @@ int run_report(const ReportCliOptions& o) {
     log::error(strprintf("%zu problem(s) in submission %s; no report written", r.issues.size(), r.rejected.c_str()));
     return kExitProblems;
   }
-  log::info(strprintf("report: %lld tiles, %lld images, %s in %s/index.html", static_cast<long long>(r.tiles),
-                      static_cast<long long>(r.images), human_bytes(static_cast<double>(r.bytes)).c_str(),
+  log::info(strprintf("report: %lld tiles, %lld images (%lld reused from the earlier report), %s in %s/index.html",
+                      static_cast<long long>(r.tiles), static_cast<long long>(r.images),
+                      static_cast<long long>(r.images_reused), human_bytes(static_cast<double>(r.bytes)).c_str(),
                       o.out.c_str()));
   return kExitOk;
 }
@@ -58,6 +59,7 @@ int run_report(const ReportCliOptions& o) {
 
 void add_report_command(CLI::App& parent, Context& ctx) {
   auto opts = std::make_shared<ReportCliOptions>();
+  opts->lib.progress = true;
   CLI::App* cmd = parent.add_subcommand("report", "An HTML report (opens from file://) of a dataset or a submission");
   cmd->add_option("--dataset", opts->dataset, "Dataset folder (manifest.json)");
   cmd->add_option("--leaderboard", opts->leaderboard,

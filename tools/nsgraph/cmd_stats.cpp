@@ -19,7 +19,7 @@ void add_stats_command(CLI::App& root, Context& ctx) {
   cmd->add_flag("--json", o->json, "JSON instead of a text table");
   cmd->callback([o, &ctx] {
     ctx.run = [o] {
-      const pipeline::DatasetStats stats = pipeline::compute_stats(o->dataset);
+      const pipeline::DatasetStats stats = pipeline::compute_stats(o->dataset, /*progress=*/true);
       if (o->json) std::cout << pipeline::stats_json(stats).dump(2) << "\n";
       else std::cout << pipeline::stats_text(stats);
       return kExitOk;

@@ -91,6 +91,7 @@ int run_validate(const ValidateCliOptions& o) {
     return finish(r.issues, "submission " + o.submission + counts, o, doc);
   }
   validate::DatasetValidateOptions dopt;
+  dopt.progress = true;
   dopt.root = o.dataset_positional.empty() ? o.dataset : o.dataset_positional;
   dopt.schemas_dir = o.schemas;
   dopt.checks = o.checks;

@@ -87,11 +87,12 @@ int on_tiff_warning(TIFF*, void*, const char*, const char*, va_list) { return 1;
 
 TIFFExtendProc g_parent_extender = nullptr;
 
-// GDAL's nodata tag: an ASCII number, as GDAL itself registers it.
+// GDAL's nodata and metadata tags: ASCII, as GDAL itself registers them.
 void extend_with_gdal_tags(TIFF* tif) {
   static const TIFFFieldInfo kFields[] = {
-      {TIFFTAG_GDAL_NODATA, -1, -1, TIFF_ASCII, FIELD_CUSTOM, 1, 0, const_cast<char*>("GDALNoDataValue")}};
-  TIFFMergeFieldInfo(tif, kFields, 1);
+      {TIFFTAG_GDAL_NODATA, -1, -1, TIFF_ASCII, FIELD_CUSTOM, 1, 0, const_cast<char*>("GDALNoDataValue")},
+      {TIFFTAG_GDAL_METADATA, -1, -1, TIFF_ASCII, FIELD_CUSTOM, 1, 0, const_cast<char*>("GDALMetadata")}};
+  TIFFMergeFieldInfo(tif, kFields, 2);
   if (g_parent_extender != nullptr) g_parent_extender(tif);
 }
 
@@ -132,6 +133,10 @@ void check_encodable(const Raster& r, const GeoTiffOptions& options) {
             "GeoTIFF encoding supports uint8 1- or 3-band "
             "and float32 1-band rasters, got " +
                 std::to_string(r.bands) + " band(s) of " + (r.type == SampleType::kUInt8 ? "uint8" : "float32"));
+  NSG_CHECK(options.band_descriptions.size() <= static_cast<size_t>(r.bands), ConfigError, "", "band_descriptions",
+            "at most one per band (" + std::to_string(r.bands) + ")");
+  NSG_CHECK(options.color_table.empty() || (r.type == SampleType::kUInt8 && r.bands == 1), ConfigError, "",
+            "color_table", "a 1-band uint8 raster (a palette maps its values)");
   if (options.nodata && r.type == SampleType::kUInt8) {
     const double v = *options.nodata;
     NSG_CHECK(v >= 0.0 && v <= 255.0 && v == std::floor(v), ConfigError, "", "nodata",
@@ -145,6 +150,38 @@ std::string nodata_text(double v) {
   return format_double(v);
 }
 
+// Text inside GDAL_METADATA's XML.
+std::string xml_escaped(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '&') out += "&amp;";
+    else if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else out += c;
+  }
+  return out;
+}
+
+// GDAL_METADATA as GDAL writes it: per-band items carry sample="<band index>", the
+// description role="description".
+std::string gdal_metadata(const GeoTiffOptions& options) {
+  std::string xml = "<GDALMetadata>\n";
+  for (const auto& [name, value] : options.band_metadata)
+    xml += "  <Item name=\"" + name + "\" sample=\"0\">" + xml_escaped(value) + "</Item>\n";
+  for (size_t b = 0; b < options.band_descriptions.size(); ++b)
+    xml += "  <Item name=\"DESCRIPTION\" sample=\"" + std::to_string(b) + "\" role=\"description\">" +
+           xml_escaped(options.band_descriptions[b]) + "</Item>\n";
+  return xml + "</GDALMetadata>";
+}
+
+// TIFF ColorMap: 3 × 256 16-bit values (8-bit colours scaled by 257).
+void set_color_map(TIFF* tif, const std::vector<std::array<uint8_t, 3>>& table) {
+  std::array<std::array<uint16_t, 256>, 3> map{};
+  for (size_t i = 0; i < table.size(); ++i)
+    for (int c = 0; c < 3; ++c) map[c][i] = static_cast<uint16_t>(table[i][c] * 257);
+  TIFFSetField(tif, TIFFTAG_COLORMAP, map[0].data(), map[1].data(), map[2].data());
+}
+
 void set_image_tags(TIFF* tif, const Raster& r, const GeoTiffOptions& options) {
   const bool f32 = r.type == SampleType::kFloat32;
   TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, static_cast<uint32_t>(r.width));
@@ -152,14 +189,19 @@ void set_image_tags(TIFF* tif, const Raster& r, const GeoTiffOptions& options) {
   TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, static_cast<uint16_t>(r.bands));
   TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, static_cast<uint16_t>(f32 ? 32 : 8));
   TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT, static_cast<uint16_t>(f32 ? SAMPLEFORMAT_IEEEFP : SAMPLEFORMAT_UINT));
-  TIFFSetField(tif, TIFFTAG_PHOTOMETRIC,
-               static_cast<uint16_t>(r.bands == 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK));
+  const uint16_t photometric = !options.color_table.empty() ? PHOTOMETRIC_PALETTE
+                               : r.bands == 3               ? PHOTOMETRIC_RGB
+                                                            : PHOTOMETRIC_MINISBLACK;
+  TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, photometric);
+  if (!options.color_table.empty()) set_color_map(tif, options.color_table);
   TIFFSetField(tif, TIFFTAG_PLANARCONFIG, static_cast<uint16_t>(PLANARCONFIG_CONTIG));
   TIFFSetField(tif, TIFFTAG_ORIENTATION, static_cast<uint16_t>(ORIENTATION_TOPLEFT));
   TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, std::min<uint32_t>(r.height, kRowsPerStrip));
   TIFFSetField(tif, TIFFTAG_COMPRESSION, static_cast<uint16_t>(COMPRESSION_ADOBE_DEFLATE));
   TIFFSetField(tif, TIFFTAG_ZIPQUALITY, options.deflate_level);
   if (options.nodata) TIFFSetField(tif, TIFFTAG_GDAL_NODATA, nodata_text(*options.nodata).c_str());
+  if (!options.band_descriptions.empty() || !options.band_metadata.empty())
+    TIFFSetField(tif, TIFFTAG_GDAL_METADATA, gdal_metadata(options).c_str());
 }
 
 // The user-defined spherical azimuthal-equidistant CRS, key for key as docs/dataset-format.md lists.

@@ -33,6 +33,11 @@ void GeoRef::validate() const {
 void GeoTiffOptions::validate() const {
   NSG_CHECK(deflate_level >= 1 && deflate_level <= 9, ConfigError, "", "deflate_level",
             "an integer in 1..9, got " + std::to_string(deflate_level));
+  NSG_CHECK(color_table.size() <= 256, ConfigError, "", "color_table",
+            "at most 256 entries (uint8 values), got " + std::to_string(color_table.size()));
+  for (const auto& [name, value] : band_metadata)
+    NSG_CHECK(!name.empty() && name.find_first_of(" <>&\"'") == std::string::npos, ConfigError, "", "band_metadata",
+              "item names without spaces or XML characters, got '" + name + "'");
 }
 
 }  // namespace nsg::io

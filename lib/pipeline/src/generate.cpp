@@ -352,7 +352,7 @@ GenerateSummary generate(const GenerateConfig& given, const GenerateRun& run) {
     if (scenes.empty())
       log::warn("generate: " + location + ": every scene is excluded (scenes.exclude): no LiDAR, no tiles");
     else log::info(strprintf("generate: %s: accumulating LiDAR of %zu scene(s)", location.c_str(), scenes.size()));
-    st.layers = accumulate_layers(db, config, scenes, run.threads);
+    st.layers = accumulate_layers(db, config, scenes, run.threads, &lidar_progress);
     summary.sweeps += st.layers.stats.sweeps;
     summary.seconds.lidar_s += seconds_since(t0);
     log_memory(location + ": LiDAR accumulated: " +
@@ -365,7 +365,6 @@ GenerateSummary generate(const GenerateConfig& given, const GenerateRun& run) {
                          st.layers.vehicles.cells().block_count()));
     scenes_done += st.layers.stats.scenes;
     lidar_progress.set_detail(strprintf("%zu/%zu scenes", scenes_done, scenes_total));
-    lidar_progress.advance(st.layers.stats.sweeps);
     if (last_location) lidar_progress.finish();
 
     t0 = std::chrono::steady_clock::now();

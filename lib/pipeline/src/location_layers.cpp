@@ -36,20 +36,22 @@ CameraSetup prepare_cameras(const nuscenes::Database& db, const GenerateConfig& 
 }
 
 raster::LocationLayers accumulate_layers(const nuscenes::Database& db, const GenerateConfig& config,
-                                         const std::vector<nuscenes::Index>& scenes, int threads) {
+                                         const std::vector<nuscenes::Index>& scenes, int threads, Progress* progress) {
   if (scenes.empty())
     return raster::LocationLayers{
         raster::LidarLayer(config.resolution_m), raster::VehicleLayer(config.resolution_m), {}};
-  return raster::accumulate_scenes(db, scenes, config.raster, threads);
+  return raster::accumulate_scenes(db, scenes, config.raster, threads, progress);
 }
 
 raster::ColorLayer camera_layers(const nuscenes::Database& db, const GenerateConfig& config, const CameraSetup& setup,
                                  const std::vector<nuscenes::Index>& scenes, const raster::LidarLayer& lidar,
-                                 const std::vector<raster::CellRect>& rects, int threads, const std::string& label) {
+                                 const std::vector<raster::CellRect>& rects, int threads, const std::string& label,
+                                 Progress* progress) {
   raster::ColorLayer color(config.resolution_m);
   if (!setup.cameras || rects.empty() || scenes.empty()) return color;
   const raster::CameraOptions& camera = config.raster.camera;
-  if (camera.rgb || camera.semantic_masks()) color = raster::colorize_scenes(db, scenes, lidar, rects, camera, threads);
+  if (camera.rgb || camera.semantic_masks())
+    color = raster::colorize_scenes(db, scenes, lidar, rects, camera, threads, progress);
   if (setup.lidarseg) {
     const raster::LidarsegLayer labels = raster::accumulate_lidarseg(
         db, scenes, config.raster.lidar, config.raster.lidar_channel, setup.lidarseg_classes, threads);
@@ -68,7 +70,10 @@ WindowLayers window_layers(const nuscenes::Database& db, const GenerateConfig& c
                            const std::string& bbox_record, int threads) {
   const std::vector<nuscenes::Index> scenes = location_scenes(db, config, location);
   const CameraSetup cameras = prepare_cameras(db, config);
-  const raster::LocationLayers layers = accumulate_layers(db, config, scenes, threads);
+  // inspect layers reads every sweep of the location: minutes on a real city.
+  Progress lidar_progress("lidar sweeps", 0);
+  const raster::LocationLayers layers = accumulate_layers(db, config, scenes, threads, &lidar_progress);
+  lidar_progress.finish();
   WindowLayers out;
   out.resolution_m = layers.lidar.resolution_m();
   out.stats = layers.stats;
@@ -89,8 +94,11 @@ WindowLayers window_layers(const nuscenes::Database& db, const GenerateConfig& c
     throw ConfigError("", bbox_record,
                       strprintf("a window of at most %lld pixels (this one has %lld; pass a smaller one)",
                                 static_cast<long long>(max_pixels), static_cast<long long>(pixels)));
+  Progress camera_progress("camera images", 0, cameras.cameras);
   const raster::ColorLayer color =
-      camera_layers(db, config, cameras, scenes, layers.lidar, {{w.col0, w.row0, w.col1, w.row1}}, threads, location);
+      camera_layers(db, config, cameras, scenes, layers.lidar, {{w.col0, w.row0, w.col1, w.row1}}, threads, location,
+                    &camera_progress);
+  camera_progress.finish();
   const tiling::LocationRasters source{&layers.lidar, cameras.cameras ? &color : nullptr, &layers.vehicles, nullptr,
                                        nullptr};
   out.rasters = tiling::extract_rasters(source, w.col0, w.row0, static_cast<int>(w.col1 - w.col0),

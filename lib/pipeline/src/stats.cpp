@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "nsg/core/error.h"
+#include "nsg/core/progress.h"
 #include "nsg/core/strings.h"
 #include "nsg/io/dataset.h"
 #include "nsg/io/tile_graph.h"
@@ -90,7 +91,7 @@ std::string class_label(int id) {
 
 }  // namespace
 
-DatasetStats compute_stats(const std::filesystem::path& root) {
+DatasetStats compute_stats(const std::filesystem::path& root, bool progress) {
   const io::Dataset dataset = io::Dataset::open(root);
   DatasetStats stats;
   std::map<std::string, CellUnion> unions;
@@ -100,6 +101,7 @@ DatasetStats compute_stats(const std::filesystem::path& root) {
   const nlohmann::json& format = dataset.manifest().value("tile_format", nlohmann::json::object());
   const nlohmann::json want_size = format.value("size_px", nlohmann::json()),
                        want_res = format.value("resolution_m", nlohmann::json());
+  Progress bar("stats tiles", dataset.tile_count(""), progress);
   dataset.for_each_tile("", [&](const io::DatasetTile& tile) {
     // Checked readers: a tile document is an outside file (io/tile_meta.h, io/tile_graph.h).
     const io::TileMeta meta = io::tile_meta_from_json(tile.json("meta.json"), tile.key + ".meta.json");
@@ -142,8 +144,10 @@ DatasetStats compute_stats(const std::filesystem::path& root) {
         stats.splits[meta.split].semantic_classes.insert(c);
         stats.splits["all"].semantic_classes.insert(c);
       }
+    bar.advance();
     return true;
   });
+  bar.finish();
   for (auto& [name, st] : stats.splits) {
     st.labeled_area_km2 = static_cast<double>(unions[name].cells()) * res * res / 1e6;
     st.vehicle_area_km2 = static_cast<double>(st.vehicle_px) * res * res / 1e6;

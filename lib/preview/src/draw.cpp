@@ -66,6 +66,44 @@ Rgb region_fill(const std::string& split) {
   return detail::blend(kMapBackground, split_color(split), kRegionFillAlpha);
 }
 
+const std::vector<OverlayColor>& overlay_colors() {
+  static const std::vector<OverlayColor> kOverlays = {
+      {"gt", "ground truth (arrow: direction)", kGtEdge, false},
+      {"missed", "missed ground truth", kMissedGtEdge, true},
+      {"pred", "prediction, direction correct", kPredEdge, false},
+      {"wrong_direction", "prediction, wrong direction", kWrongDirectionEdge, false},
+      {"unmatched", "prediction, unmatched", kUnmatchedEdge, true},
+      {"baseline", "baseline's prediction", kBaselineEdge, true},
+  };
+  return kOverlays;
+}
+
+namespace {
+
+// sRGB component → CIELAB's f(t) input: linear light.
+double srgb_to_linear(uint8_t c) {
+  const double v = c / 255.0;
+  return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+}
+
+std::array<double, 3> to_lab(Rgb c) {
+  const double r = srgb_to_linear(c.r), g = srgb_to_linear(c.g), b = srgb_to_linear(c.b);
+  // XYZ relative to the D65 white point.
+  const double x = (0.4124 * r + 0.3576 * g + 0.1805 * b) / 0.95047;
+  const double y = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+  const double z = (0.0193 * r + 0.1192 * g + 0.9505 * b) / 1.08883;
+  const auto f = [](double t) { return t > 216.0 / 24389.0 ? std::cbrt(t) : (24389.0 / 27.0 * t + 16.0) / 116.0; };
+  return {116.0 * f(y) - 16.0, 500.0 * (f(x) - f(y)), 200.0 * (f(y) - f(z))};
+}
+
+}  // namespace
+
+double color_difference(Rgb a, Rgb b) {
+  const auto la = to_lab(a), lb = to_lab(b);
+  return std::sqrt((la[0] - lb[0]) * (la[0] - lb[0]) + (la[1] - lb[1]) * (la[1] - lb[1]) +
+                   (la[2] - lb[2]) * (la[2] - lb[2]));
+}
+
 Rgb heading_color(double heading) {
   const double h6 = std::clamp(heading - std::floor(heading), 0.0, 1.0) * 6.0;
   const int sector = std::min(5, static_cast<int>(h6));

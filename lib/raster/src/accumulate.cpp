@@ -194,7 +194,7 @@ LocationLayers accumulate_location(const Database& db, const std::string& locati
 }
 
 LocationLayers accumulate_scenes(const Database& db, const std::vector<Index>& scenes, const RasterOptions& options,
-                                 int threads) {
+                                 int threads, Progress* progress) {
   // `options` were checked where they were read (config reader, or accumulate_location).
   check_scene_list(db, scenes);
   const std::vector<SceneWork> work = plan_scenes(db, scenes, options.lidar_channel);
@@ -228,6 +228,7 @@ LocationLayers accumulate_scenes(const Database& db, const std::vector<Index>& s
     for (size_t i = 0; i < sweeps.size(); ++i) {
       if (i + 1 < sweeps.size()) read_ahead(db.file_path(db.sample_data[sweeps[i + 1]]));
       add_sweep(db, sweeps[i], options.lidar, buf, out);
+      if (progress != nullptr) progress->advance();
     }
     if (use_detections) add_detection_boxes(db, detections, options.detection_score_threshold, work[k], out);
     else add_annotation_boxes(db, work[k], out);

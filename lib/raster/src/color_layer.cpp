@@ -443,7 +443,8 @@ ColorLayer colorize_location(const Database& db, const std::string& location, co
 }
 
 ColorLayer colorize_scenes(const Database& db, const std::vector<Index>& scenes, const LidarLayer& lidar,
-                           const std::vector<CellRect>& regions, const CameraOptions& given, int threads) {
+                           const std::vector<CellRect>& regions, const CameraOptions& given, int threads,
+                           Progress* progress) {
   // `given` was checked where it was read (config reader, or colorize_location). A source
   // still "auto" (a caller of this library) is made concrete for this release here.
   CameraOptions options = given;
@@ -475,6 +476,7 @@ ColorLayer colorize_scenes(const Database& db, const std::vector<Index>& scenes,
       const ImageJob& job = jobs[first + k];
       results[k] = process_image(db, job, sweeps.find(job.lidar), index, best, options, scratch[lane]);
     });
+    if (progress != nullptr) progress->advance(n);
     // A closer view replaces, and of equally close views the one planned first wins, so
     // the result depends neither on the processing order, the chunking nor the thread count.
     for (size_t k = 0; k < n; ++k) {

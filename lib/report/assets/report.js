@@ -77,7 +77,10 @@
     return a >= 1000 ? v.toFixed(0) : a >= 10 ? v.toFixed(2) : v.toFixed(4);
   }
   const cmpStr = (a, b) => (a < b ? -1 : a > b ? 1 : 0);  // byte order, like the C++ side
-  const lowerIsBetter = (col) => (S.summary.lower_is_better || []).includes(col.replace(/^baseline\./, ''));
+  // A baseline's or a difference's column is better low when its metric is.
+  const lowerIsBetter = (col) => (S.summary.lower_is_better || []).includes(col.replace(/^(baseline|delta)\./, ''));
+  // The graph overlays by name (gt, missed, pred, wrong_direction, unmatched, baseline): colour, label, dashed.
+  const overlay = (name) => (S.summary.legends.overlay || []).find((o) => o.name === name) || { color: '#ff00ff', label: name };
   function params() {
     const p = new URLSearchParams(location.hash.slice(1));
     return Object.fromEntries(p.entries());
@@ -241,11 +244,50 @@
     return box;
   }
 
+  // The per-tile table's columns the reader chose (#hide=<col>,<col>; "-" = none hidden).
+  // By default a baseline's own values are hidden: its differences (delta.*) are shown.
+  function hiddenColumns() {
+    const h = params().hide;
+    if (h === undefined) return new Set(S.summary.columns.filter((c) => c.startsWith('baseline.')));
+    return new Set(h.split(',').filter((c) => c && c !== '-'));
+  }
+  function setHidden(hidden) { go({ hide: hidden.size ? Array.from(hidden).join(',') : '-' }); }
+
+  function columnChooser(hidden) {
+    const all = S.summary.columns;
+    const box = el('details', { id: 'column-chooser', class: 'chooser' },
+      el('summary', { text: 'Columns: ' + (all.length - hidden.size) + ' of ' + all.length + ' shown' }));
+    if (S.chooserOpen) box.open = true;
+    box.addEventListener('toggle', () => { S.chooserOpen = box.open; });
+    const group = (label, pred) => el('button', { text: label, onclick: () => {
+      const cols = all.filter(pred), showing = cols.some((c) => !hidden.has(c));
+      for (const c of cols) { if (showing) hidden.add(c); else hidden.delete(c); }
+      setHidden(hidden);
+    } });
+    const metrics = new Set((S.summary.summary || []).map((r) => r.metric));
+    box.append(el('div', {}, el('button', { text: 'all', onclick: () => setHidden(new Set()) }), ' ',
+      el('button', { text: 'none', onclick: () => setHidden(new Set(all)) }), ' ',
+      metrics.size ? group('metrics', (c) => metrics.has(c)) : null, ' ',
+      all.some((c) => c.startsWith('baseline.')) ? group('baseline', (c) => c.startsWith('baseline.')) : null, ' ',
+      all.some((c) => c.startsWith('delta.')) ? group('Δ', (c) => c.startsWith('delta.')) : null));
+    const list = el('div', { class: 'chooser-list' });
+    for (const c of all) {
+      const cb = el('input', { type: 'checkbox', 'data-col': c });
+      cb.checked = !hidden.has(c);
+      cb.addEventListener('change', () => { if (cb.checked) hidden.delete(c); else hidden.add(c); setHidden(hidden); });
+      list.append(el('label', {}, cb, ' ' + c));
+    }
+    box.append(list);
+    return box;
+  }
+
   function tilesPage(main) {
     const T = S.tiles, s = sortState(), order = currentOrder(), n = order.length;
     const pages = Math.max(1, Math.ceil(n / S.pageSize));
     const page = Math.min(pages - 1, Math.max(0, parseInt(params().page || '0', 10) || 0));
-    const cols = ['key', 'split', ...S.summary.columns];
+    const hidden = hiddenColumns();
+    const shown = S.summary.columns.filter((c) => !hidden.has(c));
+    const cols = ['key', 'split', ...shown];
     const head = el('tr', {}, el('th', { text: '#' }), ...cols.map((c) => {
       const cls = 'sortable' + (c === 'key' ? ' key' : '') + (s.col === c ? ' sorted-' + s.dir : '');
       return el('th', { class: cls, 'data-col': c, text: c, title: 'sort by ' + c,
@@ -257,7 +299,7 @@
       const cells = [el('td', { text: String(r + 1) }),
         el('td', { class: 'key' }, el('a', { href: '#' + new URLSearchParams({ view: 'tile', key, sort: s.col, dir: s.dir }), text: key })),
         el('td', { class: 'text', text: T.split[i] })];
-      for (const c of S.summary.columns) cells.push(el('td', { text: fmt(T.values[c][i]) }));
+      for (const c of shown) cells.push(el('td', { text: fmt(T.values[c][i]) }));
       table.append(el('tr', { class: 'row', 'data-key': key }, ...cells));
     }
     const pager = el('div', { class: 'pager' },
@@ -265,7 +307,7 @@
       el('span', { text: 'page ' + (page + 1) + ' of ' + pages + ' (' + n + ' tiles, ' + S.pageSize + ' per page)' }),
       el('button', { text: 'next ▶', onclick: () => go({ page: Math.min(pages - 1, page + 1) }) }));
     main.append(el('h2', { text: 'Tiles — click a column to sort (undefined values last), a key to open the tile' }),
-      pager, el('div', { class: 'table-wrap' }, table));
+      columnChooser(hidden), pager, el('div', { class: 'table-wrap' }, table));
   }
 
   function overviewPage(main) {
@@ -357,32 +399,42 @@
       const N = d.size_px, box = [-0.5, -0.5, N, N];
       const svg = sv('svg', { class: 'viewer', id: 'viewer', preserveAspectRatio: 'xMidYMid meet', 'data-key': key });
       const defs = sv('defs', {});
-      for (const [id, c] of [['a-gt', '#56b4e9'], ['a-missed', '#0072b2'], ['a-m0', '#e69f00'], ['a-m1', '#cc0099'], ['a-m2', '#f0e442']])
-        defs.append(sv('marker', { id, viewBox: '0 0 10 10', refX: 5, refY: 5, markerWidth: 4, markerHeight: 4, orient: 'auto', markerUnits: 'strokeWidth' },
-          sv('path', { d: 'M0,1 L10,5 L0,9 z', fill: c, stroke: 'none' })));
+      for (const o of s.legends.overlay || [])
+        defs.append(sv('marker', { id: 'a-' + o.name, viewBox: '0 0 10 10', refX: 5, refY: 5, markerWidth: 4, markerHeight: 4, orient: 'auto', markerUnits: 'strokeWidth' },
+          sv('path', { d: 'M0,1 L10,5 L0,9 z', fill: o.color, stroke: 'none' })));
       const img = sv('image', { id: 'layer-image', x: -0.5, y: -0.5, width: N, height: N, href: 'img/' + key + '.' + layer + '.png' });
       const overlay = sv('g', { class: 'overlay', id: 'overlay' });
-      const drawGraph = (gr, cls, edgeClass) => {
-        const g = sv('g', { class: cls, id: cls + '-layer' });
+      // Each edge twice: a wider casing beneath the coloured line, so the line stands out on
+      // every layer's colours (preview.h: the colours and their contrast).
+      const drawGraph = (gr, cls, edgeClass, lineWidth) => {
+        const g = sv('g', { class: cls, id: cls + '-layer' }), casing = sv('g', {}), lines = sv('g', {});
         gr.edges.forEach(([i, j], e) => {
           const a = gr.nodes[i], b = gr.nodes[j];
-          const m = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2];
-          g.append(sv('path', { d: 'M' + a + 'L' + m + 'L' + b, class: edgeClass(e) }));
+          const m = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2], path = 'M' + a + 'L' + m + 'L' + b;
+          casing.append(sv('path', { d: path, class: 'casing' }));
+          lines.append(sv('path', { d: path, class: ('line ' + edgeClass(e)).trim() }));
         });
-        return g;
+        g.append(casing, lines);
+        return { g, zoom: (upp) => { casing.setAttribute('stroke-width', (lineWidth + 2) * upp); lines.setAttribute('stroke-width', lineWidth * upp); } };
       };
-      const gtG = drawGraph(d.gt, 'gt', (e) => (d.gt.missed && d.gt.missed[e] ? 'missed' : ''));
-      overlay.append(gtG);
-      let predG = null;
-      if (d.pred) {
-        predG = drawGraph(d.pred, 'pred', (e) => 'm' + d.pred.marks[e]);
-        overlay.append(predG);
+      const graphs = [];
+      const gtG = drawGraph(d.gt, 'gt', (e) => (d.gt.missed && d.gt.missed[e] ? 'missed' : ''), 3);
+      graphs.push(gtG);
+      let baseG = null, predG = null;
+      if (d.base) {
+        baseG = drawGraph(d.base, 'base', () => '', 2);
+        baseG.g.style.display = params().base === '1' ? '' : 'none';
+        graphs.push(baseG);
       }
+      if (d.pred) {
+        predG = drawGraph(d.pred, 'pred', (e) => 'm' + d.pred.marks[e], 2);
+        graphs.push(predG);
+      }
+      for (const gr of graphs) overlay.append(gr.g);
       svg.append(defs, img, overlay);
       const z = zoomable(svg, box, (upp) => {
         overlay.style.setProperty('--dash', 6 * upp + ' ' + 4 * upp);
-        gtG.setAttribute('stroke-width', 3 * upp);
-        if (predG) predG.setAttribute('stroke-width', 2 * upp);
+        for (const gr of graphs) gr.zoom(upp);
       });
 
       // Side panel: layers, overlays, legend, figures.
@@ -407,8 +459,12 @@
         c.addEventListener('change', () => fn(c.checked));
         toggles.append(el('label', {}, c, ' ' + label), el('br'));
       };
-      toggle('ground truth', 'show-gt', true, (on) => { gtG.style.display = on ? '' : 'none'; });
-      if (predG) toggle('prediction', 'show-pred', true, (on) => { predG.style.display = on ? '' : 'none'; });
+      toggle('ground truth', 'show-gt', true, (on) => { gtG.g.style.display = on ? '' : 'none'; });
+      if (predG) toggle('prediction', 'show-pred', true, (on) => { predG.g.style.display = on ? '' : 'none'; });
+      if (baseG) toggle("baseline's prediction", 'show-base', params().base === '1', (on) => {
+        baseG.g.style.display = on ? '' : 'none';
+        history.replaceState(null, '', '#' + new URLSearchParams(Object.assign(params(), { base: on ? '1' : '0' })));
+      });
       if (d.pred !== undefined) toggle('mark errors', 'show-marks', true, (on) => svg.classList.toggle('plain', !on));
       toggles.append(overlayLegend(d));
       toggles.append(el('div', {}, el('button', { text: '+', onclick: () => z.zoom(0.8) }), ' ', el('button', { text: '−', onclick: () => z.zoom(1.25) }), ' ',
@@ -427,25 +483,35 @@
   }
 
   function overlayLegend(d) {
-    const line = (c, label, dashed) => el('span', {}, el('span', { class: 'line-swatch' + (dashed ? ' dashed' : ''), style: 'border-color:' + c }), label);
-    const items = [line('#56b4e9', 'ground truth (arrow: direction)')];
+    const line = (name) => {
+      const o = overlay(name);
+      return el('span', {}, el('span', { class: 'line-swatch cased' + (o.dashed ? ' dashed' : ''), style: 'border-color:' + o.color }), o.label);
+    };
+    const items = [line('gt')];
     if (d.pred !== undefined) {
-      items.push(line('#0072b2', 'missed ground truth', true), line('#e69f00', 'prediction, direction correct'),
-        line('#cc0099', 'prediction, wrong direction'), line('#f0e442', 'prediction, unmatched', true));
+      items.push(line('missed'), line('pred'), line('wrong_direction'), line('unmatched'));
       if (d.pred === null) items.push(el('span', { class: 'error', text: 'no prediction for this tile (scored as empty)' }));
+    }
+    if (d.base !== undefined) {
+      items.push(line('baseline'));
+      if (d.base === null) items.push(el('span', { class: 'muted', text: 'no baseline prediction for this tile' }));
     }
     return el('div', { class: 'legend' }, ...items);
   }
 
   function figures(d) {
     const t = el('table', { id: 'tile-figures', class: 'facts' });
-    const add = (k, v, extra) => t.append(el('tr', {}, el('td', { text: k }), el('td', { text: fmt(v) }), extra !== undefined ? el('td', { text: fmt(extra) }) : null));
+    const add = (k, v, ...extra) => t.append(el('tr', {}, el('td', { text: k }), el('td', { text: fmt(v) }), ...extra.map((x) => el('td', { text: fmt(x) }))));
     if (d.metrics) {
-      t.append(el('tr', {}, el('th', { class: 'key', text: 'metric' }), el('th', { text: 'value' }), d.baseline ? el('th', { text: 'baseline' }) : null));
-      for (const [k, v] of Object.entries(d.metrics)) add(k, v, d.baseline ? d.baseline[k] : undefined);
+      t.append(el('tr', {}, el('th', { class: 'key', text: 'metric' }), el('th', { text: 'value' }),
+        d.baseline ? el('th', { text: 'baseline' }) : null, d.baseline ? el('th', { text: 'Δ' }) : null));
+      for (const [k, v] of Object.entries(d.metrics)) {
+        if (d.baseline) add(k, v, d.baseline[k], d.figures['delta.' + k]);
+        else add(k, v);
+      }
       for (const [k, v] of Object.entries(d.marks)) add('edges: ' + k, v);
     }
-    for (const [k, v] of Object.entries(d.figures)) if (!d.metrics || !(k in d.metrics) && !k.startsWith('baseline.')) add(k, v);
+    for (const [k, v] of Object.entries(d.figures)) if (!d.metrics || !(k in d.metrics) && !/^(baseline|delta)\./.test(k)) add(k, v);
     return el('fieldset', {}, el('legend', { text: 'Tile ' + d.key + ' (' + d.split + ', ' + d.location + ')' }), t);
   }
 
@@ -474,6 +540,10 @@
 
   function start() {
     const s = S.summary;
+    // The overlays' colours, declared once in C++ (preview.h), as the stylesheet's variables.
+    const root = document.documentElement.style;
+    for (const o of s.legends.overlay || []) root.setProperty('--ov-' + o.name, o.color);
+    root.setProperty('--ov-casing', s.legends.casing || '#000000');
     document.getElementById('title').textContent = 'nsgraph report — ' + s.dataset + (s.split ? ' / ' + s.split : '') +
       (s.mode === 'submission' ? ' — ' + s.score.submission.split('/').pop() : ' (dataset)');
     status(s.n_tiles + ' tiles · ' + s.tool);
@@ -508,19 +578,30 @@
         out.table_ms = performance.now() - t;
         out.rows = Array.from(document.querySelectorAll('#tile-table tr.row')).map((r) => r.dataset.key);
         out.sorted_by = sortState();
+        out.table_columns = Array.from(document.querySelectorAll('#tile-table th[data-col]')).map((th) => th.dataset.col);
+        out.chooser_boxes = document.querySelectorAll('#column-chooser input[type=checkbox]').length;
       }
       if (what === 'sort') {
-        // Open a tile holding both graphs (else the first row) and look at its overlays.
+        // Open a tile holding both graphs, its prediction's directions right where there is
+        // such a tile (else the first row), and look at its overlays.
         const T = S.tiles, order = currentOrder();
-        let pick = order.find((i) => (T.values.gt_edges[i] || 0) > 0 && (T.values.pred_edges ? (T.values.pred_edges[i] || 0) > 0 : true));
+        const both = (i) => (T.values.gt_edges[i] || 0) > 0 && (T.values.pred_edges ? (T.values.pred_edges[i] || 0) > 0 : true);
+        const right = (i) => !T.values.wrong_direction_edges || T.values.wrong_direction_edges[i] === 0;
+        let pick = order.find((i) => both(i) && right(i));
+        if (pick === undefined) pick = order.find(both);
         if (pick === undefined) pick = order[0];
-        go({ view: 'tile', key: T.keys[pick] });
+        go({ view: 'tile', key: T.keys[pick], base: '1' });
         await until(() => S.marks.tileShown === T.keys[pick], 3000);
         const img = document.getElementById('layer-image');
+        const strokeOf = (sel) => { const p = document.querySelector(sel); return p ? getComputedStyle(p).stroke : null; };
         out.tile = {
           key: T.keys[pick],
-          gt_paths: document.querySelectorAll('#gt-layer path').length,
-          pred_paths: document.querySelectorAll('#pred-layer path').length,
+          gt_paths: document.querySelectorAll('#gt-layer path.line').length,
+          pred_paths: document.querySelectorAll('#pred-layer path.line').length,
+          base_paths: document.querySelectorAll('#base-layer path.line').length,
+          casing_paths: document.querySelectorAll('#overlay path.casing').length,
+          strokes: { gt: strokeOf('#gt-layer path.line:not(.missed)'), pred: strokeOf('#pred-layer path.line.m0'),
+            baseline: strokeOf('#base-layer path.line'), casing: strokeOf('#overlay path.casing') },
           image: img ? img.getAttribute('href') : null,
           layers: document.querySelectorAll('input[name=layer]').length,
           figures_rows: document.querySelectorAll('#tile-figures tr').length,

@@ -23,7 +23,18 @@ struct TileInputs {
   const metrics::GraphSet* prediction = nullptr;  // null = dataset report
   const metrics::ScoreReport* scores = nullptr;
   const metrics::ScoreReport* baseline = nullptr;
+  const metrics::GraphSet* baseline_prediction = nullptr;  // the baseline's graphs (overlay)
 };
+// The layer images of an earlier report that a rerun may take instead of rendering them:
+// img/<key>.<layer>.png of tiles whose fingerprint (tile_fingerprint) is unchanged.
+struct EarlierImages {
+  std::filesystem::path dir;                        // the earlier report's folder ("" = none)
+  std::map<std::string, std::string> fingerprints;  // key → fingerprint, from its kFingerprints
+};
+inline constexpr const char* kFingerprints = "img/fingerprints.json";
+// Reads `report`'s kFingerprints; an empty set when it has none or it is unreadable (a
+// rerun then renders every tile).
+EarlierImages earlier_images(const std::filesystem::path& report);
 struct TileRow {
   std::string key, location, split;
   std::vector<double> bounds_m;                         // x_west, y_south, x_east, y_north
@@ -32,11 +43,13 @@ struct TileRow {
 struct TilePass {
   std::vector<TileRow> rows;  // manifest order
   int64_t images = 0;
+  int64_t images_reused = 0;  // of `images`, taken from the earlier report
 };
-// Writes img/<key>.<layer>.png and data/tile/<key>.js under `dir` for every tile of
-// `split` ("" = all); returns the table rows.
+// Writes img/<key>.<layer>.png, data/tile/<key>.js and kFingerprints under `dir` for every
+// tile of `split` ("" = all), taking unchanged tiles' images from `earlier`; returns the
+// table rows. `progress`: a progress line on stderr.
 TilePass write_tile_pages(const io::Dataset& dataset, const std::string& split, const TileInputs& inputs,
-                          const std::filesystem::path& dir, int threads);
+                          const EarlierImages& earlier, const std::filesystem::path& dir, int threads, bool progress);
 // The per-tile table's columns in display order (metrics first, then diagnostics).
 std::vector<std::string> table_columns(bool submission, bool baseline);
 

@@ -109,6 +109,9 @@ ReportResult write_report(const fs::path& dataset_root, const fs::path& out, con
     }
   }
   const bool with_baseline = scored && !options.baseline.empty();
+  // An earlier report at `out` lends the images of tiles that did not change.
+  const detail::EarlierImages earlier =
+      fs::exists(out / kMarker) ? detail::earlier_images(out) : detail::EarlierImages{};
 
   fs::path parent = out.parent_path().empty() ? fs::path(".") : out.parent_path();
   fs::create_directories(parent);
@@ -119,10 +122,14 @@ ReportResult write_report(const fs::path& dataset_root, const fs::path& out, con
   if (scored) {
     inputs.prediction = &sub.graphs;
     inputs.scores = &sub.report;
-    if (with_baseline) inputs.baseline = &base.report;
+    if (with_baseline) {
+      inputs.baseline = &base.report;
+      inputs.baseline_prediction = &base.graphs;
+    }
   }
   log::info("report: rendering the tiles of " + (split.empty() ? std::string("every split") : "split " + split));
-  const detail::TilePass pass = detail::write_tile_pages(dataset, split, inputs, tmp.path, options.threads);
+  const detail::TilePass pass =
+      detail::write_tile_pages(dataset, split, inputs, earlier, tmp.path, options.threads, options.progress);
   NSG_CHECK(!pass.rows.empty(), DataError, (dataset_root / "manifest.json").string(), split.empty() ? "shards" : split,
             "at least one tile to report");
 
@@ -144,6 +151,7 @@ ReportResult write_report(const fs::path& dataset_root, const fs::path& out, con
 
   result.tiles = static_cast<int64_t>(pass.rows.size());
   result.images = pass.images + static_cast<int64_t>(overviews.size());
+  result.images_reused = pass.images_reused;
   result.bytes = folder_bytes(tmp.path);
   replace_folder(tmp.path, out);
   tmp.keep = true;

@@ -70,9 +70,14 @@ nlohmann::ordered_json legends() {
                                   {{"label", "no data"}, {"color", hex(preview::kNoData)}}};
   nlohmann::ordered_json splits;
   for (const char* s : {"train", "val", "test"}) splits[s] = hex(preview::split_color(s));
+  // The graph overlays' colours (preview.h declares them once; the page sets its styles from these).
+  nlohmann::ordered_json overlay = nlohmann::ordered_json::array();
+  for (const preview::OverlayColor& o : preview::overlay_colors())
+    overlay.push_back({{"name", o.name}, {"label", o.label}, {"color", hex(o.color)}, {"dashed", o.dashed}});
   return {{"lidar", lidar},       {"rgb", nlohmann::ordered_json::array()},
           {"semantic", semantic}, {"vehicle", heading},
-          {"coverage", coverage}, {"splits", splits}};
+          {"coverage", coverage}, {"splits", splits},
+          {"overlay", overlay},   {"casing", hex(preview::kOverlayCasing)}};
 }
 
 nlohmann::json manifest_regions(const nlohmann::json& loc, const std::string& manifest) {

@@ -6,9 +6,14 @@
 
 #include "internal.h"
 #include "nsg/io/tile_meta.h"
+#include "nsg/core/build_info.h"
 #include "nsg/core/error.h"
+#include "nsg/core/files.h"
 #include "nsg/core/parallel.h"
+#include "nsg/core/progress.h"
+#include "nsg/core/sha256.h"
 #include "nsg/core/strings.h"
+#include "nsg/core/version.h"
 #include "nsg/metrics/edge_marks.h"
 #include "nsg/metrics/io.h"
 #include "nsg/preview/preview.h"
@@ -79,15 +84,64 @@ metrics::Graph read_graph(const io::DatasetTile& tile) {
   return metrics::graph_from_dataset_json(std::string(bytes.begin(), bytes.end()), name);
 }
 
-// One tile: its images, its data file, its table row.
-TileRow render_tile(const io::DatasetTile& tile, const TileInputs& in,
-                    const std::map<std::string, const metrics::TileMeasurement*>& scores,
-                    const std::map<std::string, const metrics::TileMeasurement*>& baseline, const fs::path& dir) {
-  const Meta meta = read_meta(tile);
+// What a tile's layer images are made of: every member's bytes and the renderer (this
+// build), so a rerun takes an earlier image only when both are unchanged.
+std::string tile_fingerprint(const io::DatasetTile& tile) {
+  Sha256 h;
+  h.update(strprintf("nsgraph report layers\n%s\n%s\npng level %d\n", kVersion, git_commit(), kPngLevel));
+  for (const auto& [suffix, bytes] : tile.files) {
+    h.update(suffix + "\n" + std::to_string(bytes.size()) + "\n");
+    h.update(bytes.data(), bytes.size());
+  }
+  return h.hex_digest();
+}
+
+fs::path layer_image(const fs::path& dir, const std::string& key, const char* layer) {
+  return dir / "img" / (key + "." + layer + ".png");
+}
+
+// Links (else copies) the earlier report's images of `key` into `dir` when its fingerprint
+// is unchanged and every image is there as a plain file; false (nothing written) otherwise.
+bool reuse_images(const EarlierImages& earlier, const std::string& key, const std::string& fingerprint,
+                  const fs::path& dir) {
+  const auto it = earlier.fingerprints.find(key);
+  if (earlier.dir.empty() || it == earlier.fingerprints.end() || it->second != fingerprint) return false;
+  std::error_code ec;
+  for (const char* layer : preview::kTileLayerNames)
+    if (!fs::is_regular_file(fs::symlink_status(layer_image(earlier.dir, key, layer), ec))) return false;
+  for (const char* layer : preview::kTileLayerNames) {
+    const fs::path from = layer_image(earlier.dir, key, layer), to = layer_image(dir, key, layer);
+    fs::create_hard_link(from, to, ec);  // the earlier folder is removed once the new one is in place
+    if (ec) fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
+    NSG_CHECK(!ec, IoError, to.string(), "", "a copy of " + from.string() + " (" + ec.message() + ")");
+  }
+  return true;
+}
+
+void render_images(const io::DatasetTile& tile, const fs::path& dir) {
   for (const char* layer : preview::kTileLayerNames) {
     const std::vector<uint8_t> png = preview::encode_png(preview::render_tile_layer(tile, layer), kPngLevel);
-    write_bytes(dir / "img" / (tile.key + "." + layer + ".png"), png.data(), png.size());
+    write_bytes(layer_image(dir, tile.key, layer), png.data(), png.size());
   }
+}
+
+// What rendering one tile gave: its table row and how its images were made.
+struct TileOutcome {
+  TileRow row;
+  std::string fingerprint;
+  bool reused = false;
+};
+
+// One tile: its images, its data file, its table row.
+TileOutcome render_tile(const io::DatasetTile& tile, const TileInputs& in,
+                        const std::map<std::string, const metrics::TileMeasurement*>& scores,
+                        const std::map<std::string, const metrics::TileMeasurement*>& baseline,
+                        const EarlierImages& earlier, const fs::path& dir) {
+  const Meta meta = read_meta(tile);
+  TileOutcome outcome;
+  outcome.fingerprint = tile_fingerprint(tile);
+  outcome.reused = reuse_images(earlier, tile.key, outcome.fingerprint, dir);
+  if (!outcome.reused) render_images(tile, dir);
   const metrics::Graph gt = read_graph(tile);
   TileRow row{tile.key, meta.location, meta.split, meta.bounds_m, {}};
   nlohmann::ordered_json doc = {{"key", tile.key},
@@ -155,10 +209,22 @@ TileRow render_tile(const io::DatasetTile& tile, const TileInputs& in,
       NSG_CHECK(b != baseline.end(), InternalError, "", tile.key, "a baseline score for every tile of the split");
       nlohmann::ordered_json base;
       for (int m = 0; m < metrics::kMetricCount; ++m) {
-        base[metrics::metric_name(m)] = rounded(b->second->values[m]);
-        set(std::string("baseline.") + metrics::metric_name(m), b->second->values[m]);
+        const std::optional<double>& mine = s->second->values[m];
+        const std::optional<double>& theirs = b->second->values[m];
+        base[metrics::metric_name(m)] = rounded(theirs);
+        set(std::string("baseline.") + metrics::metric_name(m), theirs);
+        // Per tile, submission − baseline: sorting by it finds where the two differ most.
+        set(std::string("delta.") + metrics::metric_name(m),
+            mine && theirs ? std::optional<double>(*mine - *theirs) : std::nullopt);
       }
       doc["baseline"] = std::move(base);
+      // The baseline's graph for the tile view's overlay (null: no prediction for the tile).
+      nlohmann::json base_graph = nullptr;
+      if (in.baseline_prediction) {
+        const auto bp = in.baseline_prediction->find(tile.key);
+        if (bp != in.baseline_prediction->end()) base_graph = graph_json(metrics::clean_graph(bp->second));
+      }
+      doc["base"] = std::move(base_graph);
     }
   } else {
     nlohmann::json g = graph_json(metrics::clean_graph(gt));
@@ -169,7 +235,8 @@ TileRow render_tile(const io::DatasetTile& tile, const TileInputs& in,
   doc["figures"] = std::move(figures);
   const std::string script = data_script("tile:" + tile.key, doc.dump());
   write_bytes(dir / "data" / "tile" / (tile.key + ".js"), script.data(), script.size());
-  return row;
+  outcome.row = std::move(row);
+  return outcome;
 }
 
 std::map<std::string, const metrics::TileMeasurement*> by_key(const metrics::ScoreReport* r) {
@@ -185,9 +252,11 @@ std::vector<std::string> table_columns(bool submission, bool baseline) {
   std::vector<std::string> cols;
   if (submission) {
     for (int m = 0; m < metrics::kMetricCount; ++m) cols.push_back(metrics::metric_name(m));
-    if (baseline)
+    if (baseline) {
       for (int m = 0; m < metrics::kMetricCount; ++m)
         cols.push_back(std::string("baseline.") + metrics::metric_name(m));
+      for (int m = 0; m < metrics::kMetricCount; ++m) cols.push_back(std::string("delta.") + metrics::metric_name(m));
+    }
     for (const char* c :
          {"missing_prediction", "pred_edges", "wrong_direction_edges", "unmatched_edges", "missed_gt_edges"})
       cols.push_back(c);
@@ -198,21 +267,53 @@ std::vector<std::string> table_columns(bool submission, bool baseline) {
   return cols;
 }
 
+EarlierImages earlier_images(const fs::path& report) {
+  // Our own output, but a folder anyone could have edited: anything odd means no reuse.
+  constexpr uintmax_t kMaxBytes = 64ull << 20;
+  EarlierImages e;
+  std::error_code ec;
+  const fs::path file = report / kFingerprints;
+  if (!fs::is_regular_file(fs::symlink_status(file, ec)) || fs::file_size(file, ec) > kMaxBytes || ec) return e;
+  try {
+    const nlohmann::json doc = nlohmann::json::parse(read_file(file));
+    for (const auto& [key, fp] : doc.at("tiles").items())
+      if (fp.is_string()) e.fingerprints[key] = fp.get<std::string>();
+  } catch (const std::exception&) {
+    e.fingerprints.clear();
+  }
+  if (!e.fingerprints.empty()) e.dir = report;
+  return e;
+}
+
 TilePass write_tile_pages(const io::Dataset& dataset, const std::string& split, const TileInputs& inputs,
-                          const fs::path& dir, int threads) {
+                          const EarlierImages& earlier, const fs::path& dir, int threads, bool progress) {
   fs::create_directories(dir / "img");
   fs::create_directories(dir / "data" / "tile");
   const auto scores = by_key(inputs.scores);
   const auto baseline = by_key(inputs.baseline);
   TilePass pass;
+  nlohmann::json fingerprints = nlohmann::json::object();
+  Progress bar("report tiles", dataset.tile_count(split), progress);
   for (const nlohmann::json& shard : dataset.shards(split)) {
     const std::vector<io::DatasetTile> tiles = dataset.read_shard(shard);
-    std::vector<TileRow> rows(tiles.size());
-    parallel_for(tiles.size(), threads,
-                 [&](size_t i) { rows[i] = render_tile(tiles[i], inputs, scores, baseline, dir); });
-    for (TileRow& r : rows) pass.rows.push_back(std::move(r));
-    pass.images += static_cast<int64_t>(tiles.size() * std::size(preview::kTileLayerNames));
+    std::vector<TileOutcome> done(tiles.size());
+    parallel_for(tiles.size(), threads, [&](size_t i) {
+      done[i] = render_tile(tiles[i], inputs, scores, baseline, earlier, dir);
+      bar.advance();
+    });
+    const int64_t layers = static_cast<int64_t>(std::size(preview::kTileLayerNames));
+    for (TileOutcome& t : done) {
+      fingerprints[t.row.key] = t.fingerprint;
+      pass.images_reused += t.reused ? layers : 0;
+      pass.rows.push_back(std::move(t.row));
+    }
+    pass.images += static_cast<int64_t>(tiles.size()) * layers;
+    if (!earlier.dir.empty())
+      bar.set_detail(strprintf("%lld images reused", static_cast<long long>(pass.images_reused)));
   }
+  bar.finish();
+  const std::string text = nlohmann::json{{"tiles", std::move(fingerprints)}}.dump() + "\n";
+  write_bytes(dir / kFingerprints, text.data(), text.size());
   return pass;
 }
 

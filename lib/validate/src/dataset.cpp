@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "nsg/core/error.h"
+#include "nsg/core/progress.h"
 #include "nsg/core/sha256.h"
 #include "nsg/core/strings.h"
 #include "nsg/io/dataset.h"
@@ -143,8 +144,14 @@ class DatasetChecker {
   Issues run() {
     check_manifest();
     check_maps();
-    for (const json& shard : m_.value("shards", json::array()))
+    const json shards = m_.value("shards", json::array());
+    // Hashing and decoding every tile takes a while on a real dataset.
+    Progress bar("validate shards", shards.is_array() ? shards.size() : 0, o_.progress);
+    for (const json& shard : shards) {
       if (shard.is_object()) check_shard(shard);
+      bar.advance();
+    }
+    bar.finish();
     check_split_disjoint();
     check_split_counts();
     return std::move(issues_);

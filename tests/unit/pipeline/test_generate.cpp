@@ -15,6 +15,8 @@
 #include "nsg/io/dataset.h"
 #include "nsg/io/raster.h"
 #include "nsg/io/tar.h"
+#include "nsg/io/tile_members.h"
+#include "nsg/preview/preview.h"
 #include "nsg/pipeline/tile_files.h"
 #include "test_support.h"
 
@@ -614,6 +616,54 @@ TEST(InspectLayers, WritesGeoreferencedLayersOfTheWindowWithCoverage) {
                          "--out", dir.path().string(), "--bbox", "1,2,3"})
                 .exit_code,
             2);
+  // Reading every sweep takes minutes on a real city: a progress line per stage in a log
+  // (stderr is not a terminal here), never a carriage return.
+  EXPECT_NE(r.err.find("lidar sweeps: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("camera images: "), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
+}
+
+// What QGIS shows of the layers, read back with GDAL (gdal-bin is one of the packages
+// `make deps` installs): band names, the semantic layer's colour table (the preview's
+// palette, no data grey) and its class names as categories.
+TEST(InspectLayers, GisSeesBandNamesColoursAndClassNames) {
+  TempDir dir("inspect-layers-gis");
+  CommandResult r = run_nsgraph({"inspect", "layers", "-q", "--dataroot", e2e_release().string(), "--location",
+                                 "boston-seaport", "--out", dir.path().string(), "--bbox", "100,60,120,80"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto gdalinfo = [&](const std::string& layer) {
+    const CommandResult g = run_program({"gdalinfo", "-json", (dir / ("boston-seaport." + layer + ".tif")).string()});
+    EXPECT_EQ(g.exit_code, 0) << g.err;
+    return json::parse(g.out);
+  };
+  const json semantic = gdalinfo("semantic");
+  const json& band = semantic["bands"][0];
+  EXPECT_EQ(band["description"], "semantic: " + io::find_tile_member("semantic")->description);
+  EXPECT_EQ(band["colorInterpretation"], "Palette");
+  ASSERT_EQ(band["colorTable"]["count"], 256);
+  const json& entries = band["colorTable"]["entries"];
+  for (int c = 0; c < preview::kSemanticClassCount; ++c) {
+    const preview::Rgb rgb = preview::semantic_color(c);
+    EXPECT_EQ(entries[c], json::array({rgb.r, rgb.g, rgb.b, 255})) << c;
+  }
+  // GDAL shows the no-data value's entry transparent.
+  EXPECT_EQ(entries[255], json::array({preview::kNoData.r, preview::kNoData.g, preview::kNoData.b, 0}));
+  ASSERT_EQ(band["categories"].size(), static_cast<size_t>(preview::kSemanticClassCount)) << band.dump();
+  EXPECT_EQ(band["categories"][0], "road");
+  EXPECT_EQ(band["categories"][13], "sky_other");
+  EXPECT_EQ(band["metadata"][""]["CLASS_1"], "lane_marking") << band.dump();
+  EXPECT_EQ(band["noDataValue"], 255);
+  const json rgb = gdalinfo("rgb");
+  ASSERT_EQ(rgb["bands"].size(), 3u);
+  EXPECT_EQ(rgb["bands"][0]["description"], "camera red");
+  EXPECT_EQ(rgb["bands"][2]["description"], "camera blue");
+  EXPECT_EQ(rgb["bands"][0]["colorInterpretation"], "Red");
+  EXPECT_EQ(gdalinfo("vehicle")["bands"][0]["description"], "vehicle: " + io::find_tile_member("vehicle")->description);
+  // Still what the library decodes (the palette maps values, it does not change them).
+  const std::string bytes = read_file(dir / "boston-seaport.semantic.tif");
+  const io::Raster decoded =
+      io::decode_geotiff(std::span(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()), "semantic");
+  EXPECT_EQ(decoded.bands, 1);
 }
 
 }  // namespace

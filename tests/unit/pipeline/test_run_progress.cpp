@@ -58,5 +58,41 @@ TEST(RunProgress, PlainStageSummariesOffATerminalAndNoneWhenQuiet) {
   EXPECT_EQ(test::tree_hashes(tmp / "loud"), test::tree_hashes(tmp / "quiet"));
 }
 
+// The commands that read a whole dataset (seconds to minutes on a real one) report as
+// generate does: off a terminal a final line with the totals from the manifest, no '\r';
+// nothing under --quiet.
+TEST(RunProgress, DatasetCommandsReportTheirTilesOffATerminal) {
+  const fs::path ds = test::e2e_dataset();
+  const nlohmann::json manifest = test::read_json(ds / "manifest.json");
+  size_t tiles = 0, test_tiles = 0;
+  for (const auto& shard : manifest["shards"]) {
+    tiles += shard["tiles"].get<size_t>();
+    if (shard["split"] == "test") test_tiles += shard["tiles"].get<size_t>();
+  }
+  const size_t shards = manifest["shards"].size();
+  test::TempDir tmp("dataset_progress");
+  struct Case {
+    std::vector<std::string> args;
+    std::string line;
+  };
+  const std::vector<Case> cases = {
+      {{"stats", "--dataset", ds.string()}, strprintf("stats tiles: %zu/%zu (100%%)", tiles, tiles)},
+      {{"validate", "--dataset", ds.string()}, strprintf("validate shards: %zu/%zu (100%%)", shards, shards)},
+      {{"report", "--dataset", ds.string(), "--split", "test", "--out", (tmp / "report").string()},
+       strprintf("report tiles: %zu/%zu (100%%)", test_tiles, test_tiles)},
+  };
+  for (const Case& c : cases) {
+    const test::CommandResult loud = test::run_nsgraph(c.args);
+    ASSERT_EQ(loud.exit_code, 0) << loud.err;
+    EXPECT_NE(loud.err.find(c.line), std::string::npos) << "missing '" << c.line << "' in:\n" << loud.err;
+    EXPECT_EQ(loud.err.find('\r'), std::string::npos) << loud.err;
+    std::vector<std::string> quiet = c.args;
+    quiet.insert(quiet.begin() + 1, "--quiet");
+    const test::CommandResult q = test::run_nsgraph(quiet);
+    ASSERT_EQ(q.exit_code, 0) << q.err;
+    EXPECT_EQ(q.err.find(c.line.substr(0, c.line.find(':'))), std::string::npos) << q.err;
+  }
+}
+
 }  // namespace
 }  // namespace nsg::pipeline

@@ -9,6 +9,8 @@
 
 #include "generate_fixture.h"
 #include "nsg/core/files.h"
+#include "nsg/core/strings.h"
+#include "nsg/preview/preview.h"
 #include "report_fixture.h"
 #include "test_support.h"
 
@@ -70,13 +72,17 @@ std::vector<std::string> expected_order(const nlohmann::json& tiles, const std::
   return keys;
 }
 
+std::string css_rgb(preview::Rgb c) { return strprintf("rgb(%d, %d, %d)", c.r, c.g, c.b); }
+
 TEST(Browser, ReportLoadsSortsAndDrawsOverlays) {
   if (!have_chromium()) GTEST_SKIP() << "optional tool chromium not installed (apt-get install chromium)";
   TempDir dir("report_browser");
   const PerturbedSubmission sub = perturbed_submission(dir.path());
   const fs::path out = dir / "report";
-  CommandResult r = run_nsgraph({"report", "--quiet", "--dataset", e2e_dataset().string(), "--submission",
-                                 sub.file.string(), "--out", out.string()});
+  // The exact ground truth as the baseline: Δ columns and the baseline's overlay.
+  CommandResult r =
+      run_nsgraph({"report", "--quiet", "--dataset", e2e_dataset().string(), "--submission", sub.file.string(),
+                   "--baseline", exact_submission(dir.path()).string(), "--out", out.string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string url = "file://" + fs::absolute(out / "index.html").string();
   const nlohmann::json tiles = read_data_script(out / "data/tiles.js");
@@ -90,24 +96,62 @@ TEST(Browser, ReportLoadsSortsAndDrawsOverlays) {
   EXPECT_EQ(st["summary_rows"], 26);  // one row per metric
   EXPECT_GT(st["tile"]["gt_paths"].get<int>(), 0) << st.dump(1);
   EXPECT_GT(st["tile"]["pred_paths"].get<int>(), 0) << st.dump(1);
+  EXPECT_GT(st["tile"]["base_paths"].get<int>(), 0) << st.dump(1);
+  // Every line over its casing, in the colours preview.h declares.
+  EXPECT_EQ(
+      st["tile"]["casing_paths"].get<int>(),
+      st["tile"]["gt_paths"].get<int>() + st["tile"]["pred_paths"].get<int>() + st["tile"]["base_paths"].get<int>());
+  EXPECT_EQ(st["tile"]["strokes"]["gt"], css_rgb(preview::kGtEdge)) << st.dump(1);
+  EXPECT_EQ(st["tile"]["strokes"]["pred"], css_rgb(preview::kPredEdge)) << st.dump(1);
+  EXPECT_EQ(st["tile"]["strokes"]["baseline"], css_rgb(preview::kBaselineEdge)) << st.dump(1);
+  EXPECT_EQ(st["tile"]["strokes"]["casing"], css_rgb(preview::kOverlayCasing)) << st.dump(1);
+  // The table shows the Δ columns and hides the baseline's own values until chosen.
+  const auto shown = st["table_columns"].get<std::vector<std::string>>();
+  const nlohmann::json summary = read_data_script(out / "data/summary.js");
+  EXPECT_EQ(st["chooser_boxes"], summary["columns"].size());
+  EXPECT_NE(std::find(shown.begin(), shown.end(), "delta.apls"), shown.end());
+  EXPECT_EQ(std::find(shown.begin(), shown.end(), "baseline.apls"), shown.end());
+  EXPECT_NE(std::find(shown.begin(), shown.end(), "apls"), shown.end());
   EXPECT_EQ(st["tile"]["layers"], 5);
   EXPECT_EQ(st["overview_tiles"], tiles["keys"].size());
   EXPECT_EQ(st["overview_regions"], 2);
   EXPECT_EQ(st["overview_buffers"], 2);
 
-  // The tile view as a picture: not blank (many colours: the LiDAR layer and the graphs).
+  // Sorted by a Δ column; the chooser's choice (#hide) shows exactly the columns not hidden.
+  r = chromium(dir / "profile3", {"--dump-dom"}, url + "#hide=f1,delta.f1&selftest=table:delta.apls");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json by_delta = selftest_of(r.out);
+  ASSERT_TRUE(by_delta.is_object()) << r.out.substr(0, 2000);
+  EXPECT_EQ(by_delta["errors"], nlohmann::json::array()) << by_delta.dump(1);
+  EXPECT_EQ(by_delta["rows"].get<std::vector<std::string>>(), expected_order(tiles, "delta.apls"));
+  const auto chosen = by_delta["table_columns"].get<std::vector<std::string>>();
+  EXPECT_EQ(chosen.size(), 2 + summary["columns"].size() - 2) << by_delta.dump(1);  // key, split; all but two
+  EXPECT_EQ(std::find(chosen.begin(), chosen.end(), "delta.f1"), chosen.end());
+  EXPECT_NE(std::find(chosen.begin(), chosen.end(), "baseline.f1"), chosen.end());
+
+  // The tile view as a picture, on the semantic layer (where the former orange prediction
+  // vanished on the road): not blank, and the prediction's own colour is on screen, drawn
+  // over its casing (OverlayColours.StandOutOnEveryLayer checks the colours themselves).
   const std::string key = st["tile"]["key"];
   const fs::path png = dir / "tile.png";
   r = chromium(dir / "profile2", {"--screenshot=" + png.string(), "--window-size=1200,800", "--hide-scrollbars"},
-               url + "#view=tile&key=" + key);
+               url + "#view=tile&layer=semantic&key=" + key);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ASSERT_TRUE(fs::is_regular_file(png)) << r.err;
-  r = run_program({"/usr/bin/python3", "-c",
-                   "import sys; from PIL import Image; im = Image.open(sys.argv[1]).convert('RGB'); "
-                   "print(len(im.getcolors(1 << 24)))",
-                   png.string()});
+  const preview::Rgb p = preview::kPredEdge;
+  r = run_program(
+      {"/usr/bin/python3", "-c",
+       "import sys; from PIL import Image; im = Image.open(sys.argv[1]).convert('RGB'); "
+       "want = tuple(int(x) for x in sys.argv[2:5]); px = im.getdata(); "
+       "print(len(im.getcolors(1 << 24)), sum(1 for c in px if max(abs(a - b) for a, b in zip(c, want)) <= 8), "
+       "sum(1 for c in px if max(c) <= 8))",
+       png.string(), std::to_string(p.r), std::to_string(p.g), std::to_string(p.b)});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_GT(std::stoi(r.out), 50) << "distinct colours in the screenshot";
+  int colours = 0, pred_px = 0, casing_px = 0;
+  ASSERT_EQ(std::sscanf(r.out.c_str(), "%d %d %d", &colours, &pred_px, &casing_px), 3) << r.out;
+  EXPECT_GT(colours, 50) << "distinct colours in the screenshot";
+  EXPECT_GT(pred_px, 50) << "pixels of the prediction's colour";
+  EXPECT_GT(casing_px, 50) << "pixels of the casing's colour";
 }
 
 // 20 000 tiles: data/tiles.js of the e2e report repeated under new keys (the table and the

@@ -3,6 +3,7 @@
 // differences, the dataset-only mode, bad inputs, determinism.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -123,6 +124,71 @@ TEST(Report, BaselineGivesPairedDifferences) {
     EXPECT_GT(row["paired_se"].get<double>(), 0.0);
     EXPECT_NEAR(row["difference"].get<double>(), row["mean"].get<double>() - row["baseline_mean"].get<double>(), 2e-6);
   }
+  // Per tile, a sortable Δ column for every metric: submission − baseline, undefined unless both are.
+  const auto& columns = summary["columns"];
+  EXPECT_NE(std::find(columns.begin(), columns.end(), "delta.apls"), columns.end());
+  EXPECT_NE(std::find(columns.begin(), columns.end(), "delta.chamfer_mean_m"), columns.end());
+  int deltas = 0;
+  for (const char* m : {"apls", "f1", "chamfer_mean_m"}) {
+    const auto& a = tiles["values"][m];
+    const auto& b = tiles["values"][std::string("baseline.") + m];
+    const auto& d = tiles["values"][std::string("delta.") + m];
+    ASSERT_EQ(d.size(), a.size()) << m;
+    for (size_t i = 0; i < a.size(); ++i) {
+      if (a[i].is_null() || b[i].is_null()) {
+        EXPECT_TRUE(d[i].is_null()) << m << " " << i;
+        continue;
+      }
+      EXPECT_NEAR(d[i].get<double>(), a[i].get<double>() - b[i].get<double>(), 2e-6) << m << " " << i;
+      ++deltas;
+    }
+  }
+  EXPECT_GT(deltas, 3);
+  // The baseline's graph for the overlay: none where it dropped the tile, its reversed edges where it reversed them.
+  const nlohmann::json dropped = read_data_script(out / "data/tile" / (sub.dropped + ".js"));
+  EXPECT_TRUE(dropped.contains("base"));
+  EXPECT_TRUE(dropped["base"].is_null());
+  const nlohmann::json reversed = read_data_script(out / "data/tile" / (sub.reversed + ".js"));
+  ASSERT_TRUE(reversed["base"].is_object());
+  EXPECT_EQ(reversed["base"]["edges"].size(), static_cast<size_t>(sub.reversed_edges));
+  EXPECT_EQ(reversed["figures"]["delta.apls"],
+            reversed["metrics"]["apls"].get<double>() - reversed["baseline"]["apls"].get<double>())
+      << reversed["figures"].dump();
+}
+
+// A rerun over an earlier report takes the layer images of tiles whose bytes (and this
+// build) did not change, and the result is the same bytes as rendering them anew.
+TEST(Report, RerunTakesTheImagesOfUnchangedTiles) {
+  TempDir dir("report_reuse");
+  const fs::path ds = e2e_dataset();
+  const PerturbedSubmission sub = perturbed_submission(dir.path());
+  const fs::path out = dir / "report";
+  report::ReportOptions options;
+  options.submission = sub.file;
+  const report::ReportResult first = report::write_report(ds, out, options);
+  ASSERT_GT(first.tiles, 1);
+  EXPECT_EQ(first.images_reused, 0);
+  const auto hashes = tree_hashes(out);
+  const report::ReportResult second = report::write_report(ds, out, options);
+  EXPECT_EQ(second.images_reused, second.tiles * 5);
+  EXPECT_EQ(tree_hashes(out), hashes);
+
+  // A tile whose fingerprint differs (its members or the build changed) is rendered again.
+  nlohmann::json fingerprints = read_json(out / "img/fingerprints.json");
+  const std::string key = fingerprints["tiles"].begin().key();
+  fingerprints["tiles"][key] = std::string(64, '0');
+  write_text(out / "img/fingerprints.json", fingerprints.dump());
+  write_text(out / "img" / (key + ".lidar.png"), "stale");
+  const report::ReportResult third = report::write_report(ds, out, options);
+  EXPECT_EQ(third.images_reused, (third.tiles - 1) * 5);
+  EXPECT_EQ(tree_hashes(out), hashes);
+
+  // A missing image, or fingerprints that are not JSON: rendered, never trusted.
+  fs::remove(out / "img" / (key + ".rgb.png"));
+  EXPECT_EQ(report::write_report(ds, out, options).images_reused, (third.tiles - 1) * 5);
+  write_text(out / "img/fingerprints.json", "{\"tiles\": [");
+  EXPECT_EQ(report::write_report(ds, out, options).images_reused, 0);
+  EXPECT_EQ(tree_hashes(out), hashes);
 }
 
 TEST(Report, DatasetOnlyHasStatsAndEveryTile) {

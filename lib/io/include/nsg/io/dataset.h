@@ -52,6 +52,9 @@ class Dataset {
   // Calls fn for every tile of `split` ("" = all) in manifest order, one shard in memory
   // at a time. Stops early when fn returns false.
   void for_each_tile(const std::string& split, const std::function<bool(const DatasetTile&)>& fn) const;
+  // The tiles of `split` ("" = all) as the manifest's shard entries count them (for a
+  // progress total; entries without a count add nothing).
+  uint64_t tile_count(const std::string& split = "") const;
   // The split names the manifest's shards carry, sorted.
   std::vector<std::string> splits() const;
   // DataError naming the manifest, the split and the splits it lists when `split` is not

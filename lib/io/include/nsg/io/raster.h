@@ -1,11 +1,13 @@
 #pragma once
 // In-memory rasters and their GeoTIFF encoding (docs/dataset-format.md). libtiff and libgeotiff
 // stay behind this interface.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace nsg::io {
@@ -40,7 +42,15 @@ struct GeoRef {
 struct GeoTiffOptions {
   int deflate_level = 1;         // 1 (fast) … 9 (small)
   std::optional<double> nodata;  // written as the GDAL_NODATA tag when set
-  void validate() const;         // throws ConfigError
+  // For a GIS (inspect layers), in GDAL's GDAL_METADATA tag as GDAL writes it: each band's
+  // description (QGIS shows it as the band's name; at most one per band) and items of the
+  // first band (e.g. CLASS_0 = road). Empty: no tag (the dataset's tiles carry none).
+  std::vector<std::string> band_descriptions;
+  std::vector<std::pair<std::string, std::string>> band_metadata;
+  // A 1-band uint8 raster's palette (value → RGB; at most 256 entries, the rest black):
+  // PhotometricInterpretation palette and a ColorMap, which QGIS and GDAL show as colours.
+  std::vector<std::array<uint8_t, 3>> color_table;
+  void validate() const;  // throws ConfigError
 };
 
 // Encodes uint8 1- or 3-band or float32 1-band rasters as a deflate GeoTIFF in memory,

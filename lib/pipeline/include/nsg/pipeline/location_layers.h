@@ -33,16 +33,19 @@ struct CameraSetup {
 };
 CameraSetup prepare_cameras(const nuscenes::Database& db, const GenerateConfig& config);
 
-// LiDAR and vehicle layers of `scenes` (empty list: empty layers).
+// LiDAR and vehicle layers of `scenes` (empty list: empty layers); `progress` (may be
+// null) advances per sweep.
 raster::LocationLayers accumulate_layers(const nuscenes::Database& db, const GenerateConfig& config,
-                                         const std::vector<nuscenes::Index>& scenes, int threads);
+                                         const std::vector<nuscenes::Index>& scenes, int threads,
+                                         Progress* progress = nullptr);
 
 // The camera layers over the cells of `rects` (RGB and mask semantics from the images;
 // lidarseg semantics laid over them); empty when the config has no camera layer. `label`
 // names the location in warnings.
 raster::ColorLayer camera_layers(const nuscenes::Database& db, const GenerateConfig& config, const CameraSetup& setup,
                                  const std::vector<nuscenes::Index>& scenes, const raster::LidarLayer& lidar,
-                                 const std::vector<raster::CellRect>& rects, int threads, const std::string& label);
+                                 const std::vector<raster::CellRect>& rects, int threads, const std::string& label,
+                                 Progress* progress = nullptr);
 
 // One window of a location's layers (inspect layers), cut like a tile: the whole chain
 // above over the location's scenes, camera layers over the window only.

@@ -35,12 +35,33 @@ struct Image {
   Rgb at(int x, int y) const;  // throws DataError outside the image
 };
 
-// Colours. Graph colours avoid the semantic palette; GT/prediction are Okabe-Ito sky blue
-// and orange, which colour-blind readers tell apart.
+// Colours. Graph colours avoid the semantic palette. The overlays compared in previews and
+// the report: ground truth in Okabe-Ito sky blue, the prediction in spring green (the
+// former orange vanished on the semantic layer's orange road and lane markings), errors in
+// magenta and yellow. The report draws each over a black casing, so every one keeps a
+// contrast of at least kOverlayMinContrast (CIE76 ΔE) on every colour of every layer's
+// palette, the line or its casing (test: OverlayColours.StandOutOnEveryLayer).
 inline constexpr Rgb kGraphEdge{0, 255, 255};
 inline constexpr Rgb kGraphNode{255, 255, 0};
 inline constexpr Rgb kGtEdge{86, 180, 233};
-inline constexpr Rgb kPredEdge{230, 159, 0};
+inline constexpr Rgb kMissedGtEdge{0, 64, 192};
+inline constexpr Rgb kPredEdge{0, 255, 128};
+inline constexpr Rgb kWrongDirectionEdge{255, 0, 255};
+inline constexpr Rgb kUnmatchedEdge{240, 228, 66};
+inline constexpr Rgb kBaselineEdge{255, 255, 255};
+inline constexpr Rgb kOverlayCasing{0, 0, 0};
+inline constexpr double kOverlayMinContrast = 40.0;
+// The report's overlays by the name its page and legend use, in drawing order.
+struct OverlayColor {
+  const char* name;   // "gt", "missed", "pred", "wrong_direction", "unmatched", "baseline"
+  const char* label;  // the legend's words
+  Rgb color;
+  bool dashed;
+};
+const std::vector<OverlayColor>& overlay_colors();
+// CIE76 colour difference (ΔE*ab, sRGB → CIELAB under D65): ~2 is just noticeable, 40 is
+// plainly another colour.
+double color_difference(Rgb a, Rgb b);
 inline constexpr Rgb kNoData{32, 32, 32};
 inline constexpr Rgb kPaper{255, 255, 255};
 inline constexpr Rgb kInk{0, 0, 0};

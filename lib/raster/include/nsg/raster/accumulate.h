@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "nsg/core/progress.h"
 #include "nsg/nuscenes/token.h"
 #include "nsg/raster/color_layer.h"
 #include "nsg/raster/lidar_layer.h"
@@ -64,9 +65,10 @@ std::vector<nuscenes::Index> scenes_at(const nuscenes::Database& db, const std::
 // accumulate_location over a subset of a location's scenes (export-cloud: one scene), with
 // `options` already checked (read through the declarations, or validate()).
 // InternalError if `scenes` is empty or spans locations (one map frame per layer): the
-// check, check_scene_list, is shared with colorize_scenes.
+// check, check_scene_list, is shared with colorize_scenes. `progress` (may be null)
+// advances by one per sweep read, from the worker threads.
 void check_scene_list(const nuscenes::Database& db, const std::vector<nuscenes::Index>& scenes);
 LocationLayers accumulate_scenes(const nuscenes::Database& db, const std::vector<nuscenes::Index>& scenes,
-                                 const RasterOptions& options, int threads);
+                                 const RasterOptions& options, int threads, Progress* progress = nullptr);
 
 }  // namespace nsg::raster

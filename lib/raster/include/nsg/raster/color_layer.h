@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "nsg/core/progress.h"
 #include "nsg/raster/lidar_layer.h"
 #include "nsg/raster/sparse_grid.h"
 
@@ -114,7 +115,7 @@ class ColorLayer {
 
  private:
   friend ColorLayer colorize_scenes(const nuscenes::Database&, const std::vector<int32_t>&, const LidarLayer&,
-                                    const std::vector<CellRect>&, const CameraOptions&, int);
+                                    const std::vector<CellRect>&, const CameraOptions&, int, Progress*);
   friend void overlay_semantics(ColorLayer&, const LidarsegLayer&, const std::vector<CellRect>&);
   double resolution_m_;
   SparseGrid<ColorCell> cells_;
@@ -132,7 +133,9 @@ ColorLayer colorize_location(const nuscenes::Database& db, const std::string& lo
                              const std::vector<CellRect>& regions, const CameraOptions& options, int threads);
 // The same over a subset of a location's scenes (scene-table rows; `lidar` from
 // accumulate_scenes of the same scenes), with `options` already checked. InternalError as accumulate_scenes.
+// `progress` (may be null) advances by the images of each chunk processed.
 ColorLayer colorize_scenes(const nuscenes::Database& db, const std::vector<int32_t>& scenes, const LidarLayer& lidar,
-                           const std::vector<CellRect>& regions, const CameraOptions& options, int threads);
+                           const std::vector<CellRect>& regions, const CameraOptions& options, int threads,
+                           Progress* progress = nullptr);
 
 }  // namespace nsg::raster

@@ -24,6 +24,7 @@ struct ReportOptions {
   std::filesystem::path schemas;     // schemas folder ("" = installed/source)
   int threads = 1;                   // 0 = all cores; the bytes written do not depend on it
   int overview_max_px = 1600;        // longest side of a location's background image
+  bool progress = false;             // a progress line over the tiles on stderr (the CLI's)
   void validate() const;             // throws ConfigError
 };
 
@@ -34,11 +35,14 @@ struct ReportResult {
   std::string rejected;  // the file the issues are about
   int64_t tiles = 0;
   int64_t images = 0;
-  int64_t bytes = 0;  // total size of the folder written
+  int64_t images_reused = 0;  // of `images`: taken from the earlier report at `out` (tiles unchanged)
+  int64_t bytes = 0;          // total size of the folder written
 };
 
 // Writes the report of `dataset` to `out`. `out` must not exist, or be an earlier report
-// (it is replaced whole). Throws IoError / ParseError / DataError naming the file for bad
+// (it is replaced whole; the layer images of tiles whose bytes did not change are taken
+// from it instead of being rendered again, kept apart by a fingerprint of the tile's
+// members and of this build). Throws IoError / ParseError / DataError naming the file for bad
 // inputs (unreadable dataset, missing shards, malformed tiles), ConfigError for options.
 ReportResult write_report(const std::filesystem::path& dataset, const std::filesystem::path& out,
                           const ReportOptions& options);

@@ -26,6 +26,7 @@ struct DatasetValidateOptions {
   std::filesystem::path schemas_dir;  // "" = find_schemas_dir()
   std::string checks = "*";           // see check_selected
   double length_tolerance_m = 1e-6;   // slack on graph.edge_length and position checks
+  bool progress = false;              // a progress line per shard on stderr (the CLI's)
   // Throws ConfigError for an empty root or a pattern that selects no check.
   void validate() const;
 };
