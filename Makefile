@@ -3,7 +3,7 @@ BUILD   ?= build
 JOBS    ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build test demo ablation baselines bench fuzz clean format
+.PHONY: all deps configure build test demo ablation baselines bench fuzz clean format pretrained
 
 all: build
 
@@ -34,6 +34,10 @@ baselines: build
 
 bench: build
 	@bash scripts/bench.sh $(BUILD)
+
+# Retrains the LaneGraphNet shipped in samples/models/ (scripts/pretrained_model.sh).
+pretrained: build
+	@bash scripts/pretrained_model.sh $(BUILD)
 
 # libFuzzer targets in a clang build (scripts/fuzz.sh); FUZZ_SECONDS=10 for a CI smoke run.
 FUZZ_BUILD   ?= build-fuzz
