@@ -102,6 +102,21 @@ const char* metric_name(int metric) {
   NSG_CHECK(metric >= 0 && metric < kMetricCount, InternalError, "", "", "metric index");
   return kMetricNames[metric];
 }
+const std::vector<HeadlineMetric>& headline_metrics() {
+  static const std::vector<HeadlineMetric> kHeadline = {
+      {kApls, "APLS", false, 4},
+      {kAplsDirected, "APLS dir.", false, 4},
+      {kAplsStrict, "APLS strict", false, 4},
+      {kDirectionAccuracy, "Dir. acc.", false, 4},
+      {kF1, "F1", false, 4},
+      {kIou, "IoU", false, 4},
+      {kChamferMeanM, "mean Chamfer (m)", true, 3},
+      {kGeoF1, "GEO F1", false, 4},
+      {kTopoF1, "TOPO F1", false, 4},
+  };
+  return kHeadline;
+}
+
 const char* count_name(int count) {
   NSG_CHECK(count >= 0 && count < kCountCount, InternalError, "", "", "count index");
   return kCountNames[count];

@@ -143,13 +143,13 @@ std::string report_to_markdown(const ScoreReport& r) {
   std::ostringstream out;
   // The headline leaves out the summed Chamfer (m²: it grows with a tile's nodes); the
   // table of every metric below keeps it.
-  out << "| APLS ↑ | APLS dir. ↑ | APLS strict ↑ | Dir. acc. ↑ | F1 ↑ | IoU ↑ "
-         "| mean Chamfer (m) ↓ | GEO F1 ↑ | TOPO F1 ↑ |\n"
-      << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
-      << "| " << md_value(a.mean[kApls]) << " | " << md_value(a.mean[kAplsDirected]) << " | "
-      << md_value(a.mean[kAplsStrict]) << " | " << md_value(a.mean[kDirectionAccuracy]) << " | "
-      << md_value(a.mean[kF1]) << " | " << md_value(a.mean[kIou]) << " | " << md_value(a.mean[kChamferMeanM], 3)
-      << " | " << md_value(a.mean[kGeoF1]) << " | " << md_value(a.mean[kTopoF1]) << " |\n\n";
+  std::string head = "|", rule = "|", values = "|";
+  for (const HeadlineMetric& h : headline_metrics()) {
+    head.append(" ").append(h.label).append(h.lower_is_better ? " ↓ |" : " ↑ |");
+    rule += "---:|";
+    values.append(" ").append(md_value(a.mean[h.metric], h.digits)).append(" |");
+  }
+  out << head << "\n" << rule << "\n" << values << "\n\n";
   out << "Macro means over " << a.n_tiles << " tiles (metrics v" << kMetricsVersion << "); " << a.n_missing_predictions
       << " missing predictions scored as empty, " << a.n_extra_predictions << " extra keys ignored. Pooled: F1 "
       << md_value(a.pooled_f1) << ", IoU " << md_value(a.pooled_iou) << ", GEO P/R/F1 "

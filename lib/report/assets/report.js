@@ -188,11 +188,14 @@
       if (base) head.push('baseline', 'difference', 'paired Δ', '± SE', 'pairs');
       const t = el('table', { id: 'summary-table' }, el('tr', {}, ...head.map((h, i) => el('th', { class: i ? '' : 'key', text: h }))));
       for (const r of s.summary) {
-        const cells = [el('td', { class: 'key', text: r.metric }), el('td', { text: fmt(r.mean) }),
+        // Headline metrics by their leaderboard names (the id beside), then every other by its id.
+        const name = r.label ? el('td', { class: 'key' }, el('strong', { text: r.label }), el('span', { class: 'muted', text: ' ' + r.metric }))
+          : el('td', { class: 'key', text: r.metric });
+        const cells = [name, el('td', { text: fmt(r.mean) }),
           el('td', { text: fmt(r.n_defined) }), el('td', { text: fmt(r.n_undefined) })];
         if (base) cells.push(el('td', { text: fmt(r.baseline_mean) }), el('td', { text: fmt(r.difference) }),
           el('td', { text: fmt(r.paired_mean) }), el('td', { text: fmt(r.paired_se) }), el('td', { text: fmt(r.paired_n) }));
-        t.append(el('tr', {}, ...cells));
+        t.append(el('tr', { class: r.label ? 'headline' : '' }, ...cells));
       }
       main.append(el('div', { class: 'table-wrap' }, t));
       const facts = el('table', { class: 'facts' });

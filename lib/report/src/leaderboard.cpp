@@ -20,25 +20,7 @@ using nlohmann::ordered_json;
 
 constexpr const char* kMarker = "leaderboard.json";  // what makes a folder an earlier leaderboard
 
-// The table's metric columns: aggregate means, with the direction that is better.
-struct Column {
-  const char* name;
-  const char* label;
-  const char* better;  // "higher" or "lower"
-  int digits;
-};
-constexpr Column kColumns[] = {
-    {"apls", "APLS", "higher", 4},
-    {"apls_directed", "APLS dir.", "higher", 4},
-    {"apls_strict", "APLS strict", "higher", 4},
-    {"direction_accuracy", "Dir. acc.", "higher", 4},
-    {"f1", "F1", "higher", 4},
-    {"iou", "IoU", "higher", 4},
-    // The mean Chamfer distance, not the summed m² one (it grows with a tile's nodes).
-    {"chamfer_mean_m", "mean Chamfer m", "lower", 3},
-    {"geo_f1", "GEO F1", "higher", 4},
-    {"topo_f1", "TOPO F1", "higher", 4},
-};
+// The table's metric columns are the headline metrics' aggregate means (metrics::headline_metrics).
 
 // A report from the folder, read as a stranger's file (bounded like a submission).
 json read_report(const fs::path& file, std::string* why) {
@@ -73,9 +55,10 @@ ordered_json entry_of(const fs::path& file, const json& report, std::string* why
     }
     const json& agg = report["aggregate"];
     ordered_json values = ordered_json::object();
-    for (const Column& c : kColumns) {
-      const json v = agg["mean"].value(c.name, json());
-      values[c.name] = v.is_number() ? v : json();
+    for (const metrics::HeadlineMetric& h : metrics::headline_metrics()) {
+      const char* name = metrics::metric_name(h.metric);
+      const json v = agg["mean"].value(name, json());
+      values[name] = v.is_number() ? v : json();
     }
     const json& toolkit = receipt.at("toolkit");
     const std::string commit = toolkit.value("git_commit", "unknown");
@@ -97,8 +80,11 @@ ordered_json entry_of(const fs::path& file, const json& report, std::string* why
 
 ordered_json columns_json() {
   ordered_json out = ordered_json::array();
-  for (const Column& c : kColumns)
-    out.push_back({{"name", c.name}, {"label", c.label}, {"better", c.better}, {"digits", c.digits}});
+  for (const metrics::HeadlineMetric& h : metrics::headline_metrics())
+    out.push_back({{"name", metrics::metric_name(h.metric)},
+                   {"label", h.label},
+                   {"better", h.lower_is_better ? "lower" : "higher"},
+                   {"digits", h.digits}});
   return out;
 }
 

@@ -43,8 +43,11 @@ namespace fs = std::filesystem;
 std::string hex(preview::Rgb c) { return strprintf("#%02x%02x%02x", c.r, c.g, c.b); }
 
 // The metrics the overview colours by and the histograms show (docs/metrics.md's headline set).
-const std::vector<std::string> kMainMetrics = {
-    "apls", "apls_directed", "direction_accuracy", "f1", "iou", "chamfer_mean_m", "geo_f1", "topo_f1"};
+std::vector<std::string> main_metrics() {
+  std::vector<std::string> out;
+  for (const metrics::HeadlineMetric& h : metrics::headline_metrics()) out.push_back(metrics::metric_name(h.metric));
+  return out;
+}
 const std::vector<std::string> kMainFigures = {"coverage_lidar", "coverage_rgb", "gt_edges", "lane_length_m"};
 
 nlohmann::ordered_json legends() {
@@ -94,10 +97,24 @@ nlohmann::json manifest_regions(const nlohmann::json& loc, const std::string& ma
 }
 
 // The summary table of a scored submission (and of the baseline, with paired differences).
+// The headline metrics first, by the names a leaderboard gives them, then every other one.
+std::vector<std::pair<int, const char*>> summary_order() {
+  std::vector<std::pair<int, const char*>> order;
+  std::vector<bool> listed(metrics::kMetricCount, false);
+  for (const metrics::HeadlineMetric& h : metrics::headline_metrics()) {
+    order.emplace_back(h.metric, h.label);
+    listed[h.metric] = true;
+  }
+  for (int m = 0; m < metrics::kMetricCount; ++m)
+    if (!listed[m]) order.emplace_back(m, nullptr);
+  return order;
+}
+
 nlohmann::ordered_json score_rows(const metrics::ScoreReport& s, const metrics::ScoreReport* base) {
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  for (int m = 0; m < metrics::kMetricCount; ++m) {
+  for (const auto& [m, label] : summary_order()) {
     nlohmann::ordered_json row = {{"metric", metrics::metric_name(m)},
+                                  {"label", label ? nlohmann::ordered_json(label) : nlohmann::ordered_json(nullptr)},
                                   {"mean", rounded(s.aggregate.mean[m])},
                                   {"n_defined", s.aggregate.n_defined[m]},
                                   {"n_undefined", s.aggregate.n_undefined[m]}};
@@ -173,7 +190,7 @@ nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::s
   doc["layers"] = std::vector<std::string>(std::begin(preview::kTileLayerNames), std::end(preview::kTileLayerNames));
   doc["legends"] = legends();
   doc["columns"] = table_columns(scores != nullptr, baseline != nullptr);
-  doc["main"] = scores ? kMainMetrics : kMainFigures;
+  doc["main"] = scores ? main_metrics() : kMainFigures;
   doc["lower_is_better"] = {"chamfer_px2",           "chamfer_m2",      "chamfer_mean_m", "missing_prediction",
                             "wrong_direction_edges", "unmatched_edges", "missed_gt_edges"};
   if (scores) {

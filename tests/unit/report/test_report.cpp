@@ -54,6 +54,18 @@ TEST(Report, SubmissionReportMatchesScoreAndMarksDefects) {
   EXPECT_EQ(summary["mode"], "submission");
   EXPECT_EQ(summary["split"], "test");
   EXPECT_EQ(summary["score"]["n_missing_predictions"], 1);
+  // The headline metrics come first, named as the leaderboard and `score --format md` name
+  // them; the summed Chamfer (m²) is none of them.
+  ASSERT_EQ(summary["summary"].size(), 26u);
+  EXPECT_EQ(summary["summary"][0]["metric"], "apls");
+  EXPECT_EQ(summary["summary"][0]["label"], "APLS");
+  EXPECT_EQ(summary["summary"][1]["label"], "APLS dir.");
+  for (const auto& row : summary["summary"]) {
+    const bool summed = row["metric"] == "chamfer_m2" || row["metric"] == "chamfer_px2";
+    if (summed) {
+      EXPECT_TRUE(row["label"].is_null()) << row;
+    }
+  }
   for (const auto& row : summary["summary"]) {
     const nlohmann::json& mean = score["aggregate"]["mean"][row["metric"].get<std::string>()];
     if (mean.is_null()) EXPECT_TRUE(row["mean"].is_null()) << row;

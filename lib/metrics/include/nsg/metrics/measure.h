@@ -69,6 +69,17 @@ enum Count : int {
 const char* metric_name(int metric);
 const char* count_name(int count);
 
+// The headline metrics as a leaderboard names them, in display order, declared once for
+// `score --format md`, the report's summary and the leaderboard page. The summed Chamfer
+// (m², it grows with a tile's nodes) is no headline; its mean per matched node is.
+struct HeadlineMetric {
+  int metric;         // a Metric
+  const char* label;  // "APLS dir."
+  bool lower_is_better;
+  int digits;  // decimals shown
+};
+const std::vector<HeadlineMetric>& headline_metrics();
+
 using MetricValues = std::array<std::optional<double>, kMetricCount>;
 using Counts = std::array<int64_t, kCountCount>;
 
