@@ -21,6 +21,7 @@ import numpy as np
 import torch
 
 from .cli_help import DefaultsHelpFormatter
+from ..progress import Progress
 from .. import _nsgraph
 from ..dataset import Dataset
 from ..scoring import score_tile
@@ -69,13 +70,11 @@ def calibrate(model_path, dataset, split="train", every=4, threads=1, progress=F
     tiles = Dataset(dataset, split)
     picked = range(0, len(tiles), every)
     candidates = []
-    for n, i in enumerate(picked):
-        tile = tiles[i]
-        candidates.append((tile, *tile_candidates(dense, pairs_head, tile)))
-        if progress:
-            sys.stderr.write(f"\rcalibrate: {n + 1}/{len(picked)} tiles ")
-    if progress:
-        sys.stderr.write("\n")
+    with Progress("calibrate tiles", len(picked), enabled=progress) as bar:
+        for i in picked:
+            tile = tiles[i]
+            candidates.append((tile, *tile_candidates(dense, pairs_head, tile)))
+            bar.advance()
     results = evaluate(candidates, SHIFTS)
     best = max(SHIFTS, key=lambda s: (round(sum(results[s]), 9), -abs(s)))
     state["head"][LAST_BIAS] = state["head"][LAST_BIAS] + best

@@ -12,6 +12,7 @@ import numpy as np
 import torch
 
 from .cli_help import DefaultsHelpFormatter
+from ..progress import Progress
 from .. import _nsgraph
 from ..dataset import Dataset
 from ..scoring import write_submission
@@ -51,13 +52,11 @@ def predict_split(model_path, dataset, split, threads=2, progress=False):
     dense, pairs_head = load(model_path)
     tiles = Dataset(dataset, split)
     out = {}
-    for i in range(len(tiles)):
-        tile = tiles[i]
-        out[tile["key"]] = predict_tile(dense, pairs_head, tile)
-        if progress:
-            sys.stderr.write(f"\rpredict {split} {i + 1}/{len(tiles)} ")
-    if progress:
-        sys.stderr.write("\n")
+    with Progress(f"predict {split}", len(tiles), enabled=progress) as bar:
+        for i in range(len(tiles)):
+            tile = tiles[i]
+            out[tile["key"]] = predict_tile(dense, pairs_head, tile)
+            bar.advance()
     return out
 
 

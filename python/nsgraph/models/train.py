@@ -18,6 +18,7 @@ import torch
 from torch.nn import functional as F
 
 from .cli_help import DefaultsHelpFormatter
+from ..progress import Progress
 from .. import _nsgraph
 from ..dataset import LAYERS
 from ..torch import Augment, TorchDataset, _transform
@@ -148,30 +149,6 @@ def losses(net, head, batch, use_own_anchors):
     return out
 
 
-class ProgressBar:
-    """One line on stderr: epoch, step, losses, elapsed and remaining time."""
-
-    def __init__(self, total, enabled=True):
-        self.total, self.enabled, self.t0, self.done = total, enabled, time.monotonic(), 0
-
-    def update(self, epoch, values):
-        self.done += 1
-        if not self.enabled:
-            return
-        s = time.monotonic() - self.t0
-        eta = s / self.done * (self.total - self.done)
-        text = " ".join(f"{k} {v:.3f}" for k, v in values.items())
-        width = 24
-        fill = int(width * self.done / self.total)
-        sys.stderr.write(f"\rtrain [{'#' * fill}{'.' * (width - fill)}] {self.done}/{self.total} epoch {epoch} "
-                         f"{text}  {s:.0f}s, ~{eta:.0f}s left ")
-        sys.stderr.flush()
-
-    def close(self):
-        if self.enabled:
-            sys.stderr.write("\n")
-
-
 def save(path, state):
     tmp = path + ".tmp"
     torch.save(state, tmp)
@@ -250,7 +227,8 @@ def main(argv=None):
         sched.load_state_dict(c["scheduler"])
         torch.set_rng_state(c["torch_rng"])
         start_epoch, step, seconds = c["epoch"], c["step"], c["seconds"]
-    bar = ProgressBar(total - step, enabled=not a.quiet)
+    # Steps of this run (a resumed run counts from where it starts); losses as the detail.
+    bar = Progress("train steps", total - step, enabled=not a.quiet)
     t0 = time.monotonic()
     last_epoch = a.epochs if a.stop_after <= 0 else min(a.epochs, start_epoch + a.stop_after)
     for epoch in range(start_epoch, last_epoch):
@@ -272,11 +250,12 @@ def main(argv=None):
             opt.step()
             sched.step()
             step += 1
-            bar.update(epoch, {k: float(v) for k, v in parts.items()})
+            bar.set_detail(f"epoch {epoch} " + " ".join(f"{k} {float(v):.3f}" for k, v in parts.items()))
+            bar.advance()
         save(ckpt_path, {"net": net.state_dict(), "head": head.state_dict(), "optimizer": opt.state_dict(),
                          "scheduler": sched.state_dict(), "torch_rng": torch.get_rng_state(), "epoch": epoch + 1,
                          "step": step, "seconds": seconds + time.monotonic() - t0})
-    bar.close()
+    bar.finish()
     seconds += time.monotonic() - t0
     if last_epoch < a.epochs and step < total:
         if not a.quiet:
