@@ -32,6 +32,7 @@ int run_preview(PreviewCliOptions o) {
 
 void add_preview_command(CLI::App& parent, Context& ctx) {
   auto opts = std::make_shared<PreviewCliOptions>();
+  opts->lib.progress = true;
   CLI::App* cmd = parent.add_subcommand("preview", "PNG previews of a dataset or a submission for checking by eye");
   cmd->add_option("dataset,--dataset", opts->dataset, "Dataset folder (manifest.json)")->required();
   cmd->add_option("--out", opts->out, "Folder for the PNGs")->required();

@@ -140,6 +140,7 @@ int run_score(const ScoreCliOptions& o) {
 
 void add_score_command(CLI::App& parent, Context& ctx) {
   auto opts = std::make_shared<ScoreCliOptions>();
+  opts->lib.score.progress = true;
   CLI::App* cmd = parent.add_subcommand("score", "Score a submission against a ground truth (docs/metrics.md v1)");
   cmd->add_option("--ground-truth", opts->ground_truth,
                   "Dataset folder (its tiles of --split) or a file in the submission format")

@@ -9,6 +9,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
 #include "nsg/core/parallel.h"
+#include "nsg/core/progress.h"
 #include "nsg/core/strings.h"
 
 namespace nsg::metrics {
@@ -51,6 +52,7 @@ ScoreReport score(const GraphSet& gt, const GraphSet& pred, const ScoreOptions& 
   std::atomic<int64_t> scored{0};
   // Tiles beyond the search work limit, reported in key order whichever thread met them.
   std::vector<std::optional<SearchWorkExceeded>> over_work(keys.size());
+  Progress bar("score tiles", keys.size(), options.progress);
   parallel_for(keys.size(), options.threads, [&](size_t k) {
     const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
     if (over_time || (options.max_seconds > 0 && elapsed.count() >= options.max_seconds)) {
@@ -67,7 +69,9 @@ ScoreReport score(const GraphSet& gt, const GraphSet& pred, const ScoreOptions& 
       over_work[k] = e;
     }
     ++scored;
+    bar.advance();
   });
+  bar.finish();
   NSG_CHECK(!over_time, ConfigError, "", "--max-seconds",
             strprintf("a run that scores its %zu tiles within %g s (%lld scored when the budget ran out); raise "
                       "--max-seconds, or 0 for no limit",

@@ -5,6 +5,7 @@
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
+#include "nsg/core/progress.h"
 #include "nsg/core/strings.h"
 #include "nsg/metrics/io.h"
 #include "nsg/validate/submission.h"
@@ -69,7 +70,10 @@ metrics::MetricParams params_of(const io::DatasetTile& t) {
 
 void write_shard_mosaics(const io::Dataset& ds, const fs::path& out, const PreviewOptions& o,
                          std::vector<fs::path>& written) {
-  for (const auto& shard : selected_shards(ds, o)) {
+  const auto shards = selected_shards(ds, o);
+  Progress bar("preview shards", shards.size(), o.progress);
+  for (const auto& shard : shards) {
+    bar.advance();
     std::vector<io::DatasetTile> tiles = ds.read_shard(shard);
     if (tiles.empty()) continue;
     if (static_cast<int>(tiles.size()) > o.max_tiles) tiles.resize(o.max_tiles);
@@ -106,11 +110,17 @@ void write_submission_mosaic(const io::Dataset& ds, const fs::path& out, const P
   const auto shards = selected_shards(ds, o);
   // Pass 1: scores of every tile (graphs only), to choose the tiles shown.
   std::vector<metrics::TileMeasurement> scored;
+  uint64_t total = 0;  // the manifest's tile counts of the shards read
+  for (const auto& shard : shards)
+    if (const auto n = shard.find("tiles"); n != shard.end() && n->is_number_unsigned()) total += n->get<uint64_t>();
+  Progress bar("preview scoring tiles", total, o.progress);
   for (const auto& shard : shards)
     for (const auto& t : ds.read_shard(shard)) {
       const auto p = pred.find(t.key);
       scored.push_back(metrics::measure(t.key, gt_graph(t), p == pred.end() ? nullptr : &p->second, params_of(t)));
+      bar.advance();
     }
+  bar.finish();
   NSG_CHECK(!scored.empty(), DataError, (ds.root() / "manifest.json").string(), o.split, "tiles to compare");
   if (!o.sort.empty()) scored = worst_first(std::move(scored), o.sort);
   log::info(strprintf("%zu tile(s) scored; showing %s", scored.size(),

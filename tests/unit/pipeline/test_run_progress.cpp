@@ -65,12 +65,18 @@ TEST(RunProgress, DatasetCommandsReportTheirTilesOffATerminal) {
   const fs::path ds = test::e2e_dataset();
   const nlohmann::json manifest = test::read_json(ds / "manifest.json");
   size_t tiles = 0, test_tiles = 0;
+  std::string test_key;
   for (const auto& shard : manifest["shards"]) {
     tiles += shard["tiles"].get<size_t>();
-    if (shard["split"] == "test") test_tiles += shard["tiles"].get<size_t>();
+    if (shard["split"] != "test") continue;
+    test_tiles += shard["tiles"].get<size_t>();
+    test_key = shard["first_key"];
   }
   const size_t shards = manifest["shards"].size();
   test::TempDir tmp("dataset_progress");
+  // One empty graph of a test tile: the rest of the split is scored as missing.
+  test::write_text(tmp / "sub.json",
+                   R"({"schema_version": "1", "tiles": {")" + test_key + R"(": {"nodes": [], "edges": []}}})");
   struct Case {
     std::vector<std::string> args;
     std::string line;
@@ -80,6 +86,13 @@ TEST(RunProgress, DatasetCommandsReportTheirTilesOffATerminal) {
       {{"validate", "--dataset", ds.string()}, strprintf("validate shards: %zu/%zu (100%%)", shards, shards)},
       {{"report", "--dataset", ds.string(), "--split", "test", "--out", (tmp / "report").string()},
        strprintf("report tiles: %zu/%zu (100%%)", test_tiles, test_tiles)},
+      {{"score", "--ground-truth", ds.string(), "--submission", (tmp / "sub.json").string()},
+       strprintf("score tiles: %zu/%zu (100%%)", test_tiles, test_tiles)},
+      {{"preview", "--dataset", ds.string(), "--out", (tmp / "previews").string()},
+       strprintf("preview shards: %zu/%zu (100%%)", shards, shards)},
+      {{"preview", "--dataset", ds.string(), "--submission", (tmp / "sub.json").string(), "--out",
+        (tmp / "overlay").string()},
+       strprintf("preview scoring tiles: %zu/%zu (100%%)", test_tiles, test_tiles)},
   };
   for (const Case& c : cases) {
     const test::CommandResult loud = test::run_nsgraph(c.args);

@@ -19,6 +19,7 @@ struct ScoreOptions {
   // is bounded by the limits; a run of many is bounded by this): checked before each tile,
   // so a run stops within one tile's time per thread of it. 0 = none.
   double max_seconds = 3600;
+  bool progress = false;  // a progress line over the tiles on stderr (the CLI's); no output depends on it
   void validate() const;
 };
 
