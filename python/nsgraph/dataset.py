@@ -7,6 +7,9 @@ from . import _nsgraph
 # A tile's members as the C++ library declares them (io/tile_members.h): name, file,
 # raster, dtype, bands, unit, nodata, coverage_bit, description.
 TILE_MEMBERS = _nsgraph.TILE_MEMBERS
+# The semantic layer's classes, id order: {"id", "name", "color"}; SEMANTIC_VOID = no class.
+SEMANTIC_CLASSES = _nsgraph.SEMANTIC_CLASSES
+SEMANTIC_VOID = _nsgraph.SEMANTIC_VOID
 LAYERS = {m["name"]: m for m in TILE_MEMBERS if m["raster"]}
 # The input layers (every raster but the coverage flags, which are always read).
 MODALITIES = tuple(name for name in LAYERS if name != "coverage")

@@ -7,6 +7,7 @@
 #include "bindings.h"
 #include "convert.h"
 #include "nsg/core/error.h"
+#include "nsg/core/semantic_classes.h"
 #include "nsg/core/strings.h"
 #include "nsg/io/tile_graph.h"
 #include "nsg/io/tile_members.h"
@@ -117,10 +118,25 @@ py::dict to_py(DecodedTile&& t) {
   return d;
 }
 
+// The semantic layer's classes in id order: [{"id", "name", "color"}] (nsg/core/semantic_classes.h).
+py::list semantic_classes_to_py() {
+  py::list out;
+  for (const SemanticClassInfo& c : kSemanticClasses) {
+    py::dict d;
+    d["id"] = static_cast<int>(c.id);
+    d["name"] = std::string(c.name);
+    d["color"] = py::make_tuple(c.color[0], c.color[1], c.color[2]);
+    out.append(d);
+  }
+  return out;
+}
+
 }  // namespace
 
 void bind_dataset(py::module_& m) {
   m.attr("TILE_MEMBERS") = tile_members_to_py();
+  m.attr("SEMANTIC_CLASSES") = semantic_classes_to_py();
+  m.attr("SEMANTIC_VOID") = static_cast<int>(kSemanticVoid);
   py::class_<io::SplitIndex>(m, "SplitIndex",
                              "Random access to the tiles of one split (tar shards indexed once per process).")
       .def(py::init([](const std::string& root, const std::string& split) {

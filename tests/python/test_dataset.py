@@ -168,5 +168,22 @@ class DatasetTest(unittest.TestCase):
         np.testing.assert_array_equal(again[0]["rgb"], ds[0]["rgb"])
 
 
+
+
+class SemanticClassesTest(unittest.TestCase):
+    def test_the_one_table_is_the_samples_file_and_the_networks_channels(self):
+        # nsg/core/semantic_classes.h, exported by the extension: the same as the samples
+        # file users read, and the network's one-hot channel count.
+        path = os.path.join(os.environ["NSG_SOURCE_DIR"], "samples", "semantic-classes.json")
+        with open(path) as f:
+            doc = json.load(f)
+        self.assertEqual(nsgraph.SEMANTIC_VOID, doc["void_id"])
+        self.assertEqual([(c["id"], c["name"], tuple(c["color"])) for c in nsgraph.SEMANTIC_CLASSES],
+                         [(c["id"], c["name"], tuple(c["color"])) for c in doc["classes"]])
+        from nsgraph.models.lanegraphnet import DIRECTION_CLASSES, INPUTS
+        self.assertEqual(INPUTS["semantic"], len(doc["classes"]))
+        self.assertEqual(DIRECTION_CLASSES, 19)
+
+
 if __name__ == "__main__":
     unittest.main()

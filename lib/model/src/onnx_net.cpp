@@ -8,6 +8,7 @@
 #include "forest.h"
 #include "nsg/core/error.h"
 #include "nsg/core/progress.h"
+#include "nsg/core/semantic_classes.h"
 #include "nsg/model/direction.h"
 
 namespace nsg::model {
@@ -16,8 +17,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int kSemanticClasses = 14;  // samples/semantic-classes.json
-constexpr int kTileMultiple = 64;     // the pyramid's largest pool, 16 cells of 4 px
+constexpr int kSemanticClasses = kSemanticClassCount;  // one-hot channels (nsg/core/semantic_classes.h)
+constexpr int kTileMultiple = 64;                      // the pyramid's largest pool, 16 cells of 4 px
 
 cv::Mat blob(int channels, int rows, int cols) {
   const int sizes[4] = {1, channels, rows, cols};

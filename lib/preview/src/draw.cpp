@@ -11,24 +11,6 @@
 
 namespace nsg::preview {
 
-namespace {
-
-struct SemanticClass {
-  const char* name;
-  Rgb color;
-};
-// Copy of samples/semantic-classes.json (a test keeps them equal): the library must not
-// depend on finding the source tree at run time.
-constexpr SemanticClass kSemanticClasses[kSemanticClassCount] = {
-    {"road", {200, 100, 50}},       {"lane_marking", {230, 120, 10}}, {"crosswalk", {250, 250, 120}},
-    {"sidewalk", {255, 220, 200}},  {"curb", {200, 49, 254}},         {"terrain", {255, 0, 0}},
-    {"vegetation", {107, 142, 35}}, {"building", {70, 70, 70}},       {"car", {0, 0, 142}},
-    {"truck_bus", {0, 60, 100}},    {"person", {220, 20, 60}},        {"two_wheeler", {119, 11, 32}},
-    {"pole_sign", {220, 220, 0}},   {"sky_other", {70, 130, 180}},
-};
-
-}  // namespace
-
 Rgb Image::at(int x, int y) const {
   NSG_CHECK(x >= 0 && y >= 0 && x < width && y < height, DataError, "", strprintf("pixel (%d, %d)", x, y),
             strprintf("inside the %d x %d image", width, height));
@@ -47,12 +29,13 @@ std::array<double, 2> Overview::to_image(double x_m, double y_m) const {
 
 Rgb semantic_color(int class_id) {
   if (class_id < 0 || class_id >= kSemanticClassCount) return kNoData;
-  return kSemanticClasses[class_id].color;
+  const auto& c = nsg::kSemanticClasses[class_id].color;
+  return {c[0], c[1], c[2]};
 }
 
 const char* semantic_name(int class_id) {
   if (class_id < 0 || class_id >= kSemanticClassCount) return "";
-  return kSemanticClasses[class_id].name;
+  return nsg::kSemanticClasses[class_id].name.data();  // a literal: NUL-terminated
 }
 
 Rgb split_color(const std::string& split) {

@@ -13,9 +13,11 @@ namespace nsg::segment {
 namespace fs = std::filesystem;
 
 const std::vector<std::string>& class_names() {
-  static const std::vector<std::string> names = {"road",    "lane_marking", "crosswalk", "sidewalk", "curb",
-                                                 "terrain", "vegetation",   "building",  "car",      "truck_bus",
-                                                 "person",  "two_wheeler",  "pole_sign", "sky_other"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const SemanticClassInfo& c : kSemanticClasses) out.emplace_back(c.name);
+    return out;
+  }();
   return names;
 }
 

@@ -187,26 +187,6 @@ SemanticClass ground_class(GroundMaterial material) {
   return SemanticClass::kVoid;
 }
 
-const std::array<SemanticClassInfo, 14>& semantic_classes() {
-  static const std::array<SemanticClassInfo, 14> classes = {{
-      {0, "road", {200, 100, 50}},
-      {1, "lane_marking", {230, 120, 10}},
-      {2, "crosswalk", {250, 250, 120}},
-      {3, "sidewalk", {255, 220, 200}},
-      {4, "curb", {200, 49, 254}},
-      {5, "terrain", {255, 0, 0}},
-      {6, "vegetation", {107, 142, 35}},
-      {7, "building", {70, 70, 70}},
-      {8, "car", {0, 0, 142}},
-      {9, "truck_bus", {0, 60, 100}},
-      {10, "person", {220, 20, 60}},
-      {11, "two_wheeler", {119, 11, 32}},
-      {12, "pole_sign", {220, 220, 0}},
-      {13, "sky_other", {70, 130, 180}},
-  }};
-  return classes;
-}
-
 CameraImage render_camera(const SceneSnapshot& scene, const geometry::Rigid3& global_from_camera,
                           const Eigen::Matrix3d& intrinsic, const CameraSimOptions& options, Rng& rng) {
   options.validate();

@@ -23,8 +23,8 @@ from .. import _nsgraph
 
 STRIDE = 4                      # output cell = 4 × 4 px (0.8 m)
 TILE_MULTIPLE = 64              # the pyramid's largest pool (16 cells) must divide the map
-SEMANTIC_CLASSES = 14           # samples/semantic-classes.json
-DIRECTION_CLASSES = 19          # 18 bins of 20° + background (lib/model direction.h)
+SEMANTIC_CLASSES = len(_nsgraph.SEMANTIC_CLASSES)  # one-hot channels (nsg/core/semantic_classes.h)
+DIRECTION_CLASSES = _nsgraph.DIRECTION_CLASSES      # 18 bins of 20° + background (lib/model direction.h)
 PAIR_FEATURES = 16              # channels of the pair-feature map
 SEGMENT_SAMPLES = 5             # samples along a pair's segment, both ends included
 INPUTS = {"lidar": 2, "rgb": 3, "semantic": SEMANTIC_CLASSES, "vehicle": 3}

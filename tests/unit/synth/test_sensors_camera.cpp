@@ -263,7 +263,8 @@ TEST(CameraSim, FullSizeTimingOnSmallCity) {
   for (uint8_t cls : image.classes) ++histogram.at(cls);
   std::cout << "[timing] (thread CPU) render 1600x900 " << ms << " ms, "
             << static_cast<double>(ground_calls) / (1600.0 * 900.0) << " ground calls per pixel; classes:";
-  for (size_t c = 0; c < histogram.size(); ++c) std::cout << ' ' << semantic_classes()[c].name << '=' << histogram[c];
+  for (size_t c = 0; c < histogram.size(); ++c)
+    std::cout << ' ' << nsg::kSemanticClasses[c].name << '=' << histogram[c];
   std::cout << '\n';
   EXPECT_GT(histogram[static_cast<size_t>(SemanticClass::kRoad)], 100000u);
   EXPECT_GT(histogram[static_cast<size_t>(SemanticClass::kSkyOther)], 10000u);
@@ -281,7 +282,7 @@ TEST(SemanticClasses, JsonFileMatchesTheEnumAndPalette) {
   std::set<std::array<int, 3>> colours;
   for (size_t i = 0; i < classes.size(); ++i) {
     const auto& c = classes[i];
-    const SemanticClassInfo& info = semantic_classes()[i];
+    const SemanticClassInfo& info = nsg::kSemanticClasses[i];
     EXPECT_EQ(c.at("id").get<int>(), static_cast<int>(i));
     EXPECT_EQ(info.id, i);
     EXPECT_EQ(c.at("name").get<std::string>(), std::string(info.name));

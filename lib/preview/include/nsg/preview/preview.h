@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "nsg/core/semantic_classes.h"
 #include "nsg/io/dataset.h"
 #include "nsg/metrics/graph.h"
 #include "nsg/metrics/measure.h"
@@ -69,10 +70,10 @@ inline constexpr Rgb kMapBackground{235, 235, 235};
 inline constexpr Rgb kCropOutline{0, 0, 0};
 inline constexpr double kRegionFillAlpha = 0.35;
 
-// The palette of samples/semantic-classes.json (ids 0..13); kNoData for 255 / unknown.
+// The palette of the semantic classes (nsg/core/semantic_classes.h); kNoData for 255 / unknown.
 Rgb semantic_color(int class_id);
 const char* semantic_name(int class_id);  // "" for unknown ids
-inline constexpr int kSemanticClassCount = 14;
+inline constexpr int kSemanticClassCount = nsg::kSemanticClassCount;
 // Okabe-Ito: train blue, val bluish green, test vermillion; other splits grey.
 Rgb split_color(const std::string& split);
 // What a split region's interior shows where no tile lies: split_color blended into
@@ -191,6 +192,7 @@ struct PreviewOptions {
   bool overview = false;     // per-location overviews instead of mosaics
   std::string submission;    // submission JSON: one GT-vs-prediction mosaic
   std::string sort;          // with a submission: a metric name, worst first ("" = key order)
+  bool progress = false;     // a progress line on stderr (the CLI's)
   MosaicOptions mosaic;
   OverviewOptions overview_options;
   void validate() const;  // throws ConfigError

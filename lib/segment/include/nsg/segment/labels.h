@@ -13,11 +13,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nsg/core/semantic_classes.h"
+
 namespace nsg::segment {
 
-inline constexpr uint8_t kVoid = 255;
+inline constexpr uint8_t kVoid = kSemanticVoid;
 
-// Our 14 class names by id (a test keeps them equal to samples/semantic-classes.json).
+// Our class names by id (nsg/core/semantic_classes.h; a test keeps them equal to
+// samples/semantic-classes.json).
 const std::vector<std::string>& class_names();
 
 // How an image becomes the model's input: resized (bilinear) to width × height, channel

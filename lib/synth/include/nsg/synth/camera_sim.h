@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "nsg/core/semantic_classes.h"
 #include "nsg/core/rng.h"
 #include "nsg/geometry/transform.h"
 #include "nsg/synth/lidar_sim.h"
@@ -52,12 +53,6 @@ std::array<uint8_t, 3> ground_base_rgb(GroundMaterial material);
 // The semantic class of a ground material.
 SemanticClass ground_class(GroundMaterial material);
 
-// The 14 classes of samples/semantic-classes.json (id = index), for palettes.
-struct SemanticClassInfo {
-  uint8_t id;
-  std::string_view name;
-  std::array<uint8_t, 3> color;
-};
-const std::array<SemanticClassInfo, 14>& semantic_classes();
+// The classes' names and palette: nsg::kSemanticClasses (nsg/core/semantic_classes.h).
 
 }  // namespace nsg::synth
