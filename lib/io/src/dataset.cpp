@@ -50,9 +50,9 @@ std::vector<nlohmann::json> Dataset::shards(const std::string& split) const {
   return out;
 }
 
-uint64_t Dataset::tile_count(const std::string& split) const {
+uint64_t tile_count(const std::vector<nlohmann::json>& shards) {
   uint64_t n = 0;
-  for (const nlohmann::json& s : shards(split)) {
+  for (const nlohmann::json& s : shards) {
     const auto it = s.find("tiles");
     if (it != s.end() && it->is_number_unsigned()) n += it->get<uint64_t>();
   }

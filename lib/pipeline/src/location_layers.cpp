@@ -94,7 +94,9 @@ WindowLayers window_layers(const nuscenes::Database& db, const GenerateConfig& c
     throw ConfigError("", bbox_record,
                       strprintf("a window of at most %lld pixels (this one has %lld; pass a smaller one)",
                                 static_cast<long long>(max_pixels), static_cast<long long>(pixels)));
-  Progress camera_progress("camera images", 0, cameras.cameras);
+  // Images are read for RGB and mask semantics; lidarseg semantics read none.
+  const raster::CameraOptions& camera = config.raster.camera;
+  Progress camera_progress("camera images", 0, cameras.cameras && (camera.rgb || camera.semantic_masks()));
   const raster::ColorLayer color =
       camera_layers(db, config, cameras, scenes, layers.lidar, {{w.col0, w.row0, w.col1, w.row1}}, threads, location,
                     &camera_progress);

@@ -110,10 +110,7 @@ void write_submission_mosaic(const io::Dataset& ds, const fs::path& out, const P
   const auto shards = selected_shards(ds, o);
   // Pass 1: scores of every tile (graphs only), to choose the tiles shown.
   std::vector<metrics::TileMeasurement> scored;
-  uint64_t total = 0;  // the manifest's tile counts of the shards read
-  for (const auto& shard : shards)
-    if (const auto n = shard.find("tiles"); n != shard.end() && n->is_number_unsigned()) total += n->get<uint64_t>();
-  Progress bar("preview scoring tiles", total, o.progress);
+  Progress bar("preview scoring tiles", io::tile_count(shards), o.progress);
   for (const auto& shard : shards)
     for (const auto& t : ds.read_shard(shard)) {
       const auto p = pred.find(t.key);

@@ -39,6 +39,10 @@ struct SplitVerification {
   bool hashed = false;  // every shard's bytes matched the manifest's sha256 and size
 };
 
+// The tiles the manifest's shard entries `shards` count ("tiles"; entries without a
+// count add nothing): a progress total, read before any shard is.
+uint64_t tile_count(const std::vector<nlohmann::json>& shards);
+
 class Dataset {
  public:
   // Reads <root>/manifest.json; IoError / ParseError naming it.
@@ -54,7 +58,7 @@ class Dataset {
   void for_each_tile(const std::string& split, const std::function<bool(const DatasetTile&)>& fn) const;
   // The tiles of `split` ("" = all) as the manifest's shard entries count them (for a
   // progress total; entries without a count add nothing).
-  uint64_t tile_count(const std::string& split = "") const;
+  uint64_t tile_count(const std::string& split = "") const { return io::tile_count(shards(split)); }
   // The split names the manifest's shards carry, sorted.
   std::vector<std::string> splits() const;
   // DataError naming the manifest, the split and the splits it lists when `split` is not

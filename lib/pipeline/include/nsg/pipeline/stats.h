@@ -28,8 +28,8 @@ struct DatasetStats {
   std::map<std::string, SplitStats> splits;  // train, val, test, and "all"
 };
 
-// Reads every tile of the dataset (one shard in memory at a time); `progress`: a line per
-// tile on a terminal, every few seconds in a log (stderr).
+// Reads every tile of the dataset (one shard in memory at a time); `progress`: a progress
+// line over the tiles on stderr (the CLI's).
 DatasetStats compute_stats(const std::filesystem::path& dataset, bool progress = false);
 nlohmann::ordered_json stats_json(const DatasetStats& stats);
 std::string stats_text(const DatasetStats& stats);

@@ -36,14 +36,22 @@ struct Image {
   Rgb at(int x, int y) const;  // throws DataError outside the image
 };
 
-// Colours. Graph colours avoid the semantic palette. The overlays compared in previews and
-// the report: ground truth in Okabe-Ito sky blue, the prediction in spring green (the
-// former orange vanished on the semantic layer's orange road and lane markings), errors in
-// magenta and yellow. The report draws each over a black casing, so every one keeps a
-// contrast of at least kOverlayMinContrast (CIE76 ΔE) on every colour of every layer's
-// palette, the line or its casing (test: OverlayColours.StandOutOnEveryLayer).
+// Colours. Graph colours avoid the semantic palette.
 inline constexpr Rgb kGraphEdge{0, 255, 255};
 inline constexpr Rgb kGraphNode{255, 255, 0};
+inline constexpr Rgb kNoData{32, 32, 32};
+inline constexpr Rgb kPaper{255, 255, 255};
+inline constexpr Rgb kInk{0, 0, 0};
+inline constexpr Rgb kMapBackground{235, 235, 235};
+inline constexpr Rgb kCropOutline{0, 0, 0};
+inline constexpr double kRegionFillAlpha = 0.35;
+
+// The overlays compared in previews and the report: ground truth in Okabe-Ito sky blue,
+// the prediction in spring green (the former orange vanished on the semantic layer's
+// orange road and lane markings), errors in magenta and yellow. The report draws each over
+// a black casing, so every one keeps a contrast of at least kOverlayMinContrast (CIE76 ΔE)
+// on every colour of every layer's palette, the line or its casing (test:
+// OverlayColours.StandOutOnEveryLayer).
 inline constexpr Rgb kGtEdge{86, 180, 233};
 inline constexpr Rgb kMissedGtEdge{0, 64, 192};
 inline constexpr Rgb kPredEdge{0, 255, 128};
@@ -63,12 +71,6 @@ const std::vector<OverlayColor>& overlay_colors();
 // CIE76 colour difference (ΔE*ab, sRGB → CIELAB under D65): ~2 is just noticeable, 40 is
 // plainly another colour.
 double color_difference(Rgb a, Rgb b);
-inline constexpr Rgb kNoData{32, 32, 32};
-inline constexpr Rgb kPaper{255, 255, 255};
-inline constexpr Rgb kInk{0, 0, 0};
-inline constexpr Rgb kMapBackground{235, 235, 235};
-inline constexpr Rgb kCropOutline{0, 0, 0};
-inline constexpr double kRegionFillAlpha = 0.35;
 
 // The palette of the semantic classes (nsg/core/semantic_classes.h); kNoData for 255 / unknown.
 Rgb semantic_color(int class_id);
