@@ -224,6 +224,12 @@ LaneModel LaneModel::load(const std::filesystem::path& path) { return load(path,
 LaneModel LaneModel::load(const std::filesystem::path& path, uint64_t max_text_bytes) {
   const std::string file = path.string();
   std::string text = read_maybe_gzip(path, std::min(max_text_bytes, kMaxModelTextBytes));
+  // OpenCV 4.6's YAML reader loops without end on a document marker run into text
+  // ("---Jformat: …", found by fuzz_model); our writer puts "---" on a line of its own.
+  const size_t marker = text.find("---");
+  NSG_CHECK(marker == std::string::npos || marker + 3 == text.size() ||
+                std::string_view(" \t\r\n").find(text[marker + 3]) != std::string_view::npos,
+            ParseError, file, "document marker", "'---' on a line of its own (as nsgraph writes models)");
   LaneModel model;
   Impl& m = *model.impl_;
   try {
