@@ -3,7 +3,7 @@ BUILD   ?= build
 JOBS    ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build test demo ablation baselines bench fuzz clean format pretrained
+.PHONY: all deps configure build test demo ablation baselines bench fuzz clean format pretrained regen
 
 all: build
 
@@ -34,6 +34,12 @@ baselines: build
 
 bench: build
 	@bash scripts/bench.sh $(BUILD)
+
+# Rewrites every file generated from the declarations: config schemas, samples/*.json
+# defaults, docs/options.md, samples/semantic-classes.json (scripts/regen.sh; ctest
+# repo/regen fails when one is stale).
+regen: build
+	@bash scripts/regen.sh $(BUILD)
 
 # Retrains the LaneGraphNet shipped in samples/models/ (scripts/pretrained_model.sh).
 pretrained: build

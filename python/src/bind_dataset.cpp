@@ -80,8 +80,9 @@ DecodedTile decode(const io::SplitIndex& index, size_t i, const std::vector<std:
   const io::DatasetTile tile = index.read(i, suffixes);
   DecodedTile out{tile.key, tile.shard, {}, {}, graph, {}};
   for (const std::string& l : layers) out.rasters.emplace_back(l, decode_layer(tile, l, index.size_px()));
-  if (graph) out.graph = io::tile_graph_from_json(tile.json("graph.json"), tile.key + ".graph.json");
-  if (meta) out.meta = tile.json("meta.json");
+  if (graph) out.graph = tile.graph();
+  // Through the checked reader and back: Python sees exactly the fields the format defines.
+  if (meta) out.meta = nlohmann::json(io::tile_meta_to_json(tile.meta()));
   return out;
 }
 

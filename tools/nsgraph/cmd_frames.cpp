@@ -4,7 +4,7 @@
 #include <optional>
 
 #include "commands.h"
-#include "options_listing.h"
+#include "config_flags.h"
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
 #include "nsg/core/strings.h"
@@ -17,25 +17,9 @@ namespace {
 struct FramesCliOptions {
   std::string dataset;
   std::string out;
-  std::string config_path;
-  std::vector<std::string> settings;  // --set key=value, in order
-  // Flags that stand for config keys (unset = the config's value).
-  std::optional<std::string> dataroot, overlap, split_preset;
-  bool copy_images = false;
+  std::shared_ptr<ConfigArgs> config = std::make_shared<ConfigArgs>();
   bool stats = false;
   bool overwrite = false;
-  bool print_config = false;
-  bool list_options = false;
-  std::string format = "text";
-
-  std::vector<frames::FramesFlag> flags() const {
-    std::vector<frames::FramesFlag> out;
-    if (dataroot) out.push_back({"--dataroot", "dataroot", *dataroot});
-    if (overlap) out.push_back({"--overlap", "overlap", *overlap});
-    if (split_preset) out.push_back({"--split-preset", "split_preset", *split_preset});
-    if (copy_images) out.push_back({"--copy-images", "copy_images", true});
-    return out;
-  }
 };
 
 std::string share_text(const frames::Leakage& l) {
@@ -47,20 +31,14 @@ std::string share_text(const frames::Leakage& l) {
 }
 
 int run_frames(const FramesCliOptions& o, const Context& ctx) {
-  if (o.list_options) {
-    std::cout << list_options_text("frames",
-                                   "Every option of the per-key-frame export (OpenLane-V2's layout on the dataset's "
-                                   "regions), as declared; a file may give any subset.",
-                                   frames::frames_option_table().specs(),
-                                   frames::frames_option_table().to_json(frames::FramesConfig{}),
-                                   frames::frames_config_schema(), o.format);
+  if (list_options_if_asked(*o.config, "frames",
+                            "Every option of the per-key-frame export (OpenLane-V2's layout on the dataset's "
+                            "regions), as declared; a file may give any subset.",
+                            frames::frames_option_table(), frames::frames_config_schema()))
     return kExitOk;
-  }
-  const frames::FramesConfig config = frames::resolve_frames_config(o.config_path, o.flags(), o.settings);
-  if (o.print_config) {
-    std::cout << frames::frames_option_table().to_json(config).dump(2) << "\n";
-    return kExitOk;
-  }
+  const frames::FramesConfig config =
+      frames::resolve_frames_config(o.config->config_path, o.config->settings, o.config->flags);
+  if (print_config_if_asked(*o.config, frames::frames_option_table(), config)) return kExitOk;
   NSG_CHECK(!o.dataset.empty(), ConfigError, "", "--dataset", "a generated dataset folder (manifest.json)");
   NSG_CHECK(o.stats || !o.out.empty(), ConfigError, "", "--out", "an output folder (or --stats to only count)");
   frames::FramesRun run;
@@ -89,26 +67,21 @@ void add_frames_command(CLI::App& root, Context& ctx) {
       "frames", "Export every key frame in a dataset's regions as OpenLane-V2 frame records (cameras, pose, lanes)");
   cmd->add_option("--dataset", o->dataset, "A generated dataset (its manifest gives the release, regions and map)");
   cmd->add_option("--out", o->out, "Output folder");
-  cmd->add_option("--config", o->config_path, "Frames config JSON (any subset of the keys; --list-options)");
-  cmd->add_option("--set", o->settings, "Any config key: key=value (repeatable; --list-options lists the keys)");
-  cmd->add_option("--dataroot", o->dataroot, "The release, when it moved since generate (config key dataroot)");
-  cmd->add_option("--overlap", o->overlap,
-                  "A frame whose window comes near another split's region: drop (default), keep or flag (config key "
-                  "overlap)");
-  cmd->add_option("--split-preset", o->split_preset,
-                  "regions (default: the dataset's leak-free regions) or scenes-random (a seeded draw per scene, as "
-                  "nuScenes' own split; it leaks) (config key split_preset)");
-  cmd->add_flag("--copy-images", o->copy_images,
-                "Copy the camera images next to the records (hard links where possible; config key copy_images)");
+  add_config_options(cmd, o->config, "Frames config JSON (any subset of the keys; --list-options)");
+  const auto& table = frames::frames_option_table();
+  add_key_flag(cmd, o->config, table, "--dataroot", "dataroot", nullptr,
+               "The release, when it moved since generate (config key dataroot)");
+  add_key_flag(cmd, o->config, table, "--overlap", "overlap", nullptr,
+               "A frame whose window comes near another split's region: drop (default), keep or flag (config key "
+               "overlap)");
+  add_key_flag(cmd, o->config, table, "--split-preset", "split_preset", nullptr,
+               "regions (default: the dataset's leak-free regions) or scenes-random (a seeded draw per scene, as "
+               "nuScenes' own split; it leaks) (config key split_preset)");
+  add_key_flag(cmd, o->config, table, "--copy-images", "copy_images", "true",
+               "Copy the camera images next to the records (hard links where possible; config key copy_images)");
   cmd->add_flag("--stats", o->stats,
                 "Count the frames and print the leakage figures of both split presets as JSON; write nothing");
   cmd->add_flag("--overwrite", o->overwrite, "Replace a frames export already in --out");
-  cmd->add_flag("--print-config", o->print_config, "Print the resolved frames config and exit");
-  cmd->add_flag("--list-options", o->list_options,
-                "List every config key (key, type, default, unit, description) and exit");
-  cmd->add_option("--format", o->format,
-                  "What --list-options prints on stdout: text, md (docs/options.md), json or schema")
-      ->check(CLI::IsMember({"text", "md", "json", "schema"}));
   cmd->callback([o, &ctx] { ctx.run = [o, &ctx] { return run_frames(*o, ctx); }; });
 }
 

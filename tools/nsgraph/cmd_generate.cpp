@@ -21,9 +21,6 @@ struct GenerateCommandOptions {
   std::shared_ptr<ConfigArgs> config = std::make_shared<ConfigArgs>();
   std::string out_dir;
   std::optional<int> shard_index, num_shards;
-  bool print_config = false;
-  bool list_options = false;
-  std::string format = "text";
   bool allow_empty = false;
   bool overwrite = false;
   bool check_inputs = false;
@@ -32,20 +29,13 @@ struct GenerateCommandOptions {
 };
 
 int run_generate(const GenerateCommandOptions& o, const Context& ctx) {
-  if (o.list_options) {
-    std::cout << list_options_text("generate",
-                                   "Every key of the generate config (samples/generate.json holds the defaults), as "
-                                   "declared by the options structs.",
-                                   pipeline::generate_option_table().specs(),
-                                   pipeline::config_to_json(pipeline::GenerateConfig{}),
-                                   pipeline::generate_config_schema(), o.format);
+  if (list_options_if_asked(*o.config, "generate",
+                            "Every key of the generate config (samples/generate.json holds the defaults), as "
+                            "declared by the options structs.",
+                            pipeline::generate_option_table(), pipeline::generate_config_schema()))
     return kExitOk;
-  }
-  const pipeline::GenerateConfig config = o.config->resolve();
-  if (o.print_config) {
-    std::cout << pipeline::config_to_json(config).dump(2) << "\n";
-    return kExitOk;
-  }
+  const pipeline::GenerateConfig config = resolve_generate(*o.config);
+  if (print_config_if_asked(*o.config, pipeline::generate_option_table(), config)) return kExitOk;
   if (o.out_dir.empty() && !o.check_inputs) throw ConfigError("", "--out", "an output folder");
   pipeline::GenerateRun run;
   run.check_inputs_only = o.check_inputs;
@@ -81,19 +71,14 @@ void add_generate_command(CLI::App& root, Context& ctx) {
   auto o = std::make_shared<GenerateCommandOptions>();
   CLI::App* cmd = root.add_subcommand("generate", "Build NuScenesGraph tiles, shards and a manifest from a release");
   cmd->add_option("--out", o->out_dir, "Output dataset folder");
-  add_config_flags(cmd, o->config,
-                   {"--dataroot", "--version", "--locations", "--seed", "--detections", "--score-threshold",
-                    "--semantic-root", "--max-range", "--no-rgb", "--no-semantic", "--strict", "--min-coverage",
-                    "--train-per-km2", "--train-total", "--tiles-per-shard", "--deflate-level", "--layout"});
+  add_config_options(cmd, o->config, "Generate config JSON (defaults: samples/generate.json)");
+  add_generate_flags(cmd, o->config,
+                     {"--dataroot", "--version", "--locations", "--seed", "--detections", "--score-threshold",
+                      "--semantic-root", "--max-range", "--no-rgb", "--no-semantic", "--strict", "--min-coverage",
+                      "--train-per-km2", "--train-total", "--tiles-per-shard", "--deflate-level", "--layout"});
   cmd->add_option("--shard-index", o->shard_index, "This process's share of the work (with --num-shards)");
   cmd->add_option("--num-shards", o->num_shards, "Number of processes sharing the work");
   add_threads_option(cmd, o->threads);
-  cmd->add_flag("--print-config", o->print_config, "Print the resolved config and exit");
-  cmd->add_flag("--list-options", o->list_options,
-                "List every config key (key, type, default, unit, description) and exit");
-  cmd->add_option("--format", o->format,
-                  "What --list-options prints on stdout: text, md (docs/options.md), json or schema")
-      ->check(CLI::IsMember({"text", "md", "json", "schema"}));
   cmd->add_option("--max-memory", o->max_memory,
                   "Refuse to start when the estimated peak memory exceeds this (e.g. 16G; default: the machine's "
                   "memory, or the cgroup's limit when lower; the estimate is logged)");

@@ -86,7 +86,7 @@ void write_panels(const InspectLayersOptions& o, const std::string& version, con
 
 int run(const InspectLayersOptions& o) {
   options::Origins origins;
-  pipeline::GenerateConfig config = o.config->resolve(&origins);
+  pipeline::GenerateConfig config = resolve_generate(*o.config, &origins);
   if (!origins.count("version")) config.version = "v1.0-mini";  // inspect's default release
   if (config.dataroot.empty()) throw ConfigError("", "--dataroot", "the nuScenes dataroot");
   raster::resolve_semantic_source(config.raster.camera, config.dataroot, config.version);
@@ -138,7 +138,8 @@ void add_inspect_layers(CLI::App& inspect, Context& ctx) {
   CLI::App* cmd =
       inspect.add_subcommand("layers", "A location's BEV layers as GeoTIFFs for QGIS, with coverage figures");
   // The generate config's flags (and --config, --set): the layers are generate's.
-  add_config_flags(cmd, o->config, {"--dataroot", "--version", "--detections", "--no-rgb", "--no-semantic"});
+  add_config_options(cmd, o->config, "Generate config JSON (defaults: samples/generate.json)", /*listing=*/false);
+  add_generate_flags(cmd, o->config, {"--dataroot", "--version", "--detections", "--no-rgb", "--no-semantic"});
   cmd->add_option("--location", o->location, "boston-seaport, singapore-onenorth, ...")->required();
   cmd->add_option("--out", o->out_dir, "Folder for <location>.<layer>.tif")->required();
   cmd->add_option("--bbox", o->bbox_text, "Only xmin,ymin,xmax,ymax (map metres); default: the covered extent");

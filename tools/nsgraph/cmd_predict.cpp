@@ -46,12 +46,12 @@ int write_frame_results(const PredictCliOptions& o, const io::Dataset& dataset, 
   std::vector<frames::TilePrediction> tiles;
   double resolution_m = 0.2;
   dataset.for_each_tile(o.split, [&](const io::DatasetTile& tile) {
-    const nlohmann::json meta = tile.json("meta.json");
+    const io::TileMeta meta = tile.meta();
     frames::TilePrediction t;
     t.key = tile.key;
-    t.location = meta.at("location").get<std::string>();
-    for (size_t i = 0; i < 4; ++i) t.bounds_m[i] = meta.at("bounds_m").at(i).get<double>();
-    resolution_m = meta.at("resolution_m").get<double>();
+    t.location = meta.location;
+    t.bounds_m = meta.bounds_m;
+    resolution_m = meta.resolution_m;
     const auto it = graphs.find(tile.key);
     if (it != graphs.end()) t.graph = it->second;
     tiles.push_back(std::move(t));

@@ -28,9 +28,13 @@ struct ScoreCliOptions {
   std::string verify_receipt;   // a score report (or receipt) to recompute and compare
   bool frames = false;          // --frames: an `nsgraph frames` export and an OpenLane-V2 results file
   bool graph_metrics = false;   // --graph-metrics (with --frames)
+  bool list_metrics = false;    // --list-metrics: the metric table (md or json) and exit
   metrics::SubmissionScoreOptions lib;
 
   void validate() const {
+    // Required unless --list-metrics (which reads neither).
+    NSG_CHECK(!ground_truth.empty(), ConfigError, "", "--ground-truth", "a dataset folder or a ground-truth file");
+    NSG_CHECK(!submission.empty(), ConfigError, "", "--submission", "a submission file");
     NSG_CHECK(format == "json" || format == "md" || format == "csv", ConfigError, "", "--format",
               "json, md or csv, got '" + format + "'");
   }
@@ -108,6 +112,10 @@ int run_score_frames(const ScoreCliOptions& o) {
 }
 
 int run_score(const ScoreCliOptions& o) {
+  if (o.list_metrics) {
+    std::fputs(metrics::metric_list(o.format == "json" ? "json" : "md").c_str(), stdout);
+    return kExitOk;
+  }
   o.validate();
   if (o.frames) return run_score_frames(o);
   if (!o.verify_receipt.empty()) return run_verify_receipt(o);
@@ -143,11 +151,9 @@ void add_score_command(CLI::App& parent, Context& ctx) {
   opts->lib.score.progress = true;
   CLI::App* cmd = parent.add_subcommand("score", "Score a submission against a ground truth (docs/metrics.md v1)");
   cmd->add_option("--ground-truth", opts->ground_truth,
-                  "Dataset folder (its tiles of --split) or a file in the submission format")
-      ->required();
+                  "Dataset folder (its tiles of --split) or a file in the submission format (required)");
   cmd->add_option("--submission", opts->submission,
-                  "Submission JSON (schemas/v1/submission.schema.json): a file, or a pipe / /dev/stdin")
-      ->required();
+                  "Submission JSON (schemas/v1/submission.schema.json): a file, or a pipe / /dev/stdin (required)");
   opts->lib.split.clear();  // "" = from the submission's keys
   cmd->add_option("--split", opts->lib.split,
                   "Split of a dataset ground truth (default: the split the submission's keys are tiles of; with "
@@ -165,6 +171,9 @@ void add_score_command(CLI::App& parent, Context& ctx) {
   cmd->add_option("--verify-receipt", opts->verify_receipt,
                   "A score report (or its receipt) to verify: recompute with its options and limits from "
                   "--ground-truth and --submission, print \"same\" or what differs (exit 0 / 1)");
+  cmd->add_flag("--list-metrics", opts->list_metrics,
+                "Print every metric (name, unit, which way is better, what it measures) and exit: a Markdown table, "
+                "or JSON with --format json");
   cmd->add_option("--format", opts->format,
                   "What score prints on stdout: json, md (paper-style table) or csv (per tile)")
       ->capture_default_str();

@@ -4,7 +4,7 @@
 
 #include "commands.h"
 #include "nsg/core/error.h"
-#include "nsg/pipeline/stats.h"
+#include "nsg/io/stats.h"
 
 namespace nsg::cli {
 
@@ -19,9 +19,9 @@ void add_stats_command(CLI::App& root, Context& ctx) {
   cmd->add_flag("--json", o->json, "JSON instead of a text table");
   cmd->callback([o, &ctx] {
     ctx.run = [o] {
-      const pipeline::DatasetStats stats = pipeline::compute_stats(o->dataset, /*progress=*/true);
-      if (o->json) std::cout << pipeline::stats_json(stats).dump(2) << "\n";
-      else std::cout << pipeline::stats_text(stats);
+      const io::DatasetStats stats = io::compute_stats(o->dataset, /*progress=*/true);
+      if (o->json) std::cout << io::stats_json(stats).dump(2) << "\n";
+      else std::cout << io::stats_text(stats);
       return kExitOk;
     };
   });

@@ -5,7 +5,7 @@
 #include <optional>
 
 #include "commands.h"
-#include "options_listing.h"
+#include "config_flags.h"
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
 #include "nsg/core/strings.h"
@@ -17,33 +17,20 @@ namespace nsg::cli {
 namespace {
 
 struct SynthCommandOptions {
-  std::string config_path;
-  std::vector<std::string> settings;  // --set key=value, in order
+  std::shared_ptr<ConfigArgs> config = std::make_shared<ConfigArgs>();
   std::string out_dir;
-  std::optional<uint64_t> seed;
   int threads = 0;
-  bool print_config = false;
-  bool list_options = false;
-  std::string format = "text";
 };
 
 int run_synth(const SynthCommandOptions& o, const Context& ctx) {
-  if (o.list_options) {
-    std::cout << list_options_text(
-        "synth",
-        "Every key of a synthetic world config (samples/synth/*.json), as declared by the options structs; a file "
-        "may give any subset.",
-        synth::synth_option_table().specs(), synth::synth_option_table().to_json(synth::SynthConfig{}),
-        synth::synth_config_schema(), o.format);
+  if (list_options_if_asked(*o.config, "synth",
+                            "Every key of a synthetic world config (samples/synth/*.json), as declared by the "
+                            "options structs; a file may give any subset.",
+                            synth::synth_option_table(), synth::synth_config_schema()))
     return kExitOk;
-  }
-  options::Origins origins;
-  synth::SynthConfig config = synth::resolve_synth_config(o.config_path, o.settings, &origins);
-  if (o.seed) synth::synth_option_table().set(config, "seed", *o.seed, "--seed", &origins);
-  if (o.print_config) {
-    std::cout << config.to_json() << "\n";
-    return kExitOk;
-  }
+  const synth::SynthConfig config =
+      synth::resolve_synth_config(o.config->config_path, o.config->settings, o.config->flags);
+  if (print_config_if_asked(*o.config, synth::synth_option_table(), config)) return kExitOk;
   if (o.out_dir.empty()) throw ConfigError("", "--out", "an output dataroot folder");
   synth::SynthRunOptions run;
   run.out_dir = o.out_dir;
@@ -67,16 +54,9 @@ int run_synth(const SynthCommandOptions& o, const Context& ctx) {
 void add_synth_command(CLI::App& parent, Context& ctx) {
   auto opts = std::make_shared<SynthCommandOptions>();
   CLI::App* cmd = parent.add_subcommand("synth", "Write a synthetic nuScenes-format release from a world config");
-  cmd->add_option("--config", opts->config_path, "World config JSON (samples/synth/*.json; default: the defaults)");
-  cmd->add_option("--set", opts->settings, "Any config key: key=value (repeatable; --list-options lists the keys)");
+  add_config_options(cmd, opts->config, "World config JSON (samples/synth/*.json; default: the defaults)");
   cmd->add_option("--out", opts->out_dir, "Output dataroot folder");
-  cmd->add_option("--seed", opts->seed, "Seed (overrides the config's \"seed\")");
-  cmd->add_flag("--print-config", opts->print_config, "Print the resolved world config and exit");
-  cmd->add_flag("--list-options", opts->list_options,
-                "List every config key (key, type, default, unit, description) and exit");
-  cmd->add_option("--format", opts->format,
-                  "What --list-options prints on stdout: text, md (docs/options.md), json or schema")
-      ->check(CLI::IsMember({"text", "md", "json", "schema"}));
+  add_key_flag(cmd, opts->config, synth::synth_option_table(), "--seed", "seed");
   add_threads_option(cmd, opts->threads);
   cmd->callback([opts, &ctx]() { ctx.run = [opts, &ctx]() { return run_synth(*opts, ctx); }; });
 }

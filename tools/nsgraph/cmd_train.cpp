@@ -6,7 +6,7 @@
 #include <optional>
 
 #include "commands.h"
-#include "options_listing.h"
+#include "config_flags.h"
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
 #include "nsg/core/strings.h"
@@ -20,49 +20,24 @@ struct TrainCliOptions {
   std::string dataset;
   std::string model;
   int threads = 0;
-  std::string config_path;
-  std::vector<std::string> settings;  // --set key=value, in order
-  // Flags that stand for config keys (unset = the config's value).
-  std::optional<std::string> split, modalities, variant;
-  std::optional<uint64_t> seed;
-  std::optional<int> trees;
-  bool print_config = false;
-  bool list_options = false;
-  std::string format = "text";
+  std::shared_ptr<ConfigArgs> config = std::make_shared<ConfigArgs>();
 
   void validate() const {
     NSG_CHECK(!dataset.empty(), ConfigError, "", "--dataset", "a dataset folder (manifest.json)");
     NSG_CHECK(!model.empty(), ConfigError, "", "--model", "an output file (e.g. model.yml.gz)");
     NSG_CHECK(threads >= 0, ConfigError, "", "--threads", "≥ 0 (0 = all cores)");
   }
-  std::vector<model::TrainFlag> flags() const {
-    std::vector<model::TrainFlag> out;
-    if (split) out.push_back({"--split", "split", *split});
-    if (modalities) out.push_back({"--modalities", "modalities", *modalities});
-    if (variant) out.push_back({"--variant", "variant", *variant});
-    if (seed) out.push_back({"--seed", "seed", *seed});
-    if (trees)
-      for (const char* forest : {"centre_forest", "direction_forest", "anchor_forest", "connection_forest"})
-        out.push_back({"--trees", std::string(forest) + ".trees", *trees});
-    return out;
-  }
 };
 
 int run_train(const TrainCliOptions& o, const Context& ctx) {
-  if (o.list_options) {
-    std::cout << list_options_text("train",
-                                   "Every option of the reference model and its training, as declared by the options "
-                                   "structs; a file may give any subset.",
-                                   model::train_option_table().specs(),
-                                   model::train_option_table().to_json(model::TrainConfig{}),
-                                   model::train_config_schema(), o.format);
+  if (list_options_if_asked(*o.config, "train",
+                            "Every option of the reference model and its training, as declared by the options "
+                            "structs; a file may give any subset.",
+                            model::train_option_table(), model::train_config_schema()))
     return kExitOk;
-  }
-  const model::TrainConfig config = model::resolve_train_config(o.config_path, o.flags(), o.settings);
-  if (o.print_config) {
-    std::cout << model::train_option_table().to_json(config).dump(2) << "\n";
-    return kExitOk;
-  }
+  const model::TrainConfig config =
+      model::resolve_train_config(o.config->config_path, o.config->settings, o.config->flags);
+  if (print_config_if_asked(*o.config, model::train_option_table(), config)) return kExitOk;
   o.validate();
   const model::ModelOptions& lib = config.model;
   const std::string& split = config.split;
@@ -99,27 +74,29 @@ void add_train_command(CLI::App& parent, Context& ctx) {
   CLI::App* cmd = parent.add_subcommand("train", "Train the reference lane-graph model on a dataset split");
   cmd->add_option("--dataset", opts->dataset, "Dataset folder (manifest.json)");
   cmd->add_option("--model", opts->model, "Model file to write (.yml.gz)");
-  cmd->add_option("--config", opts->config_path, "Train config JSON (any subset of the keys; --list-options)");
-  cmd->add_option("--set", opts->settings, "Any config key: key=value (repeatable; --list-options lists the keys)");
-  cmd->add_option("--split", opts->split, "Split to train on (config key split; default train)");
-  cmd->add_option("--modalities", opts->modalities,
-                  "Input layers: 'all' or a comma list of lidar, rgb, semantic, vehicle (the paper's ablation; "
-                  "config key modalities)");
-  cmd->add_option("--variant", opts->variant,
-                  "Model (the paper's Table II): b1 skeletonized centrelines, b2 anchors joined to their two "
-                  "nearest neighbours, graph anchors joined by a trained has-connection classifier; recorded in "
-                  "the model file (config key variant; default graph)");
+  add_config_options(cmd, opts->config, "Train config JSON (any subset of the keys; --list-options)");
+  const auto& table = model::train_option_table();
+  add_key_flag(cmd, opts->config, table, "--split", "split", nullptr,
+               "Split to train on (config key split; default train)");
+  add_key_flag(cmd, opts->config, table, "--modalities", "modalities", nullptr,
+               "Input layers: 'all' or a comma list of lidar, rgb, semantic, vehicle (the paper's ablation; config "
+               "key modalities)");
+  add_key_flag(cmd, opts->config, table, "--variant", "variant", nullptr,
+               "Model (the paper's Table II): b1 skeletonized centrelines, b2 anchors joined to their two nearest "
+               "neighbours, graph anchors joined by a trained has-connection classifier; recorded in the model file "
+               "(config key variant; default graph)");
   add_threads_option(cmd, opts->threads);
-  cmd->add_option("--seed", opts->seed, "Seed of the pixel sampling (config key seed; default 1)");
-  cmd->add_option("--trees", opts->trees,
-                  "Trees per forest (sets <forest>_forest.trees; default: 32 centreline, 40 direction, 24 anchor, 60 "
-                  "connection)");
-  cmd->add_flag("--print-config", opts->print_config, "Print the resolved train config and exit");
-  cmd->add_flag("--list-options", opts->list_options,
-                "List every config key (key, type, default, unit, description) and exit");
-  cmd->add_option("--format", opts->format,
-                  "What --list-options prints on stdout: text, md (docs/options.md), json or schema")
-      ->check(CLI::IsMember({"text", "md", "json", "schema"}));
+  add_key_flag(cmd, opts->config, table, "--seed", "seed", nullptr,
+               "Seed of the pixel sampling (config key seed; default 1)");
+  // One flag for four keys: the trees of every forest.
+  cmd->add_option_function<int>(
+      "--trees",
+      [config = opts->config](int trees) {
+        for (const char* forest : {"centre_forest", "direction_forest", "anchor_forest", "connection_forest"})
+          config->flags.push_back({"--trees", std::string(forest) + ".trees", trees});
+      },
+      "Trees per forest (sets <forest>_forest.trees; default: 32 centreline, 40 direction, 24 anchor, 60 "
+      "connection)");
   cmd->callback([opts, &ctx]() { ctx.run = [opts, &ctx]() { return run_train(*opts, ctx); }; });
 }
 

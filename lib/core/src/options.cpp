@@ -302,6 +302,15 @@ std::pair<std::string, Json> parse_assignment(const std::string& assignment, con
   return {assignment.substr(0, eq), value};
 }
 
+Json flag_text_value(const Spec& spec, const std::string& text) {
+  if (spec.type == "string") return text;
+  try {
+    return Json::parse(text);  // numbers, booleans, arrays, objects
+  } catch (const Json::parse_error&) {
+    return text;  // anything else is a string (the setter names the key when it is wrong)
+  }
+}
+
 void rethrow_from_origin(const ConfigError& e, const Origins& origins) {
   std::string source = "defaults";
   for (const auto& [key, from] : origins)

@@ -97,16 +97,11 @@ OrderedJson frames_config_schema() {
       "their defaults. Generated from the options' declarations: `nsgraph frames --list-options --format schema`.");
 }
 
-FramesConfig resolve_frames_config(const std::filesystem::path& file, const std::vector<FramesFlag>& flags,
-                                   const std::vector<std::string>& settings) {
-  FramesConfig c;
+FramesConfig resolve_frames_config(const std::filesystem::path& file, const std::vector<std::string>& settings,
+                                   const std::vector<options::FlagValue>& flags) {
   options::Origins origins;
-  if (!file.empty()) frames_option_table().apply(c, options::read_config_file(file), file.string(), &origins);
-  for (const FramesFlag& f : flags) frames_option_table().set(c, f.key, f.value, f.flag, &origins);
-  for (const std::string& s : settings) {
-    const auto [key, value] = options::parse_assignment(s, "window.x_max_m=60");
-    frames_option_table().set(c, key, value, "--set", &origins);
-  }
+  const FramesConfig c =
+      options::resolve_config(frames_option_table(), file, settings, flags, "window.x_max_m=60", origins);
   check_ordered(c.window.x_min_m, c.window.x_max_m, "window.x_min_m", "window.x_max_m", origins);
   check_ordered(c.window.y_min_m, c.window.y_max_m, "window.y_min_m", "window.y_max_m", origins);
   return c;

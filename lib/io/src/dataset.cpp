@@ -6,6 +6,7 @@
 #include "nsg/core/files.h"
 #include "nsg/core/json.h"
 #include "nsg/io/tar.h"
+#include "nsg/io/tile_graph.h"
 
 namespace nsg::io {
 
@@ -24,6 +25,10 @@ nlohmann::json DatasetTile::json(const std::string& suffix) const {
   return parse_json_strict(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
                            key + "." + suffix);
 }
+
+TileMeta DatasetTile::meta() const { return tile_meta_from_json(json("meta.json"), key + ".meta.json"); }
+
+graph::TileGraph DatasetTile::graph() const { return tile_graph_from_json(json("graph.json"), key + ".graph.json"); }
 
 fs::path path_in_dataset(const fs::path& root, const std::string& relative, const std::string& record) {
   const fs::path rel(relative);

@@ -57,4 +57,18 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
   return g;
 }
 
+std::string tile_graph_text(const std::string& key, const graph::TileGraph& graph) {
+  nlohmann::ordered_json nodes = nlohmann::ordered_json::array();
+  for (const graph::TileNode& n : graph.nodes)
+    nodes.push_back({{"id", n.id}, {"u", n.u_px}, {"v", n.v_px}, {"x", n.x_m}, {"y", n.y_m}});
+  nlohmann::ordered_json edges = nlohmann::ordered_json::array();
+  // TileEdge holds node indices; the file names nodes by id (clip_to_tile's ids are the
+  // indices, a graph read back keeps the file's ids).
+  const auto id_of = [&](int32_t index) { return graph.nodes.at(static_cast<size_t>(index)).id; };
+  for (const graph::TileEdge& e : graph.edges)
+    edges.push_back({{"source", id_of(e.source)}, {"target", id_of(e.target)}, {"lane_token", e.lane_token}});
+  const nlohmann::ordered_json doc = {{"schema_version", "1"}, {"key", key}, {"nodes", nodes}, {"edges", edges}};
+  return doc.dump() + "\n";
+}
+
 }  // namespace nsg::io

@@ -1,13 +1,16 @@
 #include "nsg/io/tile_members.h"
 
+#include "nsg/core/coverage_bits.h"
+
 namespace nsg::io {
 
 const std::vector<TileMember>& tile_members() {
   static const std::vector<TileMember> kMembers = {
-      {"lidar", "lidar.tif", true, SampleType::kUInt8, 1, "intensity", 0.0, 1,
+      {"lidar", "lidar.tif", true, SampleType::kUInt8, 1, "intensity", 0.0, kCoverageLidar,
        "intensity of the lowest LiDAR point of the cell; 0 = no data"},
-      {"rgb", "rgb.tif", true, SampleType::kUInt8, 3, "colour", 0.0, 2, "camera colour of that point; 0,0,0 = no data"},
-      {"semantic", "semantic.tif", true, SampleType::kUInt8, 1, "class id", 255.0, 4,
+      {"rgb", "rgb.tif", true, SampleType::kUInt8, 3, "colour", 0.0, kCoverageRgb,
+       "camera colour of that point; 0,0,0 = no data"},
+      {"semantic", "semantic.tif", true, SampleType::kUInt8, 1, "class id", 255.0, kCoverageSemantic,
        "class id (samples/semantic-classes.json); 255 = no data"},
       {"vehicle", "vehicle.tif", true, SampleType::kFloat32, 1, "turns", -1.0, 0,
        "heading of the vehicle covering the cell, clockwise from north / 2π in [0, 1); -1 = none"},

@@ -39,6 +39,19 @@ int64_t integer(const json& obj, const char* name, int64_t hi, const std::string
 
 }  // namespace
 
+std::array<double, 4> bounds_from_json(const json& b, const std::string& file, const std::string& path) {
+  NSG_CHECK(b.is_array() && b.size() == 4, ParseError, file, path, "[x_west, y_south, x_east, y_north]");
+  constexpr double kMapExtentM = 1e7;  // far beyond any city map; keeps cell indices small
+  std::array<double, 4> out{};
+  for (size_t i = 0; i < 4; ++i) {
+    NSG_CHECK(b[i].is_number() && std::isfinite(b[i].get<double>()) && std::fabs(b[i].get<double>()) <= kMapExtentM,
+              ParseError, file, path + "/" + std::to_string(i), "a finite coordinate within ±1e7 m");
+    out[i] = b[i].get<double>();
+  }
+  NSG_CHECK(out[0] < out[2] && out[1] < out[3], ParseError, file, path, "x_west < x_east and y_south < y_north");
+  return out;
+}
+
 TileMeta tile_meta_from_json(const json& doc, const std::string& file) {
   NSG_CHECK(doc.is_object(), ParseError, file, "", "a tile's meta.json object");
   TileMeta m;
@@ -51,16 +64,7 @@ TileMeta tile_meta_from_json(const json& doc, const std::string& file) {
   m.resolution_m = number(doc, "resolution_m", 1e-3, 100.0, file);
   m.size_px = static_cast<int>(integer(doc, "size_px", kMaxTileSizePx, file));
   NSG_CHECK(m.size_px >= 1, ParseError, file, "/size_px", "a tile side of at least 1 px");
-  const json& b = member(doc, "bounds_m", file, "");
-  NSG_CHECK(b.is_array() && b.size() == 4, ParseError, file, "/bounds_m", "[x_west, y_south, x_east, y_north]");
-  constexpr double kMapExtentM = 1e7;  // far beyond any city map; keeps cell indices small
-  for (size_t i = 0; i < 4; ++i) {
-    NSG_CHECK(b[i].is_number() && std::isfinite(b[i].get<double>()) && std::fabs(b[i].get<double>()) <= kMapExtentM,
-              ParseError, file, "/bounds_m/" + std::to_string(i), "a finite coordinate within ±1e7 m");
-    m.bounds_m[i] = b[i].get<double>();
-  }
-  NSG_CHECK(m.bounds_m[0] < m.bounds_m[2] && m.bounds_m[1] < m.bounds_m[3], ParseError, file, "/bounds_m",
-            "x_west < x_east and y_south < y_north");
+  m.bounds_m = bounds_from_json(member(doc, "bounds_m", file, ""), file, "/bounds_m");
   const json& cov = member(doc, "coverage", file, "");
   m.coverage_lidar = number(cov, "lidar", 0.0, 1.0, file, "/coverage");
   m.coverage_rgb = number(cov, "rgb", 0.0, 1.0, file, "/coverage");
@@ -80,5 +84,21 @@ TileMeta tile_meta_from_json(const json& doc, const std::string& file) {
   }
   return m;
 }
+
+nlohmann::ordered_json tile_meta_to_json(const TileMeta& m) {
+  return {{"schema_version", "1"},
+          {"key", m.key},
+          {"location", m.location},
+          {"split", m.split},
+          {"region", m.region},
+          {"bounds_m", m.bounds_m},
+          {"resolution_m", m.resolution_m},
+          {"size_px", m.size_px},
+          {"coverage", {{"lidar", m.coverage_lidar}, {"rgb", m.coverage_rgb}, {"semantic", m.coverage_semantic}}},
+          {"counts", {{"nodes", m.nodes}, {"edges", m.edges}, {"vehicle_px", m.vehicle_px}}},
+          {"scenes", m.scenes}};
+}
+
+std::string tile_meta_text(const TileMeta& meta) { return tile_meta_to_json(meta).dump(2) + "\n"; }
 
 }  // namespace nsg::io

@@ -19,8 +19,6 @@ namespace fs = std::filesystem;
 namespace nsg::metrics {
 namespace {
 
-constexpr const char* kGraphSuffix = ".graph.json";
-
 double finite_number(const nlohmann::json& j, const std::string& file, const std::string& path) {
   NSG_CHECK(j.is_number(), DataError, file, path, "a number");
   const double x = j.get<double>();
@@ -75,8 +73,6 @@ Graph graph_from_submission_tile(const nlohmann::json& tile, const std::string& 
   return g;
 }
 
-std::string id_key(const nlohmann::json& id) { return id.dump(); }
-
 void insert_tile(GraphSet& set, const std::string& key, Graph graph, const std::string& file) {
   NSG_CHECK(set.emplace(key, std::move(graph)).second, DataError, file, key, "each tile key once");
 }
@@ -102,37 +98,16 @@ GraphSet graphs_from_submission(const nlohmann::json& doc, const std::string& fi
   return out;
 }
 
-Graph graph_from_dataset_json(const std::string& text, const std::string& file) {
-  const nlohmann::json doc = parse_json_strict(text, file);
-  NSG_CHECK(doc.is_object() && doc.contains("nodes") && doc["nodes"].is_array() && doc.contains("edges") &&
-                doc["edges"].is_array(),
-            DataError, file, "", "a graph object with arrays nodes and edges");
+Graph graph_of_tile(const graph::TileGraph& tile) {
   Graph g;
-  std::unordered_map<std::string, int64_t> index_of;
-  const nlohmann::json& nodes = doc["nodes"];
-  for (size_t k = 0; k < nodes.size(); ++k) {
-    const std::string p = "/nodes/" + std::to_string(k);
-    const nlohmann::json& n = nodes[k];
-    NSG_CHECK(n.is_object() && n.contains("id") && n.contains("u") && n.contains("v"), DataError, file, p,
-              "a node {id, u, v, x, y}");
-    NSG_CHECK(index_of.emplace(id_key(n["id"]), static_cast<int64_t>(k)).second, DataError, file, p + "/id",
-              "a unique node id");
-    g.nodes.push_back({finite_number(n["u"], file, p + "/u"), finite_number(n["v"], file, p + "/v")});
-  }
-  const nlohmann::json& edges = doc["edges"];
-  for (size_t k = 0; k < edges.size(); ++k) {
-    const std::string p = "/edges/" + std::to_string(k);
-    const nlohmann::json& e = edges[k];
-    NSG_CHECK(e.is_object() && e.contains("source") && e.contains("target"), DataError, file, p,
-              "an edge {source, target, lane_token}");
-    const auto s = index_of.find(id_key(e["source"]));
-    const auto t = index_of.find(id_key(e["target"]));
-    NSG_CHECK(s != index_of.end(), DataError, file, p + "/source", "the id of a node of this graph");
-    NSG_CHECK(t != index_of.end(), DataError, file, p + "/target", "the id of a node of this graph");
-    g.edges.push_back({s->second, t->second});
-  }
+  g.nodes.reserve(tile.nodes.size());
+  for (const graph::TileNode& n : tile.nodes) g.nodes.push_back({n.u_px, n.v_px});
+  g.edges.reserve(tile.edges.size());
+  for (const graph::TileEdge& e : tile.edges) g.edges.push_back({e.source, e.target});
   return g;
 }
+
+Graph tile_graph(const io::DatasetTile& tile) { return graph_of_tile(tile.graph()); }
 
 GraphSet load_dataset_split(const fs::path& dataset, const std::string& split, bool verify) {
   const io::Dataset ds = io::Dataset::open(dataset);
@@ -149,11 +124,8 @@ GraphSet load_dataset_split(const fs::path& dataset, const std::string& split, b
               strprintf("%lld tiles as listed, found %lld", static_cast<long long>(shard["tiles"].get<int64_t>()),
                         static_cast<long long>(read.size())));
     for (const io::DatasetTile& t : read) {
-      const std::string label = dataset.string() + ":" + name + ":" + t.key + kGraphSuffix;
-      const auto member = t.files.find(std::string(kGraphSuffix).substr(1));
-      NSG_CHECK(member != t.files.end(), DataError, label, t.key, "the tile's graph.json (missing)");
-      const std::string text(member->second.begin(), member->second.end());
-      insert_tile(out, t.key, graph_from_dataset_json(text, label), label);
+      // Named by the key and the shard: the file a host opens to see what is wrong.
+      insert_tile(out, t.key, tile_graph(t), (dataset / "manifest.json").string() + ": shard '" + name + "'");
       ++tiles;
     }
   }

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <nlohmann/json.hpp>
+
 #include "internal.h"
 #include "nsg/core/error.h"
 #include "nsg/core/strings.h"
@@ -10,32 +12,39 @@
 
 namespace nsg::metrics {
 namespace {
-constexpr const char* kMetricNames[kMetricCount] = {"apls",
-                                                    "apls_gt_to_pred",
-                                                    "apls_pred_to_gt",
-                                                    "apls_directed",
-                                                    "apls_directed_gt_to_pred",
-                                                    "apls_directed_pred_to_gt",
-                                                    "apls_strict",
-                                                    "apls_strict_gt_to_pred",
-                                                    "apls_strict_pred_to_gt",
-                                                    "direction_accuracy",
-                                                    "direction_accuracy_length_weighted",
-                                                    "direction_matched_fraction",
-                                                    "f1",
-                                                    "iou",
-                                                    "chamfer_px2",
-                                                    "chamfer_m2",
-                                                    "chamfer_mean_m",
-                                                    "geo_precision",
-                                                    "geo_recall",
-                                                    "geo_f1",
-                                                    "topo_precision",
-                                                    "topo_recall",
-                                                    "topo_f1",
-                                                    "topo_directed_precision",
-                                                    "topo_directed_recall",
-                                                    "topo_directed_f1"};
+// Every metric's facts, in Metric order (docs/metrics.md defines each): the score report, the
+// markdown table, the report's sort arrows, the previews' worst-first order and the
+// score-report schema's metric lists (a test keeps it equal) read them from here.
+constexpr MetricInfo kMetrics[kMetricCount] = {
+    {"apls", "", false, "APLS: path lengths between node pairs compared both ways, undirected (snap 4 m)"},
+    {"apls_gt_to_pred", "", false, "APLS with the pairs sampled on the ground truth"},
+    {"apls_pred_to_gt", "", false, "APLS with the pairs sampled on the prediction"},
+    {"apls_directed", "", false, "APLS where a path must follow the edges' directions"},
+    {"apls_directed_gt_to_pred", "", false, "directed APLS, pairs sampled on the ground truth"},
+    {"apls_directed_pred_to_gt", "", false, "directed APLS, pairs sampled on the prediction"},
+    {"apls_strict", "", false, "APLS with the 1.8 m snap radius: no snapping onto the neighbouring lane"},
+    {"apls_strict_gt_to_pred", "", false, "strict APLS, pairs sampled on the ground truth"},
+    {"apls_strict_pred_to_gt", "", false, "strict APLS, pairs sampled on the prediction"},
+    {"direction_accuracy", "", false, "matched predicted edges pointing the ground truth's way / matched edges"},
+    {"direction_accuracy_length_weighted", "", false, "direction accuracy weighted by edge length"},
+    {"direction_matched_fraction", "", false, "predicted edges of non-zero length matched to the ground truth"},
+    {"f1", "", false, "F1 (Dice) of the two graphs drawn as 1.8 m wide lane masks"},
+    {"iou", "", false, "intersection over union of the two lane masks"},
+    {"chamfer_px2", "px²", true, "squared distance of every node to the other graph's nearest node, summed both ways"},
+    {"chamfer_m2", "m²", true, "chamfer_px2 in square metres"},
+    {"chamfer_mean_m", "m", true, "mean distance of a node to the other graph's nearest node, both ways averaged"},
+    {"geo_precision", "", false,
+     "GEO precision: predicted samples matched one-to-one to ground-truth samples within 8 px"},
+    {"geo_recall", "", false, "GEO recall: ground-truth samples matched one-to-one within 8 px"},
+    {"geo_f1", "", false, "GEO F1"},
+    {"topo_precision", "", false,
+     "TOPO precision: matching precision of the sub-graphs within 40 m of each seed, averaged over the samples"},
+    {"topo_recall", "", false,
+     "TOPO recall: matching recall of the sub-graphs within 40 m of each seed, averaged over the samples"},
+    {"topo_f1", "", false, "TOPO F1"},
+    {"topo_directed_precision", "", false, "TOPO precision with the sub-graphs grown along edge directions"},
+    {"topo_directed_recall", "", false, "TOPO recall with the sub-graphs grown along edge directions"},
+    {"topo_directed_f1", "", false, "directed TOPO F1"}};
 constexpr const char* kCountNames[kCountCount] = {"missing_prediction",
                                                   "gt_self_loops_dropped",
                                                   "gt_duplicate_edges_dropped",
@@ -98,21 +107,41 @@ void measure_searched(const CleanGraph& g, const CleanGraph& p, const MetricPara
 
 }  // namespace
 
-const char* metric_name(int metric) {
+const MetricInfo& metric_info(int metric) {
   NSG_CHECK(metric >= 0 && metric < kMetricCount, InternalError, "", "", "metric index");
-  return kMetricNames[metric];
+  return kMetrics[metric];
+}
+
+const char* metric_name(int metric) { return metric_info(metric).name; }
+
+std::string metric_list(const std::string& format) {
+  NSG_CHECK(format == "md" || format == "json", ConfigError, "", "--format", "md or json for --list-metrics");
+  if (format == "json") {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (const MetricInfo& m : kMetrics)
+      out.push_back({{"name", m.name},
+                     {"unit", m.unit},
+                     {"better", m.lower_is_better ? "lower" : "higher"},
+                     {"description", m.description}});
+    return out.dump(2) + "\n";
+  }
+  std::string out = "| metric | unit | better | what it measures |\n| --- | --- | --- | --- |\n";
+  for (const MetricInfo& m : kMetrics)
+    out += strprintf("| `%s` | %s | %s | %s |\n", m.name, *m.unit ? m.unit : "fraction",
+                     m.lower_is_better ? "lower ↓" : "higher ↑", m.description);
+  return out;
 }
 const std::vector<HeadlineMetric>& headline_metrics() {
   static const std::vector<HeadlineMetric> kHeadline = {
-      {kApls, "APLS", false, 4},
-      {kAplsDirected, "APLS dir.", false, 4},
-      {kAplsStrict, "APLS strict", false, 4},
-      {kDirectionAccuracy, "Dir. acc.", false, 4},
-      {kF1, "F1", false, 4},
-      {kIou, "IoU", false, 4},
-      {kChamferMeanM, "mean Chamfer (m)", true, 3},
-      {kGeoF1, "GEO F1", false, 4},
-      {kTopoF1, "TOPO F1", false, 4},
+      {kApls, "APLS", 4},
+      {kAplsDirected, "APLS dir.", 4},
+      {kAplsStrict, "APLS strict", 4},
+      {kDirectionAccuracy, "Dir. acc.", 4},
+      {kF1, "F1", 4},
+      {kIou, "IoU", 4},
+      {kChamferMeanM, "mean Chamfer (m)", 3},
+      {kGeoF1, "GEO F1", 4},
+      {kTopoF1, "TOPO F1", 4},
   };
   return kHeadline;
 }

@@ -149,7 +149,7 @@ std::string report_to_markdown(const ScoreReport& r) {
   // table of every metric below keeps it.
   std::string head = "|", rule = "|", values = "|";
   for (const HeadlineMetric& h : headline_metrics()) {
-    head.append(" ").append(h.label).append(h.lower_is_better ? " ↓ |" : " ↑ |");
+    head.append(" ").append(h.label).append(metric_info(h.metric).lower_is_better ? " ↓ |" : " ↑ |");
     rule += "---:|";
     values.append(" ").append(md_value(a.mean[h.metric], h.digits)).append(" |");
   }

@@ -31,12 +31,7 @@ float soft_target(float distance_px, double sigma_px) {
   return static_cast<float>(std::exp(-0.5 * distance_px * distance_px / (sigma_px * sigma_px)));
 }
 
-metrics::Graph truth_of(const io::DatasetTile& tile) {
-  const auto graph_bytes = tile.files.find("graph.json");
-  NSG_CHECK(graph_bytes != tile.files.end(), ParseError, tile.key + ".graph.json", "file", "the tile's graph");
-  return metrics::graph_from_dataset_json(std::string(graph_bytes->second.begin(), graph_bytes->second.end()),
-                                          tile.key + ".graph.json");
-}
+metrics::Graph truth_of(const io::DatasetTile& tile) { return metrics::tile_graph(tile); }
 
 // Training rows of one tile.
 struct TileSamples {

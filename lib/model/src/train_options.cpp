@@ -219,18 +219,11 @@ OrderedJson train_config_schema() {
       "their defaults. Generated from the options' declarations: `nsgraph train --list-options --format schema`.");
 }
 
-TrainConfig resolve_train_config(const std::filesystem::path& file, const std::vector<TrainFlag>& flags,
-                                 const std::vector<std::string>& settings, options::Origins* origins) {
-  TrainConfig c;
+TrainConfig resolve_train_config(const std::filesystem::path& file, const std::vector<std::string>& settings,
+                                 const std::vector<options::FlagValue>& flags, options::Origins* origins) {
   options::Origins local;
-  options::Origins& o = origins ? *origins : local;
-  if (!file.empty()) train_option_table().apply(c, options::read_config_file(file), file.string(), &o);
-  for (const TrainFlag& f : flags) train_option_table().set(c, f.key, f.value, f.flag, &o);
-  for (const std::string& s : settings) {
-    const auto [key, value] = options::parse_assignment(s, "centre_forest.trees=16");
-    train_option_table().set(c, key, value, "--set", &o);
-  }
-  return c;
+  return options::resolve_config(train_option_table(), file, settings, flags, "centre_forest.trees=16",
+                                 origins ? *origins : local);
 }
 
 void ForestOptions::validate(const std::string& field) const { forest_table(field + "_forest").check(*this); }

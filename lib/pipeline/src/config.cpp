@@ -251,39 +251,12 @@ GenerateConfig load_generate_config(const std::filesystem::path& file) {
   return c;
 }
 
-void apply_value(GenerateConfig& config, const std::string& key, const std::string& text, const std::string& source,
-                 options::Origins* origins) {
-  json value;
-  try {
-    value = json::parse(text);  // numbers, booleans, arrays, objects
-  } catch (const json::parse_error&) {
-    value = text;  // anything else is a string
-  }
-  // A flag for a string key takes its text as written (`--version 1.0` is the string
-  // "1.0"); --set parses JSON first, so `--set 'version="1.0"'` says the same.
-  const options::Option<GenerateConfig>* o = generate_option_table().find(key);
-  if (o != nullptr && o->spec.type == "string" && source != "--set") value = text;
-  generate_option_table().set(config, key, value, source, origins);
-}
-
-void apply_setting(GenerateConfig& config, const std::string& assignment, options::Origins* origins) {
-  const auto [key, value] = options::parse_assignment(assignment, "crops.min_lidar_coverage=0.4");
-  generate_option_table().set(config, key, value, "--set", origins);
-}
-
-GenerateConfig resolve_generate_config(const std::filesystem::path& file, const std::vector<ConfigAssignment>& values,
-                                       options::Origins* origins) {
-  GenerateConfig c;
+GenerateConfig resolve_generate_config(const std::filesystem::path& file, const std::vector<std::string>& settings,
+                                       const std::vector<options::FlagValue>& flags, options::Origins* origins) {
   options::Origins local;
   options::Origins& o = origins ? *origins : local;
-  if (!file.empty()) apply_config_file(c, file, &o);
-  for (const ConfigAssignment& v : values) {
-    if (v.source == "--set") {
-      apply_setting(c, v.text, &o);  // "key=value" as written
-    } else {
-      apply_value(c, v.key, v.text, v.source, &o);
-    }
-  }
+  GenerateConfig c =
+      options::resolve_config(generate_option_table(), file, settings, flags, "crops.min_lidar_coverage=0.4", o);
   c.check_relations(o);
   return c;
 }

@@ -24,6 +24,7 @@
 #include "nsg/graph/from_map.h"
 #include "nsg/graph/geojson.h"
 #include "nsg/graph/segment_index.h"
+#include "nsg/io/manifest.h"
 #include "nsg/io/tar.h"
 #include "nsg/nuscenes/database.h"
 #include "nsg/nuscenes/map_expansion.h"
@@ -94,9 +95,8 @@ size_t LocationPlan::count(const std::string& split) const {
 ordered_json plan_json(const LocationPlan& p) {
   ordered_json regions = ordered_json::array();
   for (const tiling::Region& r : p.regions)
-    regions.push_back({{"name", r.name},
-                       {"split", r.split},
-                       {"bounds_m", {r.bounds.x_west_m, r.bounds.y_south_m, r.bounds.x_east_m, r.bounds.y_north_m}}});
+    regions.push_back(io::region_to_json(
+        {r.name, r.split, {r.bounds.x_west_m, r.bounds.y_south_m, r.bounds.x_east_m, r.bounds.y_north_m}}));
   ordered_json counts = ordered_json::object();
   for (std::string_view s : tiling::kSplitNames) counts[std::string(s)] = p.count(std::string(s));
   ordered_json shards = ordered_json::array();

@@ -6,11 +6,11 @@
 
 #include "nsg/core/error.h"
 #include "nsg/io/raster.h"
+#include "nsg/io/tile_graph.h"
 #include "nsg/io/tile_members.h"
+#include "nsg/io/tile_meta.h"
 
 namespace nsg::pipeline {
-
-using nlohmann::ordered_json;
 
 const std::vector<std::string>& tile_file_suffixes() {
   static const std::vector<std::string> kSuffixes = [] {
@@ -49,31 +49,24 @@ namespace {
 
 std::vector<uint8_t> bytes_of(const std::string& text) { return {text.begin(), text.end()}; }
 
-std::string graph_json(const tiling::Tile& t) {
-  ordered_json nodes = ordered_json::array();
-  for (const graph::TileNode& n : t.graph.nodes)
-    nodes.push_back({{"id", n.id}, {"u", n.u_px}, {"v", n.v_px}, {"x", n.x_m}, {"y", n.y_m}});
-  ordered_json edges = ordered_json::array();
-  for (const graph::TileEdge& e : t.graph.edges)
-    edges.push_back({{"source", e.source}, {"target", e.target}, {"lane_token", e.lane_token}});
-  const ordered_json doc = {{"schema_version", "1"}, {"key", t.key}, {"nodes", nodes}, {"edges", edges}};
-  return doc.dump() + "\n";
-}
-
-std::string meta_json(const tiling::Tile& t, const std::vector<std::string>& scenes) {
-  const ordered_json doc = {
-      {"schema_version", "1"},
-      {"key", t.key},
-      {"location", t.location},
-      {"split", t.crop.split},
-      {"region", t.crop.region},
-      {"bounds_m", {t.bounds.x_west_m, t.bounds.y_south_m, t.bounds.x_east_m, t.bounds.y_north_m}},
-      {"resolution_m", t.resolution_m},
-      {"size_px", t.rasters.size_px},
-      {"coverage", {{"lidar", t.coverage_lidar}, {"rgb", t.coverage_rgb}, {"semantic", t.coverage_semantic}}},
-      {"counts", {{"nodes", t.graph.nodes.size()}, {"edges", t.graph.edges.size()}, {"vehicle_px", t.vehicle_px}}},
-      {"scenes", scenes}};
-  return doc.dump(2) + "\n";
+// The tile's meta document (io/tile_meta.h writes it).
+io::TileMeta tile_meta(const tiling::Tile& t, const std::vector<std::string>& scenes) {
+  io::TileMeta m;
+  m.key = t.key;
+  m.location = t.location;
+  m.split = t.crop.split;
+  m.region = t.crop.region;
+  m.bounds_m = {t.bounds.x_west_m, t.bounds.y_south_m, t.bounds.x_east_m, t.bounds.y_north_m};
+  m.resolution_m = t.resolution_m;
+  m.size_px = t.rasters.size_px;
+  m.coverage_lidar = t.coverage_lidar;
+  m.coverage_rgb = t.coverage_rgb;
+  m.coverage_semantic = t.coverage_semantic;
+  m.nodes = static_cast<int64_t>(t.graph.nodes.size());
+  m.edges = static_cast<int64_t>(t.graph.edges.size());
+  m.vehicle_px = t.vehicle_px;
+  m.scenes = scenes;
+  return m;
 }
 
 }  // namespace
@@ -89,9 +82,9 @@ std::vector<TileFile> encode_tile_files(const tiling::Tile& t, const TileFileOpt
       o.nodata = m.nodata;
       bytes = io::encode_geotiff(layer_raster(t.rasters, m), geo, o);
     } else if (m.name == "graph") {
-      bytes = bytes_of(graph_json(t));
+      bytes = bytes_of(io::tile_graph_text(t.key, t.graph));
     } else if (m.name == "meta") {
-      bytes = bytes_of(meta_json(t, options.scenes));
+      bytes = bytes_of(io::tile_meta_text(tile_meta(t, options.scenes)));
     } else {
       throw InternalError("", m.file, "a member the tile writer knows");
     }

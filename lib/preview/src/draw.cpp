@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "nsg/core/coverage_bits.h"
 #include "nsg/core/error.h"
 #include "nsg/core/strings.h"
 
@@ -85,6 +86,12 @@ double color_difference(Rgb a, Rgb b) {
   const auto la = to_lab(a), lb = to_lab(b);
   return std::sqrt((la[0] - lb[0]) * (la[0] - lb[0]) + (la[1] - lb[1]) * (la[1] - lb[1]) +
                    (la[2] - lb[2]) * (la[2] - lb[2]));
+}
+
+Rgb coverage_color(uint8_t flags) {
+  if (flags == 0) return kNoData;
+  const auto channel = [flags](uint8_t bit) { return static_cast<uint8_t>(flags & bit ? 230 : 40); };
+  return {channel(kCoverageLidar), channel(kCoverageRgb), channel(kCoverageSemantic)};
 }
 
 Rgb heading_color(double heading) {

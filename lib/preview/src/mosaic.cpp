@@ -110,21 +110,19 @@ cv::Mat coverage_mat(const io::DatasetTile& tile, int size_px) {
   for (int i = 0; i < size_px * size_px; ++i) {
     const uint8_t f = cov.data[i];
     if (f == 0) continue;
-    m.at<cv::Vec3b>(i / size_px, i % size_px) = cv::Vec3b(f & 1 ? 230 : 40, f & 2 ? 230 : 40, f & 4 ? 230 : 40);
+    const Rgb c = coverage_color(f);
+    m.at<cv::Vec3b>(i / size_px, i % size_px) = cv::Vec3b(c.r, c.g, c.b);
   }
   return m;
 }
 
 std::string show(const std::optional<double>& v) { return v ? strprintf("%.3f", *v) : std::string("n/a"); }
 
-std::vector<std::string> caption_of(const CardInput& in, const nlohmann::json& meta, const metrics::Graph& gt) {
+std::vector<std::string> caption_of(const CardInput& in, const io::TileMeta& meta, const metrics::Graph& gt) {
   std::vector<std::string> lines{in.tile->key};
-  const nlohmann::json cov = meta.value("coverage", nlohmann::json::object());
-  auto pct = [&cov](const char* k) {
-    return cov.contains(k) && cov[k].is_number() ? strprintf("%.1f%%", 100.0 * cov[k].get<double>()) : std::string("?");
-  };
-  lines.push_back(strprintf("coverage L %s R %s S %s | %zu nodes %zu edges", pct("lidar").c_str(), pct("rgb").c_str(),
-                            pct("semantic").c_str(), gt.nodes.size(), gt.edges.size()));
+  lines.push_back(strprintf("coverage L %.1f%% R %.1f%% S %.1f%% | %zu nodes %zu edges", 100.0 * meta.coverage_lidar,
+                            100.0 * meta.coverage_rgb, 100.0 * meta.coverage_semantic, gt.nodes.size(),
+                            gt.edges.size()));
   if (in.submission) {
     if (!in.prediction) {
       lines.push_back("prediction missing (scored as empty)");
@@ -139,13 +137,8 @@ std::vector<std::string> caption_of(const CardInput& in, const nlohmann::json& m
 
 void draw_card(cv::Mat& canvas, const CardInput& in, Card& card) {
   const io::DatasetTile& tile = *in.tile;
-  const nlohmann::json meta = tile.json("meta.json");
-  const std::string graph_name = tile.key + ".graph.json";
-  const auto& graph_bytes = tile.files.count("graph.json") ? tile.files.at("graph.json") : std::vector<uint8_t>{};
-  NSG_CHECK(!graph_bytes.empty(), ParseError, graph_name, "file", "a graph.json member");
-  const metrics::Graph gt =
-      metrics::graph_from_dataset_json(std::string(graph_bytes.begin(), graph_bytes.end()), graph_name);
-  card.caption = detail::json_guard(tile.key + ".meta.json", [&] { return caption_of(in, meta, gt); });
+  const metrics::Graph gt = metrics::tile_graph(tile);
+  card.caption = caption_of(in, tile.meta(), gt);
   const int size_px = tile.raster("lidar.tif").width;
   NSG_CHECK(size_px > 0, ParseError, tile.key + ".lidar.tif", "size", "a positive width");
   const int panel_px = card.panels[0].width;

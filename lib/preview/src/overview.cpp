@@ -10,6 +10,7 @@
 #include "draw.h"
 #include "nsg/core/error.h"
 #include "nsg/core/strings.h"
+#include "nsg/io/manifest.h"
 
 namespace nsg::preview {
 
@@ -20,21 +21,7 @@ constexpr int kMarginPx = 16;
 constexpr int kLegendWidthPx = 260;
 constexpr Rgb kOverviewLane{200, 0, 120};  // magenta: visible on grey LiDAR and on the fills
 
-struct Region {
-  std::string name, split;
-  std::array<double, 4> bounds_m{};
-};
-
-std::array<double, 4> bounds_of(const nlohmann::json& j, const std::string& file, const std::string& record) {
-  NSG_CHECK(j.is_array() && j.size() == 4, ParseError, file, record, "bounds_m: [x_west, y_south, x_east, y_north]");
-  std::array<double, 4> b{};
-  for (int i = 0; i < 4; ++i) {
-    NSG_CHECK(j[i].is_number(), ParseError, file, record, "numeric bounds_m");
-    b[i] = j[i].get<double>();
-  }
-  NSG_CHECK(b[0] < b[2] && b[1] < b[3], ParseError, file, record, "bounds_m with west < east and south < north");
-  return b;
-}
+using io::Region;
 
 struct Segment {
   double x0, y0, x1, y1;
@@ -47,9 +34,8 @@ struct TileLayers {
   std::vector<Segment> lanes;
 };
 
-void add_tile(const io::DatasetTile& tile, const nlohmann::json& meta, const Overview& ov, TileLayers& acc) {
-  const std::string meta_name = tile.key + ".meta.json";
-  const std::array<double, 4> b = bounds_of(meta.value("bounds_m", nlohmann::json()), meta_name, "bounds_m");
+void add_tile(const io::DatasetTile& tile, const io::TileMeta& meta, const Overview& ov, TileLayers& acc) {
+  const std::array<double, 4>& b = meta.bounds_m;
   acc.crops.push_back(b);
   const int map_w = ov.map_rect.width, map_h = ov.map_rect.height;
   if (tile.has("lidar.tif")) {
@@ -70,22 +56,10 @@ void add_tile(const io::DatasetTile& tile, const nlohmann::json& meta, const Ove
       }
   }
   if (tile.has("graph.json")) {
-    const nlohmann::json g = tile.json("graph.json");
-    const std::string name = tile.key + ".graph.json";
-    std::map<int64_t, std::array<double, 2>> xy;
-    for (const auto& n : g.value("nodes", nlohmann::json::array())) {
-      NSG_CHECK(n.is_object() && n.contains("id") && n.contains("x") && n.contains("y") && n["x"].is_number() &&
-                    n["y"].is_number() && n["id"].is_number_integer(),
-                ParseError, name, "nodes", "nodes with integer id and numeric x, y");
-      xy[n["id"].get<int64_t>()] = {n["x"].get<double>(), n["y"].get<double>()};
-    }
-    for (const auto& e : g.value("edges", nlohmann::json::array())) {
-      NSG_CHECK(e.is_object() && e.contains("source") && e.contains("target") && e["source"].is_number_integer() &&
-                    e["target"].is_number_integer(),
-                ParseError, name, "edges", "edges with integer source and target");
-      const auto s = xy.find(e["source"].get<int64_t>()), t = xy.find(e["target"].get<int64_t>());
-      NSG_CHECK(s != xy.end() && t != xy.end(), ParseError, name, "edges", "source and target among the node ids");
-      acc.lanes.push_back({s->second[0], s->second[1], t->second[0], t->second[1]});
+    const graph::TileGraph g = tile.graph();
+    for (const graph::TileEdge& e : g.edges) {
+      const graph::TileNode &s = g.nodes[static_cast<size_t>(e.source)], &t = g.nodes[static_cast<size_t>(e.target)];
+      acc.lanes.push_back({s.x_m, s.y_m, t.x_m, t.y_m});
     }
   }
 }
@@ -128,41 +102,21 @@ Overview render_overview(const io::Dataset& dataset, const std::string& location
   options.validate();
   const std::string manifest = (dataset.root() / "manifest.json").string();
   const nlohmann::json& m = dataset.manifest();
-  NSG_CHECK(m.contains("locations") && m["locations"].is_array(), ParseError, manifest, "locations", "an array");
-  const nlohmann::json* loc = nullptr;
-  for (const auto& l : m["locations"]) {
-    NSG_CHECK(l.is_object(), ParseError, manifest, "locations", "objects with a name");
-    if (detail::json_guard(manifest, [&] { return l.value("name", ""); }) == location) loc = &l;
-  }
-  NSG_CHECK(loc != nullptr, ConfigError, manifest, "locations", "a location named '" + location + "'");
-  NSG_CHECK(!loc->contains("regions") || (*loc)["regions"].is_array(), ParseError, manifest, location + ".regions",
-            "an array");
+  const std::vector<io::ManifestLocation> locations = io::manifest_locations(m, manifest);
+  const auto loc = std::find_if(locations.begin(), locations.end(),
+                                [&](const io::ManifestLocation& l) { return l.name == location; });
+  NSG_CHECK(loc != locations.end(), ConfigError, manifest, "locations", "a location named '" + location + "'");
 
-  std::vector<Region> regions;
+  const std::vector<Region>& regions = loc->regions;
   double x_w = std::numeric_limits<double>::infinity(), y_s = x_w, x_e = -x_w, y_n = -x_w;
   auto grow = [&](const std::array<double, 4>& b) {
     x_w = std::min(x_w, b[0]), y_s = std::min(y_s, b[1]), x_e = std::max(x_e, b[2]), y_n = std::max(y_n, b[3]);
   };
-  detail::json_guard(manifest, [&] {
-    for (const auto& r : loc->value("regions", nlohmann::json::array())) {
-      NSG_CHECK(r.is_object(), ParseError, manifest, location + ".regions", "objects {name, split, bounds_m}");
-      regions.push_back({r.value("name", ""), r.value("split", ""),
-                         bounds_of(r.value("bounds_m", nlohmann::json()), manifest, location + ".regions")});
-      grow(regions.back().bounds_m);
-    }
-  });
+  for (const Region& r : regions) grow(r.bounds_m);
   // meta.location, not the key prefix: "boston-" would also match "boston-seaport-…".
-  auto of_location = [&](const io::DatasetTile& t) {
-    return detail::json_guard(t.key + ".meta.json", [&] { return t.json("meta.json").value("location", ""); }) ==
-           location;
-  };
   if (regions.empty())  // no regions recorded: the extent comes from the tiles themselves
     dataset.for_each_tile(split, [&](const io::DatasetTile& t) {
-      const std::string meta = t.key + ".meta.json";
-      if (of_location(t))
-        grow(detail::json_guard(meta, [&] {
-          return bounds_of(t.json("meta.json").value("bounds_m", nlohmann::json()), meta, "bounds_m");
-        }));
+      if (const io::TileMeta meta = t.meta(); meta.location == location) grow(meta.bounds_m);
       return true;
     });
   NSG_CHECK(std::isfinite(x_w), DataError, manifest, location, "regions or tiles to draw");
@@ -219,8 +173,9 @@ Overview render_overview(const io::Dataset& dataset, const std::string& location
   acc.lidar_max.assign(static_cast<size_t>(map_w) * map_h, 0);
   size_t n_tiles = 0;
   dataset.for_each_tile(split, [&](const io::DatasetTile& t) {
-    if (!of_location(t)) return true;
-    detail::json_guard(t.key + ".meta.json|graph.json", [&] { add_tile(t, t.json("meta.json"), ov, acc); });
+    const io::TileMeta meta = t.meta();
+    if (meta.location != location) return true;
+    add_tile(t, meta, ov, acc);
     ++n_tiles;
     return true;
   });

@@ -25,10 +25,7 @@ int metric_index(const std::string& name) {
   return -1;
 }
 
-// Chamfer distances grow with error; every other metric shrinks.
-bool lower_is_better(int metric) {
-  return metric == metrics::kChamferPx2 || metric == metrics::kChamferM2 || metric == metrics::kChamferMeanM;
-}
+bool lower_is_better(int metric) { return metrics::metric_info(metric).lower_is_better; }
 
 std::vector<nlohmann::json> selected_shards(const io::Dataset& ds, const PreviewOptions& o) {
   std::vector<nlohmann::json> out;
@@ -50,22 +47,15 @@ void write_png(const fs::path& file, const Image& image, std::vector<fs::path>& 
   written.push_back(file);
 }
 
-metrics::Graph gt_graph(const io::DatasetTile& t) {
-  const std::string name = t.key + ".graph.json";
-  NSG_CHECK(t.has("graph.json"), ParseError, name, "file", "a graph.json member");
-  const auto& bytes = t.files.at("graph.json");
-  return metrics::graph_from_dataset_json(std::string(bytes.begin(), bytes.end()), name);
-}
+metrics::Graph gt_graph(const io::DatasetTile& t) { return metrics::tile_graph(t); }
 
 metrics::MetricParams params_of(const io::DatasetTile& t) {
-  return detail::json_guard(t.key + ".meta.json", [&] {
-    metrics::MetricParams p;
-    const nlohmann::json meta = t.json("meta.json");
-    p.resolution_m = meta.value("resolution_m", p.resolution_m);
-    p.size_px = meta.value("size_px", p.size_px);
-    p.validate();
-    return p;
-  });
+  const io::TileMeta meta = t.meta();
+  metrics::MetricParams p;
+  p.resolution_m = meta.resolution_m;
+  p.size_px = meta.size_px;
+  p.validate();
+  return p;
 }
 
 void write_shard_mosaics(const io::Dataset& ds, const fs::path& out, const PreviewOptions& o,

@@ -52,6 +52,8 @@ TilePass write_tile_pages(const io::Dataset& dataset, const std::string& split, 
                           const EarlierImages& earlier, const std::filesystem::path& dir, int threads, bool progress);
 // The per-tile table's columns in display order (metrics first, then diagnostics).
 std::vector<std::string> table_columns(bool submission, bool baseline);
+// The columns whose smaller values are better (the metrics' metric_info, then the counts).
+std::vector<std::string> lower_is_better_columns();
 
 // --- summary.cpp
 // data/summary.js's document: mode, summary table, locations with regions and buffers,

@@ -83,7 +83,7 @@ ordered_json columns_json() {
   for (const metrics::HeadlineMetric& h : metrics::headline_metrics())
     out.push_back({{"name", metrics::metric_name(h.metric)},
                    {"label", h.label},
-                   {"better", h.lower_is_better ? "lower" : "higher"},
+                   {"better", metrics::metric_info(h.metric).lower_is_better ? "lower" : "higher"},
                    {"digits", h.digits}});
   return out;
 }

@@ -6,10 +6,12 @@
 
 #include "internal.h"
 #include "nsg/core/atomic_file.h"
+#include "nsg/core/coverage_bits.h"
 #include "nsg/core/error.h"
 #include "nsg/core/strings.h"
 #include "nsg/core/version.h"
-#include "nsg/pipeline/stats.h"
+#include "nsg/io/manifest.h"
+#include "nsg/io/stats.h"
 #include "nsg/preview/preview.h"
 
 namespace nsg::report {
@@ -63,10 +65,9 @@ nlohmann::ordered_json legends() {
   const char* names[] = {
       "",         "LiDAR only", "RGB only", "LiDAR + RGB", "semantics only", "LiDAR + semantics", "RGB + semantics",
       "all three"};
-  for (int f = 1; f < 8; ++f)
-    coverage.push_back({{"label", names[f]},
-                        {"color", hex({static_cast<uint8_t>(f & 1 ? 230 : 40), static_cast<uint8_t>(f & 2 ? 230 : 40),
-                                       static_cast<uint8_t>(f & 4 ? 230 : 40)})}});
+  static_assert(sizeof(names) / sizeof(names[0]) == kCoverageAll + 1, "a label per coverage value");
+  for (int f = 1; f <= kCoverageAll; ++f)
+    coverage.push_back({{"label", names[f]}, {"color", hex(preview::coverage_color(static_cast<uint8_t>(f)))}});
   coverage.push_back({{"label", "no data"}, {"color", hex(preview::kNoData)}});
   nlohmann::ordered_json lidar = {{{"label", "low intensity"}, {"color", "#404040"}},
                                   {{"label", "high intensity"}, {"color", "#ffffff"}},
@@ -83,16 +84,11 @@ nlohmann::ordered_json legends() {
           {"overlay", overlay},   {"casing", hex(preview::kOverlayCasing)}};
 }
 
-nlohmann::json manifest_regions(const nlohmann::json& loc, const std::string& manifest) {
+// The manifest's region records, keys sorted (bounds_m, name, split) as the page has always
+// had them.
+nlohmann::json regions_json(const std::vector<io::Region>& regions) {
   nlohmann::json out = nlohmann::json::array();
-  try {
-    for (const auto& r : loc.value("regions", nlohmann::json::array()))
-      out.push_back({{"name", r.at("name").get<std::string>()},
-                     {"split", r.at("split").get<std::string>()},
-                     {"bounds_m", r.at("bounds_m").get<std::vector<double>>()}});
-  } catch (const nlohmann::json::exception& e) {
-    throw ParseError(manifest, "locations.regions", std::string("regions {name, split, bounds_m} (") + e.what() + ")");
-  }
+  for (const io::Region& r : regions) out.push_back(nlohmann::json(io::region_to_json(r)));
   return out;
 }
 
@@ -191,14 +187,13 @@ nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::s
   doc["legends"] = legends();
   doc["columns"] = table_columns(scores != nullptr, baseline != nullptr);
   doc["main"] = scores ? main_metrics() : kMainFigures;
-  doc["lower_is_better"] = {"chamfer_px2",           "chamfer_m2",      "chamfer_mean_m", "missing_prediction",
-                            "wrong_direction_edges", "unmatched_edges", "missed_gt_edges"};
+  doc["lower_is_better"] = lower_is_better_columns();
   if (scores) {
     doc["score"] = score_facts(*scores);
     if (baseline) doc["baseline"] = score_facts(*baseline);
     doc["summary"] = score_rows(*scores, baseline);
   } else {
-    doc["stats"] = pipeline::stats_json(pipeline::compute_stats(dataset.root()));
+    doc["stats"] = io::stats_json(io::compute_stats(dataset.root()));
   }
   const nlohmann::json& m = dataset.manifest();
   double buffer_m = 0.0;
@@ -208,14 +203,8 @@ nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::s
     throw ParseError(manifest, "config.splits.buffer_m", std::string("a number (") + e.what() + ")");
   }
   nlohmann::ordered_json locations = nlohmann::ordered_json::array();
-  NSG_CHECK(m.contains("locations") && m["locations"].is_array(), ParseError, manifest, "locations", "an array");
-  for (const auto& loc : m["locations"]) {
-    NSG_CHECK(loc.is_object() && loc.contains("name") && loc["name"].is_string(), ParseError, manifest, "locations",
-              "objects with a name");
-    locations.push_back({{"name", loc["name"].get<std::string>()},
-                         {"regions", manifest_regions(loc, manifest)},
-                         {"buffer_m", buffer_m}});
-  }
+  for (const io::ManifestLocation& loc : io::manifest_locations(m, manifest))
+    locations.push_back({{"name", loc.name}, {"regions", regions_json(loc.regions)}, {"buffer_m", buffer_m}});
   doc["locations"] = std::move(locations);
   return doc;
 }

@@ -63,7 +63,7 @@ struct Meta {
 
 // Through the checked reader (io/tile_meta.h): every field typed and in range.
 Meta read_meta(const io::DatasetTile& tile) {
-  const io::TileMeta t = io::tile_meta_from_json(tile.json("meta.json"), tile.key + ".meta.json");
+  const io::TileMeta t = tile.meta();
   Meta m;
   m.location = t.location;
   m.split = t.split;
@@ -77,12 +77,7 @@ Meta read_meta(const io::DatasetTile& tile) {
   return m;
 }
 
-metrics::Graph read_graph(const io::DatasetTile& tile) {
-  const std::string name = tile.key + ".graph.json";
-  NSG_CHECK(tile.has("graph.json"), ParseError, name, "file", "a graph.json member");
-  const auto& bytes = tile.files.at("graph.json");
-  return metrics::graph_from_dataset_json(std::string(bytes.begin(), bytes.end()), name);
-}
+metrics::Graph read_graph(const io::DatasetTile& tile) { return metrics::tile_graph(tile); }
 
 // What a tile's layer images are made of: every member's bytes and the renderer (this
 // build), so a rerun takes an earlier image only when both are unchanged.
@@ -248,6 +243,29 @@ std::map<std::string, const metrics::TileMeasurement*> by_key(const metrics::Sco
 
 }  // namespace
 
+namespace {
+// The per-tile columns a scored submission adds beside the metrics (tile_document sets
+// them), and which way is better: declared once for the columns and the sort arrows.
+struct PredictionColumn {
+  const char* name;
+  bool lower_is_better;
+};
+constexpr PredictionColumn kPredictionColumns[] = {{"missing_prediction", true},
+                                                   {"pred_edges", false},
+                                                   {"wrong_direction_edges", true},
+                                                   {"unmatched_edges", true},
+                                                   {"missed_gt_edges", true}};
+}  // namespace
+
+std::vector<std::string> lower_is_better_columns() {
+  std::vector<std::string> out;
+  for (int m = 0; m < metrics::kMetricCount; ++m)
+    if (metrics::metric_info(m).lower_is_better) out.push_back(metrics::metric_name(m));
+  for (const PredictionColumn& c : kPredictionColumns)
+    if (c.lower_is_better) out.push_back(c.name);
+  return out;
+}
+
 std::vector<std::string> table_columns(bool submission, bool baseline) {
   std::vector<std::string> cols;
   if (submission) {
@@ -257,9 +275,7 @@ std::vector<std::string> table_columns(bool submission, bool baseline) {
         cols.push_back(std::string("baseline.") + metrics::metric_name(m));
       for (int m = 0; m < metrics::kMetricCount; ++m) cols.push_back(std::string("delta.") + metrics::metric_name(m));
     }
-    for (const char* c :
-         {"missing_prediction", "pred_edges", "wrong_direction_edges", "unmatched_edges", "missed_gt_edges"})
-      cols.push_back(c);
+    for (const PredictionColumn& c : kPredictionColumns) cols.push_back(c.name);
   }
   for (const char* c :
        {"gt_nodes", "gt_edges", "lane_length_m", "coverage_lidar", "coverage_rgb", "coverage_semantic", "vehicle_px"})

@@ -356,15 +356,10 @@ SynthConfig SynthConfig::from_file(const std::filesystem::path& path) {
 }
 
 SynthConfig resolve_synth_config(const std::filesystem::path& file, const std::vector<std::string>& settings,
-                                 options::Origins* origins) {
-  SynthConfig c;
+                                 const std::vector<options::FlagValue>& flags, options::Origins* origins) {
   options::Origins local;
   options::Origins& o = origins ? *origins : local;
-  if (!file.empty()) synth_option_table().apply(c, options::read_config_file(file), file.string(), &o);
-  for (const std::string& s : settings) {
-    const auto [key, value] = options::parse_assignment(s, "scenes.count=3");
-    synth_option_table().set(c, key, value, "--set", &o);
-  }
+  SynthConfig c = options::resolve_config(synth_option_table(), file, settings, flags, "scenes.count=3", o);
   c.check_relations(o);
   return c;
 }

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nsg/core/coverage_bits.h"
 #include "nsg/core/error.h"
 #include "nsg/core/progress.h"
 #include "nsg/core/sha256.h"
@@ -469,22 +470,23 @@ class DatasetChecker {
     const auto* sem = rasters.count("semantic.tif") ? rasters.at("semantic.tif").data.data() : nullptr;
     for (size_t i = 0; i < pixels; ++i) {
       const uint8_t f = flags[i];
-      if (f > 7) ++bad_flags;
-      lidar_px += (f & 1) != 0;
-      rgb_px += (f & 2) != 0;
-      sem_px += (f & 4) != 0;
-      if (lidar && lidar[i] != 0 && !(f & 1)) ++unflagged[0];
-      if (rgb && (rgb[3 * i] | rgb[3 * i + 1] | rgb[3 * i + 2]) != 0 && !(f & 2)) ++unflagged[1];
-      if (sem && sem[i] != 255 && !(f & 4)) ++unflagged[2];
+      if ((f & ~kCoverageAll) != 0) ++bad_flags;
+      lidar_px += (f & kCoverageLidar) != 0;
+      rgb_px += (f & kCoverageRgb) != 0;
+      sem_px += (f & kCoverageSemantic) != 0;
+      if (lidar && lidar[i] != 0 && !(f & kCoverageLidar)) ++unflagged[0];
+      if (rgb && (rgb[3 * i] | rgb[3 * i + 1] | rgb[3 * i + 2]) != 0 && !(f & kCoverageRgb)) ++unflagged[1];
+      if (sem && sem[i] != 255 && !(f & kCoverageSemantic)) ++unflagged[2];
     }
     if (bad_flags > 0)
       error("raster.nodata", base + ".coverage.tif",
-            strprintf("flags in 0..7; %lld pixels are not", static_cast<long long>(bad_flags)));
+            strprintf("flags in 0..%d; %lld pixels are not", kCoverageAll, static_cast<long long>(bad_flags)));
     const char* layers[3] = {"lidar", "rgb", "semantic"};
+    const int bits[3] = {kCoverageLidar, kCoverageRgb, kCoverageSemantic};
     for (int k = 0; k < 3; ++k)
       if (unflagged[k] > 0)
         error("raster.nodata", base + "." + layers[k] + ".tif",
-              strprintf("coverage bit %d wherever %s has data; %lld pixels with data lack it", 1 << k, layers[k],
+              strprintf("coverage bit %d wherever %s has data; %lld pixels with data lack it", bits[k], layers[k],
                         static_cast<long long>(unflagged[k])));
     if (!meta) return;
     const std::string subject = base + ".meta.json";

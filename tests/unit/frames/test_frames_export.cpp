@@ -409,11 +409,12 @@ TEST(FramesConfig, ListingSchemaAndSampleEqualTheDeclarations) {
   const CommandResult printed = run_nsgraph({"frames", "--print-config"});
   ASSERT_EQ(printed.exit_code, 0) << printed.err;
   EXPECT_EQ(json::parse(printed.out), read_json(source_dir() / "samples/frames.json"))
-      << "regenerate: nsgraph frames --print-config > samples/frames.json";
+      << "make regen regenerates it: nsgraph frames --print-config > samples/frames.json";
   const CommandResult schema = run_nsgraph({"frames", "--list-options", "--format", "schema"});
   ASSERT_EQ(schema.exit_code, 0) << schema.err;
   EXPECT_EQ(json::parse(schema.out), read_json(source_dir() / "schemas/v1/frames-config.schema.json"))
-      << "regenerate: nsgraph frames --list-options --format schema > schemas/v1/frames-config.schema.json";
+      << "make regen regenerates it: nsgraph frames --list-options --format schema > "
+         "schemas/v1/frames-config.schema.json";
   const CommandResult sample =
       run_nsgraph({"frames", "--config", (source_dir() / "samples/frames.json").string(), "--print-config"});
   EXPECT_EQ(sample.exit_code, 0) << sample.err;

@@ -204,16 +204,29 @@ TEST(Io, FolderLayoutThroughTheManifest) {
   EXPECT_THROW(load_dataset_split(dir.path(), "test", false), DataError);
 }
 
+// The ground truth's graph comes through the dataset's one graph reader (io::DatasetTile::graph).
 TEST(Io, DatasetGraphErrorsNameFileAndRecord) {
-  const std::string bad = R"({"nodes":[{"id":1,"u":0,"v":0}],"edges":[{"source":1,"target":7}]})";
+  const auto tile = [](const std::string& text) {
+    return io::DatasetTile{"t", "test-000000", {{"graph.json", std::vector<uint8_t>(text.begin(), text.end())}}};
+  };
+  const std::string bad =
+      R"({"nodes":[{"id":1,"u":0,"v":0,"x":0,"y":0}],"edges":[{"source":1,"target":7,"lane_token":"a"}]})";
   try {
-    graph_from_dataset_json(bad, "t.graph.json");
+    tile_graph(tile(bad));
     FAIL() << "expected DataError";
   } catch (const DataError& e) {
     EXPECT_EQ(e.file(), "t.graph.json");
     EXPECT_EQ(e.record(), "/edges/0/target");
   }
-  EXPECT_THROW(graph_from_dataset_json("{\"nodes\": [", "t.graph.json"), ParseError);
+  EXPECT_THROW(tile_graph(tile("{\"nodes\": [")), ParseError);
+  EXPECT_THROW(tile(bad).meta(), ParseError);  // no meta.json member: named, not a crash
+  // Ids are the file's, edges become indices: 100 → 99 and 98 → 99 are 0 → 1 and 2 → 1.
+  const Graph g = tile_graph(tile(graph_doc("t", 0.0)));
+  ASSERT_EQ(g.nodes.size(), 3u);
+  ASSERT_EQ(g.edges.size(), 2u);
+  EXPECT_EQ(g.edges[0], (std::array<int64_t, 2>{0, 1}));
+  EXPECT_EQ(g.edges[1], (std::array<int64_t, 2>{2, 1}));
+  EXPECT_EQ(g.nodes[2].u, 20.0);
 }
 
 TEST(Io, SubmissionStructureErrorsNamePath) {

@@ -11,12 +11,14 @@
 // (counts) and null (undefined) must match exactly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "nsg/core/files.h"
 #include "nsg/metrics/io.h"
 #include "nsg/metrics/measure.h"
 #include "nsg/metrics/params.h"
@@ -152,6 +154,46 @@ TEST(MetricsDoc, EveryWorkedExampleScoresAsStated) {
     SCOPED_TRACE(e.name);
     check_example(e);
   }
+}
+
+}  // namespace
+}  // namespace nsg::metrics
+
+namespace nsg::metrics {
+namespace {
+
+// The metric table (measure.h metric_info) is what the score-report schema's four metric
+// lists say: per-tile values, the aggregate's mean, n_defined and n_undefined each require
+// and declare exactly the metric names, in Metric order. And docs/metrics.md names each.
+TEST(MetricTable, ScoreReportSchemaAndDocsListEveryMetricInOrder) {
+  std::vector<std::string> names;
+  for (int m = 0; m < kMetricCount; ++m) {
+    const MetricInfo& info = metric_info(m);
+    EXPECT_EQ(std::string(info.name), metric_name(m));
+    EXPECT_GT(std::string(info.description).size(), 5u) << info.name;
+    // Only the distances grow with error, and they are the only metrics with a unit.
+    EXPECT_EQ(info.lower_is_better, std::string(info.unit) != "") << info.name;
+    names.push_back(info.name);
+  }
+  const nlohmann::json schema =
+      nlohmann::json::parse(nsg::read_file(nsg::test::source_dir() / "schemas/v1/score-report.schema.json"));
+  const nlohmann::json& aggregate = schema["properties"]["aggregate"]["properties"];
+  for (const nlohmann::json* part :
+       {&schema["definitions"]["tile"], &aggregate["mean"], &aggregate["n_defined"], &aggregate["n_undefined"]}) {
+    std::vector<std::string> required = part->at("required").get<std::vector<std::string>>(), declared;
+    for (const auto& [key, value] : part->at("properties").items()) declared.push_back(key);
+    required.erase(std::remove(required.begin(), required.end(), "key"), required.end());
+    declared.erase(std::remove(declared.begin(), declared.end(), "key"), declared.end());
+    declared.erase(std::remove(declared.begin(), declared.end(), "counts"), declared.end());
+    required.erase(std::remove(required.begin(), required.end(), "counts"), required.end());
+    EXPECT_EQ(required, names) << "schemas/v1/score-report.schema.json: a metric list differs from metric_info";
+    std::sort(declared.begin(), declared.end());
+    std::vector<std::string> sorted = names;
+    std::sort(sorted.begin(), sorted.end());
+    EXPECT_EQ(declared, sorted);
+  }
+  const std::string doc = nsg::read_file(kDoc);
+  for (const std::string& n : names) EXPECT_NE(doc.find("`" + n + "`"), std::string::npos) << n;
 }
 
 }  // namespace

@@ -32,9 +32,7 @@ TEST(GenerateConfig, EveryKeyRefusesABadValueNamingTheKeyAndItsSource) {
   expect_every_key_refused_naming_it(
       specs,
       [](const fs::path& file, const std::vector<std::string>& settings) {
-        std::vector<pipeline::ConfigAssignment> values;
-        for (const std::string& s : settings) values.push_back({"--set", "", s});
-        pipeline::resolve_generate_config(file, values);
+        pipeline::resolve_generate_config(file, settings);
       },
       "generate");
   // And two of them through the binary, exit code included.
@@ -83,11 +81,12 @@ TEST(GenerateConfig, SchemaSampleAndDocsEqualWhatTheDeclarationsGive) {
   const CommandResult schema = run_nsgraph({"generate", "--list-options", "--format", "schema"});
   ASSERT_EQ(schema.exit_code, 0) << schema.err;
   EXPECT_EQ(json::parse(schema.out), json::parse(read_file(source_dir() / "schemas/v1/generate-config.schema.json")))
-      << "regenerate: nsgraph generate --list-options --format schema > schemas/v1/generate-config.schema.json";
+      << "make regen regenerates it: nsgraph generate --list-options --format schema > "
+         "schemas/v1/generate-config.schema.json";
   const CommandResult defaults = run_nsgraph({"generate", "--print-config"});
   ASSERT_EQ(defaults.exit_code, 0) << defaults.err;
   EXPECT_EQ(json::parse(defaults.out), json::parse(read_file(source_dir() / "samples/generate.json")))
-      << "regenerate: nsgraph generate --print-config > samples/generate.json";
+      << "make regen regenerates it: nsgraph generate --print-config > samples/generate.json";
   // docs/options.md: a title, then each command's section as its --format md prints it.
   std::string sections;
   for (const char* command : {"generate", "synth", "train", "frames"}) {
@@ -99,7 +98,7 @@ TEST(GenerateConfig, SchemaSampleAndDocsEqualWhatTheDeclarationsGive) {
   const size_t first = doc.find("## `nsgraph generate` options");
   ASSERT_NE(first, std::string::npos);
   EXPECT_EQ(doc.substr(first), sections)
-      << "regenerate the sections: nsgraph <generate|synth|train|frames> --list-options "
+      << "make regen regenerates the sections: nsgraph <generate|synth|train|frames> --list-options "
          "--format md, joined by an empty line, after the title";
 }
 

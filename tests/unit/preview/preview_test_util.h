@@ -22,10 +22,7 @@ inline std::vector<io::DatasetTile> e2e_shard(const std::string& name) {
   return {};
 }
 
-inline metrics::Graph tile_graph(const io::DatasetTile& t) {
-  const auto& b = t.files.at("graph.json");
-  return metrics::graph_from_dataset_json(std::string(b.begin(), b.end()), t.key);
-}
+inline metrics::Graph tile_graph(const io::DatasetTile& t) { return metrics::tile_graph(t); }
 
 // Pixels of `rect` whose colour is `c`.
 inline int count_color(const preview::Image& im, const preview::Rect& rect, preview::Rgb c) {

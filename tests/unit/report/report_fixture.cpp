@@ -28,8 +28,7 @@ nlohmann::json test_tiles(F&& per_tile) {
   nlohmann::json sub = {{"schema_version", "1"}, {"tiles", nlohmann::json::object()}};
   const io::Dataset d = io::Dataset::open(e2e_dataset());
   d.for_each_tile("test", [&](const io::DatasetTile& t) {
-    const auto& b = t.files.at("graph.json");
-    const metrics::Graph g = metrics::graph_from_dataset_json(std::string(b.begin(), b.end()), t.key);
+    const metrics::Graph g = metrics::tile_graph(t);
     per_tile(t.key, g, sub["tiles"]);
     return true;
   });

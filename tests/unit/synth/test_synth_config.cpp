@@ -65,7 +65,8 @@ TEST(SynthConfig, SchemaIsTheDeclarationsAndEverySampleWorldFitsIt) {
   ASSERT_EQ(schema.exit_code, 0) << schema.err;
   const fs::path schema_file = source_dir() / "schemas/v1/synth-config.schema.json";
   EXPECT_EQ(json::parse(schema.out), json::parse(read_file(schema_file)))
-      << "regenerate: nsgraph synth --list-options --format schema > schemas/v1/synth-config.schema.json";
+      << "make regen regenerates it: nsgraph synth --list-options --format schema > "
+         "schemas/v1/synth-config.schema.json";
   const validate::SchemaValidator validator(schema_file);
   std::vector<fs::path> worlds;
   for (const fs::path& dir : {source_dir() / "samples/synth", data_dir() / "synth"})

@@ -252,6 +252,35 @@ Json read_config_file(const std::filesystem::path& file);
 // arrays, objects, "quoted text"), else the text itself as a string. ConfigError naming
 // --set and `example` ("crops.min_lidar_coverage=0.4") without an '='.
 std::pair<std::string, Json> parse_assignment(const std::string& assignment, const std::string& example);
+// A value a command-line flag gives a config key (`--seed 7` for "seed"); `flag` names
+// the source in errors.
+struct FlagValue {
+  std::string flag;
+  std::string key;
+  Json value;
+};
+// A flag's text as the value of a key declared `spec`: a string key takes the text as
+// written (`--version 1.0` is "1.0"), any other key parses it as JSON first, like --set.
+Json flag_text_value(const Spec& spec, const std::string& text);
+
+// The one precedence of every command with a config (generate, synth, train, frames;
+// docs/options.md): the defaults, then the file ("" = none), then each --set "key=value"
+// in the order given, then the flags that stand for keys — a dedicated flag is the most
+// specific thing a user typed. `example` is --set's example in errors. The checks across
+// keys are the caller's (they name the source a key came from through `origins`).
+template <typename Owner>
+Owner resolve_config(const Table<Owner>& table, const std::filesystem::path& file,
+                     const std::vector<std::string>& settings, const std::vector<FlagValue>& flags,
+                     const std::string& example, Origins& origins, Owner config = Owner{}) {
+  if (!file.empty()) table.apply(config, read_config_file(file), file.string(), &origins);
+  for (const std::string& s : settings) {
+    const auto [key, value] = parse_assignment(s, example);
+    table.set(config, key, value, "--set", &origins);
+  }
+  for (const FlagValue& f : flags) table.set(config, f.key, f.value, f.flag, &origins);
+  return config;
+}
+
 // A check across keys (ConfigError naming one key) re-thrown naming the source that set
 // that key, or a key above or below it, last ("defaults" when none did).
 [[noreturn]] void rethrow_from_origin(const ConfigError& e, const Origins& origins);

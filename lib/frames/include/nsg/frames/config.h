@@ -49,14 +49,9 @@ options::OrderedJson frames_config_schema();
 const char* to_string(OverlapMode mode);
 const char* to_string(SplitPreset preset);
 
-// A command-line flag that stands for a config key (--copy-images for "copy_images").
-struct FramesFlag {
-  std::string flag;  // names the source in errors
-  std::string key;
-  options::Json value;
-};
-// Defaults, the file ("" = none), the flags, then each --set "key=value"; the relations last.
-FramesConfig resolve_frames_config(const std::filesystem::path& file, const std::vector<FramesFlag>& flags,
-                                   const std::vector<std::string>& settings);
+// options::resolve_config's precedence: the defaults, the file ("" = none), each --set
+// "key=value", then the flags (--copy-images for "copy_images"); the relations last.
+FramesConfig resolve_frames_config(const std::filesystem::path& file, const std::vector<std::string>& settings,
+                                   const std::vector<options::FlagValue>& flags = {});
 
 }  // namespace nsg::frames

@@ -1,7 +1,8 @@
 #pragma once
-// Reading a NuScenesGraph dataset (docs/dataset-format.md) for validate, preview, score and the
-// model: the manifest, and the tiles of a split streamed shard by shard (tar or folder
-// layout) as raw member bytes plus their decoded graph and meta.
+// Reading a NuScenesGraph dataset (docs/dataset-format.md) for validate, preview, score, stats,
+// the report, the model and Python: the manifest, and the tiles of a split streamed shard by
+// shard (tar or folder layout) as raw member bytes with typed readers of their documents
+// (io/tile_meta.h, io/tile_graph.h) and layers (io/raster.h).
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -12,7 +13,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nsg/graph/clip.h"
 #include "nsg/io/raster.h"
+#include "nsg/io/tile_meta.h"
 
 namespace nsg::io {
 
@@ -24,6 +27,10 @@ struct DatasetTile {
   // Decoders; ParseError naming "<key>.<suffix>" when missing or malformed.
   Raster raster(const std::string& suffix) const;
   nlohmann::json json(const std::string& suffix) const;
+  // The tile's documents through their one reader each: ParseError / DataError naming
+  // "<key>.meta.json" / "<key>.graph.json" and the JSON path.
+  TileMeta meta() const;
+  graph::TileGraph graph() const;
 };
 
 // <root>/<relative> for a path the manifest gives (a shard's file or folder). ParseError

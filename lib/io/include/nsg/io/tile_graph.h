@@ -1,6 +1,6 @@
 #pragma once
-// Reading a tile's <key>.graph.json (docs/dataset-format.md) back into the graph module's type,
-// node ids turned into indices.
+// A tile's <key>.graph.json (docs/dataset-format.md): its one writer (generate) and its one
+// reader, back into the graph module's type, node ids turned into indices.
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -14,5 +14,9 @@ namespace nsg::io {
 // DataError naming `file` and the JSON path on a missing field, a non-finite number, a
 // repeated node id or an edge to an unknown id.
 graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::string& file);
+
+// The document generate writes for tile `key` (compact, a final newline): edges name their
+// nodes by TileNode::id. Reading it back gives `graph` again.
+std::string tile_graph_text(const std::string& key, const graph::TileGraph& graph);
 
 }  // namespace nsg::io

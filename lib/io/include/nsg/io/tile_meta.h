@@ -1,8 +1,8 @@
 #pragma once
-// Reading a tile's <key>.meta.json (docs/dataset-format.md, schemas/v1/tile-meta.schema.json)
-// with every field checked: `stats`, the report and the readers that follow trust nothing
-// in a tile document they did not check (an empty bounds_m, a size_px of 20 000 or a
-// resolution of 0 once crashed or hung them).
+// A tile's <key>.meta.json (docs/dataset-format.md, schemas/v1/tile-meta.schema.json): its one
+// writer (generate) and its one reader, with every field checked: `stats`, the report, the
+// previews and the model trust nothing in a tile document they did not check (an empty
+// bounds_m, a size_px of 20 000 or a resolution of 0 once crashed or hung them).
 #include <array>
 #include <cstdint>
 #include <string>
@@ -22,6 +22,11 @@ struct TileMeta {
   std::vector<std::string> scenes;
 };
 
+// [x_west, y_south, x_east, y_north] in metres, finite, within ±1e7 m, west < east and
+// south < north: the one reader of a `bounds_m` (tile meta, manifest regions). ParseError
+// naming `file` and `path` (e.g. "/bounds_m/2").
+std::array<double, 4> bounds_from_json(const nlohmann::json& j, const std::string& file, const std::string& path);
+
 // Largest tile side a reader accepts: the format's crops are 256 px; 8 192 leaves room for
 // any config while bounding every per-pixel loop a reader runs.
 inline constexpr int kMaxTileSizePx = 8192;
@@ -29,5 +34,11 @@ inline constexpr int kMaxTileSizePx = 8192;
 // Throws ParseError naming `file` and the JSON path (e.g. "/bounds_m", "/counts/vehicle_px")
 // for a missing field, a wrong type, a non-finite number or a value out of its range.
 TileMeta tile_meta_from_json(const nlohmann::json& doc, const std::string& file);
+
+// The document generate writes: fields in the schema's order, `region` always present;
+// tile_meta_text is its bytes (2-space indent, a final newline). Reading the text back
+// gives `meta` again.
+nlohmann::ordered_json tile_meta_to_json(const TileMeta& meta);
+std::string tile_meta_text(const TileMeta& meta);
 
 }  // namespace nsg::io

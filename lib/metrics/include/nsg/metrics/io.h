@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "nsg/core/issues.h"
+#include "nsg/graph/clip.h"
+#include "nsg/io/dataset.h"
 #include "nsg/metrics/graph.h"
 #include "nsg/validate/submission.h"
 
@@ -29,10 +31,11 @@ std::optional<nlohmann::json> read_submission_file(const std::filesystem::path& 
 // written to a temp name and renamed.
 void write_submission(const GraphSet& graphs, const std::filesystem::path& path);
 
-// One dataset graph document {schema_version, key, nodes: [{id, u, v, x, y}],
-// edges: [{source, target, lane_token}]}: ids become indices. Throws ParseError /
-// DataError naming `file` and the record.
-Graph graph_from_dataset_json(const std::string& text, const std::string& file);
+// A dataset tile's lane graph as the metrics take it: pixel (u, v) nodes, edges by node
+// index. tile_graph reads the tile's graph.json through its one reader
+// (io::DatasetTile::graph(): ParseError / DataError naming "<key>.graph.json" and the path).
+Graph graph_of_tile(const graph::TileGraph& tile);
+Graph tile_graph(const io::DatasetTile& tile);
 
 // A dataset folder's tiles of `split`, exactly those its manifest.json lists
 // (io::Dataset::verify_split first: the split is listed, its shards present with their

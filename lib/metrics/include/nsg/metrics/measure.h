@@ -66,17 +66,28 @@ enum Count : int {
   kDirectionCorrect,
   kCountCount
 };
+// What a metric is, declared once (measure.cpp's table): its name in reports, its unit,
+// which way is better and a line saying what it measures.
+struct MetricInfo {
+  const char* name;         // "apls", the score report's key
+  const char* unit;         // "" for a fraction in [0, 1], else "px²", "m²", "m"
+  bool lower_is_better;     // the Chamfer distances; every other metric: higher is better
+  const char* description;  // one line (docs/metrics.md has the definition)
+};
+const MetricInfo& metric_info(int metric);
 const char* metric_name(int metric);
+// The table of metric_info as `nsgraph score --list-metrics` prints it: "md" (the "Metric
+// list" section of docs/metrics.md, which `make regen` rewrites) or "json".
+std::string metric_list(const std::string& format);
 const char* count_name(int count);
 
 // The headline metrics as a leaderboard names them, in display order, declared once for
 // `score --format md`, the report's summary and the leaderboard page. The summed Chamfer
 // (m², it grows with a tile's nodes) is no headline; its mean per matched node is.
 struct HeadlineMetric {
-  int metric;         // a Metric
+  int metric;         // a Metric (metric_info: name, direction)
   const char* label;  // "APLS dir."
-  bool lower_is_better;
-  int digits;  // decimals shown
+  int digits;         // decimals shown
 };
 const std::vector<HeadlineMetric>& headline_metrics();
 

@@ -26,15 +26,11 @@ const options::Table<ModelOptions>& model_option_table();
 const options::Table<TrainConfig>& train_option_table();
 options::OrderedJson train_config_schema();
 
-// A command-line flag that stands for a config key (--variant for "variant").
-struct TrainFlag {
-  std::string flag;  // names the source in errors
-  std::string key;
-  options::Json value;
-};
-// Defaults, then the file ("" = none), then the flags, then each --set "key=value" in
-// order. Errors name the key and the file, flag or --set it came from.
-TrainConfig resolve_train_config(const std::filesystem::path& file, const std::vector<TrainFlag>& flags,
-                                 const std::vector<std::string>& settings, options::Origins* origins = nullptr);
+// options::resolve_config's precedence: the defaults, the file ("" = none), each --set
+// "key=value", then the flags (--variant for "variant"). Errors name the key and the file,
+// --set or flag it came from.
+TrainConfig resolve_train_config(const std::filesystem::path& file, const std::vector<std::string>& settings,
+                                 const std::vector<options::FlagValue>& flags = {},
+                                 options::Origins* origins = nullptr);
 
 }  // namespace nsg::model

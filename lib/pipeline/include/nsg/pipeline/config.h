@@ -84,21 +84,11 @@ GenerateConfig config_from_json(const nlohmann::json& doc, const std::string& fi
 // Parses a config file (ParseError naming it) and applies it.
 void apply_config_file(GenerateConfig& config, const std::filesystem::path& file, options::Origins* origins = nullptr);
 GenerateConfig load_generate_config(const std::filesystem::path& file);
-// Sets one key from text, as from --set ("crops.min_lidar_coverage=0.4") or a flag
-// (`source` = "--min-coverage"): JSON when the text parses as JSON (numbers, booleans,
-// arrays), else the text as a string; a flag's text for a string key is that string.
-void apply_setting(GenerateConfig& config, const std::string& assignment, options::Origins* origins = nullptr);
-void apply_value(GenerateConfig& config, const std::string& key, const std::string& text, const std::string& source,
-                 options::Origins* origins = nullptr);
-// A value given on the command line: `--set key=value`, or a flag standing for a key.
-struct ConfigAssignment {
-  std::string source;  // "--set" (text holds "key=value"), or a flag such as "--min-coverage"
-  std::string key;     // a flag's key
-  std::string text;
-};
-// The config of a command line: the defaults, the config file (when given), then the
-// assignments in order; the relations are checked last, naming the source of the key.
-GenerateConfig resolve_generate_config(const std::filesystem::path& file, const std::vector<ConfigAssignment>& values,
+// The config of a command line (options::resolve_config's precedence: the defaults, the
+// file, each --set "key=value", then the flags); the relations are checked last, naming
+// the source of the key.
+GenerateConfig resolve_generate_config(const std::filesystem::path& file, const std::vector<std::string>& settings,
+                                       const std::vector<options::FlagValue>& flags = {},
                                        options::Origins* origins = nullptr);
 // The resolved config as written to the manifest and by --print-config (declaration order).
 nlohmann::ordered_json config_to_json(const GenerateConfig& config);

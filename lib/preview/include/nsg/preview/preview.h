@@ -83,6 +83,9 @@ Rgb split_color(const std::string& split);
 Rgb region_fill(const std::string& split);
 // Vehicle heading in [0, 1) as a fully saturated hue (0 = red, 1/3 = green, 2/3 = blue).
 Rgb heading_color(double heading);
+// A coverage.tif value as a colour: each bit (core/coverage_bits.h) lights its channel,
+// LiDAR red, RGB green, semantics blue; kNoData for 0 (no layer has data).
+Rgb coverage_color(uint8_t flags);
 
 struct LegendEntry {
   std::string label;

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "nsg/core/coverage_bits.h"
 #include "nsg/core/progress.h"
 #include "nsg/raster/lidar_layer.h"
 #include "nsg/raster/sparse_grid.h"
@@ -23,7 +24,10 @@ struct SampleData;
 
 namespace nsg::raster {
 
-inline constexpr uint8_t kCoverageLidar = 1, kCoverageRgb = 2, kCoverageSemantic = 4;
+// The coverage bits are core/coverage_bits.h's; raster:: names kept for the layers' code.
+using ::nsg::kCoverageLidar;
+using ::nsg::kCoverageRgb;
+using ::nsg::kCoverageSemantic;
 
 struct ColorCell {
   uint8_t r = 0, g = 0, b = 0;

@@ -109,9 +109,11 @@ struct SynthConfig {
 const options::Table<SynthConfig>& synth_option_table();
 // The JSON Schema of a world config (schemas/v1/synth-config.schema.json).
 options::OrderedJson synth_config_schema();
-// Defaults, then the file ("" = none), then each --set "key=value" in order, then the
-// checks across keys. Errors name the key and the file or --set it came from.
+// options::resolve_config's precedence (the defaults, the file, each --set "key=value",
+// then the flags), then the checks across keys. Errors name the key and the file, --set or
+// flag it came from.
 SynthConfig resolve_synth_config(const std::filesystem::path& file, const std::vector<std::string>& settings,
+                                 const std::vector<options::FlagValue>& flags = {},
                                  options::Origins* origins = nullptr);
 
 // The six camera channels in the order of the real sensor table.

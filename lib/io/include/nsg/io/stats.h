@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace nsg::pipeline {
+namespace nsg::io {
 
 struct SplitStats {
   int64_t tiles = 0;
@@ -34,4 +34,4 @@ DatasetStats compute_stats(const std::filesystem::path& dataset, bool progress =
 nlohmann::ordered_json stats_json(const DatasetStats& stats);
 std::string stats_text(const DatasetStats& stats);
 
-}  // namespace nsg::pipeline
+}  // namespace nsg::io

@@ -1,4 +1,4 @@
-#include "nsg/pipeline/stats.h"
+#include "nsg/io/stats.h"
 
 #include <algorithm>
 #include <bitset>
@@ -10,14 +10,11 @@
 
 #include "nsg/core/error.h"
 #include "nsg/core/progress.h"
+#include "nsg/core/semantic_classes.h"
 #include "nsg/core/strings.h"
 #include "nsg/io/dataset.h"
-#include "nsg/io/tile_graph.h"
-#include "nsg/io/tile_meta.h"
-#include "nsg/segment/labels.h"
-#include "nsg/tiling/regions.h"
 
-namespace nsg::pipeline {
+namespace nsg::io {
 
 namespace {
 
@@ -83,16 +80,16 @@ double counted_length_m(const graph::TileNode& a, const graph::TileNode& c, cons
   return sum_m;
 }
 
-// A semantic class id as its name (segment/labels.h); an id beyond the table stays a number.
+// A semantic class id as its name (core/semantic_classes.h); an id beyond the table stays a number.
 std::string class_label(int id) {
-  const std::vector<std::string>& names = segment::class_names();
-  return id < static_cast<int>(names.size()) ? names[static_cast<size_t>(id)] : "class " + std::to_string(id);
+  return id < kSemanticClassCount ? std::string(kSemanticClasses[static_cast<size_t>(id)].name)
+                                  : "class " + std::to_string(id);
 }
 
 }  // namespace
 
 DatasetStats compute_stats(const std::filesystem::path& root, bool progress) {
-  const io::Dataset dataset = io::Dataset::open(root);
+  const Dataset dataset = Dataset::open(root);
   DatasetStats stats;
   std::map<std::string, CellUnion> unions;
   double res = 0.2;
@@ -102,18 +99,18 @@ DatasetStats compute_stats(const std::filesystem::path& root, bool progress) {
   const nlohmann::json want_size = format.value("size_px", nlohmann::json()),
                        want_res = format.value("resolution_m", nlohmann::json());
   Progress bar("stats tiles", dataset.tile_count(""), progress);
-  dataset.for_each_tile("", [&](const io::DatasetTile& tile) {
+  dataset.for_each_tile("", [&](const DatasetTile& tile) {
     // Checked readers: a tile document is an outside file (io/tile_meta.h, io/tile_graph.h).
-    const io::TileMeta meta = io::tile_meta_from_json(tile.json("meta.json"), tile.key + ".meta.json");
-    const graph::TileGraph graph = io::tile_graph_from_json(tile.json("graph.json"), tile.key + ".graph.json");
+    const TileMeta meta = tile.meta();
+    const graph::TileGraph graph = tile.graph();
     NSG_CHECK(!want_size.is_number_integer() || want_size.get<int64_t>() == meta.size_px, DataError,
               tile.key + ".meta.json", "/size_px", "the manifest's tile_format.size_px " + want_size.dump());
     NSG_CHECK(!want_res.is_number() || want_res.get<double>() == meta.resolution_m, DataError, tile.key + ".meta.json",
               "/resolution_m", "the manifest's tile_format.resolution_m " + want_res.dump());
     res = meta.resolution_m;
     const int64_t size = meta.size_px;
-    const io::Raster vehicle = tile.raster("vehicle.tif");
-    NSG_CHECK(vehicle.type == io::SampleType::kFloat32 && vehicle.width == size && vehicle.height == size, DataError,
+    const Raster vehicle = tile.raster("vehicle.tif");
+    NSG_CHECK(vehicle.type == SampleType::kFloat32 && vehicle.width == size && vehicle.height == size, DataError,
               tile.key + ".vehicle.tif", "raster", "a float32 raster of the tile's size");
     const int64_t col0 = std::llround(meta.bounds_m[0] / res), row0 = std::llround(meta.bounds_m[1] / res);
     for (const std::string& s : {meta.split, std::string("all")}) {
@@ -136,7 +133,7 @@ DatasetStats compute_stats(const std::filesystem::path& root, bool progress) {
       st.mean_coverage_rgb += meta.coverage_rgb;
       st.mean_coverage_semantic += meta.coverage_semantic;
     }
-    const io::Raster semantic = tile.raster("semantic.tif");
+    const Raster semantic = tile.raster("semantic.tif");
     std::bitset<256> present;
     for (uint8_t v : semantic.data) present.set(v);
     for (int c = 0; c < 255; ++c)
@@ -210,4 +207,4 @@ std::string stats_text(const DatasetStats& stats) {
   return out + "\n";
 }
 
-}  // namespace nsg::pipeline
+}  // namespace nsg::io
