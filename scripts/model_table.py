@@ -24,7 +24,7 @@ VARIANT_LABELS = {"b1": "b1: skeletonized centreline regression", "b2": "b2: anc
                   "net": "net: LaneGraphNet (PyTorch → ONNX, C++ predict)"}
 ABLATION_LABELS = {"lidar": "LiDAR only", "lidar+rgb": "LiDAR + RGB", "lidar+semantic": "LiDAR + semantics",
                    "lidar+vehicle": "LiDAR + vehicles", "all": "all (LiDAR + RGB + semantics + vehicles)"}
-# The differences the README quotes: (a, b, metric) → a − b per tile.
+# The differences docs/reference-model.md quotes: (a, b, metric) → a − b per tile.
 PAIRS = [("graph", "b1", "apls"), ("graph", "b1", "f1"), ("graph", "b1", "topo_f1"),
          ("graph", "b2", "apls"), ("graph", "b2", "f1"), ("graph", "b2", "topo_f1"),
          ("net", "graph", "apls"), ("net", "graph", "f1"), ("net", "graph", "topo_f1")]

@@ -8,6 +8,18 @@
    repository: a reader must be able to open what the code cites.
 4. The README's Layout block names every module under lib/ and every top-level folder,
    and every folder it names exists.
+5. Every relative link in a Markdown file ([text](path) or [text](path#anchor)) leads to a
+   file or folder that exists, and an anchor to a heading of the linked Markdown file
+   (GitHub's heading ids). Links inside fenced code blocks are not links.
+6. Every figure has a producer. A figure marker is a line of its own,
+       <!-- figures: make TARGET (PATH, PATH, ...) YYYY-MM-DD -->
+   naming the make target and/or the committed scripts that produce the figures below it,
+   and the date they were measured. In README.md and docs/, each marker's make targets
+   must be Makefile targets, its paths must exist, and it must name at least one of them
+   and a date. In README.md, a Markdown table with a figure in a row (a number with a
+   unit: s, ms, min, sweeps/s, tiles/s, MB, MiB, GB, GiB, %, ×, ... or a decimal such as
+   0.369) must have a marker above its header row (blank lines and one paragraph may lie
+   between).
 
 Run from anywhere: python3 tests/repo/check_repository.py [REPO_ROOT]. Exit 0 clean, 1 with
 a list of "path:line: what" findings.
@@ -115,6 +127,141 @@ def check_layout(root, files):
     return findings
 
 
+FENCE = re.compile(r"^\s*(```|~~~)")
+LINK = re.compile(r"\[[^\]]*\]\(([^()\s]+)\)")
+HEADING = re.compile(r"^(#{1,6})\s+(.*?)\s*#*\s*$")
+
+
+def prose_lines(text):
+    """(line number, line) of a Markdown text outside its fenced code blocks."""
+    fenced = False
+    for number, line in enumerate(text.splitlines(), 1):
+        if FENCE.match(line):
+            fenced = not fenced
+            continue
+        if not fenced:
+            yield number, line
+
+
+def heading_ids(text):
+    """GitHub's ids of a Markdown text's headings: lower case, punctuation dropped, spaces
+    to hyphens, a repeated id numbered -1, -2, ..."""
+    ids, seen = set(), {}
+    for _, line in prose_lines(text):
+        m = HEADING.match(line)
+        if not m:
+            continue
+        title = re.sub(r"\[([^\]]*)\]\([^)]*\)", r"\1", m.group(2))  # a link's text
+        slug = re.sub(r"[^\w\- ]", "", title.lower().replace("`", "")).replace(" ", "-")
+        n = seen.get(slug, 0)
+        seen[slug] = n + 1
+        ids.add(slug if n == 0 else f"{slug}-{n}")
+    return ids
+
+
+def check_links(root, files):
+    findings = []
+    anchors = {}
+    for rel in files:
+        if not rel.endswith(".md"):
+            continue
+        text = read_text(os.path.join(root, rel)) or ""
+        for number, line in prose_lines(text):
+            for target in LINK.findall(line):
+                if re.match(r"[a-z][a-z0-9+.-]*:", target):  # https:, mailto:, ...
+                    continue
+                path, _, anchor = target.partition("#")
+                linked = os.path.normpath(os.path.join(os.path.dirname(rel), path)) if path else rel
+                if not os.path.exists(os.path.join(root, linked)):
+                    findings.append(f"{rel}:{number}: links to {target}, which does not exist")
+                    continue
+                if anchor and linked.endswith(".md"):
+                    if linked not in anchors:
+                        anchors[linked] = heading_ids(read_text(os.path.join(root, linked)) or "")
+                    if anchor not in anchors[linked]:
+                        findings.append(f"{rel}:{number}: links to {target}, a heading {linked} does not have")
+    return findings
+
+
+FIGURE_MARKER = re.compile(r"^\s*<!--\s*figures:\s*(.*?)\s*-->\s*$")
+DATE = re.compile(r"\b\d{4}-\d{2}-\d{2}\b")
+# A number with a unit, or a decimal (a score): what a table row states as a measurement.
+FIGURE = re.compile(r"\d(?:[\d,.]|\s(?=\d))*\s?(?:µs|ms|s|min|h|[kKMG]?B|MiB|GiB|(?:sweeps|tiles|images|frames)/s"
+                    r"|MB/s|%|×)(?![\w/])|\b\d+\.\d+\b")
+
+
+def makefile_targets(root):
+    text = read_text(os.path.join(root, "Makefile")) or ""
+    return set(re.findall(r"^([\w.-]+)\s*:(?!=)", text, re.M))
+
+
+def check_marker(rel, number, body, root, targets):
+    """Findings for one marker's text: its make targets, its paths and its date."""
+    findings = []
+    makes = re.findall(r"\bmake\s+([\w.-]+)", body)
+    paths = [p.strip() for group in re.findall(r"\(([^)]*)\)", body) for p in group.split(",") if p.strip()]
+    for target in makes:
+        if target not in targets:
+            findings.append(f"{rel}:{number}: figure marker names make {target}, which the Makefile does not define")
+    for path in paths:
+        if not os.path.exists(os.path.join(root, path)):
+            findings.append(f"{rel}:{number}: figure marker names {path}, which is not in the repository")
+    if not makes and not paths:
+        findings.append(f"{rel}:{number}: figure marker names no make target or script")
+    if not DATE.search(body):
+        findings.append(f"{rel}:{number}: figure marker has no date (YYYY-MM-DD)")
+    return findings
+
+
+def marked_above(lines, header):
+    """Whether a figure marker lies above line index `header`: blank lines, at most one
+    paragraph, blank lines, then the marker."""
+    i, paragraphs = header - 1, 0
+    while i >= 0:
+        if FIGURE_MARKER.match(lines[i]):
+            return True
+        if lines[i].strip():
+            if paragraphs == 1:
+                return False
+            paragraphs = 1
+            while i >= 0 and lines[i].strip() and not FIGURE_MARKER.match(lines[i]):
+                i -= 1
+            continue
+        i -= 1
+    return False
+
+
+def check_figures(root, files):
+    findings = []
+    targets = makefile_targets(root)
+    for rel in files:
+        if not (rel == "README.md" or (rel.startswith("docs/") and rel.endswith(".md"))):
+            continue
+        text = read_text(os.path.join(root, rel)) or ""
+        for number, line in prose_lines(text):
+            m = FIGURE_MARKER.match(line)
+            if m:
+                findings += check_marker(rel, number, m.group(1), root, targets)
+        if rel != "README.md":
+            continue
+        # Tables of README.md: runs of prose lines starting with '|'; the first is the header.
+        lines = text.splitlines()
+        prose = dict(prose_lines(text))
+        number = 1
+        while number <= len(lines):
+            if not (number in prose and lines[number - 1].lstrip().startswith("|")):
+                number += 1
+                continue
+            header = number
+            while number <= len(lines) and number in prose and lines[number - 1].lstrip().startswith("|"):
+                number += 1
+            rows = range(header + 2, number)  # after the header and its rule
+            figure_rows = [r for r in rows if FIGURE.search(lines[r - 1])]
+            if figure_rows and not marked_above(lines, header - 1):
+                findings += [f"{rel}:{r}: a figure with no producer marker" for r in figure_rows]
+    return findings
+
+
 def main():
     root = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else
                            os.path.join(os.path.dirname(__file__), "..", ".."))
@@ -122,7 +269,8 @@ def main():
     if not files:
         print(f"{root}: no files found", file=sys.stderr)
         return 2
-    findings = check_paths_and_comments(root, files) + check_layout(root, files)
+    findings = (check_paths_and_comments(root, files) + check_layout(root, files) + check_links(root, files)
+                + check_figures(root, files))
     for f in findings:
         print(f)
     print(f"{len(files)} files checked, {len(findings)} findings")
