@@ -50,8 +50,8 @@ done
 } | write docs/options.md
 # The "Metric list" section of docs/metrics.md: its prose kept, its table (the section's
 # lines that start with '|') replaced by what score --list-metrics prints.
-"$nsgraph" score --list-metrics --format md > "$out/metric-list.md.tmp"
-/usr/bin/python3 - docs/metrics.md "$out/metric-list.md.tmp" <<'PY' | write docs/metrics.md
+"$nsgraph" score --list-metrics --format md > "$out/metric-list.tmp"
+/usr/bin/python3 - docs/metrics.md "$out/metric-list.tmp" <<'PY' | write docs/metrics.md
 import sys
 lines = open(sys.argv[1], encoding="utf-8").read().split("\n")
 table = open(sys.argv[2], encoding="utf-8").read().rstrip("\n").split("\n")
@@ -62,7 +62,7 @@ while body and body[-1] == "":
     body.pop()
 sys.stdout.write("\n".join(lines[:start + 1] + body + [""] + table + [""] + lines[end:]))
 PY
-rm -f "$out/metric-list.md.tmp"
+rm -f "$out/metric-list.tmp"
 PYTHONPATH="$build/python" /usr/bin/python3 - <<'PY' | write samples/semantic-classes.json
 import json
 from nsgraph import SEMANTIC_CLASSES, SEMANTIC_VOID

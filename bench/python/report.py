@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Collects the per-benchmark files of a `make bench` run (bench-out/) into bench.json
-(the machine and every figure, with units in the key names) and bench.md (the table the
-README shows). Missing pieces are reported as missing, never guessed.
+(the machine and every figure, with units in the key names) and bench.md (the table docs/benchmarks.md
+shows). Missing pieces are reported as missing, never guessed.
 
 Every target gets a verdict (bench.json's "verdicts"); the exit status is 1 when one is
 missed, unless --report-only or BENCH_REPORT_ONLY=1. A verdict's kind says how robust it is

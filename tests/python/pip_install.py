@@ -1,4 +1,4 @@
-"""`pip install .` the way the README says: a venv with Debian's packages visible, Debian's
+"""`pip install .` the way docs/python.md says: a venv with Debian's packages visible, Debian's
 setuptools as the build backend (no build isolation, no index: nothing is downloaded), then
 the installed package imported from outside the source and build trees and used once."""
 import json

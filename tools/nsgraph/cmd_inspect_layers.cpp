@@ -72,7 +72,7 @@ void write_tif(const std::string& path, const io::Raster& r, const io::GeoRef& g
   if (m.name == "semantic") write_file_atomic(path + ".aux.xml", category_sidecar());
 }
 
-// The LiDAR and RGB panels as one PNG (the README's picture of the real key frame).
+// The LiDAR and RGB panels as one PNG (the picture of the real key frame in docs/real-data.md).
 void write_panels(const InspectLayersOptions& o, const std::string& version, const tiling::TileRasters& r, int w, int h,
                   double res, size_t samples) {
   preview::LayerPanelsInput in{w, h, r.lidar, r.rgb,

@@ -1,4 +1,4 @@
-// Side-by-side BEV panels of `inspect layers --png` (the README's picture of the
+// Side-by-side BEV panels of `inspect layers --png` (docs/real-data.md's picture of the
 // real key frame): LiDAR intensity in grey and the camera RGB, no data dark, a caption over
 // each and a scale bar.
 #include <algorithm>

@@ -111,7 +111,7 @@ class RealKeyFrame : public ::testing::Test {
 // same global position and height to the millimetre, same intensity.
 TEST_F(RealKeyFrame, LidarCellsAreTheDevkitsCells) {
   const std::vector<GoldenLidarCell> golden = golden_lidar_cells();
-  ASSERT_EQ(golden.size(), 8975u);  // the README's figure
+  ASSERT_EQ(golden.size(), 8975u);  // docs/real-data.md's figure
   std::printf("[ figures ] real key frame: %zu LiDAR cells (devkit %zu)\n", layers_->stats.covered_cells,
               golden.size());
   EXPECT_EQ(layers_->stats.covered_cells, golden.size());
@@ -134,7 +134,7 @@ TEST_F(RealKeyFrame, LidarCellsAreTheDevkitsCells) {
 }
 
 // At least 88 % of the cells within 38 m that the devkit's projection puts into some camera
-// get a colour (the README's 6 022 of 6 812 = 88.4 %), and the colours are what the devkit's
+// get a colour (docs/real-data.md's 6 022 of 6 812 = 88.4 %), and the colours are what the devkit's
 // pixel holds (median difference ≤ 1 level over the golden sample).
 TEST_F(RealKeyFrame, RgbColoursWhatTheDevkitsCamerasSee) {
   const std::vector<GoldenCameraCell> golden = golden_camera_cells();
@@ -177,7 +177,7 @@ TEST_F(RealKeyFrame, RgbColoursWhatTheDevkitsCamerasSee) {
   EXPECT_GT(coloured_blind, coloured);
 }
 
-// The same frame through the CLI, as a user would look at it, with the README's command
+// The same frame through the CLI, as a user would look at it, with the command of docs/usage.md
 // and the default config (a real release has no masks and this one no lidarseg:
 // camera.semantic_source auto leaves the semantic layer out and says so; it exited 2):
 // `inspect layers --png` writes the five GeoTIFFs and the LiDAR/RGB picture, and reports
