@@ -267,6 +267,239 @@ void assign_keys_and_shards(LocationPlan& plan, int64_t per_shard, std::map<std:
   plan.crops = std::move(ordered);
 }
 
+// What the stages of one run share as it goes from location to location: its inputs, the
+// output, the shard numbering, the share's item count and one progress line per stage over
+// the whole run (tiles: per location, as a location's tiles are known only once its LiDAR
+// is accumulated and planned). Stages interleave per location; each line is finished when
+// its stage's last location is done.
+struct RunState {
+  RunState(const GenerateConfig& config_, const GenerateRun& run_, const nuscenes::Database& db_,
+           const CameraSetup& camera_setup_, const StageTotals& totals_, GenerateSummary& summary_)
+      : config(config_),
+        run(run_),
+        db(db_),
+        camera_setup(camera_setup_),
+        totals(totals_),
+        summary(summary_),
+        out(run_.out, config_, run_.share),
+        per_shard(config_.output.resolved_tiles_per_shard()),
+        lidar_progress("lidar sweeps", totals_.all_sweeps, run_.progress) {
+    if (camera_setup.cameras) camera_progress.emplace("camera images", totals.all_images, run.progress);
+    for (const auto& [l, n] : totals.scenes) scenes_total += n;
+  }
+  const GenerateConfig& config;
+  const GenerateRun& run;
+  const nuscenes::Database& db;
+  const CameraSetup& camera_setup;
+  const StageTotals& totals;
+  GenerateSummary& summary;
+  std::vector<std::pair<nuscenes::Index, const ExcludedScene*>> excluded;  // scenes.exclude, scene order
+  OutputWriter out;
+  const int64_t per_shard;
+  std::map<std::string, int64_t> next_shard;  // per split
+  size_t item_index = 0;                      // the run's work items so far (share assignment)
+  std::vector<PlanFilters> filters;           // per location, for an empty plan's explanation
+  Progress lidar_progress;
+  std::optional<Progress> camera_progress;
+  size_t scenes_done = 0, scenes_total = 0, images_decoded = 0;
+};
+
+// One location's pass through the stages.
+struct LocationRun {
+  std::string location;
+  bool last = false;                    // the run's last location: its stage lines finish
+  std::vector<nuscenes::Index> scenes;  // the location's scenes less the excluded ones
+  LocationState st;
+};
+
+void log_excluded_scenes(const nuscenes::Database& db,
+                         const std::vector<std::pair<nuscenes::Index, const ExcludedScene*>>& excluded) {
+  if (excluded.empty()) return;
+  std::vector<std::string> named;
+  for (const auto& [s, e] : excluded)
+    named.push_back(db.scene[s].name + (e->reason.empty() ? "" : " (" + e->reason + ")"));
+  log::info(strprintf("generate: leaving out %zu scene(s) (scenes.exclude): ", excluded.size()) + join(named, ", "));
+}
+
+// Stage 1: the location's lane graph and its segment index.
+void build_graph_stage(RunState& rs, LocationRun& lr) {
+  const auto t0 = std::chrono::steady_clock::now();
+  LocationState& st = lr.st;
+  Issues defects;
+  {  // the map's records are not needed past the graph (a city's map holds ~150 MB)
+    const nuscenes::MapExpansion map = nuscenes::load_map_expansion(rs.config.dataroot, lr.location);
+    st.graph = graph::build_lane_graph(map, rs.config.graph, &defects);
+    st.plan.map_version = map.version();
+  }
+  st.index = std::make_unique<graph::SegmentIndex>(st.graph);
+  st.plan.graph_nodes = st.graph.nodes.size();
+  st.plan.graph_edges = st.graph.edges.size();
+  st.plan.graph_lanes = st.graph.lanes.size();
+  st.plan.map_defects = defects.items().size();
+  rs.summary.seconds.graph_s += seconds_since(t0);
+  log_memory(lr.location + ": lane graph built");
+}
+
+// Stage 2: the LiDAR (and vehicle) layers of the location's scenes.
+void lidar_stage(RunState& rs, LocationRun& lr) {
+  LocationState& st = lr.st;
+  lr.scenes = location_scenes(rs.db, rs.config, lr.location);
+  for (const auto& [index, e] : rs.excluded)
+    if (rs.db.log[rs.db.scene[index].log].location == lr.location)
+      st.plan.excluded_scenes.push_back({rs.db.scene[index].name, e->reason});
+  st.plan.scenes_used = lr.scenes.size();
+  const auto t0 = std::chrono::steady_clock::now();
+  if (lr.scenes.empty())
+    log::warn("generate: " + lr.location + ": every scene is excluded (scenes.exclude): no LiDAR, no tiles");
+  else log::info(strprintf("generate: %s: accumulating LiDAR of %zu scene(s)", lr.location.c_str(), lr.scenes.size()));
+  st.layers = accumulate_layers(rs.db, rs.config, lr.scenes, rs.run.threads, &rs.lidar_progress);
+  rs.summary.sweeps += st.layers.stats.sweeps;
+  rs.summary.seconds.lidar_s += seconds_since(t0);
+  log_memory(lr.location + ": LiDAR accumulated: " +
+             strprintf("%zu blocks, %zu covered cells, %zu B a block besides its cells (LiDAR layer %s, vehicle "
+                       "layer %s over %zu blocks)",
+                       st.layers.stats.lidar_blocks, st.layers.stats.covered_cells,
+                       packed_block_overhead_bytes(st.layers.lidar),
+                       human_bytes(static_cast<double>(st.layers.lidar.cells().memory_bytes())).c_str(),
+                       human_bytes(static_cast<double>(st.layers.vehicles.cells().memory_bytes())).c_str(),
+                       st.layers.vehicles.cells().block_count()));
+  rs.scenes_done += st.layers.stats.scenes;
+  rs.lidar_progress.set_detail(strprintf("%zu/%zu scenes", rs.scenes_done, rs.scenes_total));
+  if (lr.last) rs.lidar_progress.finish();
+}
+
+// Stage 3: split regions, crops, tile keys and shards (the same in every share).
+void plan_stage(RunState& rs, LocationRun& lr) {
+  LocationState& st = lr.st;
+  const auto t0 = std::chrono::steady_clock::now();
+  const uint64_t seed = location_seed(rs.config.seed, lr.location);
+  PlanFilters& filter = rs.filters.emplace_back();
+  filter.location = lr.location;
+  filter.scenes_used = st.plan.scenes_used;
+  filter.scenes_excluded = st.plan.excluded_scenes.size();
+  st.plan.regions = tiling::plan_regions(st.layers.lidar, rs.config.split_options_for(lr.location),
+                                         rs.config.crop_size_m(), seed, &filter.regions);
+  st.plan.crops = tiling::plan_crops(st.layers.lidar, st.plan.regions, rs.config.crops, seed, &filter.crops);
+  assign_keys_and_shards(st.plan, rs.per_shard, rs.next_shard);
+  rs.summary.tiles_planned += st.plan.crops.size();
+  rs.summary.seconds.plan_s += seconds_since(t0);
+  log::info(strprintf("generate: %s: %zu regions, %zu train / %zu val / %zu test tiles", lr.location.c_str(),
+                      st.plan.regions.size(), st.plan.count("train"), st.plan.count("val"), st.plan.count("test")));
+}
+
+// The location's work items (its maps, its shards) this share does and has not done yet.
+std::vector<WorkItem> share_items(RunState& rs, const LocationRun& lr) {
+  std::vector<WorkItem> items;
+  items.push_back({ItemKind::kMaps, 0, 0, "maps/" + lr.location});
+  for (size_t s = 0; s < lr.st.plan.shards.size(); ++s)
+    items.push_back({ItemKind::kShard, 0, s, rs.out.shard_item_id(lr.st.plan.shards[s])});
+  std::vector<WorkItem> mine;
+  for (const WorkItem& item : items) {
+    const bool ours =
+        rs.item_index++ % static_cast<size_t>(rs.run.share.count) == static_cast<size_t>(rs.run.share.index);
+    if (!ours) continue;
+    if (rs.out.verified(item.id)) {
+      ++rs.summary.items_skipped;
+      continue;
+    }
+    mine.push_back(item);
+  }
+  return mine;
+}
+
+// The location's images count as done for this share whether it decodes them or not.
+void camera_stage_done(RunState& rs, const LocationRun& lr) {
+  if (!rs.camera_progress) return;
+  rs.camera_progress->set_detail(strprintf("%zu decoded", rs.images_decoded));
+  rs.camera_progress->advance(rs.totals.images.at(lr.location));
+  if (lr.last) rs.camera_progress->finish();
+}
+
+// One rectangle of cells per tile of the shards in `mine`.
+std::vector<raster::CellRect> tile_rects(const RunState& rs, const LocationRun& lr, const std::vector<WorkItem>& mine) {
+  std::vector<raster::CellRect> rects;
+  for (const WorkItem& item : mine) {
+    if (item.kind != ItemKind::kShard) continue;
+    const PlannedShard& s = lr.st.plan.shards[item.shard];
+    for (size_t i = s.first; i < s.first + s.count; ++i) {
+      const tiling::Crop& c = lr.st.plan.crops[i];
+      rects.push_back({c.col0, c.row0, c.col0 + rs.config.crops.size_px, c.row0 + rs.config.crops.size_px});
+    }
+  }
+  return rects;
+}
+
+// Stage 4: camera colours and semantics, only for the cells of this share's tiles.
+raster::ColorLayer camera_stage(RunState& rs, const LocationRun& lr, const std::vector<raster::CellRect>& rects) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (rs.camera_setup.cameras && !rects.empty() && !lr.scenes.empty())
+    log::info(strprintf("generate: %s: colouring %zu tiles from the cameras", lr.location.c_str(), rects.size()));
+  raster::ColorLayer color = camera_layers(rs.db, rs.config, rs.camera_setup, lr.scenes, lr.st.layers.lidar, rects,
+                                           rs.run.threads, lr.location);
+  rs.summary.images += color.stats().images_used;
+  rs.images_decoded += color.stats().images_used;
+  camera_stage_done(rs, lr);
+  rs.summary.seconds.camera_s += seconds_since(t0);
+  log_memory(lr.location + ": cameras done" +
+             strprintf(" (%zu points indexed, colour layer %s over %zu blocks)", color.stats().points,
+                       human_bytes(static_cast<double>(color.cells().memory_bytes())).c_str(),
+                       color.cells().block_count()));
+  return color;
+}
+
+// Stage 5: this share's maps and shards of the location.
+void tiles_stage(RunState& rs, const LocationRun& lr, const std::vector<WorkItem>& mine, size_t tiles,
+                 const raster::ColorLayer& color) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const LocationState& st = lr.st;
+  const tiling::LocationRasters layers{&st.layers.lidar, rs.camera_setup.cameras ? &color : nullptr,
+                                       &st.layers.vehicles, &st.graph, st.index.get()};
+  std::optional<Progress> tile_progress;
+  if (tiles > 0) tile_progress.emplace("tiles " + lr.location, tiles, rs.run.progress);
+  for (const WorkItem& item : mine) {
+    if (item.kind == ItemKind::kMaps) {
+      rs.out.write_maps(item.id, lr.location, st.graph, st.plan);
+    } else {
+      Progress* progress = tile_progress ? &*tile_progress : nullptr;
+      rs.summary.tiles_written +=
+          rs.out.write_shard(item.id, rs.db, st.plan, st.plan.shards[item.shard], layers, rs.run, progress);
+    }
+    ++rs.summary.items_done;
+  }
+  if (tile_progress) tile_progress->finish();
+  rs.summary.seconds.tiles_s += seconds_since(t0);
+  log_memory(lr.location + ": tiles written");
+}
+
+// One location through every stage; what this share does of it is written.
+void generate_location(RunState& rs, size_t location_index) {
+  LocationRun lr;
+  lr.location = rs.summary.locations[location_index];
+  lr.last = location_index + 1 == rs.summary.locations.size();
+  lr.st.plan.location = lr.location;
+  build_graph_stage(rs, lr);
+  lidar_stage(rs, lr);
+  plan_stage(rs, lr);
+  const std::vector<WorkItem> mine = share_items(rs, lr);
+  rs.out.add_plan(plan_json(lr.st.plan));
+  if (mine.empty()) return camera_stage_done(rs, lr);
+  const std::vector<raster::CellRect> rects = tile_rects(rs, lr, mine);
+  const raster::ColorLayer color = camera_stage(rs, lr, rects);
+  tiles_stage(rs, lr, mine, rects.size(), color);
+}
+
+// The whole plan is known here, the same in every share: an empty dataset is refused by
+// all shares alike (the done-records stay incomplete, so no merge writes a manifest).
+void check_plan_not_empty(const RunState& rs) {
+  if (rs.summary.tiles_planned == 0) {
+    const std::string why = explain_empty_plan(rs.filters, rs.config);
+    if (!rs.run.allow_empty) throw EmptyDatasetError("", "", why);
+    log::warn(why + "\n(--allow-empty: writing the empty dataset)");
+  } else {
+    for (const std::string& w : empty_split_warnings(rs.filters, rs.config)) log::warn("generate: " + w);
+  }
+}
+
 }  // namespace
 
 GenerateSummary generate(const GenerateConfig& given, const GenerateRun& run) {
@@ -287,19 +520,11 @@ GenerateSummary generate(const GenerateConfig& given, const GenerateRun& run) {
   summary.locations = resolve_locations(config, db);
   const CameraSetup camera_setup = prepare_cameras(db, config);
   std::vector<char> excluded;
-  const auto excluded_list = find_excluded_scenes(config, db, summary.locations, excluded);
-  if (!excluded_list.empty()) {
-    std::vector<std::string> named;
-    for (const auto& [s, e] : excluded_list) {
-      summary.excluded_scenes.push_back(db.scene[s].name);
-      named.push_back(db.scene[s].name + (e->reason.empty() ? "" : " (" + e->reason + ")"));
-    }
-    log::info(strprintf("generate: leaving out %zu scene(s) (scenes.exclude): ", excluded_list.size()) +
-              join(named, ", "));
-  }
-  std::vector<PlanFilters> filters;
+  auto excluded_list = find_excluded_scenes(config, db, summary.locations, excluded);
+  for (const auto& [s, e] : excluded_list) summary.excluded_scenes.push_back(db.scene[s].name);
+  log_excluded_scenes(db, excluded_list);
   // Every file the stages will open, before the first of them (a missing mask was found
-  // only after the LiDAR stage).
+  // only after the LiDAR stage), and the memory the run will need.
   log::info("generate: inputs present: " + check_run_inputs(db, config, summary.locations, excluded).describe());
   check_memory(db, summary.locations, excluded, config, run);
   if (run.check_inputs_only) {
@@ -307,163 +532,12 @@ GenerateSummary generate(const GenerateConfig& given, const GenerateRun& run) {
     return summary;
   }
 
-  OutputWriter out(run.out, config, run.share);
-  const int64_t per_shard = config.output.resolved_tiles_per_shard();
-  std::map<std::string, int64_t> next_shard;
-  size_t item_index = 0;
-  // One progress line per stage over the whole run (tiles: per location, as a location's
-  // tiles are known only once its LiDAR is accumulated and planned). Stages interleave
-  // per location; each line is finished when its stage's last location is done.
   const StageTotals totals = count_stage_work(db, summary.locations, config.raster.lidar_channel, excluded);
-  const bool cameras = camera_setup.cameras;
-  Progress lidar_progress("lidar sweeps", totals.all_sweeps, run.progress);
-  std::optional<Progress> camera_progress;
-  if (cameras) camera_progress.emplace("camera images", totals.all_images, run.progress);
-  size_t scenes_done = 0, scenes_total = 0, images_decoded = 0;
-  for (const auto& [l, n] : totals.scenes) scenes_total += n;
-  for (size_t location_index = 0; location_index < summary.locations.size(); ++location_index) {
-    const std::string& location = summary.locations[location_index];
-    const bool last_location = location_index + 1 == summary.locations.size();
-    LocationState st;
-    st.plan.location = location;
-    t0 = std::chrono::steady_clock::now();
-    Issues defects;
-    {  // the map's records are not needed past the graph (a city's map holds ~150 MB)
-      const nuscenes::MapExpansion map = nuscenes::load_map_expansion(config.dataroot, location);
-      st.graph = graph::build_lane_graph(map, config.graph, &defects);
-      st.plan.map_version = map.version();
-    }
-    st.index = std::make_unique<graph::SegmentIndex>(st.graph);
-    st.plan.graph_nodes = st.graph.nodes.size();
-    st.plan.graph_edges = st.graph.edges.size();
-    st.plan.graph_lanes = st.graph.lanes.size();
-    st.plan.map_defects = defects.items().size();
-    summary.seconds.graph_s += seconds_since(t0);
-    log_memory(location + ": lane graph built");
-
-    // The location's scenes less the excluded ones.
-    const std::vector<nuscenes::Index> scenes = location_scenes(db, config, location);
-    for (const auto& [index, e] : excluded_list)
-      if (db.log[db.scene[index].log].location == location)
-        st.plan.excluded_scenes.push_back({db.scene[index].name, e->reason});
-    st.plan.scenes_used = scenes.size();
-
-    t0 = std::chrono::steady_clock::now();
-    if (scenes.empty())
-      log::warn("generate: " + location + ": every scene is excluded (scenes.exclude): no LiDAR, no tiles");
-    else log::info(strprintf("generate: %s: accumulating LiDAR of %zu scene(s)", location.c_str(), scenes.size()));
-    st.layers = accumulate_layers(db, config, scenes, run.threads, &lidar_progress);
-    summary.sweeps += st.layers.stats.sweeps;
-    summary.seconds.lidar_s += seconds_since(t0);
-    log_memory(location + ": LiDAR accumulated: " +
-               strprintf("%zu blocks, %zu covered cells, %zu B a block besides its cells (LiDAR layer %s, vehicle "
-                         "layer %s over %zu blocks)",
-                         st.layers.stats.lidar_blocks, st.layers.stats.covered_cells,
-                         packed_block_overhead_bytes(st.layers.lidar),
-                         human_bytes(static_cast<double>(st.layers.lidar.cells().memory_bytes())).c_str(),
-                         human_bytes(static_cast<double>(st.layers.vehicles.cells().memory_bytes())).c_str(),
-                         st.layers.vehicles.cells().block_count()));
-    scenes_done += st.layers.stats.scenes;
-    lidar_progress.set_detail(strprintf("%zu/%zu scenes", scenes_done, scenes_total));
-    if (last_location) lidar_progress.finish();
-
-    t0 = std::chrono::steady_clock::now();
-    const uint64_t seed = location_seed(config.seed, location);
-    PlanFilters& filter = filters.emplace_back();
-    filter.location = location;
-    filter.scenes_used = st.plan.scenes_used;
-    filter.scenes_excluded = st.plan.excluded_scenes.size();
-    st.plan.regions = tiling::plan_regions(st.layers.lidar, config.split_options_for(location), config.crop_size_m(),
-                                           seed, &filter.regions);
-    st.plan.crops = tiling::plan_crops(st.layers.lidar, st.plan.regions, config.crops, seed, &filter.crops);
-    assign_keys_and_shards(st.plan, per_shard, next_shard);
-    summary.tiles_planned += st.plan.crops.size();
-    summary.seconds.plan_s += seconds_since(t0);
-    log::info(strprintf("generate: %s: %zu regions, %zu train / %zu val / %zu test tiles", location.c_str(),
-                        st.plan.regions.size(), st.plan.count("train"), st.plan.count("val"), st.plan.count("test")));
-
-    // This location's items, and the ones this share does.
-    std::vector<WorkItem> items;
-    items.push_back({ItemKind::kMaps, 0, 0, "maps/" + location});
-    for (size_t s = 0; s < st.plan.shards.size(); ++s)
-      items.push_back({ItemKind::kShard, 0, s, out.shard_item_id(st.plan.shards[s])});
-    std::vector<WorkItem> mine;
-    for (const WorkItem& item : items) {
-      const bool ours = item_index++ % static_cast<size_t>(run.share.count) == static_cast<size_t>(run.share.index);
-      if (!ours) continue;
-      if (out.verified(item.id)) {
-        ++summary.items_skipped;
-        continue;
-      }
-      mine.push_back(item);
-    }
-    out.add_plan(plan_json(st.plan));
-    // The location's images count as done for this share whether it decodes them or not.
-    const auto camera_stage_done = [&] {
-      if (!camera_progress) return;
-      camera_progress->set_detail(strprintf("%zu decoded", images_decoded));
-      camera_progress->advance(totals.images.at(location));
-      if (last_location) camera_progress->finish();
-    };
-    if (mine.empty()) {
-      camera_stage_done();
-      continue;
-    }
-
-    // Camera colours only for the cells of this share's tiles.
-    t0 = std::chrono::steady_clock::now();
-    std::vector<raster::CellRect> rects;
-    for (const WorkItem& item : mine) {
-      if (item.kind != ItemKind::kShard) continue;
-      const PlannedShard& s = st.plan.shards[item.shard];
-      for (size_t i = s.first; i < s.first + s.count; ++i) {
-        const tiling::Crop& c = st.plan.crops[i];
-        rects.push_back({c.col0, c.row0, c.col0 + config.crops.size_px, c.row0 + config.crops.size_px});
-      }
-    }
-    if (cameras && !rects.empty() && !scenes.empty())
-      log::info(strprintf("generate: %s: colouring %zu tiles from the cameras", location.c_str(), rects.size()));
-    const raster::ColorLayer color =
-        camera_layers(db, config, camera_setup, scenes, st.layers.lidar, rects, run.threads, location);
-    summary.images += color.stats().images_used;
-    images_decoded += color.stats().images_used;
-    camera_stage_done();
-    summary.seconds.camera_s += seconds_since(t0);
-    log_memory(location + ": cameras done" +
-               strprintf(" (%zu points indexed, colour layer %s over %zu blocks)", color.stats().points,
-                         human_bytes(static_cast<double>(color.cells().memory_bytes())).c_str(),
-                         color.cells().block_count()));
-
-    t0 = std::chrono::steady_clock::now();
-    const tiling::LocationRasters layers{&st.layers.lidar, cameras ? &color : nullptr, &st.layers.vehicles, &st.graph,
-                                         st.index.get()};
-    // rects holds one rectangle per tile of this share at the location.
-    std::optional<Progress> tile_progress;
-    if (!rects.empty()) tile_progress.emplace("tiles " + location, rects.size(), run.progress);
-    for (const WorkItem& item : mine) {
-      if (item.kind == ItemKind::kMaps) {
-        out.write_maps(item.id, location, st.graph, st.plan);
-      } else {
-        Progress* progress = tile_progress ? &*tile_progress : nullptr;
-        summary.tiles_written +=
-            out.write_shard(item.id, db, st.plan, st.plan.shards[item.shard], layers, run, progress);
-      }
-      ++summary.items_done;
-    }
-    if (tile_progress) tile_progress->finish();
-    summary.seconds.tiles_s += seconds_since(t0);
-    log_memory(location + ": tiles written");
-  }
-  // The whole plan is known here, the same in every share: an empty dataset is refused by
-  // all shares alike (the done-records stay incomplete, so no merge writes a manifest).
-  if (summary.tiles_planned == 0) {
-    const std::string why = explain_empty_plan(filters, config);
-    if (!run.allow_empty) throw EmptyDatasetError("", "", why);
-    log::warn(why + "\n(--allow-empty: writing the empty dataset)");
-  } else {
-    for (const std::string& w : empty_split_warnings(filters, config)) log::warn("generate: " + w);
-  }
-  out.finish();
+  RunState rs(config, run, db, camera_setup, totals, summary);
+  rs.excluded = std::move(excluded_list);
+  for (size_t i = 0; i < summary.locations.size(); ++i) generate_location(rs, i);
+  check_plan_not_empty(rs);
+  rs.out.finish();
   if (run.share.count == 1) {
     t0 = std::chrono::steady_clock::now();
     merge(run.out);
