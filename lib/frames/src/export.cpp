@@ -2,6 +2,7 @@
 #include "nsg/frames/export.h"
 
 #include <algorithm>
+#include <optional>
 #include <chrono>
 #include <limits>
 #include <memory>
@@ -230,30 +231,23 @@ nlohmann::ordered_json summary_json(const FramesSummary& s, const FramesConfig& 
             {"scenes_random", leakage_json(s.scenes_random, config.leak_radius_m)}}}};
 }
 
-FramesSummary export_frames(const FramesConfig& config, const FramesRun& run) {
-  config.validate();
-  NSG_CHECK(!run.dataset.empty(), ConfigError, "", "--dataset", "a generated dataset folder (manifest.json)");
-  NSG_CHECK(run.stats_only || !run.out.empty(), ConfigError, "", "--out", "an output folder");
-  const DatasetPlan plan = read_dataset(run.dataset);
-  const fs::path dataroot = config.dataroot.empty() ? fs::path(plan.config.dataroot) : fs::path(config.dataroot);
-  const nuscenes::Database db = nuscenes::Database::load(dataroot, plan.config.version);
-  const double buffer_m = plan.config.splits.buffer_m;
+namespace {
+
+// A key frame to export, ordered by (location in manifest order, scene name, timestamp):
+// records and the data_dict come out in one order whatever the release's table order.
+struct Candidate {
+  size_t location;
+  std::string scene;
+  int64_t timestamp;
+  nuscenes::Index sample;
+};
+
+// The release's key frames of the dataset's locations and kept scenes, in export order;
+// the others are counted in `summary`.
+std::vector<Candidate> collect_candidates(const nuscenes::Database& db, const DatasetPlan& plan,
+                                          FramesSummary& summary) {
   std::set<std::string> excluded;
   for (const pipeline::ExcludedScene& e : plan.config.exclude_scenes) excluded.insert(e.name);
-
-  std::map<std::string, LocationGraph> graphs;
-  for (const std::string& location : plan.locations) graphs.emplace(location, location_graph(dataroot, location, plan));
-  if (!run.stats_only) prepare_out(run.out, run.overwrite);
-
-  // Key frames by (location in manifest order, scene name, timestamp): records and the
-  // data_dict come out in one order whatever the release's table order.
-  struct Candidate {
-    size_t location;
-    std::string scene;
-    int64_t timestamp;
-    nuscenes::Index sample;
-  };
-  FramesSummary summary;
   std::vector<Candidate> candidates;
   for (size_t i = 0; i < db.sample.size(); ++i) {
     const nuscenes::Sample& s = db.sample.rows()[i];
@@ -275,104 +269,111 @@ FramesSummary export_frames(const FramesConfig& config, const FramesRun& run) {
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
     return std::tie(a.location, a.scene, a.timestamp, a.sample) < std::tie(b.location, b.scene, b.timestamp, b.sample);
   });
+  return candidates;
+}
 
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<EgoPosition> by_regions, by_scenes;
+// What the frames of one export share: the inputs, and what the frames add up to.
+struct ExportState {
+  const FramesConfig& config;
+  const FramesRun& run;
+  const DatasetPlan& plan;
+  const nuscenes::Database& db;
+  const std::map<std::string, LocationGraph>& graphs;
+  FramesSummary& summary;
+  std::vector<EgoPosition> by_regions, by_scenes;  // ego positions and their split, per preset
   std::vector<WrittenFile> files;
   ordered_json data_dict = ordered_json::object();
-  Progress progress("frames", candidates.size(), run.progress);
-  for (const Candidate& c : candidates) {
-    progress.advance();
-    const std::string& location = plan.locations[c.location];
-    const nuscenes::Index lidar = db.key_frame(c.sample, "LIDAR_TOP");
-    if (lidar == nuscenes::kNoIndex) {
-      ++summary.dropped.no_ego_pose;
-      continue;
-    }
-    const nuscenes::EgoPose& pose = db.ego_pose[db.sample_data[lidar].ego_pose];
-    FrameContext context;
-    context.sample = c.sample;
-    context.location = location;
-    context.map_version = plan.map_version.at(location);
-    context.global_from_ego = rigid(pose.translation, pose.rotation);
-    const double x = pose.translation[0], y = pose.translation[1];
-    const std::vector<tiling::Region>& regions = plan.regions.at(location);
-    const tiling::Region* region = region_containing(regions, x, y);
-    if (region == nullptr) {
-      ++summary.dropped.outside_regions;
-      continue;
-    }
-    context.overlap = window_near_other_split(window_corners_global(context.global_from_ego, config.window), regions,
-                                              region->split, buffer_m);
-    if (context.overlap && config.overlap == OverlapMode::kDrop) {
-      ++summary.dropped.overlap;
-      continue;
-    }
-    if (context.overlap && config.overlap == OverlapMode::kFlag) ++summary.flagged_overlap;
-    context.flag_overlap = config.overlap == OverlapMode::kFlag;
-    const nuscenes::Scene& scene = db.scene[db.sample[c.sample].scene];
-    const std::string drawn = random_scene_split(scene.token.str(), config.seed, plan.config.splits.ratios);
-    by_regions.push_back({location, x, y, tiling::split_index(region->split)});
-    by_scenes.push_back({location, x, y, tiling::split_index(drawn)});
-    if (config.split_preset == SplitPreset::kRegions) {
-      context.split = region->split;
-      context.region = region->name;
-    } else {
-      context.split = drawn;
-    }
-    ++summary.frames[location][static_cast<size_t>(tiling::split_index(context.split))];
+};
 
-    const LocationGraph& g = graphs.at(location);
-    const FrameLanes lanes =
-        cut_frame_lanes(*g.graph, *g.index, context.global_from_ego, config.window, config.centerline_points);
-    summary.centerlines += static_cast<int64_t>(lanes.centerlines.size());
-    summary.links += static_cast<int64_t>(lanes.successors.size());
-    if (run.stats_only) continue;
-
-    const std::string folder = context.split + "/" + scene.name;
-    if (config.copy_images) context.image_root = folder + "/image";
-    const std::string name = std::to_string(c.timestamp) + ".json";
-    const std::string text = frame_record(db, context, lanes).dump() + "\n";
-    const std::string relative = folder + "/info/" + name;
-    fs::create_directories(run.out / folder / "info");
-    write_file_atomic(run.out / relative, text);
-    files.push_back({relative, text.size(), sha256_hex(text)});
-    data_dict[context.split][scene.name].push_back(name);
-    if (config.copy_images) {
-      for (const nuscenes::Index sd : camera_key_frames(db, c.sample)) {
-        const std::string image =
-            context.image_root + "/" + db.channel(db.sample_data[sd]) + "/" + std::to_string(c.timestamp) + ".jpg";
-        place_image(db.file_path(db.sample_data[sd]), run.out / image);
-        files.push_back({image, fs::file_size(run.out / image), sha256_file(run.out / image)});
-      }
-    }
+// The frame's split (by the preset), region and overlap, or nullopt when it is dropped
+// (counted in the summary); records its ego position for both presets' leakage figures.
+std::optional<FrameContext> frame_context(ExportState& es, const Candidate& c) {
+  const std::string& location = es.plan.locations[c.location];
+  const nuscenes::Index lidar = es.db.key_frame(c.sample, "LIDAR_TOP");
+  if (lidar == nuscenes::kNoIndex) {
+    ++es.summary.dropped.no_ego_pose;
+    return std::nullopt;
   }
-  progress.finish();
-  summary.regions = measure_leakage(by_regions, config.leak_radius_m);
-  summary.scenes_random = measure_leakage(by_scenes, config.leak_radius_m);
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (run.stats_only) return summary;
+  const nuscenes::EgoPose& pose = es.db.ego_pose[es.db.sample_data[lidar].ego_pose];
+  FrameContext context;
+  context.sample = c.sample;
+  context.location = location;
+  context.map_version = es.plan.map_version.at(location);
+  context.global_from_ego = rigid(pose.translation, pose.rotation);
+  const double x = pose.translation[0], y = pose.translation[1];
+  const std::vector<tiling::Region>& regions = es.plan.regions.at(location);
+  const tiling::Region* region = region_containing(regions, x, y);
+  if (region == nullptr) {
+    ++es.summary.dropped.outside_regions;
+    return std::nullopt;
+  }
+  context.overlap = window_near_other_split(window_corners_global(context.global_from_ego, es.config.window), regions,
+                                            region->split, es.plan.config.splits.buffer_m);
+  if (context.overlap && es.config.overlap == OverlapMode::kDrop) {
+    ++es.summary.dropped.overlap;
+    return std::nullopt;
+  }
+  if (context.overlap && es.config.overlap == OverlapMode::kFlag) ++es.summary.flagged_overlap;
+  context.flag_overlap = es.config.overlap == OverlapMode::kFlag;
+  const nuscenes::Scene& scene = es.db.scene[es.db.sample[c.sample].scene];
+  const std::string drawn = random_scene_split(scene.token.str(), es.config.seed, es.plan.config.splits.ratios);
+  es.by_regions.push_back({location, x, y, tiling::split_index(region->split)});
+  es.by_scenes.push_back({location, x, y, tiling::split_index(drawn)});
+  if (es.config.split_preset == SplitPreset::kRegions) {
+    context.split = region->split;
+    context.region = region->name;
+  } else {
+    context.split = drawn;
+  }
+  ++es.summary.frames[location][static_cast<size_t>(tiling::split_index(context.split))];
+  return context;
+}
 
-  const std::string dict_text = data_dict.dump(1) + "\n";
-  write_file_atomic(run.out / "data_dict.json", dict_text);
-  files.push_back({"data_dict.json", dict_text.size(), sha256_hex(dict_text)});
-  std::sort(files.begin(), files.end(), [](const WrittenFile& a, const WrittenFile& b) { return a.path < b.path; });
+// Writes the frame's record (and its camera images with copy_images).
+void write_frame(ExportState& es, const Candidate& c, FrameContext& context, const FrameLanes& lanes) {
+  const nuscenes::Scene& scene = es.db.scene[es.db.sample[c.sample].scene];
+  const std::string folder = context.split + "/" + scene.name;
+  if (es.config.copy_images) context.image_root = folder + "/image";
+  const std::string name = std::to_string(c.timestamp) + ".json";
+  const std::string text = frame_record(es.db, context, lanes).dump() + "\n";
+  const std::string relative = folder + "/info/" + name;
+  fs::create_directories(es.run.out / folder / "info");
+  write_file_atomic(es.run.out / relative, text);
+  es.files.push_back({relative, text.size(), sha256_hex(text)});
+  es.data_dict[context.split][scene.name].push_back(name);
+  if (!es.config.copy_images) return;
+  for (const nuscenes::Index sd : camera_key_frames(es.db, c.sample)) {
+    const std::string image =
+        context.image_root + "/" + es.db.channel(es.db.sample_data[sd]) + "/" + std::to_string(c.timestamp) + ".jpg";
+    place_image(es.db.file_path(es.db.sample_data[sd]), es.run.out / image);
+    es.files.push_back({image, fs::file_size(es.run.out / image), sha256_file(es.run.out / image)});
+  }
+}
+
+// data_dict.json and manifest.json, which lists every file written with its sha256.
+void write_export_manifest(ExportState& es, const fs::path& dataroot) {
+  const std::string dict_text = es.data_dict.dump(1) + "\n";
+  write_file_atomic(es.run.out / "data_dict.json", dict_text);
+  es.files.push_back({"data_dict.json", dict_text.size(), sha256_hex(dict_text)});
+  std::sort(es.files.begin(), es.files.end(),
+            [](const WrittenFile& a, const WrittenFile& b) { return a.path < b.path; });
   ordered_json listed = ordered_json::array();
-  for (const WrittenFile& f : files) {
+  for (const WrittenFile& f : es.files) {
     listed.push_back({{"path", f.path}, {"bytes", f.bytes}, {"sha256", f.sha256}});
-    summary.bytes += static_cast<int64_t>(f.bytes);
+    es.summary.bytes += static_cast<int64_t>(f.bytes);
   }
-  summary.files = static_cast<int64_t>(files.size());
+  es.summary.files = static_cast<int64_t>(es.files.size());
+  const FramesConfig& config = es.config;
   const ordered_json manifest = {
       {"schema_version", "1"},
       {"kind", "nsgraph-frames"},
       {"tool_version", kVersion},
       {"source",
-       {{"dataset", fs::absolute(run.dataset).lexically_normal().string()},
-        {"dataset_manifest_sha256", plan.manifest_sha256},
+       {{"dataset", fs::absolute(es.run.dataset).lexically_normal().string()},
+        {"dataset_manifest_sha256", es.plan.manifest_sha256},
         {"dataroot", dataroot.string()},
-        {"version", plan.config.version},
-        {"split_buffer_m", buffer_m}}},
+        {"version", es.plan.config.version},
+        {"split_buffer_m", es.plan.config.splits.buffer_m}}},
       {"config", frames_option_table().to_json(config)},
       {"layout",
        {{"records", "<split>/<segment_id>/info/<timestamp>.json (OpenLane-V2's info layout; segment_id = scene name)"},
@@ -380,9 +381,46 @@ FramesSummary export_frames(const FramesConfig& config, const FramesRun& run) {
                                       : "referenced: image_path is relative to source.dataroot"},
         {"traffic_elements",
          "none: nuScenes has no traffic-element annotations, so traffic_element is [] and topology_lcte n x 0"}}},
-      {"counts", summary_json(summary, config)},
+      {"counts", summary_json(es.summary, config)},
       {"files", listed}};
-  write_file_atomic(run.out / "manifest.json", manifest.dump(1) + "\n");
+  write_file_atomic(es.run.out / "manifest.json", manifest.dump(1) + "\n");
+}
+
+}  // namespace
+
+FramesSummary export_frames(const FramesConfig& config, const FramesRun& run) {
+  config.validate();
+  NSG_CHECK(!run.dataset.empty(), ConfigError, "", "--dataset", "a generated dataset folder (manifest.json)");
+  NSG_CHECK(run.stats_only || !run.out.empty(), ConfigError, "", "--out", "an output folder");
+  const DatasetPlan plan = read_dataset(run.dataset);
+  const fs::path dataroot = config.dataroot.empty() ? fs::path(plan.config.dataroot) : fs::path(config.dataroot);
+  const nuscenes::Database db = nuscenes::Database::load(dataroot, plan.config.version);
+  std::map<std::string, LocationGraph> graphs;
+  for (const std::string& location : plan.locations) graphs.emplace(location, location_graph(dataroot, location, plan));
+  if (!run.stats_only) prepare_out(run.out, run.overwrite);
+
+  FramesSummary summary;
+  const std::vector<Candidate> candidates = collect_candidates(db, plan, summary);
+  const auto start = std::chrono::steady_clock::now();
+  ExportState es{config, run, plan, db, graphs, summary, {}, {}, {}, ordered_json::object()};
+  Progress progress("frames", candidates.size(), run.progress);
+  for (const Candidate& c : candidates) {
+    progress.advance();
+    std::optional<FrameContext> context = frame_context(es, c);
+    if (!context) continue;
+    const LocationGraph& g = graphs.at(context->location);
+    const FrameLanes lanes =
+        cut_frame_lanes(*g.graph, *g.index, context->global_from_ego, config.window, config.centerline_points);
+    summary.centerlines += static_cast<int64_t>(lanes.centerlines.size());
+    summary.links += static_cast<int64_t>(lanes.successors.size());
+    if (!run.stats_only) write_frame(es, c, *context, lanes);
+  }
+  progress.finish();
+  summary.regions = measure_leakage(es.by_regions, config.leak_radius_m);
+  summary.scenes_random = measure_leakage(es.by_scenes, config.leak_radius_m);
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (run.stats_only) return summary;
+  write_export_manifest(es, dataroot);
   log::info(
       strprintf("frames: %lld frames (%lld key frames in the release), %lld centerlines, %lld links; %.3f s for the "
                 "records",
