@@ -19,12 +19,12 @@ from .errors import ConfigError, DataError, Error, InternalError, IoError, Parse
 from .groundtruth import adaptive_ground_truth
 from .frames import score_frames
 from .hosting import evaluate
-from .scoring import check_submission, graph_arrays, score, score_tile, write_submission
+from .scoring import HEADLINE_METRICS, METRICS, check_submission, graph_arrays, score, score_tile, write_submission
 
 __version__ = _nsgraph.__version__
 
 __all__ = [
-    "Dataset", "score_frames", "MODALITIES", "LAYERS", "TILE_MEMBERS", "SEMANTIC_CLASSES", "SEMANTIC_VOID", "score", "evaluate", "score_tile", "write_submission",
+    "Dataset", "score_frames", "MODALITIES", "LAYERS", "TILE_MEMBERS", "SEMANTIC_CLASSES", "SEMANTIC_VOID", "METRICS", "HEADLINE_METRICS", "score", "evaluate", "score_tile", "write_submission",
     "check_submission",
     "adaptive_ground_truth", "graph_arrays", "Error", "ParseError", "DataError", "ConfigError", "IoError",
     "InternalError", "SubmissionError",

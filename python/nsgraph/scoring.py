@@ -9,6 +9,11 @@ import numpy as np
 from . import _nsgraph
 from .errors import SubmissionError
 
+# Every metric of a score report ({name, unit, lower_is_better, description}, report order)
+# and the headline ones, from the C++ declaration (metrics::metric_info, headline_metrics).
+METRICS = _nsgraph.METRICS
+HEADLINE_METRICS = _nsgraph.HEADLINE_METRICS
+
 SCHEMAS_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "schemas")
 MEMORY_LABEL = "<memory>"
 

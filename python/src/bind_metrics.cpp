@@ -8,6 +8,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/json.h"
 #include "nsg/metrics/io.h"
+#include "nsg/metrics/measure.h"
 #include "nsg/metrics/score.h"
 #include "nsg/metrics/score_submission.h"
 #include "nsg/metrics/submission_input.h"
@@ -147,6 +148,21 @@ void bind_metrics(py::module_& m) {
   m.def("check_submission", &check_submission, py::arg("source"), py::arg("is_path"), py::arg("label"),
         py::arg("schemas_dir"));
   m.def("default_params_json", [] { return metrics::MetricParams{}.to_json().dump(); });
+  // The metric table (metrics::metric_info) and the headline metrics, as the C++ declares them.
+  py::tuple table(static_cast<size_t>(metrics::kMetricCount));
+  for (int k = 0; k < metrics::kMetricCount; ++k) {
+    const metrics::MetricInfo& info = metrics::metric_info(k);
+    py::dict d;
+    d["name"] = info.name;
+    d["unit"] = info.unit;
+    d["lower_is_better"] = info.lower_is_better;
+    d["description"] = info.description;
+    table[static_cast<size_t>(k)] = d;
+  }
+  m.attr("METRICS") = table;
+  py::list headline;
+  for (const metrics::HeadlineMetric& h : metrics::headline_metrics()) headline.append(metrics::metric_name(h.metric));
+  m.attr("HEADLINE_METRICS") = py::tuple(headline);
 }
 
 }  // namespace nsg::py_bind
