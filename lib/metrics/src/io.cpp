@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <unordered_map>
 
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"

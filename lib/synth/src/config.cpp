@@ -364,6 +364,4 @@ SynthConfig resolve_synth_config(const std::filesystem::path& file, const std::v
   return c;
 }
 
-std::string SynthConfig::to_json() const { return synth_option_table().to_json(*this).dump(2); }
-
 }  // namespace nsg::synth

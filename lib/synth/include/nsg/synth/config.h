@@ -101,8 +101,6 @@ struct SynthConfig {
   // Parses JSON text; `file` names the source in errors.
   static SynthConfig from_json_text(const std::string& text, const std::string& file);
   static SynthConfig from_file(const std::filesystem::path& path);
-  // The resolved config as JSON (2-space indent, declaration order).
-  std::string to_json() const;
 };
 
 // The declaration of every key of a world config.
