@@ -1,6 +1,6 @@
 // MapExpansion lookups and the devkit's lane discretization (map_api.py discretize_lanes,
 // discretize_centerlines, get_arcline_path, get_outgoing/incoming_lane_ids). Loading is in
-// map_parse.cpp.
+// map_parse.cpp (the records) and map_resolve.cpp (indexes and references).
 #include "nsg/nuscenes/map_expansion.h"
 
 #include <unordered_set>

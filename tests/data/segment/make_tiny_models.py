@@ -4,7 +4,7 @@ this script: run it with Debian's python3-onnx (`python3 make_tiny_models.py`) t
 
 synth-colours.onnx: a nearest-colour classifier of the synthetic renderer's surfaces
 (lib/synth/src/camera_sim.cpp ground_base_rgb, the darker vertical faces of raised ground,
-the sky gradient's ends, a ramp of building wall shades (lib/synth/src/world.cpp); car paints
+the sky gradient's ends, a ramp of building wall shades (lib/synth/src/world_surface.cpp); car paints
 of lib/synth/src/traffic.cpp that no surface shares). Input 1x3xHxW RGB scaled to 0..1 (the labels file feeds it at
 full size: no resampling blends the stripes of a crosswalk into a curb's grey); one
 1x1 convolution gives, per channel c with colour m_c, the score 2 m_c.x - |m_c|^2, which

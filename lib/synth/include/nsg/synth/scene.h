@@ -1,6 +1,7 @@
 #pragma once
-// The renderable synthetic world: the contract between the world builder (world.cpp:
-// roads, buildings, traffic) and the sensor simulators (lidar_sim.cpp, camera_sim.cpp).
+// The renderable synthetic world: the contract between the world builder (world.cpp,
+// world_roads.cpp, world_surface.cpp: roads, buildings, traffic) and the sensor simulators
+// (lidar_sim.cpp, camera_sim.cpp).
 // Everything is in the global map frame: metres, x east, y north, z up.
 #include <Eigen/Core>
 #include <array>

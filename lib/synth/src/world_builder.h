@@ -1,0 +1,163 @@
+#pragma once
+// The world builder's shared state, internal to the synth module: the street layout types
+// and the WorldBuilder class whose members are split by what they make —
+// world_roads.cpp: streets, road pieces, lanes, connectors, crossings and the map's areas;
+// world_surface.cpp: the ground raster and its markings, buildings, poles, parking, sidewalks;
+// world.cpp: the construction, the build order and the public functions of world.h.
+#include <Eigen/Core>
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "map_builder.h"
+#include "nsg/core/rng.h"
+#include "nsg/synth/world.h"
+#include "road_geometry.h"
+
+namespace nsg::synth::world_detail {
+
+using geometry::ArclinePath;
+using geometry::ArclineShape;
+using geometry::Pose2;
+
+constexpr double kPi = 3.141592653589793;
+constexpr double kCurbWidthM = 0.3;
+constexpr double kParkingWidthM = 2.5;
+constexpr double kCrosswalkDepthM = 4.0;  // between the intersection box and the stop line
+constexpr double kStraightRadiusM = 999.999;
+
+// ---------------------------------------------------------------------------------------
+// Streets, pieces, intersections.
+
+struct Street {
+  int n_fwd = 1;
+  int n_bwd = 1;  // 0 = one-way
+  bool parking = false;
+  double lane_w = 3.5;
+  bool two_way() const { return n_bwd > 0; }
+};
+
+// Lateral layout of a street in its reference frame (left positive, forward direction).
+struct StreetLayout {
+  std::vector<double> fwd_offsets;  // index 0 = innermost (farthest from the curb side)
+  std::vector<double> bwd_offsets;  // in the reference frame
+  double left_edge = 0.0;           // road edges (curb lines)
+  double right_edge = 0.0;
+  double fwd_inner = 0.0, fwd_outer = 0.0;  // lateral span of the forward lanes (inner → curb side)
+  double bwd_inner = 0.0, bwd_outer = 0.0;
+};
+
+StreetLayout layout_of(const Street& s, bool rht);
+
+struct Piece {
+  int street = 0;
+  int node_a = -1;  // intersection at the start / end
+  int node_b = -1;
+  std::vector<Prim> prims;
+  double ext_a = 0.0;  // distance from node centre to the piece start (= box half + crosswalk)
+  double ext_b = 0.0;
+  double length() const {
+    double l = 0.0;
+    for (const Prim& p : prims) l += p.length;
+    return l;
+  }
+};
+
+struct Intersection {
+  Eigen::Vector2d centre;
+  double half_m = 0.0;  // half-size of the square box
+  int arms = 0;
+  std::string segment_token;
+};
+
+// A lane as built, before connectors.
+struct LaneBuild {
+  int piece = 0;
+  bool forward = true;
+  int index = 0;  // 0 = innermost
+  int group_size = 1;
+  int start_node = -1, end_node = -1;
+  double offset_ref = 0.0;  // in the reference frame
+  std::string road_block;
+};
+
+// Maps a reference-frame position (s along the piece, d left) to a point, across prims.
+Eigen::Vector2d piece_point(const Piece& piece, double s, double d);
+
+// Points along the piece at lateral offset d from s0 to s1, evenly spaced ≤ step apart.
+std::vector<Eigen::Vector2d> piece_curve(const Piece& piece, double s0, double s1, double d, double step);
+
+// The prims of a piece with s ranges, the first/last (straight) extended to node centres.
+struct DrawPrim {
+  Prim prim;
+  double s0, s1;
+  double s_offset;  // piece-level s at prim s = 0
+};
+
+// Builds the World of build_world(): call build() once. Members in the order build() calls them.
+class WorldBuilder {
+ public:
+  WorldBuilder(const SynthConfig& config, uint64_t seed);
+
+  World build();
+
+ private:
+  // ---- streets (world_roads.cpp) ---------------------------------------------------------
+  double X(int i) const { return city_.origin_m[0] + i * city_.block_size_m; }
+  double Y(int j) const { return city_.origin_m[1] + j * city_.block_size_m; }
+  int node_id(int i, int j) const { return j * (city_.blocks_x + 1) + i; }
+  Street random_street(bool allow_one_way, bool allow_parking);
+  void make_streets();
+
+  // ---- pieces (world_roads.cpp) ----------------------------------------------------------
+  double ext(int node) const { return nodes_[static_cast<size_t>(node)].half_m + kCrosswalkDepthM; }
+  void add_straight_piece(int street, int na, int nb);
+  void add_corner_piece(int na, int nb, const Eigen::Vector2d& corner);
+  void make_pieces();
+
+  // ---- lanes (world_roads.cpp) -----------------------------------------------------------
+  std::vector<ArclinePath> lane_paths(const Piece& piece, double d, bool forward);
+  void make_lanes();
+  void add_lane_record(const Piece& piece, const Street& st, const StreetLayout& lay, const LaneBuild& lb,
+                       LaneInfo& lane);
+
+  // ---- connectors and crossings (world_roads.cpp) ----------------------------------------
+  void make_connectors();
+  void add_connector(int a, int b);
+  void make_crossings(int ni);
+  std::vector<std::string> opposite_blocks(int ni, int from_piece);
+
+  // ---- ground (world_surface.cpp) --------------------------------------------------------
+  void make_ground();
+  void paint_markings(GroundRaster& r, const Piece& piece, const Street& st, const StreetLayout& lay,
+                      const DrawPrim& dp);
+
+  // ---- other map areas (world_roads.cpp) -------------------------------------------------
+  void make_map_areas();
+
+  // ---- buildings, poles, parking, sidewalks (world_surface.cpp) --------------------------
+  bool footprint_free(double cx, double cy, double hx, double hy) const;
+  void make_buildings_and_poles();
+  void make_parking_and_sidewalks();
+
+  // ---- map JSON (world.cpp) --------------------------------------------------------------
+  std::vector<MapBuilder::LaneTopology> world_lanes_json_order() const;
+
+  const SynthConfig& cfg_;
+  const CityConfig& city_;
+  bool rht_;
+  Rng rng_;
+  MapBuilder map_;
+  World world_;
+  std::vector<Street> streets_;
+  int ring_ = 0;
+  std::map<int, int> vertical_, horizontal_;
+  std::vector<Intersection> nodes_;
+  std::vector<Piece> pieces_;
+  std::map<size_t, std::array<std::string, 2>> piece_block_;
+  std::vector<LaneBuild> builds_;
+  std::vector<bool> park_blocks_;
+};
+
+}  // namespace nsg::synth::world_detail
