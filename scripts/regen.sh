@@ -5,6 +5,7 @@
 #   docs/options.md (the sections after its title)                  --list-options --format md
 #   samples/semantic-classes.json                                   nsg/core/semantic_classes.h, through _nsgraph
 #   docs/metrics.md (the table of its "Metric list" section)        score --list-metrics
+#   schemas/v1/score-report.schema.json (its four metric lists)     score --list-metrics --format json
 # --check writes them into a temporary copy and fails naming every file that differs
 # (ctest repo/regen): a declaration changed without `make regen`.
 # usage: scripts/regen.sh [--check] [BUILD]
@@ -63,6 +64,24 @@ while body and body[-1] == "":
 sys.stdout.write("\n".join(lines[:start + 1] + body + [""] + table + [""] + lines[end:]))
 PY
 rm -f "$out/metric-list.tmp"
+# The metric lists of schemas/v1/score-report.schema.json (a tile's metrics and the
+# aggregate's mean, n_defined and n_undefined): their required names and properties written
+# from score --list-metrics, each object keeping the $ref its values have (value or count).
+"$nsgraph" score --list-metrics --format json > "$out/metric-table.tmp"
+/usr/bin/python3 - schemas/v1/score-report.schema.json "$out/metric-table.tmp" <<'PY' | write schemas/v1/score-report.schema.json
+import json, sys
+schema = json.load(open(sys.argv[1], encoding="utf-8"))
+names = [m["name"] for m in json.load(open(sys.argv[2], encoding="utf-8"))]
+aggregate = schema["properties"]["aggregate"]["properties"]
+for obj, ref in ((schema["definitions"]["tile"], "#/definitions/value"), (aggregate["mean"], "#/definitions/value"),
+                 (aggregate["n_defined"], "#/definitions/count"), (aggregate["n_undefined"], "#/definitions/count")):
+    # The metrics are the properties whose schema is the bare $ref; others (a tile's counts) stay after them.
+    others = {k: v for k, v in obj["properties"].items() if v != {"$ref": ref}}
+    obj["required"] = names + [k for k in obj["required"] if k in others]
+    obj["properties"] = {**{name: {"$ref": ref} for name in names}, **others}
+sys.stdout.write(json.dumps(schema, indent=2, ensure_ascii=False) + "\n")
+PY
+rm -f "$out/metric-table.tmp"
 PYTHONPATH="$build/python" /usr/bin/python3 - <<'PY' | write samples/semantic-classes.json
 import json
 from nsgraph import SEMANTIC_CLASSES, SEMANTIC_VOID
@@ -73,7 +92,7 @@ PY
 if (( check )); then
   status=0
   for f in schemas/v1/{generate,synth,train,frames}-config.schema.json samples/{generate,train,frames}.json \
-           docs/options.md docs/metrics.md samples/semantic-classes.json; do
+           docs/options.md docs/metrics.md samples/semantic-classes.json schemas/v1/score-report.schema.json; do
     if ! same "$f" "$out/$f"; then
       echo "regen: $f differs from what the declarations give; run \`make regen\`" >&2
       diff -u "$f" "$out/$f" | head -20 >&2 || true

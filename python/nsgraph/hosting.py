@@ -3,13 +3,11 @@ call an evaluation script (``evaluate(test_annotation_file, user_submission_file
 phase_codename, **kwargs)``). Scoring is ``nsgraph.score``: the same checks and limits as
 ``nsgraph score``."""
 from .frames import score_frames
-from .scoring import score
+from .scoring import METRICS, score
 
-# The leaderboard columns: the report's per-tile means (docs/metrics.md), by their report names.
-LEADERBOARD_METRICS = (
-    "apls", "apls_directed", "apls_strict", "direction_accuracy", "f1", "iou", "chamfer_mean_m",
-    "geo_precision", "geo_recall", "geo_f1", "topo_precision", "topo_recall", "topo_f1",
-)
+# The leaderboard's default columns: the report's per-tile means of the metrics the C++ table
+# marks `leaderboard` (metrics::metric_info; docs/metrics.md "Metric list"), in its order.
+LEADERBOARD_METRICS = tuple(m["name"] for m in METRICS if m["leaderboard"])
 
 
 def evaluate(test_annotation_file, user_submission_file, phase_codename, **kwargs):

@@ -156,6 +156,7 @@ void bind_metrics(py::module_& m) {
     d["name"] = info.name;
     d["unit"] = info.unit;
     d["lower_is_better"] = info.lower_is_better;
+    d["leaderboard"] = info.leaderboard;
     d["description"] = info.description;
     table[static_cast<size_t>(k)] = d;
   }

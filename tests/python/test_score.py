@@ -83,6 +83,13 @@ class ScoreTest(unittest.TestCase):
                          {"chamfer_px2", "chamfer_m2", "chamfer_mean_m"})
         self.assertTrue(set(nsgraph.HEADLINE_METRICS) <= set(names))
         self.assertIn("apls", nsgraph.HEADLINE_METRICS)
+        # The leaderboard's default columns: the summaries (no one-way halves, no summed
+        # Chamfer, no directed TOPO variant), every headline among them, in the table's order.
+        from nsgraph.hosting import LEADERBOARD_METRICS
+        self.assertEqual(LEADERBOARD_METRICS, (
+            "apls", "apls_directed", "apls_strict", "direction_accuracy", "f1", "iou", "chamfer_mean_m",
+            "geo_precision", "geo_recall", "geo_f1", "topo_precision", "topo_recall", "topo_f1"))
+        self.assertTrue(set(nsgraph.HEADLINE_METRICS) <= set(LEADERBOARD_METRICS))
 
     def test_python_scores_equal_the_cli(self):
         cli = self.cli_report()

@@ -20,6 +20,11 @@
    unit: s, ms, min, sweeps/s, tiles/s, MB, MiB, GB, GiB, %, ×, ... or a decimal such as
    0.369) must have a marker above its header row (blank lines and one paragraph may lie
    between).
+7. The contributor guides (docs/architecture.md's "Adding …" sections) describe today's
+   code: every file they name exists, every code name (`kSemanticClasses`,
+   `crop_option_table()`, `Table::check`) occurs in the code and every ctest name in the
+   tests; "Adding an option" is done by tests/unit/core/test_adding_an_option.cpp with the
+   guide's own declaration line.
 
 Run from anywhere: python3 tests/repo/check_repository.py [REPO_ROOT]. Exit 0 clean, 1 with
 a list of "path:line: what" findings.
@@ -262,6 +267,68 @@ def check_figures(root, files):
     return findings
 
 
+# Guides whose names and paths must exist (docs/architecture.md's "Adding …" sections), and
+# the test that does what "Adding an option" shows with the guide's own declaration line.
+GUIDE = "docs/architecture.md"
+GUIDE_DONE = {"Adding an option": "tests/unit/core/test_adding_an_option.cpp"}
+CODE_SPAN = re.compile(r"`([^`]+)`", re.S)
+CODE_NAME = re.compile(r"[A-Za-z_][\w:./*-]*")
+# Spans that are examples of what a contributor would add, not names of today's code.
+GUIDE_EXAMPLE = re.compile(r"foo|<name>|\bheight\b")
+
+
+def guide_sections(text):
+    """(title, first line number, body) of each "## Adding …" section."""
+    sections, start = [], None
+    lines = text.split("\n")
+    for number, line in enumerate(lines + ["## end"], 1):
+        if line.startswith("## "):
+            if start is not None:
+                sections.append((lines[start - 1][3:], start, "\n".join(lines[start:number - 1])))
+            start = number if line.startswith("## Adding ") else None
+    return sections
+
+
+def names_a_file(root, files, token):
+    """A path as the guides write it: from the root, from lib/, or the tail of a module's path."""
+    token = token.rstrip(".,:;")
+    if any(os.path.exists(os.path.join(root, c)) for c in (token, "lib/" + token)):
+        return True
+    return any(f.endswith("/" + token) or f.startswith(token.rstrip("/") + "/") for f in files)
+
+
+def check_guides(root, files):
+    """7. Every path and code name in the guides exists; a guide with a test is done there."""
+    text = read_text(os.path.join(root, GUIDE)) or ""
+    code = "\n".join(read_text(os.path.join(root, f)) or "" for f in files
+                     if is_code(f) or f.endswith((".json", ".js")))
+    tests = "\n".join(read_text(os.path.join(root, f)) or "" for f in files if f.startswith("tests/"))
+    findings = []
+    for title, first, body in guide_sections(text):
+        for span in CODE_SPAN.findall(body):
+            if GUIDE_EXAMPLE.search(span):
+                continue
+            for token in CODE_NAME.findall(span):
+                line = first + body[:body.find(span)].count("\n") + 1
+                if re.fullmatch(r"\w+/[A-Z]\w*\.\w+", token):  # a ctest name: module/Suite.Test
+                    if not re.search(r"\b" + r",\s*".join(token.split("/")[1].split(".")) + r"\)", tests):
+                        findings.append(f"{GUIDE}:{line}: {title}: `{token}` is no test of the repository")
+                elif "/" in token and "." in token.split("/")[-1] or token.endswith("/"):
+                    if not names_a_file(root, files, token):
+                        findings.append(f"{GUIDE}:{line}: {title}: `{token}` is no file of the repository")
+                elif re.fullmatch(r"k[A-Z]\w*\*?|\w+_\w+|\w+(::\w+)+", token):
+                    name = token.split("::")[-1].rstrip("*")
+                    if not re.search(r"\b" + re.escape(name) + ("" if token.endswith("*") else r"\b"), code):
+                        findings.append(f"{GUIDE}:{line}: {title}: `{token}` is named nowhere in the code")
+        test = GUIDE_DONE.get(title)
+        if test:
+            shown = ["".join(s.split()) for s in CODE_SPAN.findall(body) if s.startswith("t.")]
+            done = "".join((read_text(os.path.join(root, test)) or "").split())
+            findings += [f"{GUIDE}:{first}: {title}: its declaration `{s}` is not what {test} does"
+                         for s in shown if s not in done]
+    return findings
+
+
 def main():
     root = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else
                            os.path.join(os.path.dirname(__file__), "..", ".."))
@@ -270,7 +337,7 @@ def main():
         print(f"{root}: no files found", file=sys.stderr)
         return 2
     findings = (check_paths_and_comments(root, files) + check_layout(root, files) + check_links(root, files)
-                + check_figures(root, files))
+                + check_figures(root, files) + check_guides(root, files))
     for f in findings:
         print(f)
     print(f"{len(files)} files checked, {len(findings)} findings")

@@ -16,35 +16,37 @@ namespace {
 // markdown table, the report's sort arrows, the previews' worst-first order and the
 // score-report schema's metric lists (a test keeps it equal) read them from here.
 constexpr MetricInfo kMetrics[kMetricCount] = {
-    {"apls", "", false, "APLS: path lengths between node pairs compared both ways, undirected (snap 4 m)"},
-    {"apls_gt_to_pred", "", false, "APLS with the pairs sampled on the ground truth"},
-    {"apls_pred_to_gt", "", false, "APLS with the pairs sampled on the prediction"},
-    {"apls_directed", "", false, "APLS where a path must follow the edges' directions"},
-    {"apls_directed_gt_to_pred", "", false, "directed APLS, pairs sampled on the ground truth"},
-    {"apls_directed_pred_to_gt", "", false, "directed APLS, pairs sampled on the prediction"},
-    {"apls_strict", "", false, "APLS with the 1.8 m snap radius: no snapping onto the neighbouring lane"},
-    {"apls_strict_gt_to_pred", "", false, "strict APLS, pairs sampled on the ground truth"},
-    {"apls_strict_pred_to_gt", "", false, "strict APLS, pairs sampled on the prediction"},
-    {"direction_accuracy", "", false, "matched predicted edges pointing the ground truth's way / matched edges"},
-    {"direction_accuracy_length_weighted", "", false, "direction accuracy weighted by edge length"},
-    {"direction_matched_fraction", "", false, "predicted edges of non-zero length matched to the ground truth"},
-    {"f1", "", false, "F1 (Dice) of the two graphs drawn as 1.8 m wide lane masks"},
-    {"iou", "", false, "intersection over union of the two lane masks"},
-    {"chamfer_px2", "px²", true, "squared distance of every node to the other graph's nearest node, summed both ways"},
-    {"chamfer_m2", "m²", true, "chamfer_px2 in square metres"},
-    {"chamfer_mean_m", "m", true, "mean distance of a node to the other graph's nearest node, both ways averaged"},
-    {"geo_precision", "", false,
+    {"apls", "", false, true, "APLS: path lengths between node pairs compared both ways, undirected (snap 4 m)"},
+    {"apls_gt_to_pred", "", false, false, "APLS with the pairs sampled on the ground truth"},
+    {"apls_pred_to_gt", "", false, false, "APLS with the pairs sampled on the prediction"},
+    {"apls_directed", "", false, true, "APLS where a path must follow the edges' directions"},
+    {"apls_directed_gt_to_pred", "", false, false, "directed APLS, pairs sampled on the ground truth"},
+    {"apls_directed_pred_to_gt", "", false, false, "directed APLS, pairs sampled on the prediction"},
+    {"apls_strict", "", false, true, "APLS with the 1.8 m snap radius: no snapping onto the neighbouring lane"},
+    {"apls_strict_gt_to_pred", "", false, false, "strict APLS, pairs sampled on the ground truth"},
+    {"apls_strict_pred_to_gt", "", false, false, "strict APLS, pairs sampled on the prediction"},
+    {"direction_accuracy", "", false, true, "matched predicted edges pointing the ground truth's way / matched edges"},
+    {"direction_accuracy_length_weighted", "", false, false, "direction accuracy weighted by edge length"},
+    {"direction_matched_fraction", "", false, false, "predicted edges of non-zero length matched to the ground truth"},
+    {"f1", "", false, true, "F1 (Dice) of the two graphs drawn as 1.8 m wide lane masks"},
+    {"iou", "", false, true, "intersection over union of the two lane masks"},
+    {"chamfer_px2", "px²", true, false,
+     "squared distance of every node to the other graph's nearest node, summed both ways"},
+    {"chamfer_m2", "m²", true, false, "chamfer_px2 in square metres"},
+    {"chamfer_mean_m", "m", true, true,
+     "mean distance of a node to the other graph's nearest node, both ways averaged"},
+    {"geo_precision", "", false, true,
      "GEO precision: predicted samples matched one-to-one to ground-truth samples within 8 px"},
-    {"geo_recall", "", false, "GEO recall: ground-truth samples matched one-to-one within 8 px"},
-    {"geo_f1", "", false, "GEO F1"},
-    {"topo_precision", "", false,
+    {"geo_recall", "", false, true, "GEO recall: ground-truth samples matched one-to-one within 8 px"},
+    {"geo_f1", "", false, true, "GEO F1"},
+    {"topo_precision", "", false, true,
      "TOPO precision: matching precision of the sub-graphs within 40 m of each seed, averaged over the samples"},
-    {"topo_recall", "", false,
+    {"topo_recall", "", false, true,
      "TOPO recall: matching recall of the sub-graphs within 40 m of each seed, averaged over the samples"},
-    {"topo_f1", "", false, "TOPO F1"},
-    {"topo_directed_precision", "", false, "TOPO precision with the sub-graphs grown along edge directions"},
-    {"topo_directed_recall", "", false, "TOPO recall with the sub-graphs grown along edge directions"},
-    {"topo_directed_f1", "", false, "directed TOPO F1"}};
+    {"topo_f1", "", false, true, "TOPO F1"},
+    {"topo_directed_precision", "", false, false, "TOPO precision with the sub-graphs grown along edge directions"},
+    {"topo_directed_recall", "", false, false, "TOPO recall with the sub-graphs grown along edge directions"},
+    {"topo_directed_f1", "", false, false, "directed TOPO F1"}};
 constexpr const char* kCountNames[kCountCount] = {"missing_prediction",
                                                   "gt_self_loops_dropped",
                                                   "gt_duplicate_edges_dropped",
@@ -122,13 +124,14 @@ std::string metric_list(const std::string& format) {
       out.push_back({{"name", m.name},
                      {"unit", m.unit},
                      {"better", m.lower_is_better ? "lower" : "higher"},
+                     {"leaderboard", m.leaderboard},
                      {"description", m.description}});
     return out.dump(2) + "\n";
   }
-  std::string out = "| metric | unit | better | what it measures |\n| --- | --- | --- | --- |\n";
+  std::string out = "| metric | unit | better | leaderboard | what it measures |\n| --- | --- | --- | --- | --- |\n";
   for (const MetricInfo& m : kMetrics)
-    out += strprintf("| `%s` | %s | %s | %s |\n", m.name, *m.unit ? m.unit : "fraction",
-                     m.lower_is_better ? "lower ↓" : "higher ↑", m.description);
+    out += strprintf("| `%s` | %s | %s | %s | %s |\n", m.name, *m.unit ? m.unit : "fraction",
+                     m.lower_is_better ? "lower ↓" : "higher ↑", m.leaderboard ? "yes" : "", m.description);
   return out;
 }
 const std::vector<HeadlineMetric>& headline_metrics() {

@@ -67,11 +67,13 @@ enum Count : int {
   kCountCount
 };
 // What a metric is, declared once (measure.cpp's table): its name in reports, its unit,
-// which way is better and a line saying what it measures.
+// which way is better, whether a leaderboard shows it by default and a line saying what it
+// measures.
 struct MetricInfo {
   const char* name;         // "apls", the score report's key
   const char* unit;         // "" for a fraction in [0, 1], else "px²", "m²", "m"
   bool lower_is_better;     // the Chamfer distances; every other metric: higher is better
+  bool leaderboard;         // a default column of a leaderboard: a summary, not a one-way half or a variant
   const char* description;  // one line (docs/metrics.md has the definition)
 };
 const MetricInfo& metric_info(int metric);
