@@ -1,7 +1,6 @@
 #include "nsg/validate/dataset.h"
 
 #include <algorithm>
-#include <cstring>
 #include <cmath>
 #include <map>
 #include <optional>
@@ -10,7 +9,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "nsg/core/coverage_bits.h"
 #include "nsg/core/error.h"
 #include "nsg/core/progress.h"
 #include "nsg/core/sha256.h"
@@ -19,6 +17,7 @@
 #include "nsg/io/raster.h"
 #include "nsg/io/tile_members.h"
 #include "nsg/validate/schema.h"
+#include "raster_values.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -440,68 +439,12 @@ class DatasetChecker {
     }
     const std::string base = t.shard + "/" + t.key;
     const size_t pixels = static_cast<size_t>(size_px_) * size_px_;
+    const ReportFinding report = [this](const std::string& check, const std::string& subject,
+                                        const std::string& message) { error(check, subject, message); };
     int64_t vehicle_px = -1;
-    if (auto it = rasters.find("vehicle.tif"); it != rasters.end()) {
-      vehicle_px = 0;
-      int64_t bad = 0;
-      float first_bad = 0;
-      for (size_t i = 0; i < pixels; ++i) {
-        float v;
-        std::memcpy(&v, it->second.data.data() + 4 * i, 4);
-        if (v == -1.0f) continue;
-        if (v >= 0.0f && v < 1.0f) {
-          ++vehicle_px;
-        } else if (bad++ == 0) {
-          first_bad = v;
-        }
-      }
-      if (bad > 0)
-        error("raster.nodata", base + ".vehicle.tif",
-              strprintf("values in {-1} or [0, 1); %lld pixels are not (first: %s)", static_cast<long long>(bad),
-                        format_double(first_bad).c_str()));
-    }
-    auto cov = rasters.find("coverage.tif");
-    if (cov == rasters.end()) return;
-    const uint8_t* flags = cov->second.data.data();
-    int64_t bad_flags = 0, lidar_px = 0, rgb_px = 0, sem_px = 0;
-    int64_t unflagged[3] = {0, 0, 0};
-    const auto* lidar = rasters.count("lidar.tif") ? rasters.at("lidar.tif").data.data() : nullptr;
-    const auto* rgb = rasters.count("rgb.tif") ? rasters.at("rgb.tif").data.data() : nullptr;
-    const auto* sem = rasters.count("semantic.tif") ? rasters.at("semantic.tif").data.data() : nullptr;
-    for (size_t i = 0; i < pixels; ++i) {
-      const uint8_t f = flags[i];
-      if ((f & ~kCoverageAll) != 0) ++bad_flags;
-      lidar_px += (f & kCoverageLidar) != 0;
-      rgb_px += (f & kCoverageRgb) != 0;
-      sem_px += (f & kCoverageSemantic) != 0;
-      if (lidar && lidar[i] != 0 && !(f & kCoverageLidar)) ++unflagged[0];
-      if (rgb && (rgb[3 * i] | rgb[3 * i + 1] | rgb[3 * i + 2]) != 0 && !(f & kCoverageRgb)) ++unflagged[1];
-      if (sem && sem[i] != 255 && !(f & kCoverageSemantic)) ++unflagged[2];
-    }
-    if (bad_flags > 0)
-      error("raster.nodata", base + ".coverage.tif",
-            strprintf("flags in 0..%d; %lld pixels are not", kCoverageAll, static_cast<long long>(bad_flags)));
-    const char* layers[3] = {"lidar", "rgb", "semantic"};
-    const int bits[3] = {kCoverageLidar, kCoverageRgb, kCoverageSemantic};
-    for (int k = 0; k < 3; ++k)
-      if (unflagged[k] > 0)
-        error("raster.nodata", base + "." + layers[k] + ".tif",
-              strprintf("coverage bit %d wherever %s has data; %lld pixels with data lack it", bits[k], layers[k],
-                        static_cast<long long>(unflagged[k])));
-    if (!meta) return;
-    const std::string subject = base + ".meta.json";
-    const int64_t counts[3] = {lidar_px, rgb_px, sem_px};
-    for (int k = 0; k < 3; ++k) {
-      const json::json_pointer ptr("/coverage/" + std::string(layers[k]));
-      const double want = static_cast<double>(counts[k]) / static_cast<double>(pixels);
-      if (meta->contains(ptr) && (!meta->at(ptr).is_number() || std::abs(meta->at(ptr).get<double>() - want) > 1e-9))
-        error("meta.counts", subject + ":" + ptr.to_string(),
-              "the coverage raster's fraction " + format_double(want) + ", got " + meta->at(ptr).dump());
-    }
-    const json::json_pointer vptr("/counts/vehicle_px");
-    if (vehicle_px >= 0 && meta->contains(vptr) && meta->at(vptr) != vehicle_px)
-      error("meta.counts", subject + ":/counts/vehicle_px",
-            strprintf("%lld (vehicle.tif), got %s", static_cast<long long>(vehicle_px), meta->at(vptr).dump().c_str()));
+    if (auto it = rasters.find("vehicle.tif"); it != rasters.end())
+      vehicle_px = check_vehicle_values(it->second, pixels, base + ".vehicle.tif", report);
+    check_coverage_values(rasters, pixels, base, meta, vehicle_px, report);
   }
 
   void check_split_disjoint() {

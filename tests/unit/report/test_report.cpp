@@ -39,7 +39,8 @@ TEST(Report, SubmissionReportMatchesScoreAndMarksDefects) {
   CommandResult r = run_nsgraph(
       {"report", "--quiet", "--dataset", ds.string(), "--submission", sub.file.string(), "--out", out.string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const char* f : {"index.html", "report.js", "report.css", "report.json", "data/summary.js", "data/tiles.js"})
+  for (const char* f :
+       {"index.html", "report.js", "selftest.js", "report.css", "report.json", "data/summary.js", "data/tiles.js"})
     EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
   EXPECT_NE(read_file(out / "index.html").find("report.js"), std::string::npos);
   EXPECT_EQ(read_file(out / "index.html").find("http"), std::string::npos) << "no network address in the page";
