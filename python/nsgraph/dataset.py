@@ -10,6 +10,9 @@ TILE_MEMBERS = _nsgraph.TILE_MEMBERS
 # The semantic layer's classes, id order: {"id", "name", "color"}; SEMANTIC_VOID = no class.
 SEMANTIC_CLASSES = _nsgraph.SEMANTIC_CLASSES
 SEMANTIC_VOID = _nsgraph.SEMANTIC_VOID
+# The codes of a tile graph's turn and junction arrays, by their graph.json names.
+TURNS = _nsgraph.TURNS
+JUNCTIONS = _nsgraph.JUNCTIONS
 LAYERS = {m["name"]: m for m in TILE_MEMBERS if m["raster"]}
 # The input layers (every raster but the coverage flags, which are always read).
 MODALITIES = tuple(name for name in LAYERS if name != "coverage")
@@ -34,7 +37,10 @@ class Dataset(collections.abc.Sequence):
         vehicle   float32 (H, W)       heading / 2π clockwise from north in [0, 1), -1 = none
         coverage  uint8   (H, W)       bit flags 1 LiDAR, 2 RGB, 4 semantics
         graph     {nodes_px (N, 2) float64 u, v;  nodes_m (N, 2) float64 x, y;
-                   edges (E, 2) int64 node indices;  lane_tokens [E str];  node_ids (N,) int64}
+                   edges (E, 2) int64 node indices;  lane_tokens [E str];  node_ids (N,) int64;
+                   junction (N,) int64 into JUNCTIONS;  turn (E,) int64 into TURNS;
+                   connector, in_intersection (E,) bool;  lane_changes (C, 2) int64 node
+                   indices;  lane_change_tokens [C (from, to)]}  (docs/dataset-format.md)
         meta      the tile's meta.json as a dict
 
     ``ds[i]`` by position or ``ds[key]`` / ``ds.get(key)`` by tile key (``ds.keys``).

@@ -9,11 +9,13 @@ A sample::
     vehicle  float32 (H, W)        coverage uint8 (H, W)
     nodes    float32 (N, 2) u, v   nodes_m float64 (N, 2) x, y (where the pixel lies)
     edges    int64   (E, 2)        lane_tokens [E str]   meta dict
+    junction int64   (N,)          turn int64 (E,)       connector, in_intersection bool (E,)
+    lane_changes int64 (C, 2)      (the graph attributes: nsgraph.JUNCTIONS, nsgraph.TURNS)
 """
 import numpy as np
 import torch
 
-from .dataset import LAYERS, MODALITIES, Dataset
+from .dataset import LAYERS, MODALITIES, TURNS, Dataset
 
 NO_DATA = {name: m["nodata"] for name, m in LAYERS.items() if m["nodata"] is not None}
 COVERAGE_BIT = {name: m["coverage_bit"] for name, m in LAYERS.items() if m["coverage_bit"]}
@@ -108,6 +110,12 @@ def _transform(tile, op):
         else:  # np.rot90: new row = W−1−u, new column = v
             uv = np.stack([graph["nodes_px"][:, 1], size[0] - 1 - graph["nodes_px"][:, 0]], axis=1)
         graph["nodes_px"] = uv
+        if op != "rot90" and "turn" in graph:  # a mirror image turns left into right
+            turn = graph["turn"].copy()
+            left, right = TURNS.index("left"), TURNS.index("right")
+            turn[graph["turn"] == left] = right
+            turn[graph["turn"] == right] = left
+            graph["turn"] = turn
 
 
 def _nodes_m(tile):
@@ -156,6 +164,9 @@ def to_tensors(tile):
         sample["nodes_m"] = torch.from_numpy(np.asarray(_nodes_m(tile), dtype=np.float64))
         sample["edges"] = torch.from_numpy(tile["graph"]["edges"])
         sample["lane_tokens"] = list(tile["graph"]["lane_tokens"])
+        for name in ("junction", "turn", "connector", "in_intersection", "lane_changes"):
+            if name in tile["graph"]:
+                sample[name] = torch.from_numpy(np.ascontiguousarray(tile["graph"][name]))
     if "meta" in tile:
         sample["meta"] = tile["meta"]
     return sample
@@ -164,8 +175,9 @@ def to_tensors(tile):
 def collate(samples):
     """Batches samples: rasters stacked (B, ...); graphs concatenated PyG-style — nodes
     (ΣN, 2), edges (ΣE, 2) with node indices offset into the concatenation, node_batch
-    (ΣN,) the sample of each node, num_nodes / num_edges (B,); keys, lane_tokens and meta
-    as lists."""
+    (ΣN,) the sample of each node, num_nodes / num_edges (B,); the graph attributes
+    concatenated (junction (ΣN,), turn / connector / in_intersection (ΣE,)), lane_changes
+    (ΣC, 2) offset like edges with num_lane_changes (B,); keys, lane_tokens and meta as lists."""
     batch = {"key": [s["key"] for s in samples]}
     for m in LAYERS:
         if m in samples[0]:
@@ -180,6 +192,13 @@ def collate(samples):
         batch["num_nodes"] = torch.tensor(counts)
         batch["num_edges"] = torch.tensor([len(s["edges"]) for s in samples])
         batch["lane_tokens"] = [s["lane_tokens"] for s in samples]
+        for name in ("junction", "turn", "connector", "in_intersection"):
+            if name in samples[0]:
+                batch[name] = torch.cat([s[name] for s in samples])
+        if "lane_changes" in samples[0]:  # like edges: node indices into the concatenation
+            batch["lane_changes"] = torch.cat(
+                [s["lane_changes"] + int(o) for s, o in zip(samples, offsets)]).reshape(-1, 2)
+            batch["num_lane_changes"] = torch.tensor([len(s["lane_changes"]) for s in samples])
     if "meta" in samples[0]:
         batch["meta"] = [s["meta"] for s in samples]
     return batch

@@ -9,6 +9,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/semantic_classes.h"
 #include "nsg/core/strings.h"
+#include "nsg/graph/lane_attributes.h"
 #include "nsg/io/tile_graph.h"
 #include "nsg/io/tile_members.h"
 #include "nsg/io/tile_index.h"
@@ -86,19 +87,30 @@ DecodedTile decode(const io::SplitIndex& index, size_t i, const std::vector<std:
   return out;
 }
 
+// The tile's graph with its attributes (docs/dataset-format.md "Graph attributes"): junction
+// and turn as codes into nsgraph.JUNCTIONS and nsgraph.TURNS.
 py::dict graph_to_py(const graph::TileGraph& g) {
   std::vector<std::array<double, 2>> px, m;
-  std::vector<std::array<int64_t, 2>> edges;
-  std::vector<int64_t> ids;
-  py::list tokens;
+  std::vector<std::array<int64_t, 2>> edges, lane_changes;
+  std::vector<int64_t> ids, junction, turn;
+  std::vector<bool> connector, in_intersection;
+  py::list tokens, change_tokens;
   for (const graph::TileNode& n : g.nodes) {
     px.push_back({n.u_px, n.v_px});
     m.push_back({n.x_m, n.y_m});
     ids.push_back(n.id);
+    junction.push_back(static_cast<int64_t>(n.junction));
   }
   for (const graph::TileEdge& e : g.edges) {
     edges.push_back({e.source, e.target});
     tokens.append(py::str(e.lane_token));
+    connector.push_back(e.is_connector);
+    in_intersection.push_back(e.in_intersection);
+    turn.push_back(static_cast<int64_t>(e.turn));
+  }
+  for (const graph::TileLaneChange& c : g.lane_changes) {
+    lane_changes.push_back({c.source, c.target});
+    change_tokens.append(py::make_tuple(c.from_lane_token, c.to_lane_token));
   }
   py::dict d;
   d["nodes_px"] = pairs_to_numpy(px);
@@ -106,6 +118,12 @@ py::dict graph_to_py(const graph::TileGraph& g) {
   d["edges"] = pairs_to_numpy(edges);
   d["lane_tokens"] = tokens;
   d["node_ids"] = ints_to_numpy(ids);
+  d["junction"] = ints_to_numpy(junction);
+  d["connector"] = bools_to_numpy(connector);
+  d["in_intersection"] = bools_to_numpy(in_intersection);
+  d["turn"] = ints_to_numpy(turn);
+  d["lane_changes"] = pairs_to_numpy(lane_changes);
+  d["lane_change_tokens"] = change_tokens;
   return d;
 }
 
@@ -138,6 +156,12 @@ void bind_dataset(py::module_& m) {
   m.attr("TILE_MEMBERS") = tile_members_to_py();
   m.attr("SEMANTIC_CLASSES") = semantic_classes_to_py();
   m.attr("SEMANTIC_VOID") = static_cast<int>(kSemanticVoid);
+  // The attribute codes of a tile's graph (graph_to_py), by their graph.json names.
+  m.attr("TURNS") = py::make_tuple(graph::turn_name(graph::Turn::kStraight), graph::turn_name(graph::Turn::kLeft),
+                                   graph::turn_name(graph::Turn::kRight), graph::turn_name(graph::Turn::kUTurn));
+  m.attr("JUNCTIONS") =
+      py::make_tuple(graph::junction_name(graph::Junction::kNone), graph::junction_name(graph::Junction::kSplit),
+                     graph::junction_name(graph::Junction::kMerge), graph::junction_name(graph::Junction::kBoth));
   py::class_<io::SplitIndex>(m, "SplitIndex",
                              "Random access to the tiles of one split (tar shards indexed once per process).")
       .def(py::init([](const std::string& root, const std::string& split) {

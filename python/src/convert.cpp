@@ -79,6 +79,12 @@ py::array_t<double> pairs_to_numpy(const std::vector<std::array<double, 2>>& row
 py::array_t<int64_t> pairs_to_numpy(const std::vector<std::array<int64_t, 2>>& rows) { return rows_to_numpy(rows); }
 py::array_t<double> doubles_to_numpy(const std::vector<double>& values) { return values_to_numpy(values); }
 py::array_t<int64_t> ints_to_numpy(const std::vector<int64_t>& values) { return values_to_numpy(values); }
+py::array_t<bool> bools_to_numpy(const std::vector<bool>& values) {
+  py::array_t<bool> out(static_cast<py::ssize_t>(values.size()));
+  auto w = out.mutable_unchecked<1>();
+  for (size_t k = 0; k < values.size(); ++k) w(static_cast<py::ssize_t>(k)) = values[k];
+  return out;
+}
 
 std::vector<std::array<double, 2>> points_arg(const Points& a, const std::string& what) {
   return rows_arg<double>(a, what);

@@ -39,6 +39,7 @@ py::array_t<double> pairs_to_numpy(const std::vector<std::array<double, 2>>& row
 py::array_t<int64_t> pairs_to_numpy(const std::vector<std::array<int64_t, 2>>& rows);
 py::array_t<double> doubles_to_numpy(const std::vector<double>& values);
 py::array_t<int64_t> ints_to_numpy(const std::vector<int64_t>& values);
+py::array_t<bool> bools_to_numpy(const std::vector<bool>& values);
 
 // An (N, 2) array argument; ConfigError naming `what` for another shape.
 std::vector<std::array<double, 2>> points_arg(const Points& a, const std::string& what);

@@ -72,7 +72,23 @@ class DatasetTest(unittest.TestCase):
                                                        dtype=np.int64).reshape(-1, 2))
                 self.assertEqual(tile["graph"]["edges"].dtype, np.int64)
                 self.assertEqual(tile["graph"]["lane_tokens"], [e["lane_token"] for e in graph["edges"]])
+                self.check_attributes(tile["graph"], graph, ids)
                 self.assertEqual(tile["meta"], json.loads(member["meta.json"]))
+        self.assertGreater(self.seen_lane_changes, 0, "the world has streets of two lanes a direction")
+
+    def check_attributes(self, got, graph, ids):
+        """The graph attributes as graph.json states them, by their codes."""
+        self.assertEqual([nsgraph.JUNCTIONS[c] for c in got["junction"]], [n["junction"] for n in graph["nodes"]])
+        self.assertEqual([nsgraph.TURNS[c] for c in got["turn"]], [e["turn"] for e in graph["edges"]])
+        self.assertEqual(got["connector"].dtype, np.bool_)
+        self.assertEqual(got["connector"].tolist(), [e["kind"] == "connector" for e in graph["edges"]])
+        self.assertEqual(got["in_intersection"].tolist(), [e["in_intersection"] for e in graph["edges"]])
+        np.testing.assert_array_equal(got["lane_changes"].reshape(-1, 2),
+                                      np.array([[ids[c["source"]], ids[c["target"]]] for c in graph["lane_changes"]],
+                                               dtype=np.int64).reshape(-1, 2))
+        self.assertEqual(got["lane_change_tokens"],
+                         [(c["from_lane_token"], c["to_lane_token"]) for c in graph["lane_changes"]])
+        self.seen_lane_changes = getattr(self, "seen_lane_changes", 0) + len(graph["lane_changes"])
 
     def test_the_layer_declaration_comes_from_the_library_and_matches_the_files(self):
         # nsgraph.LAYERS is io::tile_members() of the C++ library: names in member order,

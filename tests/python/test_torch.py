@@ -58,6 +58,15 @@ class GeometryTest(unittest.TestCase):
         for op in ("flip_u", "flip_v", "rot90"):
             self.check(op)
 
+    def test_a_mirror_turns_left_into_right_and_a_quarter_turn_keeps_turns(self):
+        left, right, straight = (nsgraph.TURNS.index(t) for t in ("left", "right", "straight"))
+        for op, want in (("flip_u", [right, left, straight]), ("flip_v", [right, left, straight]),
+                         ("rot90", [left, right, straight])):
+            tile = synthetic_tile()
+            tile["graph"]["turn"] = np.array([left, right, straight])
+            ntorch._transform(tile, op)
+            self.assertEqual(tile["graph"]["turn"].tolist(), want, op)
+
     def test_four_quarter_turns_are_the_identity(self):
         tile = synthetic_tile()
         for _ in range(4):
@@ -95,10 +104,17 @@ class TorchDatasetTest(unittest.TestCase):
             self.assertEqual(tuple(batch["lidar"].shape[:1]), (b,))
             self.assertEqual(int(batch["num_nodes"].sum()), batch["nodes"].shape[0])
             self.assertEqual(batch["node_batch"].shape[0], batch["nodes"].shape[0])
+            nb = batch["node_batch"]
             if batch["edges"].numel():
                 # offsets: every edge joins two nodes of the same sample
-                nb = batch["node_batch"]
                 self.assertTrue(torch.equal(nb[batch["edges"][:, 0]], nb[batch["edges"][:, 1]]))
+            # the attributes concatenate with their nodes and edges, lane changes offset like edges
+            self.assertEqual(batch["junction"].shape[0], batch["nodes"].shape[0])
+            self.assertEqual(batch["turn"].shape[0], batch["edges"].shape[0])
+            self.assertEqual(batch["connector"].dtype, torch.bool)
+            self.assertEqual(int(batch["num_lane_changes"].sum()), batch["lane_changes"].shape[0])
+            if batch["lane_changes"].numel():
+                self.assertTrue(torch.equal(nb[batch["lane_changes"][:, 0]], nb[batch["lane_changes"][:, 1]]))
             nodes += batch["nodes"].shape[0]
         self.assertEqual(keys, nsgraph.Dataset(self.root, "train", modalities=()).keys)
         self.assertGreater(nodes, 0)

@@ -13,6 +13,7 @@
 #include "nsg/graph/clip.h"
 #include "nsg/graph/from_map.h"
 #include "nsg/graph/geojson.h"
+#include "nsg/graph/lane_attributes.h"
 
 namespace nsg::cli {
 namespace {
@@ -34,18 +35,25 @@ struct InspectGraphOptions {
 // The clipped part of the graph as a LaneGraph (for counts and GeoJSON of a bbox).
 graph::LaneGraph subgraph(const graph::LaneGraph& whole, const graph::TileGraph& tile) {
   graph::LaneGraph g;
-  for (const graph::TileNode& n : tile.nodes) g.nodes.push_back({n.x_m, n.y_m});
+  for (const graph::TileNode& n : tile.nodes) g.nodes.push_back({n.x_m, n.y_m, n.junction});
   std::map<std::string, int32_t> lane_of;
-  for (const graph::TileEdge& e : tile.edges) {
-    auto [it, fresh] = lane_of.emplace(e.lane_token, static_cast<int32_t>(g.lanes.size()));
+  // The lane of a token in `g`, added with the whole graph's attributes on first use.
+  const auto lane_index = [&](const std::string& token) {
+    auto [it, fresh] = lane_of.emplace(token, static_cast<int32_t>(g.lanes.size()));
     if (fresh) {
+      const graph::Lane& from = whole.lanes[whole.find_lane(token)];
       graph::Lane lane;
-      lane.token = e.lane_token;
-      lane.is_connector = whole.lanes[whole.find_lane(e.lane_token)].is_connector;
+      lane.token = token;
+      lane.is_connector = from.is_connector;
+      lane.turn = from.turn;
+      lane.in_intersection = from.in_intersection;
       g.lanes.push_back(lane);
     }
-    g.edges.push_back({e.source, e.target, it->second});
-  }
+    return it->second;
+  };
+  for (const graph::TileEdge& e : tile.edges) g.edges.push_back({e.source, e.target, lane_index(e.lane_token)});
+  for (const graph::TileLaneChange& c : tile.lane_changes)
+    g.lane_changes.push_back({c.source, c.target, lane_index(c.from_lane_token), lane_index(c.to_lane_token)});
   return g;
 }
 
@@ -67,6 +75,12 @@ int run(const InspectGraphOptions& o) {
   out["edges"] = g.edges.size();
   out["max_edge_length_m"] = g.max_edge_length_m();
   out["max_spacing_m"] = o.graph.max_spacing_m;
+  out["lane_changes"] = g.lane_changes.size();
+  nlohmann::ordered_json junctions = {{"split", 0}, {"merge", 0}, {"both", 0}};
+  for (const graph::Node& n : g.nodes)
+    if (n.junction != graph::Junction::kNone)
+      junctions[graph::junction_name(n.junction)] = junctions[graph::junction_name(n.junction)].get<int>() + 1;
+  out["junctions"] = junctions;
   nlohmann::ordered_json counts = nlohmann::ordered_json::object();
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
   for (const Issue& issue : defects.items()) {

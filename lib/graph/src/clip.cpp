@@ -1,5 +1,6 @@
 #include "nsg/graph/clip.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <unordered_map>
@@ -46,8 +47,24 @@ class TileBuilder {
 
   int32_t graph_node(int32_t node, const Node& at) {
     auto [it, fresh] = from_graph_.emplace(node, 0);
-    if (fresh) it->second = add(at.x_m, at.y_m);
+    if (fresh) {
+      it->second = add(at.x_m, at.y_m);
+      tile_.nodes.back().junction = at.junction;
+    }
     return it->second;
+  }
+  // The tile's node of a lane graph node, or −1 when no clipped edge uses it.
+  int32_t node_of(int32_t node) const {
+    const auto it = from_graph_.find(node);
+    return it == from_graph_.end() ? -1 : it->second;
+  }
+  // The lane graph's nodes in the tile, ascending (a deterministic order).
+  std::vector<int32_t> graph_nodes() const {
+    std::vector<int32_t> out;
+    out.reserve(from_graph_.size());
+    for (const auto& entry : from_graph_) out.push_back(entry.first);
+    std::sort(out.begin(), out.end());
+    return out;
   }
   int32_t border_node(double x, double y) {
     auto [it, fresh] = border_.emplace(std::make_pair(x, y), 0);
@@ -76,6 +93,25 @@ class TileBuilder {
   std::map<std::pair<double, double>, int32_t> border_;
 };
 
+// The lane changes whose two nodes are in the tile: graph.lane_changes is sorted by source
+// node, so each node's run is found by binary search.
+void add_lane_changes(const LaneGraph& graph, TileBuilder& builder) {
+  const auto by_source = [](const LaneChange& c, int32_t node) { return c.source < node; };
+  std::vector<TileLaneChange>& out = builder.tile().lane_changes;
+  for (int32_t node : builder.graph_nodes()) {
+    auto it = std::lower_bound(graph.lane_changes.begin(), graph.lane_changes.end(), node, by_source);
+    for (; it != graph.lane_changes.end() && it->source == node; ++it) {
+      const int32_t target = builder.node_of(it->target);
+      if (target < 0) continue;
+      out.push_back(
+          {builder.node_of(node), target, graph.lanes[it->source_lane].token, graph.lanes[it->target_lane].token});
+    }
+  }
+  std::sort(out.begin(), out.end(), [](const TileLaneChange& a, const TileLaneChange& b) {
+    return a.source != b.source ? a.source < b.source : a.target < b.target;
+  });
+}
+
 }  // namespace
 
 TileGraph clip_to_tile(const LaneGraph& graph, const SegmentIndex& index, const TileBounds& bounds,
@@ -92,8 +128,10 @@ TileGraph clip_to_tile(const LaneGraph& graph, const SegmentIndex& index, const 
     const int32_t t = t1 == 1.0 ? builder.graph_node(edge.target, b)
                                 : builder.border_node(a.x_m + t1 * (b.x_m - a.x_m), a.y_m + t1 * (b.y_m - a.y_m));
     if (s == t) continue;
-    builder.tile().edges.push_back({s, t, graph.lanes[edge.lane].token});
+    const Lane& lane = graph.lanes[edge.lane];
+    builder.tile().edges.push_back({s, t, lane.token, lane.is_connector, lane.in_intersection, lane.turn});
   }
+  add_lane_changes(graph, builder);
   return builder.take();
 }
 

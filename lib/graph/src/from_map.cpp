@@ -1,5 +1,7 @@
 #include "nsg/graph/from_map.h"
 
+#include "nsg/graph/lane_attributes.h"
+
 namespace nsg::graph {
 namespace {
 
@@ -33,7 +35,10 @@ LaneGraph build_lane_graph(const nuscenes::MapExpansion& map, const LaneGraphOpt
   // --strict treats them like the graph's own.
   if (options.strict) throw_if_defects(map.issues().items(), map.file().string());
   if (issues) issues->append(map.issues());
-  return build_lane_graph(lane_sources(map), options, issues, map.file().string());
+  LaneGraph graph = build_lane_graph(lane_sources(map), options, issues, map.file().string());
+  add_lane_attributes(graph);
+  mark_intersections(graph, map);
+  return graph;
 }
 
 }  // namespace nsg::graph

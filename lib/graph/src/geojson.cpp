@@ -7,6 +7,7 @@
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/strings.h"
 #include "nsg/geometry/georef.h"
+#include "nsg/graph/lane_attributes.h"
 
 namespace nsg::graph {
 namespace {
@@ -29,6 +30,38 @@ void write_position(std::ostream& out, const geometry::LonLat& p) {
   out << '[' << format_double(p.lon_deg) << ", " << format_double(p.lat_deg) << ']';
 }
 
+void write_line(std::ostream& out, const geometry::AzimuthalProjection& projection, const Node& a, const Node& b) {
+  out << "{\"type\": \"LineString\", \"coordinates\": [";
+  write_position(out, projection.to_lonlat(a.x_m, a.y_m));
+  out << ", ";
+  write_position(out, projection.to_lonlat(b.x_m, b.y_m));
+  out << "]}";
+}
+
+// After the successor edges: one LineString per lane change (kind "lane_change"), so a QGIS
+// style can show or hide them by kind.
+void write_lane_changes(const LaneGraph& graph, const geometry::AzimuthalProjection& projection, std::ostream& out) {
+  for (const LaneChange& c : graph.lane_changes) {
+    out << ",\n{\"type\": \"Feature\", \"properties\": {\"kind\": \"lane_change\", \"source\": " << c.source
+        << ", \"target\": " << c.target << ", \"from_lane_token\": " << json_string(graph.lanes[c.source_lane].token)
+        << ", \"to_lane_token\": " << json_string(graph.lanes[c.target_lane].token) << "}, \"geometry\": ";
+    write_line(out, projection, graph.nodes[c.source], graph.nodes[c.target]);
+    out << "}";
+  }
+}
+
+// Then one Point per fork or join (kind "junction").
+void write_junctions(const LaneGraph& graph, const geometry::AzimuthalProjection& projection, std::ostream& out) {
+  for (size_t k = 0; k < graph.nodes.size(); ++k) {
+    const Node& n = graph.nodes[k];
+    if (n.junction == Junction::kNone) continue;
+    out << ",\n{\"type\": \"Feature\", \"properties\": {\"kind\": \"junction\", \"node\": " << k << ", \"junction\": \""
+        << junction_name(n.junction) << "\"}, \"geometry\": {\"type\": \"Point\", \"coordinates\": ";
+    write_position(out, projection.to_lonlat(n.x_m, n.y_m));
+    out << "}}";
+  }
+}
+
 }  // namespace
 
 void write_geojson(const LaneGraph& graph, std::string_view location, std::ostream& out) {
@@ -48,14 +81,16 @@ void write_geojson(const LaneGraph& graph, std::string_view location, std::ostre
     if (bearing >= 360.0) bearing -= 360.0;
     bearing += 0.0;
     out << (e ? ",\n" : "\n") << "{\"type\": \"Feature\", \"properties\": {\"lane_token\": " << json_string(lane.token)
-        << ", \"layer\": \"" << (lane.is_connector ? "lane_connector" : "lane") << "\", \"source\": " << edge.source
-        << ", \"target\": " << edge.target << ", \"bearing_deg\": " << format_double(bearing)
-        << "}, \"geometry\": {\"type\": \"LineString\", \"coordinates\": [";
-    write_position(out, projection.to_lonlat(a.x_m, a.y_m));
-    out << ", ";
-    write_position(out, projection.to_lonlat(b.x_m, b.y_m));
-    out << "]}}";
+        << ", \"layer\": \"" << (lane.is_connector ? "lane_connector" : "lane")
+        << "\", \"kind\": \"successor\", \"source\": " << edge.source << ", \"target\": " << edge.target
+        << ", \"bearing_deg\": " << format_double(bearing)
+        << ", \"in_intersection\": " << (lane.in_intersection ? "true" : "false") << ", \"turn\": \""
+        << turn_name(lane.turn) << "\"}, \"geometry\": ";
+    write_line(out, projection, a, b);
+    out << "}";
   }
+  write_lane_changes(graph, projection, out);
+  write_junctions(graph, projection, out);
   out << "\n]}\n";
 }
 

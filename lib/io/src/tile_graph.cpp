@@ -4,6 +4,7 @@
 #include <unordered_map>
 
 #include "nsg/core/error.h"
+#include "nsg/graph/lane_attributes.h"
 
 namespace nsg::io {
 namespace {
@@ -14,6 +15,45 @@ double number(const nlohmann::json& node, const char* name, const std::string& f
   const double x = it->get<double>();
   NSG_CHECK(std::isfinite(x), DataError, file, path + "/" + name, "a finite number");
   return x;
+}
+
+int32_t node_index(const nlohmann::json& record, const char* end, const std::unordered_map<int64_t, int32_t>& index_of,
+                   const std::string& file, const std::string& path) {
+  const auto it = record.find(end);
+  const auto found = it != record.end() && it->is_number_integer() ? index_of.find(it->get<int64_t>()) : index_of.end();
+  NSG_CHECK(found != index_of.end(), DataError, file, path + "/" + end, "the id of a node of this graph");
+  return found->second;
+}
+
+std::string text(const nlohmann::json& record, const char* name, const std::string& file, const std::string& path) {
+  const auto it = record.find(name);
+  NSG_CHECK(it != record.end() && it->is_string(), DataError, file, path + "/" + name, "a lane token string");
+  return it->get<std::string>();
+}
+
+// The optional node attribute (a graph written before attributes has none: "none").
+graph::Junction junction(const nlohmann::json& node, const std::string& file, const std::string& path) {
+  graph::Junction out = graph::Junction::kNone;
+  const auto it = node.find("junction");
+  NSG_CHECK(it == node.end() || (it->is_string() && graph::junction_from_name(it->get<std::string>(), &out)), DataError,
+            file, path + "/junction", "\"none\", \"split\", \"merge\" or \"both\"");
+  return out;
+}
+
+// The optional edge attributes: kind, in_intersection, turn.
+void read_edge_attributes(const nlohmann::json& e, const std::string& file, const std::string& path,
+                          graph::TileEdge& edge) {
+  if (const auto kind = e.find("kind"); kind != e.end()) {
+    NSG_CHECK(*kind == "lane" || *kind == "connector", DataError, file, path + "/kind", "\"lane\" or \"connector\"");
+    edge.is_connector = *kind == "connector";
+  }
+  if (const auto in = e.find("in_intersection"); in != e.end()) {
+    NSG_CHECK(in->is_boolean(), DataError, file, path + "/in_intersection", "true or false");
+    edge.in_intersection = in->get<bool>();
+  }
+  if (const auto turn = e.find("turn"); turn != e.end())
+    NSG_CHECK(turn->is_string() && graph::turn_from_name(turn->get<std::string>(), &edge.turn), DataError, file,
+              path + "/turn", "\"straight\", \"left\", \"right\" or \"u_turn\"");
 }
 
 }  // namespace
@@ -34,7 +74,7 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
     const auto id = n["id"].get<int64_t>();
     NSG_CHECK(index_of.emplace(id, static_cast<int32_t>(k)).second, DataError, file, p + "/id", "a unique node id");
     g.nodes.push_back({static_cast<int32_t>(id), number(n, "u", file, p), number(n, "v", file, p),
-                       number(n, "x", file, p), number(n, "y", file, p)});
+                       number(n, "x", file, p), number(n, "y", file, p), junction(n, file, p)});
   }
   const nlohmann::json& edges = doc["edges"];
   g.edges.reserve(edges.size());
@@ -43,16 +83,22 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
     const nlohmann::json& e = edges[k];
     NSG_CHECK(e.is_object(), DataError, file, p, "an edge {source, target, lane_token}");
     graph::TileEdge edge;
-    for (const char* end : {"source", "target"}) {
-      const auto it = e.find(end);
-      const auto found = it != e.end() && it->is_number_integer() ? index_of.find(it->get<int64_t>()) : index_of.end();
-      NSG_CHECK(found != index_of.end(), DataError, file, p + "/" + end, "the id of a node of this graph");
-      (std::string(end) == "source" ? edge.source : edge.target) = found->second;
-    }
-    const auto token = e.find("lane_token");
-    NSG_CHECK(token != e.end() && token->is_string(), DataError, file, p + "/lane_token", "a lane token string");
-    edge.lane_token = token->get<std::string>();
+    edge.source = node_index(e, "source", index_of, file, p);
+    edge.target = node_index(e, "target", index_of, file, p);
+    edge.lane_token = text(e, "lane_token", file, p);
+    read_edge_attributes(e, file, p, edge);
     g.edges.push_back(std::move(edge));
+  }
+  const auto changes = doc.find("lane_changes");
+  if (changes == doc.end()) return g;
+  NSG_CHECK(changes->is_array(), DataError, file, "/lane_changes", "an array of lane changes");
+  g.lane_changes.reserve(changes->size());
+  for (size_t k = 0; k < changes->size(); ++k) {
+    const std::string p = "/lane_changes/" + std::to_string(k);
+    const nlohmann::json& c = (*changes)[k];
+    NSG_CHECK(c.is_object(), DataError, file, p, "a lane change {source, target, from_lane_token, to_lane_token}");
+    g.lane_changes.push_back({node_index(c, "source", index_of, file, p), node_index(c, "target", index_of, file, p),
+                              text(c, "from_lane_token", file, p), text(c, "to_lane_token", file, p)});
   }
   return g;
 }
@@ -60,14 +106,31 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
 std::string tile_graph_text(const std::string& key, const graph::TileGraph& graph) {
   nlohmann::ordered_json nodes = nlohmann::ordered_json::array();
   for (const graph::TileNode& n : graph.nodes)
-    nodes.push_back({{"id", n.id}, {"u", n.u_px}, {"v", n.v_px}, {"x", n.x_m}, {"y", n.y_m}});
+    nodes.push_back({{"id", n.id},
+                     {"u", n.u_px},
+                     {"v", n.v_px},
+                     {"x", n.x_m},
+                     {"y", n.y_m},
+                     {"junction", graph::junction_name(n.junction)}});
   nlohmann::ordered_json edges = nlohmann::ordered_json::array();
   // TileEdge holds node indices; the file names nodes by id (clip_to_tile's ids are the
   // indices, a graph read back keeps the file's ids).
   const auto id_of = [&](int32_t index) { return graph.nodes.at(static_cast<size_t>(index)).id; };
   for (const graph::TileEdge& e : graph.edges)
-    edges.push_back({{"source", id_of(e.source)}, {"target", id_of(e.target)}, {"lane_token", e.lane_token}});
-  const nlohmann::ordered_json doc = {{"schema_version", "1"}, {"key", key}, {"nodes", nodes}, {"edges", edges}};
+    edges.push_back({{"source", id_of(e.source)},
+                     {"target", id_of(e.target)},
+                     {"lane_token", e.lane_token},
+                     {"kind", e.is_connector ? "connector" : "lane"},
+                     {"in_intersection", e.in_intersection},
+                     {"turn", graph::turn_name(e.turn)}});
+  nlohmann::ordered_json lane_changes = nlohmann::ordered_json::array();
+  for (const graph::TileLaneChange& c : graph.lane_changes)
+    lane_changes.push_back({{"source", id_of(c.source)},
+                            {"target", id_of(c.target)},
+                            {"from_lane_token", c.from_lane_token},
+                            {"to_lane_token", c.to_lane_token}});
+  const nlohmann::ordered_json doc = {
+      {"schema_version", "1"}, {"key", key}, {"nodes", nodes}, {"edges", edges}, {"lane_changes", lane_changes}};
   return doc.dump() + "\n";
 }
 

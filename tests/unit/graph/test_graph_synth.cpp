@@ -4,10 +4,13 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <utility>
 #include <nlohmann/json.hpp>
 
 #include "nsg/graph/clip.h"
 #include "nsg/graph/from_map.h"
+#include "nsg/graph/lane_attributes.h"
 #include "test_support.h"
 
 namespace nsg::graph {
@@ -94,14 +97,63 @@ TEST_F(GraphOnSynth, InspectGraphCommandReportsCountsAndWritesGeoJson) {
   EXPECT_EQ(out["edges"].get<size_t>(), g.edges.size());
   EXPECT_LE(out["max_edge_length_m"].get<double>(), 2.0 + 1e-9);
   EXPECT_TRUE(out["defects"].empty());
+  EXPECT_EQ(out["lane_changes"].get<size_t>(), g.lane_changes.size());
+  // One feature per edge (kind "successor"), per lane change and per fork or join.
   const nlohmann::json doc = nlohmann::json::parse(std::ifstream(geojson));
-  EXPECT_EQ(doc["features"].size(), g.edges.size());
+  std::map<std::string, size_t> kinds;
+  for (const nlohmann::json& f : doc["features"]) ++kinds[f["properties"]["kind"].get<std::string>()];
+  EXPECT_EQ(kinds["successor"], g.edges.size());
+  EXPECT_EQ(kinds["lane_change"], g.lane_changes.size());
+  size_t junctions = 0;
+  for (const Node& n : g.nodes) junctions += n.junction != Junction::kNone;
+  EXPECT_EQ(kinds["junction"], junctions);
+  EXPECT_EQ(out["junctions"]["split"].get<size_t>() + out["junctions"]["merge"].get<size_t>() +
+                out["junctions"]["both"].get<size_t>(),
+            junctions);
 
   // A bbox keeps only the clipped part.
   const auto clipped = nsg::test::run_nsgraph(
       {"inspect", "graph", "--dataroot", release, "--location", location_, "--bbox", "100,100,151.2,151.2"});
   ASSERT_EQ(clipped.exit_code, 0) << clipped.err;
   EXPECT_LT(nlohmann::json::parse(clipped.out)["edges"].get<size_t>(), g.edges.size());
+}
+
+// The synthetic city's construction says what the attributes must be: connectors join the
+// streets inside the crossings (straight on, left and right), lanes run between crossings
+// and, with two lanes a direction on some streets, have neighbours to change into.
+TEST_F(GraphOnSynth, AttributesFollowTheCitysConstruction) {
+  const LaneGraph g = build_lane_graph(*map_, {}, nullptr);
+  std::map<Turn, size_t> connector_turns;
+  size_t connectors = 0, connectors_inside = 0, lanes_inside = 0;
+  for (const Lane& lane : g.lanes) {
+    if (lane.is_connector) ++connector_turns[lane.turn];
+    connectors += lane.is_connector;
+    connectors_inside += lane.is_connector && lane.in_intersection;
+    lanes_inside += !lane.is_connector && lane.in_intersection;
+  }
+  EXPECT_GT(connector_turns[Turn::kStraight], 0u);
+  EXPECT_GT(connector_turns[Turn::kLeft], 0u);
+  EXPECT_GT(connector_turns[Turn::kRight], 0u);
+  EXPECT_EQ(connectors_inside, connectors) << "every connector lies in a crossing";
+  EXPECT_EQ(lanes_inside, 0u) << "no lane's middle lies in a crossing";
+  size_t splits = 0, merges = 0;
+  for (const Node& n : g.nodes) {
+    splits += n.junction == Junction::kSplit || n.junction == Junction::kBoth;
+    merges += n.junction == Junction::kMerge || n.junction == Junction::kBoth;
+  }
+  EXPECT_GT(splits, 0u);
+  EXPECT_GT(merges, 0u);
+  ASSERT_GT(g.lane_changes.size(), 0u);
+  for (const LaneChange& c : g.lane_changes) {
+    EXPECT_FALSE(g.lanes[c.source_lane].is_connector);
+    EXPECT_FALSE(g.lanes[c.target_lane].is_connector);
+    const Node& a = g.nodes[c.source];
+    const Node& b = g.nodes[c.target];
+    // Lanes 3.5 m apart with nodes at most 2 m apart along them: about a lane width (a
+    // little less or more across a ring corner's concentric lanes), never two.
+    EXPECT_GE(std::hypot(a.x_m - b.x_m, a.y_m - b.y_m), 3.4);
+    EXPECT_LE(std::hypot(a.x_m - b.x_m, a.y_m - b.y_m), 4.0);
+  }
 }
 
 TEST_F(GraphOnSynth, InspectGraphBadInputExitsTwo) {

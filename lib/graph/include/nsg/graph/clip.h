@@ -27,22 +27,36 @@ struct TileNode {
   double v_px = 0.0;  // (y_north − y) / resolution − 0.5: row 0 = north
   double x_m = 0.0;
   double y_m = 0.0;
+  Junction junction = Junction::kNone;  // the lane graph's; kNone for a node made at the border
 };
 
+// A successor edge with its lane's attributes (lane_attributes.h).
 struct TileEdge {
   int32_t source = 0;
   int32_t target = 0;
   std::string lane_token;
+  bool is_connector = false;  // graph.json "kind": "connector" (else "lane")
+  bool in_intersection = false;
+  Turn turn = Turn::kStraight;
+};
+
+// A lane change between two nodes of the tile (both ends inside it).
+struct TileLaneChange {
+  int32_t source = 0;
+  int32_t target = 0;
+  std::string from_lane_token, to_lane_token;
 };
 
 struct TileGraph {
   std::vector<TileNode> nodes;
   std::vector<TileEdge> edges;
+  std::vector<TileLaneChange> lane_changes;  // by source, then target node
   double total_length_m() const;
 };
 
 // Clips `graph` to `bounds`. Node ids are dense 0..n−1 in order of first use while edges
-// are visited in graph order, so the result is deterministic.
+// are visited in graph order, so the result is deterministic. A lane change is kept when
+// both its nodes are nodes of the clipped edges (it is never cut at the border).
 TileGraph clip_to_tile(const LaneGraph& graph, const SegmentIndex& index, const TileBounds& bounds,
                        double resolution_m = 0.2);
 

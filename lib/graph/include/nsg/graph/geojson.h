@@ -1,7 +1,8 @@
 #pragma once
 // GeoJSON export of a lane graph for QGIS (docs/dataset-format.md): WGS 84 lon/lat through the
 // devkit's projection of the location, one LineString feature per directed edge (first
-// coordinate = source) with its lane token.
+// coordinate = source) with its lane token and attributes (kind "successor"), then one per
+// lane change (kind "lane_change") and one Point per fork or join (kind "junction").
 #include <ostream>
 #include <string>
 #include <string_view>

@@ -38,9 +38,16 @@ struct LaneGraphOptions {
 // The config keys graph.* (nsg/core/options.h).
 const options::Table<LaneGraphOptions>& lane_graph_option_table();
 
+// Where lanes fork or join, from the node's successor edges (lane changes do not count):
+// split = two or more edges leave it, merge = two or more arrive, both = both.
+enum class Junction : uint8_t { kNone, kSplit, kMerge, kBoth };
+// The turn a lane or connector makes (lane_attributes.h says the rule).
+enum class Turn : uint8_t { kStraight, kLeft, kRight, kUTurn };
+
 struct Node {
   double x_m = 0.0;
   double y_m = 0.0;
+  Junction junction = Junction::kNone;  // set by add_lane_attributes
 };
 
 struct Edge {
@@ -55,12 +62,26 @@ struct Lane {
   double length_m = 0.0;            // polyline length of the joined discretization
   std::vector<int32_t> nodes;       // node chain from start to end (after joining)
   std::vector<int32_t> successors;  // lane indices from `outgoing` that resolved
+  // Attributes (lane_attributes.h): set by add_lane_attributes and mark_intersections.
+  Turn turn = Turn::kStraight;
+  bool in_intersection = false;  // its middle lies in a road_segment marked is_intersection
+};
+
+// A lateral move between neighbouring lanes of one direction: from a node of one lane to
+// the nearest node of the lane beside it (lane_attributes.h says the rule). Kept apart
+// from the successor edges, so that a reader of `edges` sees the same graph as before.
+struct LaneChange {
+  int32_t source = -1;  // node index
+  int32_t target = -1;
+  int32_t source_lane = -1;  // index into LaneGraph::lanes
+  int32_t target_lane = -1;
 };
 
 struct LaneGraph {
   std::vector<Node> nodes;
-  std::vector<Edge> edges;  // lane by lane, in lane order, from start to end
-  std::vector<Lane> lanes;  // input order (lanes then connectors, as the map lists them)
+  std::vector<Edge> edges;               // lane by lane, in lane order, from start to end
+  std::vector<Lane> lanes;               // input order (lanes then connectors, as the map lists them)
+  std::vector<LaneChange> lane_changes;  // by source node, then target node
 
   double edge_length_m(const Edge& e) const;
   double max_edge_length_m() const;

@@ -9,7 +9,10 @@
 
 namespace nsg::io {
 
-// {schema_version, key, nodes: [{id, u, v, x, y}], edges: [{source, target, lane_token}]}.
+// {schema_version, key, nodes: [{id, u, v, x, y, junction}], edges: [{source, target,
+// lane_token, kind, in_intersection, turn}], lane_changes: [{source, target, from_lane_token,
+// to_lane_token}]}; the attributes and lane_changes are optional when read (a graph written
+// before them reads with their defaults).
 // TileNode::id keeps the file's id; TileEdge source/target are node indices. Throws
 // DataError naming `file` and the JSON path on a missing field, a non-finite number, a
 // repeated node id or an edge to an unknown id.

@@ -1,0 +1,76 @@
+// io's one reader and writer of <key>.graph.json: the attributes and lane changes survive a
+// round trip, a graph written before them reads with their defaults, and a bad attribute is
+// refused naming the file and its JSON path.
+#include <gtest/gtest.h>
+
+#include "nsg/core/error.h"
+#include "nsg/io/tile_graph.h"
+
+namespace nsg::io {
+namespace {
+
+graph::TileGraph sample_graph() {
+  graph::TileGraph g;
+  g.nodes = {{0, 1.5, 2.5, 100.0, 200.0, graph::Junction::kSplit},
+             {1, 11.5, 2.5, 102.0, 200.0, graph::Junction::kNone},
+             {2, 1.5, 20.0, 100.0, 196.5, graph::Junction::kMerge},
+             {3, 11.5, 20.0, 102.0, 196.5, graph::Junction::kBoth}};
+  g.edges = {{0, 1, "lane-a", false, false, graph::Turn::kStraight}, {2, 3, "conn-b", true, true, graph::Turn::kUTurn}};
+  g.lane_changes = {{0, 2, "lane-a", "conn-b"}, {3, 1, "conn-b", "lane-a"}};
+  return g;
+}
+
+TEST(TileGraph, AttributesAndLaneChangesRoundTrip) {
+  const graph::TileGraph g = sample_graph();
+  const std::string text = tile_graph_text("boston-seaport-test-000000", g);
+  const graph::TileGraph back = tile_graph_from_json(nlohmann::json::parse(text), "t.graph.json");
+  ASSERT_EQ(back.nodes.size(), 4u);
+  for (size_t k = 0; k < 4; ++k) EXPECT_EQ(back.nodes[k].junction, g.nodes[k].junction) << k;
+  ASSERT_EQ(back.edges.size(), 2u);
+  EXPECT_FALSE(back.edges[0].is_connector);
+  EXPECT_TRUE(back.edges[1].is_connector);
+  EXPECT_TRUE(back.edges[1].in_intersection);
+  EXPECT_EQ(back.edges[1].turn, graph::Turn::kUTurn);
+  ASSERT_EQ(back.lane_changes.size(), 2u);
+  EXPECT_EQ(back.lane_changes[1].source, 3);
+  EXPECT_EQ(back.lane_changes[1].target, 1);
+  EXPECT_EQ(back.lane_changes[1].from_lane_token, "conn-b");
+  EXPECT_EQ(tile_graph_text("boston-seaport-test-000000", back), text) << "the writer is the reader's inverse";
+  EXPECT_NE(text.find(R"("kind":"connector","in_intersection":true,"turn":"u_turn")"), std::string::npos) << text;
+}
+
+TEST(TileGraph, AGraphWithoutAttributesReadsWithTheirDefaults) {
+  const graph::TileGraph g = tile_graph_from_json(nlohmann::json::parse(R"({"schema_version": "1",
+      "key": "boston-seaport-test-000000", "nodes": [{"id": 0, "u": 0, "v": 0, "x": 0, "y": 0},
+      {"id": 1, "u": 1, "v": 0, "x": 0.2, "y": 0}], "edges": [{"source": 0, "target": 1, "lane_token": "l"}]})"),
+                                                  "old.graph.json");
+  EXPECT_EQ(g.nodes[0].junction, graph::Junction::kNone);
+  EXPECT_FALSE(g.edges[0].is_connector);
+  EXPECT_FALSE(g.edges[0].in_intersection);
+  EXPECT_EQ(g.edges[0].turn, graph::Turn::kStraight);
+  EXPECT_TRUE(g.lane_changes.empty());
+}
+
+TEST(TileGraph, BadAttributesAreRefusedByPath) {
+  const auto refused_at = [](const std::string& edit_path, const nlohmann::json& value) {
+    nlohmann::json doc = nlohmann::json::parse(tile_graph_text("boston-seaport-test-000000", sample_graph()));
+    doc[nlohmann::json::json_pointer(edit_path)] = value;
+    try {
+      tile_graph_from_json(doc, "t.graph.json");
+    } catch (const DataError& e) {
+      EXPECT_EQ(e.file(), "t.graph.json");
+      return e.record();
+    }
+    return std::string();
+  };
+  EXPECT_EQ(refused_at("/nodes/1/junction", "fork"), "/nodes/1/junction");
+  EXPECT_EQ(refused_at("/edges/0/kind", "road"), "/edges/0/kind");
+  EXPECT_EQ(refused_at("/edges/1/in_intersection", 1), "/edges/1/in_intersection");
+  EXPECT_EQ(refused_at("/edges/1/turn", "sharp_left"), "/edges/1/turn");
+  EXPECT_EQ(refused_at("/lane_changes/0/target", 9), "/lane_changes/0/target");
+  EXPECT_EQ(refused_at("/lane_changes/1/to_lane_token", nullptr), "/lane_changes/1/to_lane_token");
+  EXPECT_EQ(refused_at("/lane_changes", "none"), "/lane_changes");
+}
+
+}  // namespace
+}  // namespace nsg::io
