@@ -13,6 +13,7 @@
 #include "nsg/core/progress.h"
 #include "nsg/core/sha256.h"
 #include "nsg/core/strings.h"
+#include "nsg/graph/lane_attributes.h"
 #include "nsg/io/dataset.h"
 #include "nsg/io/raster.h"
 #include "nsg/io/tile_members.h"
@@ -54,6 +55,8 @@ const std::vector<CheckInfo>& dataset_checks() {
       {"graph.edge_length", "every edge is at most config graph.max_spacing_m long (border-cut edges are shorter)"},
       {"graph.self_loops", "no edge joins a node to itself"},
       {"graph.duplicates", "no directed edge appears twice"},
+      {"graph.lane_changes",
+       "lane changes join two different nodes at most a lane change's reach apart (docs/dataset-format.md)"},
       {"split.disjoint", "no tile of one split overlaps a region or a tile of another split"},
       {"split.counts", "manifest counts (per shard, split, location, total) equal the tiles found"},
   };
@@ -376,6 +379,7 @@ class DatasetChecker {
             "graph.edge_length", at,
             "at most graph.max_spacing_m = " + format_double(max_spacing_m_) + " m, got " + format_double(len) + " m");
     }
+    check_lane_changes(g, subject);
     if (meta && meta->contains(json::json_pointer("/counts/nodes"))) {
       if ((*meta)["counts"]["nodes"] != n)
         error("meta.counts", t.shard + "/" + t.key + ".meta.json:/counts/nodes",
@@ -383,6 +387,32 @@ class DatasetChecker {
       if ((*meta)["counts"].value("edges", json()) != edges.size())
         error("meta.counts", t.shard + "/" + t.key + ".meta.json:/counts/edges",
               strprintf("%zu (graph.json)", edges.size()));
+    }
+  }
+
+  // The optional lane_changes (the schema checked their shape): node ids of this graph, two
+  // different nodes, no farther apart than the rule allows (the offset plus half a node
+  // spacing along the lane, and the length tolerance).
+  void check_lane_changes(const json& g, const std::string& subject) {
+    if (!g.contains("lane_changes")) return;
+    const json& nodes = g["nodes"];
+    const auto n = static_cast<int64_t>(nodes.size());
+    const double reach_m = std::hypot(graph::kLaneChangeMaxOffsetM, max_spacing_m_ / 2.0) + o_.length_tolerance_m;
+    const json& changes = g["lane_changes"];
+    for (size_t k = 0; k < changes.size(); ++k) {
+      const std::string at = subject + ":/lane_changes/" + std::to_string(k);
+      const int64_t s = changes[k]["source"].get<int64_t>(), d = changes[k]["target"].get<int64_t>();
+      if (s < 0 || s >= n || d < 0 || d >= n || s == d) {
+        error("graph.lane_changes", at,
+              strprintf("two different node ids in [0, %lld), got %lld -> %lld", static_cast<long long>(n),
+                        static_cast<long long>(s), static_cast<long long>(d)));
+        continue;
+      }
+      const double len = std::hypot(nodes[d]["x"].get<double>() - nodes[s]["x"].get<double>(),
+                                    nodes[d]["y"].get<double>() - nodes[s]["y"].get<double>());
+      if (len > reach_m)
+        error("graph.lane_changes", at,
+              "at most " + format_double(reach_m) + " m between its nodes, got " + format_double(len) + " m");
     }
   }
 

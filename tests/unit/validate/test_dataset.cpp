@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -164,7 +165,7 @@ TEST(ValidateDataset, ChecksHaveDottedUniqueNames) {
   for (const char* want :
        {"manifest.schema", "shard.sha256", "shard.members", "raster.size", "raster.dtype", "raster.nodata",
         "raster.georef", "graph.schema", "graph.indices", "graph.edge_length", "graph.in_tile", "graph.self_loops",
-        "graph.duplicates", "split.disjoint", "split.counts", "determinism.config"})
+        "graph.duplicates", "graph.lane_changes", "split.disjoint", "split.counts", "determinism.config"})
     EXPECT_TRUE(names.count(want)) << want;
   EXPECT_TRUE(validate::check_selected("graph.*,shard.sha256", "graph.in_tile"));
   EXPECT_TRUE(validate::check_selected("graph.*,shard.sha256", "shard.sha256"));
@@ -257,6 +258,29 @@ TEST(ValidateDataset, DuplicateEdge) {
   d.edit_tile(d.shard("test")["name"], "",
               [&](TileFiles& f) { add_to_graph(f, [&](json& g) { g["edges"].push_back(g["edges"][0]); }); });
   expect_only(d.validate(), "graph.duplicates");
+}
+
+TEST(ValidateDataset, LaneChangeToItselfOrTooFar) {
+  DatasetCopy d;
+  d.edit_tile(d.shard("test")["name"], "", [&](TileFiles& f) {
+    add_to_graph(f, [&](json& g) {
+      // A lane change from node 0 to itself, and one to the node farthest from it.
+      const json& nodes = g["nodes"];
+      size_t far = 0;
+      double far_m = 0.0;
+      for (size_t k = 0; k < nodes.size(); ++k) {
+        const double m = std::hypot(nodes[k]["x"].get<double>() - nodes[0]["x"].get<double>(),
+                                    nodes[k]["y"].get<double>() - nodes[0]["y"].get<double>());
+        if (m > far_m) std::tie(far, far_m) = std::make_tuple(k, m);
+      }
+      ASSERT_GT(far_m, 10.0);
+      g["lane_changes"].push_back({{"source", 0}, {"target", 0}, {"from_lane_token", "a"}, {"to_lane_token", "b"}});
+      g["lane_changes"].push_back({{"source", 0}, {"target", far}, {"from_lane_token", "a"}, {"to_lane_token", "b"}});
+    });
+  });
+  const Issues found = d.validate();
+  expect_only(found, "graph.lane_changes");
+  EXPECT_EQ(found.count(Severity::kError), 2u) << found.format();
 }
 
 TEST(ValidateDataset, EdgeIndexOutOfRange) {
