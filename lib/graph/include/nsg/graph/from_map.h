@@ -11,7 +11,8 @@ namespace nsg::graph {
 std::vector<LaneSource> lane_sources(const nuscenes::MapExpansion& map);
 
 // build_lane_graph over lane_sources(map), after the map's own load defects
-// (map.issues(), appended first to `issues`); defects name the map file.
+// (map.issues(), appended first to `issues`); defects name the map file. The graph comes
+// with its attributes (add_lane_attributes, mark_intersections: lane_attributes.h).
 LaneGraph build_lane_graph(const nuscenes::MapExpansion& map, const LaneGraphOptions& options, Issues* issues);
 
 }  // namespace nsg::graph
