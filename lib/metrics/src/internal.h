@@ -52,6 +52,15 @@ struct DirectionResult {
 };
 DirectionResult compute_direction(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params);
 
+// Split detection (sda.cpp): the split points of each graph and, per radius, the pairs of
+// the least-cost assignment closer than it.
+struct SdaResult {
+  int64_t gt_splits = 0, pred_splits = 0;
+  std::vector<int64_t> matched;  // per radius
+};
+SdaResult compute_sda(const CleanGraph& gt, const CleanGraph& pred, const std::vector<double>& radii_px,
+                      WorkMeter& meter);
+
 struct MaskResult {
   int64_t gt_px = 0, pred_px = 0, inter_px = 0, union_px = 0;
 };

@@ -46,7 +46,12 @@ constexpr MetricInfo kMetrics[kMetricCount] = {
     {"topo_f1", "", false, true, "TOPO F1"},
     {"topo_directed_precision", "", false, false, "TOPO precision with the sub-graphs grown along edge directions"},
     {"topo_directed_recall", "", false, false, "TOPO recall with the sub-graphs grown along edge directions"},
-    {"topo_directed_f1", "", false, false, "directed TOPO F1"}};
+    {"topo_directed_f1", "", false, false, "directed TOPO F1"},
+    {"sda20_precision", "", false, false,
+     "split detection (UrbanLaneGraph's SDA@20): predicted split points paired within 20 px / predicted ones"},
+    {"sda20_recall", "", false, false, "split detection at 20 px: ground-truth split points paired / all of them"},
+    {"sda50_precision", "", false, false, "split detection at 50 px (SDA@50): precision"},
+    {"sda50_recall", "", false, false, "split detection at 50 px: recall"}};
 constexpr const char* kCountNames[kCountCount] = {"missing_prediction",
                                                   "gt_self_loops_dropped",
                                                   "gt_duplicate_edges_dropped",
@@ -64,7 +69,11 @@ constexpr const char* kCountNames[kCountCount] = {"missing_prediction",
                                                   "apls_pred_pairs",
                                                   "direction_pred_edges",
                                                   "direction_matched",
-                                                  "direction_correct"};
+                                                  "direction_correct",
+                                                  "sda_gt_splits",
+                                                  "sda_pred_splits",
+                                                  "sda20_matched",
+                                                  "sda50_matched"};
 
 void set_apls(MetricValues& v, int first, const detail::AplsResult& r) {
   v[first] = r.apls;
@@ -77,6 +86,24 @@ void set_apls(MetricValues& v, int first, const detail::AplsResult& r) {
 void check_limits(const Graph& g, const std::string& key, const std::string& role) {
   const Issues issues = check_graph(g, key, role);
   if (!issues.empty()) throw DataError("", issues.items().front().subject, issues.items().front().message);
+}
+
+// Split detection at UrbanLaneGraph's two radii, which are part of the metrics' names (not
+// parameters). As its calc_sda: undefined without a ground-truth split, 0 when the
+// prediction has none. The assignment's cost (rows² × columns) is metered like a search's.
+void set_sda(const CleanGraph& g, const CleanGraph& p, detail::WorkMeter& meter, TileMeasurement& t) {
+  constexpr int kSdaMetrics[2][2] = {{kSda20Precision, kSda20Recall}, {kSda50Precision, kSda50Recall}};
+  constexpr int kSdaMatched[2] = {kSda20Matched, kSda50Matched};
+  const detail::SdaResult r = detail::compute_sda(g, p, {20.0, 50.0}, meter);
+  t.counts[kSdaGtSplits] = r.gt_splits;
+  t.counts[kSdaPredSplits] = r.pred_splits;
+  for (int k = 0; k < 2; ++k) {
+    t.counts[kSdaMatched[k]] = r.matched[static_cast<size_t>(k)];
+    if (r.gt_splits == 0) continue;
+    const auto tp = static_cast<double>(r.matched[static_cast<size_t>(k)]);
+    t.values[kSdaMetrics[k][0]] = r.pred_splits == 0 ? 0.0 : tp / static_cast<double>(r.pred_splits);
+    t.values[kSdaMetrics[k][1]] = tp / static_cast<double>(r.gt_splits);
+  }
 }
 
 // APLS and GEO/TOPO: the metrics whose searches the work meter bounds.
@@ -179,13 +206,18 @@ TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pr
   detail::WorkMeter meter(work_limit);
   try {
     measure_searched(g, p, params, meter, t);
+    // The split assignment has a budget of its own, of the same size: its cost does not eat
+    // into the searches' margin (docs/scoring-limits.md).
+    detail::WorkMeter assignment_meter(work_limit);
+    set_sda(g, p, assignment_meter, t);
   } catch (const detail::OverBudget&) {
-    throw SearchWorkExceeded("", "prediction:/tiles/" + validate::json_pointer_token(key),
-                             strprintf("a prediction whose APLS and TOPO searches against this tile's ground truth "
-                                       "take at most %lld units of work (about 9 ns each); this one reached the "
-                                       "limit before they ended: it is too large or too connected where the "
-                                       "ground truth is connected (docs/scoring-limits.md)",
-                                       static_cast<long long>(work_limit)));
+    throw SearchWorkExceeded(
+        "", "prediction:/tiles/" + validate::json_pointer_token(key),
+        strprintf("a prediction whose APLS, TOPO and split-assignment searches against this tile's ground truth "
+                  "take at most %lld units of work (about 9 ns each); this one reached the "
+                  "limit before they ended: it is too large or too connected where the "
+                  "ground truth is connected (docs/scoring-limits.md)",
+                  static_cast<long long>(work_limit)));
   }
   t.search_work = meter.used();
 

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "nsg/metrics/measure.h"
 #include "generate_fixture.h"
 #include "nsg/core/files.h"
 #include "nsg/core/strings.h"
@@ -93,7 +94,7 @@ TEST(Browser, ReportLoadsSortsAndDrawsOverlays) {
   ASSERT_TRUE(st.is_object()) << "no self-test result in the DOM:\n" << r.out.substr(0, 2000) << "\n" << r.err;
   EXPECT_EQ(st["errors"], nlohmann::json::array()) << st.dump(1);
   EXPECT_EQ(st["rows"].get<std::vector<std::string>>(), expected_order(tiles, "apls"));
-  EXPECT_EQ(st["summary_rows"], 26);  // one row per metric
+  EXPECT_EQ(st["summary_rows"], metrics::kMetricCount);  // one row per metric
   EXPECT_GT(st["tile"]["gt_paths"].get<int>(), 0) << st.dump(1);
   EXPECT_GT(st["tile"]["pred_paths"].get<int>(), 0) << st.dump(1);
   EXPECT_GT(st["tile"]["base_paths"].get<int>(), 0) << st.dump(1);

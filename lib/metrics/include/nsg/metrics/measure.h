@@ -42,6 +42,11 @@ enum Metric : int {
   kTopoDirectedPrecision,
   kTopoDirectedRecall,
   kTopoDirectedF1,
+  // Metrics v2 (docs/metrics.md): split detection at 20 and 50 px.
+  kSda20Precision,
+  kSda20Recall,
+  kSda50Precision,
+  kSda50Recall,
   kMetricCount
 };
 // Per-tile integer counts. Names: count_name().
@@ -64,6 +69,10 @@ enum Count : int {
   kDirectionPredEdges,
   kDirectionMatched,
   kDirectionCorrect,
+  kSdaGtSplits,
+  kSdaPredSplits,
+  kSda20Matched,
+  kSda50Matched,
   kCountCount
 };
 // What a metric is, declared once (measure.cpp's table): its name in reports, its unit,
