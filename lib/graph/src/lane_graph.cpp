@@ -194,18 +194,23 @@ std::vector<Node> resample_polyline(const std::vector<Node>& polyline, double ma
   return out;
 }
 
-LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGraphOptions& options, Issues* issues,
-                           const std::string& map_label) {
-  // `options` were checked where they were read (the config reader, or validate()).
-  DefectLog log;
-  std::unordered_map<std::string, int32_t> index;
+namespace {
+
+using TokenIndex = std::unordered_map<std::string, int32_t>;
+
+// Each lane's and connector's position in `sources` by token; a repeated token is a defect
+// (the first keeps the token).
+TokenIndex token_index(const std::vector<LaneSource>& sources, DefectLog& log) {
+  TokenIndex index;
   for (size_t i = 0; i < sources.size(); ++i) {
     if (!index.emplace(sources[i].token, static_cast<int32_t>(i)).second)
       log.add("duplicate_token", sources[i].token, "token appears twice among lanes and connectors");
   }
-  check_connectivity(sources, index, &log);
+  return index;
+}
 
-  // 1. Each lane on its own: discretize, join, resample.
+// 1. Each lane on its own: discretize, join, resample; the nodes of every lane in order.
+LaneGraph separate_lanes(const std::vector<LaneSource>& sources, const LaneGraphOptions& options, DefectLog& log) {
   LaneGraph raw;
   raw.lanes.resize(sources.size());
   for (size_t i = 0; i < sources.size(); ++i) {
@@ -224,8 +229,14 @@ LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGra
       raw.nodes.push_back(node);
     }
   }
+  return raw;
+}
 
-  // 2. Join ends across connectivity.
+// 2. Join ends across connectivity: a lane's last node and each outgoing lane's first one
+// within the tolerance become one; their lanes are successors. Lanes that join none are
+// reported.
+NodeUnion join_ends(const std::vector<LaneSource>& sources, const TokenIndex& index, const LaneGraphOptions& options,
+                    LaneGraph& raw, DefectLog& log) {
   NodeUnion joins(raw.nodes.size());
   std::vector<bool> connected(sources.size(), false);
   for (size_t a = 0; a < sources.size(); ++a) {
@@ -252,8 +263,12 @@ LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGra
     if (!connected[i] && !raw.lanes[i].nodes.empty())
       log.add("isolated_lane", sources[i].token, "lane joins no other lane (normal in real maps)", Severity::kInfo);
   }
+  return joins;
+}
 
-  // 3. Compact: representatives keep their own position; ids in order of first use.
+// 3. Compact: representatives keep their own position; ids in order of first use. Then
+// each lane's edges, long ones split.
+LaneGraph compact(LaneGraph& raw, NodeUnion& joins, double max_spacing_m) {
   LaneGraph graph;
   graph.lanes = std::move(raw.lanes);
   std::vector<int32_t> new_id(raw.nodes.size(), -1);
@@ -268,13 +283,26 @@ LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGra
   for (size_t l = 0; l < graph.lanes.size(); ++l) {
     Lane& lane = graph.lanes[l];
     for (int32_t& n : lane.nodes) n = new_id[n];
-    split_long_edges(lane, graph.nodes, options.max_spacing_m);
+    split_long_edges(lane, graph.nodes, max_spacing_m);
     for (size_t k = 1; k < lane.nodes.size(); ++k) {
       if (lane.nodes[k - 1] == lane.nodes[k]) continue;  // a zero-length lane joined to itself
       graph.edges.push_back({lane.nodes[k - 1], lane.nodes[k], static_cast<int32_t>(l)});
     }
   }
+  return graph;
+}
 
+}  // namespace
+
+LaneGraph build_lane_graph(const std::vector<LaneSource>& sources, const LaneGraphOptions& options, Issues* issues,
+                           const std::string& map_label) {
+  // `options` were checked where they were read (the config reader, or validate()).
+  DefectLog log;
+  const TokenIndex index = token_index(sources, log);
+  check_connectivity(sources, index, &log);
+  LaneGraph raw = separate_lanes(sources, options, log);
+  NodeUnion joins = join_ends(sources, index, options, raw, log);
+  LaneGraph graph = compact(raw, joins, options.max_spacing_m);
   for (const Issue& issue : log.found) {
     if (issues) issues->add(issue.severity, issue.check, issue.subject, issue.message);
   }

@@ -88,14 +88,12 @@ cv::Mat thin(const cv::Mat& mask) {
   return out;
 }
 
-SkeletonGraph trace_skeleton(const cv::Mat& skeleton) {
-  const PixelGraph g = pixel_graph(skeleton);
-  const size_t n = g.pixels.size();
-  std::vector<int> degree(n);
-  for (size_t i = 0; i < n; ++i) degree[i] = static_cast<int>(g.adjacent[i].size());
+namespace {
 
-  // Vertices: every end (degree 1) alone; touching junction pixels (degree ≥ 3) together.
-  SkeletonGraph out;
+// Vertices of the skeleton: every end (degree 1) alone; touching junction pixels (degree ≥ 3)
+// together, at their mean. Appends them to out.vertices; returns each pixel's vertex or -1.
+std::vector<int> group_vertices(const PixelGraph& g, const std::vector<int>& degree, SkeletonGraph& out) {
+  const size_t n = g.pixels.size();
   std::vector<int> vertex_of(n, -1);
   for (size_t i = 0; i < n; ++i) {
     if (degree[i] == 2 || degree[i] == 0 || vertex_of[i] >= 0) continue;
@@ -117,11 +115,19 @@ SkeletonGraph trace_skeleton(const cv::Mat& skeleton) {
     for (size_t m : members) c += cv::Point2d(g.pixels[m]);
     out.vertices.push_back(c / static_cast<double>(members.size()));
   }
+  return vertex_of;
+}
 
-  std::vector<char> visited(n, 0);
+// The branches being traced: which pixel is which vertex, which chain pixels are walked.
+struct SkeletonTrace {
+  const PixelGraph& g;
+  std::vector<int> vertex_of;
+  std::vector<char> visited;
+  SkeletonGraph& out;
+
   // Walks from `from` (a vertex pixel) through `first` until a vertex pixel; returns the
   // polyline and the end vertex (or a new one at a dead end).
-  auto walk = [&](size_t from, size_t first) {
+  SkeletonGraph::Branch walk(size_t from, size_t first) {
     SkeletonGraph::Branch b;
     b.a = vertex_of[from];
     b.points.push_back(out.vertices[static_cast<size_t>(b.a)]);
@@ -151,34 +157,53 @@ SkeletonGraph trace_skeleton(const cv::Mat& skeleton) {
       prev = cur;
       cur = static_cast<size_t>(next);
     }
-  };
+  }
 
-  for (size_t i = 0; i < n; ++i) {
-    if (vertex_of[i] < 0) continue;
-    for (int q : g.adjacent[i]) {
-      const auto qs = static_cast<size_t>(q);
-      if (vertex_of[qs] >= 0) {
-        // Two vertex pixels side by side: one direct branch, added from the lower pixel.
-        if (vertex_of[qs] != vertex_of[i] && i < qs) {
-          out.branches.push_back(
-              {vertex_of[i],
-               vertex_of[qs],
-               {out.vertices[static_cast<size_t>(vertex_of[i])], out.vertices[static_cast<size_t>(vertex_of[qs])]}});
+  // Every branch leaving a vertex pixel, in pixel order.
+  void branches_from_vertices() {
+    for (size_t i = 0; i < g.pixels.size(); ++i) {
+      if (vertex_of[i] < 0) continue;
+      for (int q : g.adjacent[i]) {
+        const auto qs = static_cast<size_t>(q);
+        if (vertex_of[qs] >= 0) {
+          // Two vertex pixels side by side: one direct branch, added from the lower pixel.
+          if (vertex_of[qs] != vertex_of[i] && i < qs) {
+            out.branches.push_back(
+                {vertex_of[i],
+                 vertex_of[qs],
+                 {out.vertices[static_cast<size_t>(vertex_of[i])], out.vertices[static_cast<size_t>(vertex_of[qs])]}});
+          }
+        } else if (!visited[qs]) {
+          out.branches.push_back(walk(i, qs));
         }
-      } else if (!visited[qs]) {
-        out.branches.push_back(walk(i, qs));
       }
     }
   }
+
   // Closed loops without any vertex: make their first pixel one and walk around.
-  for (size_t i = 0; i < n; ++i) {
-    if (degree[i] != 2 || visited[i] || vertex_of[i] >= 0) continue;
-    vertex_of[i] = static_cast<int>(out.vertices.size());
-    out.vertices.push_back(cv::Point2d(g.pixels[i]));
-    visited[i] = 1;
-    const auto first = static_cast<size_t>(g.adjacent[i][0]);
-    if (!visited[first]) out.branches.push_back(walk(i, first));
+  void closed_loops(const std::vector<int>& degree) {
+    for (size_t i = 0; i < g.pixels.size(); ++i) {
+      if (degree[i] != 2 || visited[i] || vertex_of[i] >= 0) continue;
+      vertex_of[i] = static_cast<int>(out.vertices.size());
+      out.vertices.push_back(cv::Point2d(g.pixels[i]));
+      visited[i] = 1;
+      const auto first = static_cast<size_t>(g.adjacent[i][0]);
+      if (!visited[first]) out.branches.push_back(walk(i, first));
+    }
   }
+};
+
+}  // namespace
+
+SkeletonGraph trace_skeleton(const cv::Mat& skeleton) {
+  const PixelGraph g = pixel_graph(skeleton);
+  const size_t n = g.pixels.size();
+  std::vector<int> degree(n);
+  for (size_t i = 0; i < n; ++i) degree[i] = static_cast<int>(g.adjacent[i].size());
+  SkeletonGraph out;
+  SkeletonTrace trace{g, group_vertices(g, degree, out), std::vector<char>(n, 0), out};
+  trace.branches_from_vertices();
+  trace.closed_loops(degree);
   return out;
 }
 

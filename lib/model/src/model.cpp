@@ -201,6 +201,83 @@ void train_connection(LaneModel::Impl& m, const io::Dataset& dataset, const std:
             " connected) from every " + std::to_string(every) + ". tile");
 }
 
+// Every tile's training rows, in split order, sampled in parallel.
+std::vector<TileSamples> sample_split(const io::Dataset& dataset, const std::string& split, const ModelOptions& options,
+                                      ThreadPool& pool, size_t total, bool progress) {
+  std::vector<TileSamples> slots(total);
+  Progress bar("features " + split, total, progress);
+  detail::for_each_tile_parallel(dataset, split, pool, [&](size_t i, const io::DatasetTile& tile) {
+    NSG_CHECK(i < total, DataError, (dataset.root() / "manifest.json").string(), "split " + split,
+              "tile counts that match the shards");
+    slots[i] = sample_tile(tile, options);
+    bar.advance();
+  });
+  return slots;
+}
+
+// The pixel heads' training rows and, prefixed h, the held-out tiles' rows.
+struct PixelSamples {
+  cv::Mat cx, cy, ay, dx, dy, hcx, hcy, hay, hdx, hdy;
+};
+
+// Stacks the tiles' rows in tile order into training or held-out rows, freeing each tile's
+// as it goes; counts the tiles of each in `r`.
+PixelSamples stack_samples(std::vector<TileSamples>& slots, const ModelOptions& options, TrainReport& r) {
+  PixelSamples p;
+  for (size_t i = 0; i < slots.size(); ++i) {
+    const bool holdout = is_holdout(options, i);
+    TileSamples& s = slots[i];
+    (holdout ? p.hcx : p.cx).push_back(s.centre_x);
+    (holdout ? p.hcy : p.cy).push_back(s.centre_y);
+    (holdout ? p.hay : p.ay).push_back(s.anchor_y);
+    (holdout ? p.hdx : p.dx).push_back(s.dir_x);
+    (holdout ? p.hdy : p.dy).push_back(s.dir_y);
+    s = TileSamples{};
+    ++(holdout ? r.holdout_tiles : r.tiles);
+  }
+  return p;
+}
+
+// The forests are independent: the direction head, then the anchor head, beside the
+// centreline head when there is a second core (the centreline forest has the most
+// samples). Each is seeded on its own thread, so the bytes do not depend on this.
+void train_pixel_heads(LaneModel::Impl& m, const ModelOptions& options, const PixelSamples& s, bool second_core) {
+  std::thread second;
+  auto train_others = [&] {
+    m.direction = detail::train_forest(options.direction, s.dx, s.dy, true, options.seed * 2 + 1);
+    if (options.variant != Variant::kB1) {
+      m.anchor = detail::train_forest(options.anchor, s.cx, s.ay, false, mix64(options.seed ^ 0xa4c402ull));
+    }
+  };
+  if (second_core) second = std::thread(train_others);
+  m.centre = detail::train_forest(options.centre, s.cx, s.cy, false, options.seed * 2);
+  if (second.joinable()) second.join();
+  else train_others();
+}
+
+// The pixel heads' errors on the training and held-out rows, into `r` and the model's report.
+void measure_pixel_heads(LaneModel::Impl& m, const std::string& split, const PixelSamples& s, TrainReport& r) {
+  r.centre_mse_train = detail::mse(*m.centre, s.cx, s.cy);
+  r.centre_mse_holdout = detail::mse(*m.centre, s.hcx, s.hcy);
+  r.direction_accuracy_train = accuracy(*m.direction, s.dx, s.dy, kBackgroundClass);
+  r.direction_accuracy_holdout = accuracy(*m.direction, s.hdx, s.hdy, kBackgroundClass);
+  m.report = {{"split", split},
+              {"tiles", r.tiles},
+              {"holdout_tiles", r.holdout_tiles},
+              {"centre_samples", r.centre_samples},
+              {"direction_samples", r.direction_samples},
+              {"centre_mse_train", r.centre_mse_train},
+              {"centre_mse_holdout", r.centre_mse_holdout},
+              {"direction_accuracy_train", r.direction_accuracy_train},
+              {"direction_accuracy_holdout", r.direction_accuracy_holdout}};
+  if (m.anchor) {
+    r.anchor_mse_train = detail::mse(*m.anchor, s.cx, s.ay);
+    r.anchor_mse_holdout = detail::mse(*m.anchor, s.hcx, s.hay);
+    m.report["anchor_mse_train"] = r.anchor_mse_train;
+    m.report["anchor_mse_holdout"] = r.anchor_mse_holdout;
+  }
+}
+
 }  // namespace
 
 LaneModel::LaneModel() : impl_(std::make_unique<Impl>()) {}
@@ -218,79 +295,27 @@ LaneModel LaneModel::train(const io::Dataset& dataset, const std::string& split,
   const size_t total = detail::split_tile_count(dataset, split);
   NSG_CHECK(total > 0, DataError, (dataset.root() / "manifest.json").string(), "split " + split,
             "at least one tile to train on");
-  std::vector<TileSamples> slots(total);
-  {
-    Progress bar("features " + split, total, progress);
-    detail::for_each_tile_parallel(dataset, split, pool, [&](size_t i, const io::DatasetTile& tile) {
-      NSG_CHECK(i < total, DataError, (dataset.root() / "manifest.json").string(), "split " + split,
-                "tile counts that match the shards");
-      slots[i] = sample_tile(tile, options);
-      bar.advance();
-    });
-  }
-  cv::Mat cx, cy, ay, dx, dy, hcx, hcy, hay, hdx, hdy;
+  std::vector<TileSamples> slots = sample_split(dataset, split, options, pool, total, progress);
   TrainReport r;
-  for (size_t i = 0; i < total; ++i) {
-    const bool holdout = is_holdout(options, i);
-    TileSamples& s = slots[i];
-    (holdout ? hcx : cx).push_back(s.centre_x);
-    (holdout ? hcy : cy).push_back(s.centre_y);
-    (holdout ? hay : ay).push_back(s.anchor_y);
-    (holdout ? hdx : dx).push_back(s.dir_x);
-    (holdout ? hdy : dy).push_back(s.dir_y);
-    s = TileSamples{};
-    ++(holdout ? r.holdout_tiles : r.tiles);
-  }
-  balance_classes(dx, dy, options.seed);
-  r.centre_samples = static_cast<size_t>(cx.rows);
-  r.direction_samples = static_cast<size_t>(dx.rows);
+  PixelSamples s = stack_samples(slots, options, r);
+  balance_classes(s.dx, s.dy, options.seed);
+  r.centre_samples = static_cast<size_t>(s.cx.rows);
+  r.direction_samples = static_cast<size_t>(s.dx.rows);
   r.features_s = seconds_since(t0);
   log::info("training " + to_string(options.variant) + " on " + std::to_string(r.tiles) + " tiles (" +
-            std::to_string(r.holdout_tiles) + " held out): " + std::to_string(cx.rows) + " centreline and " +
-            std::to_string(dx.rows) + " direction samples, " + std::to_string(cx.cols) + " features");
+            std::to_string(r.holdout_tiles) + " held out): " + std::to_string(s.cx.rows) + " centreline and " +
+            std::to_string(s.dx.rows) + " direction samples, " + std::to_string(s.cx.cols) + " features");
 
   const auto t1 = std::chrono::steady_clock::now();
   LaneModel model;
   Impl& m = *model.impl_;
   m.options = options;
   m.feature_names = feature_names(options.modalities);
-  // The forests are independent: the direction head, then the anchor head, beside the
-  // centreline head when there is a second core (the centreline forest has the most
-  // samples). Each is seeded on its own thread, so the bytes do not depend on this.
-  std::thread second;
-  auto train_others = [&] {
-    m.direction = detail::train_forest(options.direction, dx, dy, true, options.seed * 2 + 1);
-    if (options.variant != Variant::kB1) {
-      m.anchor = detail::train_forest(options.anchor, cx, ay, false, mix64(options.seed ^ 0xa4c402ull));
-    }
-  };
-  if (pool.size() > 1) second = std::thread(train_others);
-  m.centre = detail::train_forest(options.centre, cx, cy, false, options.seed * 2);
-  if (second.joinable()) second.join();
-  else train_others();
+  train_pixel_heads(m, options, s, pool.size() > 1);
   r.train_s = seconds_since(t1);
-
-  r.centre_mse_train = detail::mse(*m.centre, cx, cy);
-  r.centre_mse_holdout = detail::mse(*m.centre, hcx, hcy);
-  r.direction_accuracy_train = accuracy(*m.direction, dx, dy, kBackgroundClass);
-  r.direction_accuracy_holdout = accuracy(*m.direction, hdx, hdy, kBackgroundClass);
-  m.report = {{"split", split},
-              {"tiles", r.tiles},
-              {"holdout_tiles", r.holdout_tiles},
-              {"centre_samples", r.centre_samples},
-              {"direction_samples", r.direction_samples},
-              {"centre_mse_train", r.centre_mse_train},
-              {"centre_mse_holdout", r.centre_mse_holdout},
-              {"direction_accuracy_train", r.direction_accuracy_train},
-              {"direction_accuracy_holdout", r.direction_accuracy_holdout}};
-  if (m.anchor) {
-    r.anchor_mse_train = detail::mse(*m.anchor, cx, ay);
-    r.anchor_mse_holdout = detail::mse(*m.anchor, hcx, hay);
-    m.report["anchor_mse_train"] = r.anchor_mse_train;
-    m.report["anchor_mse_holdout"] = r.anchor_mse_holdout;
-  }
+  measure_pixel_heads(m, split, s, r);
   if (options.variant == Variant::kGraph) {
-    cx = cy = ay = dx = dy = cv::Mat();  // the pixel samples are done with; free them
+    s.cx = s.cy = s.ay = s.dx = s.dy = cv::Mat();  // the pixel samples are done with; free them
     train_connection(m, dataset, split, pool, total, progress, r);
     m.report["pair_samples"] = r.pair_samples;
     m.report["pair_positives"] = r.pair_positives;

@@ -219,10 +219,11 @@ ordered_json georeference_json(const ordered_json& plan) {
 
 namespace {
 
-void merge_records(const fs::path& out, bool overwrite) {
-  std::vector<ShareRecord> all = read_records(out);
-  if (all.empty()) throw IoError((out / "parts").string(), "", "done-records share-<i>-of-<n>.json");
-  const int count = run_share_count(all);
+// The shares of the run to merge (that of the newest record), by index. Records of a run with
+// another share count are an older run's: refused, or removed with --overwrite. DataError
+// naming every share missing or unfinished.
+std::map<int, const ShareRecord*> finished_shares(const fs::path& out, const std::vector<ShareRecord>& all, int count,
+                                                  bool overwrite) {
   std::vector<std::string> problems;
   std::map<int, const ShareRecord*> shares;
   std::vector<fs::path> other_runs;
@@ -247,109 +248,170 @@ void merge_records(const fs::path& out, bool overwrite) {
       problems.push_back(strprintf("share %d of %d: not finished (rerun it)", i, count));
   }
   if (!problems.empty()) throw DataError(out.string(), "merge", "every share finished:\n  " + join(problems, "\n  "));
+  return shares;
+}
 
+using ItemsById = std::map<std::string, std::pair<const ordered_json*, int>>;  // id → item, share
+
+// Every share's items by id; a share that ran with another config or plan than share 0 is
+// added to `problems`.
+ItemsById items_by_id(const std::map<int, const ShareRecord*>& shares, int count, std::vector<std::string>& problems) {
   const ShareRecord& first = *shares.at(0);
   const ordered_json& plan = first.doc["plan"];
-  std::map<std::string, std::pair<const ordered_json*, int>> items;  // id → item, share
+  ItemsById items;
   for (const auto& [index, record] : shares) {
     if (record->doc["config_sha256"] != first.doc["config_sha256"] || record->doc["plan"] != plan)
       problems.push_back(strprintf("share %d of %d: ran with another config or plan than share 0", index, count));
     for (const auto& item : record->doc["items"]) items[item["id"].get<std::string>()] = {&item, index};
   }
+  return items;
+}
 
-  // Every planned item, in plan order, must be recorded and verify on disk.
-  const bool tar = first.doc["config"]["output"]["layout"] == "tar";
+// The recorded item `id` when it verifies on disk; otherwise nullptr, with the reason added
+// to `problems`.
+const ordered_json* verified_item(const fs::path& out, const ItemsById& items, const std::string& id,
+                                  std::vector<std::string>& problems) {
+  auto it = items.find(id);
+  if (it == items.end()) {
+    problems.push_back(id + ": missing from every done-record");
+    return nullptr;
+  }
+  std::string why;
+  if (!verify_item(out, *it->second.first, &why)) {
+    problems.push_back(id + " (share " + std::to_string(it->second.second) + "): " + why);
+    return nullptr;
+  }
+  return it->second.first;
+}
+
+// A shard's manifest entry: its plan fields, then the tar's file or the folder's digest and bytes.
+ordered_json shard_entry(const ordered_json& location, const ordered_json& shard, const ordered_json& item, bool tar) {
+  const std::string split = shard["split"].get<std::string>();
+  ordered_json entry = {{"name", shard["name"].get<std::string>()},
+                        {"split", split},
+                        {"location", location["name"]},
+                        {"tiles", shard["tiles"]},
+                        {"first_key", shard["first_key"]},
+                        {"last_key", shard["last_key"]}};
+  if (tar) {
+    entry["file"] = item["files"][0]["file"];
+    entry["sha256"] = item["files"][0]["sha256"];
+    entry["bytes"] = item["files"][0]["bytes"];
+  } else {
+    entry["folder"] = "tiles/" + split;
+    entry["sha256"] = item["digest"];
+    uint64_t bytes = 0;
+    for (const auto& f : item["files"]) bytes += f["bytes"].get<uint64_t>();
+    entry["bytes"] = bytes;
+  }
+  return entry;
+}
+
+// The manifest's shard and map entries, in plan order, and each split's tile and shard counts.
+struct PlannedOutputs {
   ordered_json shards = ordered_json::array(), maps = ordered_json::array();
   std::map<std::string, int64_t> split_tiles, split_shards;
-  const auto check = [&](const std::string& id) -> const ordered_json* {
-    auto it = items.find(id);
-    if (it == items.end()) {
-      problems.push_back(id + ": missing from every done-record");
-      return nullptr;
-    }
-    std::string why;
-    if (!verify_item(out, *it->second.first, &why)) {
-      problems.push_back(id + " (share " + std::to_string(it->second.second) + "): " + why);
-      return nullptr;
-    }
-    return it->second.first;
-  };
+};
+
+// Every planned item, in plan order, must be recorded and verify on disk; those that do not
+// are added to `problems`.
+PlannedOutputs planned_outputs(const fs::path& out, const ordered_json& plan, const ItemsById& items, bool tar,
+                               std::vector<std::string>& problems) {
+  PlannedOutputs o;
   for (const auto& location : plan) {
-    if (const ordered_json* item = check("maps/" + location["name"].get<std::string>()))
-      for (const auto& f : (*item)["files"]) maps.push_back(f);
+    if (const ordered_json* item = verified_item(out, items, "maps/" + location["name"].get<std::string>(), problems))
+      for (const auto& f : (*item)["files"]) o.maps.push_back(f);
     for (const auto& shard : location["shards"]) {
       const std::string name = shard["name"].get<std::string>();
-      const ordered_json* item = check(tar ? "shards/" + name + ".tar" : "tiles/" + name);
+      const ordered_json* item = verified_item(out, items, tar ? "shards/" + name + ".tar" : "tiles/" + name, problems);
       if (item == nullptr) continue;
       const std::string split = shard["split"].get<std::string>();
-      split_tiles[split] += shard["tiles"].get<int64_t>();
-      ++split_shards[split];
-      ordered_json entry = {{"name", name},
-                            {"split", split},
-                            {"location", location["name"]},
-                            {"tiles", shard["tiles"]},
-                            {"first_key", shard["first_key"]},
-                            {"last_key", shard["last_key"]}};
-      if (tar) {
-        entry["file"] = (*item)["files"][0]["file"];
-        entry["sha256"] = (*item)["files"][0]["sha256"];
-        entry["bytes"] = (*item)["files"][0]["bytes"];
-      } else {
-        entry["folder"] = "tiles/" + split;
-        entry["sha256"] = (*item)["digest"];
-        uint64_t bytes = 0;
-        for (const auto& f : (*item)["files"]) bytes += f["bytes"].get<uint64_t>();
-        entry["bytes"] = bytes;
-      }
-      shards.push_back(entry);
+      o.split_tiles[split] += shard["tiles"].get<int64_t>();
+      ++o.split_shards[split];
+      o.shards.push_back(shard_entry(location, shard, *item, tar));
     }
   }
-  if (!problems.empty())
-    throw DataError(out.string(), "merge", "every planned output present and intact:\n  " + join(problems, "\n  "));
+  return o;
+}
 
-  const std::vector<fs::path> leftovers = older_dataset_files(out, shares, first.doc["config"]);
-  if (!leftovers.empty()) {
-    NSG_CHECK(overwrite, DataError, out.string(), "merge",
-              "a folder holding only this run's dataset: " + std::to_string(leftovers.size()) +
-                  " file(s) no share of it recorded, e.g. " + leftovers.front().string() +
-                  " (left from an older dataset; --overwrite removes them)");
-    remove_leftovers(out, leftovers);
-  }
+// Files an older dataset left in `out`: refused, or removed with --overwrite.
+void clear_older_dataset(const fs::path& out, const std::map<int, const ShareRecord*>& shares,
+                         const ordered_json& config, bool overwrite) {
+  const std::vector<fs::path> leftovers = older_dataset_files(out, shares, config);
+  if (leftovers.empty()) return;
+  NSG_CHECK(overwrite, DataError, out.string(), "merge",
+            "a folder holding only this run's dataset: " + std::to_string(leftovers.size()) +
+                " file(s) no share of it recorded, e.g. " + leftovers.front().string() +
+                " (left from an older dataset; --overwrite removes them)");
+  remove_leftovers(out, leftovers);
+}
 
+// Tiles and shards per split, in the splits' order, and the total; warns when there are no tiles.
+ordered_json counts_json(const fs::path& out, PlannedOutputs& o) {
   ordered_json counts = ordered_json::object();
   int64_t total = 0;
   for (std::string_view s : tiling::kSplitNames) {
     const std::string split(s);
-    counts[split] = {{"tiles", split_tiles[split]}, {"shards", split_shards[split]}};
-    total += split_tiles[split];
+    counts[split] = {{"tiles", o.split_tiles[split]}, {"shards", o.split_shards[split]}};
+    total += o.split_tiles[split];
   }
   counts["total_tiles"] = total;
   if (total == 0) log::warn("merge: " + out.string() + " holds no tiles (a run with --allow-empty)");
+  return counts;
+}
+
+ordered_json excluded_scenes_json(const ordered_json& plan) {
   ordered_json excluded_scenes = ordered_json::array();
   for (const auto& location : plan)
     if (location.contains("scenes"))
       for (const auto& e : location["scenes"]["excluded"])
         excluded_scenes.push_back({{"name", e["name"]}, {"location", location["name"]}, {"reason", e["reason"]}});
+  return excluded_scenes;
+}
+
+ordered_json manifest_json(const ordered_json& config, const ordered_json& plan, bool tar, const ordered_json& counts,
+                           const ordered_json& excluded_scenes, const PlannedOutputs& o) {
+  return {{"schema_version", "1"},
+          {"tool", {{"name", "nsgraph"}, {"version", kVersion}}},
+          {"licence", data_licence_json()},
+          {"seed", config["seed"]},
+          {"config", config},
+          {"inputs", inputs_json(config, plan)},
+          {"georeference", georeference_json(plan)},
+          {"layout", tar ? "tar" : "folder"},
+          {"tile_format",
+           {{"resolution_m", config["resolution_m"]},
+            {"size_px", config["crops"]["size_px"]},
+            {"key_pattern", "<location>-<split>-<NNNNNN>"},
+            {"files", tile_file_suffixes()}}},
+          {"locations", plan},
+          {"excluded_scenes", excluded_scenes},
+          {"counts", counts},
+          {"shards", o.shards},
+          {"maps", o.maps}};
+}
+
+void merge_records(const fs::path& out, bool overwrite) {
+  const std::vector<ShareRecord> all = read_records(out);
+  if (all.empty()) throw IoError((out / "parts").string(), "", "done-records share-<i>-of-<n>.json");
+  const int count = run_share_count(all);
+  const std::map<int, const ShareRecord*> shares = finished_shares(out, all, count, overwrite);
+
+  const ShareRecord& first = *shares.at(0);
+  const ordered_json& plan = first.doc["plan"];
   const ordered_json& config = first.doc["config"];
-  const ordered_json manifest = {{"schema_version", "1"},
-                                 {"tool", {{"name", "nsgraph"}, {"version", kVersion}}},
-                                 {"licence", data_licence_json()},
-                                 {"seed", config["seed"]},
-                                 {"config", config},
-                                 {"inputs", inputs_json(config, plan)},
-                                 {"georeference", georeference_json(plan)},
-                                 {"layout", tar ? "tar" : "folder"},
-                                 {"tile_format",
-                                  {{"resolution_m", config["resolution_m"]},
-                                   {"size_px", config["crops"]["size_px"]},
-                                   {"key_pattern", "<location>-<split>-<NNNNNN>"},
-                                   {"files", tile_file_suffixes()}}},
-                                 {"locations", plan},
-                                 {"excluded_scenes", excluded_scenes},
-                                 {"counts", counts},
-                                 {"shards", shards},
-                                 {"maps", maps}};
-  write_file_atomic(out / "manifest.json", manifest.dump(1) + "\n");
+  const bool tar = config["output"]["layout"] == "tar";
+  std::vector<std::string> problems;
+  const ItemsById items = items_by_id(shares, count, problems);
+  PlannedOutputs outputs = planned_outputs(out, plan, items, tar, problems);
+  if (!problems.empty())
+    throw DataError(out.string(), "merge", "every planned output present and intact:\n  " + join(problems, "\n  "));
+
+  clear_older_dataset(out, shares, config, overwrite);
+  const ordered_json counts = counts_json(out, outputs);
+  const ordered_json excluded_scenes = excluded_scenes_json(plan);
+  write_file_atomic(out / "manifest.json",
+                    manifest_json(config, plan, tar, counts, excluded_scenes, outputs).dump(1) + "\n");
 }
 
 }  // namespace

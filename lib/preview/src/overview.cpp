@@ -91,23 +91,22 @@ void draw_scale_and_north(cv::Mat& canvas, const Overview& ov) {
   detail::put_text(canvas, "N", nx - 5, ny + 12);
 }
 
-}  // namespace
-
-void OverviewOptions::validate() const {
-  NSG_CHECK(max_map_px >= 64 && max_map_px <= 16384, ConfigError, "", "max_map_px", "64 … 16384");
-}
-
-Overview render_overview(const io::Dataset& dataset, const std::string& location, const std::string& split,
-                         const OverviewOptions& options) {
-  options.validate();
-  const std::string manifest = (dataset.root() / "manifest.json").string();
-  const nlohmann::json& m = dataset.manifest();
+// The manifest's entry of `location`; ConfigError when it has none.
+io::ManifestLocation find_location(const nlohmann::json& m, const std::string& manifest, const std::string& location) {
   const std::vector<io::ManifestLocation> locations = io::manifest_locations(m, manifest);
   const auto loc = std::find_if(locations.begin(), locations.end(),
                                 [&](const io::ManifestLocation& l) { return l.name == location; });
   NSG_CHECK(loc != locations.end(), ConfigError, manifest, "locations", "a location named '" + location + "'");
+  return *loc;
+}
 
-  const std::vector<Region>& regions = loc->regions;
+struct Extent {
+  double x_w, y_s, x_e, y_n;  // m
+};
+
+// The bounds of the regions, or of the location's tiles when no region is recorded.
+Extent location_extent(const io::Dataset& dataset, const std::string& manifest, const std::string& location,
+                       const std::string& split, const std::vector<Region>& regions) {
   double x_w = std::numeric_limits<double>::infinity(), y_s = x_w, x_e = -x_w, y_n = -x_w;
   auto grow = [&](const std::array<double, 4>& b) {
     x_w = std::min(x_w, b[0]), y_s = std::min(y_s, b[1]), x_e = std::max(x_e, b[2]), y_n = std::max(y_n, b[3]);
@@ -120,23 +119,29 @@ Overview render_overview(const io::Dataset& dataset, const std::string& location
       return true;
     });
   NSG_CHECK(std::isfinite(x_w), DataError, manifest, location, "regions or tiles to draw");
+  return {x_w, y_s, x_e, y_n};
+}
 
-  Overview ov;
-  ov.location = location;
-  const double pad_m = 0.05 * std::max(x_e - x_w, y_n - y_s);
-  x_w -= pad_m, y_s -= pad_m, x_e += pad_m, y_n += pad_m;
+// Sets the overview's scale, origin and map rectangle: the extent padded by 5 %, at the
+// tiles' resolution or coarser so that the map fits options.max_map_px.
+void place_map(Overview& ov, Extent e, const nlohmann::json& m, const std::string& manifest,
+               const OverviewOptions& options) {
+  const double pad_m = 0.05 * std::max(e.x_e - e.x_w, e.y_n - e.y_s);
+  e.x_w -= pad_m, e.y_s -= pad_m, e.x_e += pad_m, e.y_n += pad_m;
   const nlohmann::json tile_format = m.value("tile_format", nlohmann::json::object());
   const double tile_res_m = detail::json_guard(
       manifest, [&] { return tile_format.is_object() ? tile_format.value("resolution_m", 0.2) : 0.2; });
-  ov.m_per_px = std::max(tile_res_m, std::max(x_e - x_w, y_n - y_s) / options.max_map_px);
-  ov.x_west_m = x_w;
-  ov.y_north_m = y_n;
-  const int map_w = static_cast<int>(std::ceil((x_e - x_w) / ov.m_per_px));
-  const int map_h = static_cast<int>(std::ceil((y_n - y_s) / ov.m_per_px));
+  ov.m_per_px = std::max(tile_res_m, std::max(e.x_e - e.x_w, e.y_n - e.y_s) / options.max_map_px);
+  ov.x_west_m = e.x_w;
+  ov.y_north_m = e.y_n;
+  const int map_w = static_cast<int>(std::ceil((e.x_e - e.x_w) / ov.m_per_px));
+  const int map_h = static_cast<int>(std::ceil((e.y_n - e.y_s) / ov.m_per_px));
   const int map_top = kMarginPx + kLineHeightPx + 8;
   ov.map_rect = {kMarginPx, map_top, map_w, map_h};
+}
 
-  // Legend first: its height may exceed the map's.
+// One entry per split with a region (in the regions' order), then the layers.
+std::vector<std::pair<std::string, Rgb>> legend_items(const std::vector<Region>& regions) {
   std::vector<std::pair<std::string, Rgb>> items;
   std::vector<std::string> splits_seen;
   for (const Region& r : regions)
@@ -149,6 +154,80 @@ Overview render_overview(const io::Dataset& dataset, const std::string& location
   items.push_back({"crop footprint (outline)", kCropOutline});
   items.push_back({"lane graph", kOverviewLane});
   items.push_back({"outside regions", kMapBackground});
+  return items;
+}
+
+// Map bounds as a rectangle of map pixels, clipped to the map.
+cv::Rect rect_px(const Overview& ov, const std::array<double, 4>& b) {
+  // Pixel-edge rectangle (not centres): region fills tile exactly.
+  const int x0 = static_cast<int>(std::lround((b[0] - ov.x_west_m) / ov.m_per_px));
+  const int x1 = static_cast<int>(std::lround((b[2] - ov.x_west_m) / ov.m_per_px));
+  const int y0 = static_cast<int>(std::lround((ov.y_north_m - b[3]) / ov.m_per_px));
+  const int y1 = static_cast<int>(std::lround((ov.y_north_m - b[1]) / ov.m_per_px));
+  return cv::Rect(x0, y0, std::max(1, x1 - x0), std::max(1, y1 - y0)) &
+         cv::Rect(0, 0, ov.map_rect.width, ov.map_rect.height);
+}
+
+// Streams the split's tiles of `location` into their LiDAR maximum, crops and lanes.
+TileLayers collect_tiles(const io::Dataset& dataset, const std::string& location, const std::string& split,
+                         const Overview& ov, size_t* n_tiles) {
+  TileLayers acc;
+  acc.lidar_max.assign(static_cast<size_t>(ov.map_rect.width) * ov.map_rect.height, 0);
+  dataset.for_each_tile(split, [&](const io::DatasetTile& t) {
+    const io::TileMeta meta = t.meta();
+    if (meta.location != location) return true;
+    add_tile(t, meta, ov, acc);
+    ++*n_tiles;
+    return true;
+  });
+  return acc;
+}
+
+// LiDAR in grey (64 … 255) over the fills, then crop outlines, region outlines, lanes and
+// region names on top.
+void draw_map_layers(cv::Mat& map, const Overview& ov, const std::vector<Region>& regions, const TileLayers& acc) {
+  const int map_w = ov.map_rect.width, map_h = ov.map_rect.height;
+  for (int y = 0; y < map_h; ++y)
+    for (int x = 0; x < map_w; ++x)
+      if (const uint8_t v = acc.lidar_max[static_cast<size_t>(y) * map_w + x]; v > 0) {
+        const auto g = static_cast<uint8_t>(64 + (v * 191 + 127) / 255);
+        map.at<cv::Vec3b>(y, x) = cv::Vec3b(g, g, g);
+      }
+  for (const auto& b : acc.crops) cv::rectangle(map, rect_px(ov, b), detail::scalar(kCropOutline), 1);
+  for (const Region& r : regions) cv::rectangle(map, rect_px(ov, r.bounds_m), detail::scalar(split_color(r.split)), 2);
+  const int lane_px = ov.m_per_px <= 0.25 ? 2 : 1;
+  for (const Segment& s : acc.lanes) {
+    const cv::Point a = to_px(ov, s.x0, s.y0) - cv::Point(ov.map_rect.x, ov.map_rect.y);
+    const cv::Point b = to_px(ov, s.x1, s.y1) - cv::Point(ov.map_rect.x, ov.map_rect.y);
+    cv::line(map, a, b, detail::scalar(kOverviewLane), lane_px, cv::LINE_8);
+  }
+  for (const Region& r : regions) {
+    const cv::Rect rp = rect_px(ov, r.bounds_m);
+    detail::put_text(map, r.name, rp.x + 4, rp.y + kLineHeightPx, split_color(r.split));
+  }
+}
+
+}  // namespace
+
+void OverviewOptions::validate() const {
+  NSG_CHECK(max_map_px >= 64 && max_map_px <= 16384, ConfigError, "", "max_map_px", "64 … 16384");
+}
+
+Overview render_overview(const io::Dataset& dataset, const std::string& location, const std::string& split,
+                         const OverviewOptions& options) {
+  options.validate();
+  const std::string manifest = (dataset.root() / "manifest.json").string();
+  const nlohmann::json& m = dataset.manifest();
+  const io::ManifestLocation loc = find_location(m, manifest, location);
+  const std::vector<Region>& regions = loc.regions;
+
+  Overview ov;
+  ov.location = location;
+  place_map(ov, location_extent(dataset, manifest, location, split, regions), m, manifest, options);
+  const int map_w = ov.map_rect.width, map_h = ov.map_rect.height, map_top = ov.map_rect.y;
+
+  // Legend first: its height may exceed the map's.
+  const std::vector<std::pair<std::string, Rgb>> items = legend_items(regions);
   const int legend_x = kMarginPx + map_w + kMarginPx;
   int legend_bottom = 0;
   detail::legend(nullptr, items, legend_x, map_top, kLegendWidthPx, &legend_bottom);
@@ -159,44 +238,10 @@ Overview render_overview(const io::Dataset& dataset, const std::string& location
   cv::Mat canvas = detail::wrap(ov.image);
   cv::Mat map = canvas(cv::Rect(ov.map_rect.x, ov.map_rect.y, map_w, map_h));
   map.setTo(detail::scalar(kMapBackground));
-  auto rect_px = [&](const std::array<double, 4>& b) {
-    // Pixel-edge rectangle (not centres): region fills tile exactly.
-    const int x0 = static_cast<int>(std::lround((b[0] - ov.x_west_m) / ov.m_per_px));
-    const int x1 = static_cast<int>(std::lround((b[2] - ov.x_west_m) / ov.m_per_px));
-    const int y0 = static_cast<int>(std::lround((ov.y_north_m - b[3]) / ov.m_per_px));
-    const int y1 = static_cast<int>(std::lround((ov.y_north_m - b[1]) / ov.m_per_px));
-    return cv::Rect(x0, y0, std::max(1, x1 - x0), std::max(1, y1 - y0)) & cv::Rect(0, 0, map_w, map_h);
-  };
-  for (const Region& r : regions) map(rect_px(r.bounds_m)).setTo(detail::scalar(region_fill(r.split)));
-
-  TileLayers acc;
-  acc.lidar_max.assign(static_cast<size_t>(map_w) * map_h, 0);
+  for (const Region& r : regions) map(rect_px(ov, r.bounds_m)).setTo(detail::scalar(region_fill(r.split)));
   size_t n_tiles = 0;
-  dataset.for_each_tile(split, [&](const io::DatasetTile& t) {
-    const io::TileMeta meta = t.meta();
-    if (meta.location != location) return true;
-    add_tile(t, meta, ov, acc);
-    ++n_tiles;
-    return true;
-  });
-  for (int y = 0; y < map_h; ++y)
-    for (int x = 0; x < map_w; ++x)
-      if (const uint8_t v = acc.lidar_max[static_cast<size_t>(y) * map_w + x]; v > 0) {
-        const auto g = static_cast<uint8_t>(64 + (v * 191 + 127) / 255);
-        map.at<cv::Vec3b>(y, x) = cv::Vec3b(g, g, g);
-      }
-  for (const auto& b : acc.crops) cv::rectangle(map, rect_px(b), detail::scalar(kCropOutline), 1);
-  for (const Region& r : regions) cv::rectangle(map, rect_px(r.bounds_m), detail::scalar(split_color(r.split)), 2);
-  const int lane_px = ov.m_per_px <= 0.25 ? 2 : 1;
-  for (const Segment& s : acc.lanes) {
-    const cv::Point a = to_px(ov, s.x0, s.y0) - cv::Point(ov.map_rect.x, ov.map_rect.y);
-    const cv::Point b = to_px(ov, s.x1, s.y1) - cv::Point(ov.map_rect.x, ov.map_rect.y);
-    cv::line(map, a, b, detail::scalar(kOverviewLane), lane_px, cv::LINE_8);
-  }
-  for (const Region& r : regions) {
-    const cv::Rect rp = rect_px(r.bounds_m);
-    detail::put_text(map, r.name, rp.x + 4, rp.y + kLineHeightPx, split_color(r.split));
-  }
+  TileLayers acc = collect_tiles(dataset, location, split, ov, &n_tiles);
+  draw_map_layers(map, ov, regions, acc);
   draw_scale_and_north(canvas, ov);
   cv::rectangle(canvas, cv::Rect(ov.map_rect.x - 1, ov.map_rect.y - 1, map_w + 2, map_h + 2), detail::scalar(kInk), 1);
   detail::put_text(canvas,

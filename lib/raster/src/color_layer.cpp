@@ -307,15 +307,11 @@ struct ImageScratch {
   std::vector<ViewPixel> pixels;           // the views before the occlusion test
 };
 
-// `sweep`: the job's key-frame sweep (nullptr: none, no occlusion test).
-ImageResult process_image(const Database& db, const ImageJob& job, const OcclusionSweep* sweep,
-                          const TargetIndex& index, const std::vector<Best>& best, const CameraOptions& options,
-                          ImageScratch& scratch) {
-  ImageResult out;
-  const ViewGeometry view = detail::view_geometry(db, job.camera);
-  // The views this image could win, before the occlusion test (which needs the shadow
-  // buffer: built only when there is a view to test, after them).
-  std::vector<ViewPixel>& pixels = scratch.pixels;
+// The views this image could win, before the occlusion test: targets within the view
+// radius that project into the image closer than their best view so far. Scans the target
+// blocks around the ego whose boxes the camera sees, in block order; fills `pixels`.
+void candidate_views(const ViewGeometry& view, const ImageJob& job, const TargetIndex& index,
+                     const std::vector<Best>& best, const CameraOptions& options, std::vector<ViewPixel>& pixels) {
   pixels.clear();
   const double r = options.view_radius_m, r2 = r * r;
   const auto visit_block = [&](size_t begin, size_t end) {
@@ -344,9 +340,13 @@ ImageResult process_image(const Database& db, const ImageJob& job, const Occlusi
         if (seen(part)) visit_block(part.begin, part.end);
     }
   }
-  if (pixels.empty()) return out;
+}
 
-  ShadowBuffer shadows(view, options, scratch.shadow_depth);
+// The views the sweep's shadows do not hide become the image's candidates; the others are
+// counted as occluded.
+void occlusion_test(const ViewGeometry& view, const OcclusionSweep* sweep, const CameraOptions& options,
+                    const std::vector<ViewPixel>& pixels, std::vector<float>& shadow_depth, ImageResult& out) {
+  ShadowBuffer shadows(view, options, shadow_depth);
   if (sweep != nullptr) shadows.add_sweep(*sweep, view);
   for (const ViewPixel& x : pixels) {
     if (shadows.closest(x.u, x.v) < x.depth - options.occlusion_margin_m) {
@@ -356,40 +356,60 @@ ImageResult process_image(const Database& db, const ImageJob& job, const Occlusi
     out.candidates.push_back(
         {x.target, static_cast<float>(x.depth), static_cast<float>(x.u), static_cast<float>(x.v), {0, 0, 0}, 255});
   }
+}
+
+// Decodes the rows of the image the candidates fall on (at the configured scale) and
+// samples each candidate's colour, in row order.
+void sample_colours(const fs::path& jpeg, const ViewGeometry& view, const CameraOptions& options, ImageScratch& scratch,
+                    ImageResult& out) {
+  nuscenes::RgbImage& img = scratch.image;
+  const auto scale = static_cast<nuscenes::JpegScale>(options.jpeg_scale_denom);
+  const int width = nuscenes::scaled_dimension(view.width, scale),
+            height = nuscenes::scaled_dimension(view.height, scale);
+  scratch.decoder.decode_file_rows(jpeg, scale, sampled_rows(out.candidates, options.jpeg_scale_denom, width, height),
+                                   img);
+  if (img.width != width || img.height != height)
+    throw DataError(
+        jpeg.string(), "",
+        "an image of the sample_data's size " + std::to_string(view.width) + "×" + std::to_string(view.height));
+  for (uint32_t i : scratch.order) sample_rgb(img, options.jpeg_scale_denom, out.candidates[i]);
+}
+
+// Reads the image's semantic mask (full size or 1/n of it) and sets each candidate's class.
+void sample_classes(const fs::path& mask_file, const ViewGeometry& view, ImageScratch& scratch, ImageResult& out) {
+  nuscenes::GrayImage& mask = scratch.mask;
+  nuscenes::read_semantic_mask(mask_file, mask);
+  const int denom = mask_scale_denom(mask, view);
+  if (denom == 0)
+    throw DataError(mask_file.string(), "",
+                    "a mask of the image's size " + std::to_string(view.width) + "×" + std::to_string(view.height) +
+                        " or of 1/n of it (n = 2…" + std::to_string(kMaxMaskScaleDenom) + ", sides rounded up; got " +
+                        std::to_string(mask.width) + "×" + std::to_string(mask.height) + ")");
+  // The class of the nearest full-size pixel, read from the mask pixel that covers it
+  // (mask pixel k covers full pixels [k·n, k·n + n − 1]); n = 1 is the full-size lookup.
+  for (uint32_t i : scratch.order) {
+    Candidate& c = out.candidates[i];
+    const int x = static_cast<int>(round_half_away(c.u)) / denom, y = static_cast<int>(round_half_away(c.v)) / denom;
+    c.cls = mask.at(std::min(x, mask.width - 1), std::min(y, mask.height - 1));
+  }
+}
+
+// `sweep`: the job's key-frame sweep (nullptr: none, no occlusion test).
+ImageResult process_image(const Database& db, const ImageJob& job, const OcclusionSweep* sweep,
+                          const TargetIndex& index, const std::vector<Best>& best, const CameraOptions& options,
+                          ImageScratch& scratch) {
+  ImageResult out;
+  const ViewGeometry view = detail::view_geometry(db, job.camera);
+  // The occlusion test needs the shadow buffer: built only when there is a view to test.
+  candidate_views(view, job, index, best, options, scratch.pixels);
+  if (scratch.pixels.empty()) return out;
+  occlusion_test(view, sweep, options, scratch.pixels, scratch.shadow_depth, out);
   if (out.candidates.empty()) return out;
 
   order_by_rows(out.candidates, view.height, scratch.row_start, scratch.order);
   const fs::path jpeg = db.file_path(db.sample_data[job.camera]);
-  if (options.rgb) {
-    nuscenes::RgbImage& img = scratch.image;
-    const auto scale = static_cast<nuscenes::JpegScale>(options.jpeg_scale_denom);
-    const int width = nuscenes::scaled_dimension(view.width, scale),
-              height = nuscenes::scaled_dimension(view.height, scale);
-    scratch.decoder.decode_file_rows(jpeg, scale, sampled_rows(out.candidates, options.jpeg_scale_denom, width, height),
-                                     img);
-    if (img.width != width || img.height != height)
-      throw DataError(
-          jpeg.string(), "",
-          "an image of the sample_data's size " + std::to_string(view.width) + "×" + std::to_string(view.height));
-    for (uint32_t i : scratch.order) sample_rgb(img, options.jpeg_scale_denom, out.candidates[i]);
-  }
-  if (options.semantic_masks()) {
-    nuscenes::GrayImage& mask = scratch.mask;
-    nuscenes::read_semantic_mask(job.mask, mask);
-    const int denom = mask_scale_denom(mask, view);
-    if (denom == 0)
-      throw DataError(job.mask.string(), "",
-                      "a mask of the image's size " + std::to_string(view.width) + "×" + std::to_string(view.height) +
-                          " or of 1/n of it (n = 2…" + std::to_string(kMaxMaskScaleDenom) + ", sides rounded up; got " +
-                          std::to_string(mask.width) + "×" + std::to_string(mask.height) + ")");
-    // The class of the nearest full-size pixel, read from the mask pixel that covers it
-    // (mask pixel k covers full pixels [k·n, k·n + n − 1]); n = 1 is the full-size lookup.
-    for (uint32_t i : scratch.order) {
-      Candidate& c = out.candidates[i];
-      const int x = static_cast<int>(round_half_away(c.u)) / denom, y = static_cast<int>(round_half_away(c.v)) / denom;
-      c.cls = mask.at(std::min(x, mask.width - 1), std::min(y, mask.height - 1));
-    }
-  }
+  if (options.rgb) sample_colours(jpeg, view, options, scratch, out);
+  if (options.semantic_masks()) sample_classes(job.mask, view, scratch, out);
   return out;
 }
 

@@ -68,14 +68,93 @@ void ReportOptions::validate() const {
   NSG_CHECK(overview_max_px >= 64 && overview_max_px <= 16384, ConfigError, "", "overview_max_px", "64 … 16384");
 }
 
-ReportResult write_report(const fs::path& dataset_root, const fs::path& out, const ReportOptions& options) {
-  options.validate();
+namespace {
+
+// `out` must be new, empty or an earlier report: a report replaces nothing else.
+void check_out_folder(const fs::path& out) {
   NSG_CHECK(!out.empty(), ConfigError, "", "--out", "an output folder");
   if (fs::exists(out)) {
     const bool empty_dir = fs::is_directory(out) && fs::is_empty(out);
     NSG_CHECK(empty_dir || fs::exists(out / kMarker), ConfigError, out.string(), "--out",
               "a new folder, an empty one or an earlier report (it holds other files; not overwritten)");
   }
+}
+
+// Scores the submission and then the baseline, on the submission's split (which becomes
+// `split`). False, with the refused file and its issues in `result`, when either is refused.
+bool score_submissions(const fs::path& dataset_root, const ReportOptions& options, std::string& split,
+                       metrics::ScoredSubmission& sub, metrics::ScoredSubmission& base, ReportResult& result) {
+  metrics::SubmissionScoreOptions scoring;
+  scoring.split = split;
+  scoring.schemas_dir = options.schemas;
+  scoring.score.threads = options.threads;
+  const metrics::ScoreSource truth = metrics::ScoreSource::file(dataset_root);
+  log::info("report: scoring " + options.submission.string());
+  sub = metrics::score_submission(truth, metrics::ScoreSource::file(options.submission), scoring);
+  if (!sub.issues.empty()) {
+    result.issues = std::move(sub.issues);
+    result.rejected = options.submission.string();
+    return false;
+  }
+  split = sub.report.split;
+  scoring.split = split;  // the baseline is scored on the submission's split
+  if (!options.baseline.empty()) {
+    log::info("report: scoring the baseline " + options.baseline.string());
+    base = metrics::score_submission(truth, metrics::ScoreSource::file(options.baseline), scoring);
+    if (!base.issues.empty()) {
+      result.issues = std::move(base.issues);
+      result.rejected = options.baseline.string();
+      return false;
+    }
+  }
+  return true;
+}
+
+detail::TileInputs tile_inputs(bool scored, bool with_baseline, const metrics::ScoredSubmission& sub,
+                               const metrics::ScoredSubmission& base) {
+  detail::TileInputs inputs;
+  if (scored) {
+    inputs.prediction = &sub.graphs;
+    inputs.scores = &sub.report;
+    if (with_baseline) {
+      inputs.baseline = &base.report;
+      inputs.baseline_prediction = &base.graphs;
+    }
+  }
+  return inputs;
+}
+
+// The summary document, each location with its overview image (written into `dir`);
+// `n_overviews` is how many were written.
+nlohmann::ordered_json summary_with_overviews(const io::Dataset& dataset, const std::string& split,
+                                              const metrics::ScoreReport* scores, const metrics::ScoreReport* baseline,
+                                              const std::vector<detail::TileRow>& rows, const fs::path& dir,
+                                              int overview_max_px, int64_t* n_overviews) {
+  nlohmann::ordered_json summary = detail::summary_document(dataset, split, scores, baseline);
+  const nlohmann::ordered_json overviews = detail::write_overviews(dataset, split, rows, dir, overview_max_px);
+  for (auto& loc : summary["locations"])
+    if (overviews.contains(loc["name"].get<std::string>())) loc["overview"] = overviews[loc["name"].get<std::string>()];
+  summary["n_tiles"] = rows.size();
+  *n_overviews = static_cast<int64_t>(overviews.size());
+  return summary;
+}
+
+// The page's data scripts, its static assets and the marker of a report folder.
+void write_page(const fs::path& dir, const nlohmann::ordered_json& summary, const std::vector<detail::TileRow>& rows,
+                bool scored, bool with_baseline) {
+  const std::vector<std::string> columns = detail::table_columns(scored, with_baseline);
+  write_text(dir / "data" / "summary.js", detail::data_script("summary", summary.dump()));
+  write_text(dir / "data" / "tiles.js", detail::data_script("tiles", detail::tiles_document(rows, columns).dump()));
+  for (const detail::Asset& a : detail::assets())
+    if (!starts_with(a.name, detail::kLeaderboardAssets)) write_text(dir / a.name, a.bytes);
+  write_text(dir / kMarker, summary.dump(1) + "\n");
+}
+
+}  // namespace
+
+ReportResult write_report(const fs::path& dataset_root, const fs::path& out, const ReportOptions& options) {
+  options.validate();
+  check_out_folder(out);
   const io::Dataset dataset = io::Dataset::open(dataset_root);
   const bool scored = !options.submission.empty();
   // With a submission and no split: the split its keys are tiles of (score_submission).
@@ -83,31 +162,7 @@ ReportResult write_report(const fs::path& dataset_root, const fs::path& out, con
 
   ReportResult result;
   metrics::ScoredSubmission sub, base;
-  metrics::SubmissionScoreOptions scoring;
-  scoring.split = split;
-  scoring.schemas_dir = options.schemas;
-  scoring.score.threads = options.threads;
-  const metrics::ScoreSource truth = metrics::ScoreSource::file(dataset_root);
-  if (scored) {
-    log::info("report: scoring " + options.submission.string());
-    sub = metrics::score_submission(truth, metrics::ScoreSource::file(options.submission), scoring);
-    if (!sub.issues.empty()) {
-      result.issues = std::move(sub.issues);
-      result.rejected = options.submission.string();
-      return result;
-    }
-    split = sub.report.split;
-    scoring.split = split;  // the baseline is scored on the submission's split
-    if (!options.baseline.empty()) {
-      log::info("report: scoring the baseline " + options.baseline.string());
-      base = metrics::score_submission(truth, metrics::ScoreSource::file(options.baseline), scoring);
-      if (!base.issues.empty()) {
-        result.issues = std::move(base.issues);
-        result.rejected = options.baseline.string();
-        return result;
-      }
-    }
-  }
+  if (scored && !score_submissions(dataset_root, options, split, sub, base, result)) return result;
   const bool with_baseline = scored && !options.baseline.empty();
   // An earlier report at `out` lends the images of tiles that did not change.
   const detail::EarlierImages earlier =
@@ -118,39 +173,20 @@ ReportResult write_report(const fs::path& dataset_root, const fs::path& out, con
   TempFolder tmp{temp_path_for(out)};
   fs::create_directories(tmp.path);
 
-  detail::TileInputs inputs;
-  if (scored) {
-    inputs.prediction = &sub.graphs;
-    inputs.scores = &sub.report;
-    if (with_baseline) {
-      inputs.baseline = &base.report;
-      inputs.baseline_prediction = &base.graphs;
-    }
-  }
   log::info("report: rendering the tiles of " + (split.empty() ? std::string("every split") : "split " + split));
-  const detail::TilePass pass =
-      detail::write_tile_pages(dataset, split, inputs, earlier, tmp.path, options.threads, options.progress);
+  const detail::TilePass pass = detail::write_tile_pages(dataset, split, tile_inputs(scored, with_baseline, sub, base),
+                                                         earlier, tmp.path, options.threads, options.progress);
   NSG_CHECK(!pass.rows.empty(), DataError, (dataset_root / "manifest.json").string(), split.empty() ? "shards" : split,
             "at least one tile to report");
 
-  nlohmann::ordered_json summary =
-      detail::summary_document(dataset, split, scored ? &sub.report : nullptr, with_baseline ? &base.report : nullptr);
-  const nlohmann::ordered_json overviews =
-      detail::write_overviews(dataset, split, pass.rows, tmp.path, options.overview_max_px);
-  for (auto& loc : summary["locations"])
-    if (overviews.contains(loc["name"].get<std::string>())) loc["overview"] = overviews[loc["name"].get<std::string>()];
-  summary["n_tiles"] = pass.rows.size();
-
-  const std::vector<std::string> columns = detail::table_columns(scored, with_baseline);
-  write_text(tmp.path / "data" / "summary.js", detail::data_script("summary", summary.dump()));
-  write_text(tmp.path / "data" / "tiles.js",
-             detail::data_script("tiles", detail::tiles_document(pass.rows, columns).dump()));
-  for (const detail::Asset& a : detail::assets())
-    if (!starts_with(a.name, detail::kLeaderboardAssets)) write_text(tmp.path / a.name, a.bytes);
-  write_text(tmp.path / kMarker, summary.dump(1) + "\n");
+  int64_t n_overviews = 0;
+  const nlohmann::ordered_json summary =
+      summary_with_overviews(dataset, split, scored ? &sub.report : nullptr, with_baseline ? &base.report : nullptr,
+                             pass.rows, tmp.path, options.overview_max_px, &n_overviews);
+  write_page(tmp.path, summary, pass.rows, scored, with_baseline);
 
   result.tiles = static_cast<int64_t>(pass.rows.size());
-  result.images = pass.images + static_cast<int64_t>(overviews.size());
+  result.images = pass.images + n_overviews;
   result.images_reused = pass.images_reused;
   result.bytes = folder_bytes(tmp.path);
   replace_folder(tmp.path, out);

@@ -127,6 +127,103 @@ struct TileOutcome {
   bool reused = false;
 };
 
+// The tile's data document before any prediction: what the tile is and where.
+nlohmann::ordered_json tile_document(const io::DatasetTile& tile, const Meta& meta) {
+  return {{"key", tile.key},
+          {"location", meta.location},
+          {"split", meta.split},
+          {"bounds_m", meta.bounds_m},
+          {"size_px", tile.raster("lidar.tif").width},
+          {"resolution_m", meta.resolution_m},
+          {"scenes", meta.scenes}};
+}
+
+// The table row's columns that the tile alone gives: coverage, vehicles, ground truth size.
+TileRow ground_truth_row(const io::DatasetTile& tile, const Meta& meta, const metrics::Graph& gt) {
+  TileRow row{tile.key, meta.location, meta.split, meta.bounds_m, {}};
+  row.values["coverage_lidar"] = meta.coverage[0];
+  row.values["coverage_rgb"] = meta.coverage[1];
+  row.values["coverage_semantic"] = meta.coverage[2];
+  row.values["vehicle_px"] = static_cast<double>(meta.vehicle_px);
+  row.values["gt_nodes"] = static_cast<double>(gt.nodes.size());
+  row.values["gt_edges"] = static_cast<double>(gt.edges.size());
+  row.values["lane_length_m"] = round_to(lane_length_m(gt, meta.resolution_m), 0.01);
+  return row;
+}
+
+// The prediction's edges marked against the ground truth: both graphs with their marks for
+// the tile view, the mark counts, and the row's prediction columns.
+void add_edge_marks(const io::DatasetTile& tile, const TileInputs& in, const metrics::Graph& gt,
+                    nlohmann::ordered_json& doc, TileRow& row) {
+  const auto p = in.prediction->find(tile.key);
+  const metrics::Graph* pred = p == in.prediction->end() ? nullptr : &p->second;
+  const metrics::EdgeMarks marks = metrics::mark_edges(gt, pred, in.scores->params);
+  int64_t n_mark[4] = {0, 0, 0, 0}, missed = 0;
+  nlohmann::json pred_marks = nlohmann::json::array(), gt_missed = nlohmann::json::array();
+  for (metrics::PredEdgeMark m : marks.pred_marks) {
+    ++n_mark[static_cast<int>(m)];
+    pred_marks.push_back(static_cast<int>(m));
+  }
+  for (bool b : marks.gt_missed) {
+    missed += b;
+    gt_missed.push_back(b ? 1 : 0);
+  }
+  nlohmann::json g = graph_json(marks.gt);
+  g["missed"] = std::move(gt_missed);
+  doc["gt"] = std::move(g);
+  if (pred) {
+    nlohmann::json pj = graph_json(marks.pred);
+    pj["marks"] = std::move(pred_marks);
+    doc["pred"] = std::move(pj);
+  } else {
+    doc["pred"] = nullptr;
+  }
+  nlohmann::ordered_json counts;
+  for (int k = 0; k < 3; ++k) counts[kMarkNames[k]] = n_mark[k];
+  counts["missed_gt"] = missed;
+  doc["marks"] = counts;
+  row.values["missing_prediction"] = pred ? 0.0 : 1.0;
+  row.values["pred_edges"] = static_cast<double>(marks.pred.edges.size());
+  row.values["wrong_direction_edges"] = static_cast<double>(n_mark[1]);
+  row.values["unmatched_edges"] = static_cast<double>(n_mark[2]);
+  row.values["missed_gt_edges"] = static_cast<double>(missed);
+}
+
+// The submission's metrics and counts of the tile.
+void add_scores(const metrics::TileMeasurement& s, nlohmann::ordered_json& doc, TileRow& row) {
+  nlohmann::ordered_json values, tile_counts;
+  for (int m = 0; m < metrics::kMetricCount; ++m) {
+    values[metrics::metric_name(m)] = rounded(s.values[m]);
+    row.values[metrics::metric_name(m)] = s.values[m];
+  }
+  for (int c = 0; c < metrics::kCountCount; ++c) tile_counts[metrics::count_name(c)] = s.counts[c];
+  doc["metrics"] = std::move(values);
+  doc["counts"] = std::move(tile_counts);
+}
+
+// The baseline's metrics, their differences to the submission's, and its graph.
+void add_baseline(const io::DatasetTile& tile, const TileInputs& in, const metrics::TileMeasurement& s,
+                  const metrics::TileMeasurement& b, nlohmann::ordered_json& doc, TileRow& row) {
+  nlohmann::ordered_json base;
+  for (int m = 0; m < metrics::kMetricCount; ++m) {
+    const std::optional<double>& mine = s.values[m];
+    const std::optional<double>& theirs = b.values[m];
+    base[metrics::metric_name(m)] = rounded(theirs);
+    row.values[std::string("baseline.") + metrics::metric_name(m)] = theirs;
+    // Per tile, submission − baseline: sorting by it finds where the two differ most.
+    row.values[std::string("delta.") + metrics::metric_name(m)] =
+        mine && theirs ? std::optional<double>(*mine - *theirs) : std::nullopt;
+  }
+  doc["baseline"] = std::move(base);
+  // The baseline's graph for the tile view's overlay (null: no prediction for the tile).
+  nlohmann::json base_graph = nullptr;
+  if (in.baseline_prediction) {
+    const auto bp = in.baseline_prediction->find(tile.key);
+    if (bp != in.baseline_prediction->end()) base_graph = graph_json(metrics::clean_graph(bp->second));
+  }
+  doc["base"] = std::move(base_graph);
+}
+
 // One tile: its images, its data file, its table row.
 TileOutcome render_tile(const io::DatasetTile& tile, const TileInputs& in,
                         const std::map<std::string, const metrics::TileMeasurement*>& scores,
@@ -138,92 +235,20 @@ TileOutcome render_tile(const io::DatasetTile& tile, const TileInputs& in,
   outcome.reused = reuse_images(earlier, tile.key, outcome.fingerprint, dir);
   if (!outcome.reused) render_images(tile, dir);
   const metrics::Graph gt = read_graph(tile);
-  TileRow row{tile.key, meta.location, meta.split, meta.bounds_m, {}};
-  nlohmann::ordered_json doc = {{"key", tile.key},
-                                {"location", meta.location},
-                                {"split", meta.split},
-                                {"bounds_m", meta.bounds_m},
-                                {"size_px", tile.raster("lidar.tif").width},
-                                {"resolution_m", meta.resolution_m},
-                                {"scenes", meta.scenes}};
-  auto set = [&](const std::string& column, std::optional<double> v) { row.values[column] = v; };
-  set("coverage_lidar", meta.coverage[0]);
-  set("coverage_rgb", meta.coverage[1]);
-  set("coverage_semantic", meta.coverage[2]);
-  set("vehicle_px", static_cast<double>(meta.vehicle_px));
-  set("gt_nodes", static_cast<double>(gt.nodes.size()));
-  set("gt_edges", static_cast<double>(gt.edges.size()));
-  set("lane_length_m", round_to(lane_length_m(gt, meta.resolution_m), 0.01));
-
+  TileRow row = ground_truth_row(tile, meta, gt);
+  nlohmann::ordered_json doc = tile_document(tile, meta);
   if (in.prediction) {
-    const auto p = in.prediction->find(tile.key);
-    const metrics::Graph* pred = p == in.prediction->end() ? nullptr : &p->second;
-    const metrics::EdgeMarks marks = metrics::mark_edges(gt, pred, in.scores->params);
-    int64_t n_mark[4] = {0, 0, 0, 0}, missed = 0;
-    nlohmann::json pred_marks = nlohmann::json::array(), gt_missed = nlohmann::json::array();
-    for (metrics::PredEdgeMark m : marks.pred_marks) {
-      ++n_mark[static_cast<int>(m)];
-      pred_marks.push_back(static_cast<int>(m));
-    }
-    for (bool b : marks.gt_missed) {
-      missed += b;
-      gt_missed.push_back(b ? 1 : 0);
-    }
-    nlohmann::json g = graph_json(marks.gt);
-    g["missed"] = std::move(gt_missed);
-    doc["gt"] = std::move(g);
-    if (pred) {
-      nlohmann::json pj = graph_json(marks.pred);
-      pj["marks"] = std::move(pred_marks);
-      doc["pred"] = std::move(pj);
-    } else {
-      doc["pred"] = nullptr;
-    }
-    nlohmann::ordered_json counts;
-    for (int k = 0; k < 3; ++k) counts[kMarkNames[k]] = n_mark[k];
-    counts["missed_gt"] = missed;
-    doc["marks"] = counts;
-    set("missing_prediction", pred ? 0.0 : 1.0);
-    set("pred_edges", static_cast<double>(marks.pred.edges.size()));
-    set("wrong_direction_edges", static_cast<double>(n_mark[1]));
-    set("unmatched_edges", static_cast<double>(n_mark[2]));
-    set("missed_gt_edges", static_cast<double>(missed));
-
+    add_edge_marks(tile, in, gt, doc, row);
     const auto s = scores.find(tile.key);
     NSG_CHECK(s != scores.end(), InternalError, "", tile.key, "a score for every tile of the split");
-    nlohmann::ordered_json values, tile_counts;
-    for (int m = 0; m < metrics::kMetricCount; ++m) {
-      values[metrics::metric_name(m)] = rounded(s->second->values[m]);
-      set(metrics::metric_name(m), s->second->values[m]);
-    }
-    for (int c = 0; c < metrics::kCountCount; ++c) tile_counts[metrics::count_name(c)] = s->second->counts[c];
-    doc["metrics"] = std::move(values);
-    doc["counts"] = std::move(tile_counts);
+    add_scores(*s->second, doc, row);
     if (in.baseline) {
       const auto b = baseline.find(tile.key);
       NSG_CHECK(b != baseline.end(), InternalError, "", tile.key, "a baseline score for every tile of the split");
-      nlohmann::ordered_json base;
-      for (int m = 0; m < metrics::kMetricCount; ++m) {
-        const std::optional<double>& mine = s->second->values[m];
-        const std::optional<double>& theirs = b->second->values[m];
-        base[metrics::metric_name(m)] = rounded(theirs);
-        set(std::string("baseline.") + metrics::metric_name(m), theirs);
-        // Per tile, submission − baseline: sorting by it finds where the two differ most.
-        set(std::string("delta.") + metrics::metric_name(m),
-            mine && theirs ? std::optional<double>(*mine - *theirs) : std::nullopt);
-      }
-      doc["baseline"] = std::move(base);
-      // The baseline's graph for the tile view's overlay (null: no prediction for the tile).
-      nlohmann::json base_graph = nullptr;
-      if (in.baseline_prediction) {
-        const auto bp = in.baseline_prediction->find(tile.key);
-        if (bp != in.baseline_prediction->end()) base_graph = graph_json(metrics::clean_graph(bp->second));
-      }
-      doc["base"] = std::move(base_graph);
+      add_baseline(tile, in, *s->second, *b->second, doc, row);
     }
   } else {
-    nlohmann::json g = graph_json(metrics::clean_graph(gt));
-    doc["gt"] = std::move(g);
+    doc["gt"] = graph_json(metrics::clean_graph(gt));
   }
   nlohmann::ordered_json figures;
   for (const auto& [k, v] : row.values) figures[k] = rounded(v);

@@ -21,6 +21,76 @@ void require(bool ok, const char* record, const std::string& expected) {
 
 bool finite(double v) { return std::isfinite(v); }
 
+using XyBounds = std::array<double, 4>;  // x0, y0, x1, y1 (m)
+
+// The xy bounding box of a box turned by its yaw.
+XyBounds yawed_box_bounds(const SceneBox& box, double cos_yaw, double sin_yaw) {
+  const double ex = 0.5 * (std::abs(cos_yaw) * box.length_m + std::abs(sin_yaw) * box.width_m);
+  const double ey = 0.5 * (std::abs(sin_yaw) * box.length_m + std::abs(cos_yaw) * box.width_m);
+  return {box.center_m.x() - ex, box.center_m.y() - ey, box.center_m.x() + ex, box.center_m.y() + ey};
+}
+
+XyBounds pole_bounds(const ScenePole& p) {
+  return {p.base_m.x() - p.radius_m, p.base_m.y() - p.radius_m, p.base_m.x() + p.radius_m, p.base_m.y() + p.radius_m};
+}
+
+XyBounds union_bounds(const std::vector<XyBounds>& boxes) {
+  double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
+  for (const XyBounds& b : boxes) {
+    x0 = std::min(x0, b[0]);
+    y0 = std::min(y0, b[1]);
+    x1 = std::max(x1, b[2]);
+    y1 = std::max(y1, b[3]);
+  }
+  return {x0, y0, x1, y1};
+}
+
+// The grid's cell edge over a w × h extent: the requested one, or (0) a few objects per
+// cell but not a huge grid; at most 4 million cells either way.
+double grid_cell_m(double requested_m, double w, double h, size_t n_objects) {
+  double cell = requested_m;
+  if (cell <= 0.0) {  // a few objects per cell, but not a huge grid
+    cell = std::clamp(std::sqrt(w * h / static_cast<double>(n_objects)), 2.0, 50.0);
+  }
+  return std::max(cell, std::sqrt(w * h / 4.0e6));
+}
+
+// The uniform grid of the objects' bounding boxes, as CSR: cell c lists the boxes
+// items[start[c] .. start[c + 1]), in box order.
+struct ObjectGrid {
+  double x0, y0, cell;
+  int nx, ny;
+
+  // The cells a box overlaps, clamped to the grid.
+  void cell_range(const XyBounds& bb, int& ix0, int& iy0, int& ix1, int& iy1) const {
+    ix0 = std::clamp(static_cast<int>(std::floor((bb[0] - x0) / cell)), 0, nx - 1);
+    iy0 = std::clamp(static_cast<int>(std::floor((bb[1] - y0) / cell)), 0, ny - 1);
+    ix1 = std::clamp(static_cast<int>(std::floor((bb[2] - x0) / cell)), 0, nx - 1);
+    iy1 = std::clamp(static_cast<int>(std::floor((bb[3] - y0) / cell)), 0, ny - 1);
+  }
+
+  void fill(const std::vector<XyBounds>& boxes, std::vector<uint32_t>& start, std::vector<uint32_t>& items) const {
+    const size_t n_cells = static_cast<size_t>(nx) * static_cast<size_t>(ny);
+    std::vector<uint32_t> counts(n_cells + 1, 0);
+    for (size_t i = 0; i < boxes.size(); ++i) {
+      int ix0, iy0, ix1, iy1;
+      cell_range(boxes[i], ix0, iy0, ix1, iy1);
+      for (int iy = iy0; iy <= iy1; ++iy)
+        for (int ix = ix0; ix <= ix1; ++ix) ++counts[static_cast<size_t>(iy) * nx + ix + 1];
+    }
+    for (size_t c = 0; c < n_cells; ++c) counts[c + 1] += counts[c];
+    start = counts;
+    items.resize(start.back());
+    std::vector<uint32_t> next(start.begin(), start.end() - 1);
+    for (size_t i = 0; i < boxes.size(); ++i) {
+      int ix0, iy0, ix1, iy1;
+      cell_range(boxes[i], ix0, iy0, ix1, iy1);
+      for (int iy = iy0; iy <= iy1; ++iy)
+        for (int ix = ix0; ix <= ix1; ++ix) items[next[static_cast<size_t>(iy) * nx + ix]++] = static_cast<uint32_t>(i);
+    }
+  }
+};
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------
@@ -57,7 +127,7 @@ SceneRaycaster::SceneRaycaster(const SceneSnapshot& scene, const RaycastOptions&
   if (!scene.ground) throw ConfigError("", "scene.ground", "a ground function");
 
   // Objects with their xy bounding boxes.
-  std::vector<std::array<double, 4>> aabbs;
+  std::vector<XyBounds> aabbs;
   auto add_box = [&](const SceneBox& box) {
     Object o;
     o.box = &box;
@@ -65,9 +135,7 @@ SceneRaycaster::SceneRaycaster(const SceneSnapshot& scene, const RaycastOptions&
     o.sin_yaw = std::sin(box.yaw_rad);
     o.z_min = box.center_m.z() - 0.5 * box.height_m;
     o.z_max = box.center_m.z() + 0.5 * box.height_m;
-    const double ex = 0.5 * (std::abs(o.cos_yaw) * box.length_m + std::abs(o.sin_yaw) * box.width_m);
-    const double ey = 0.5 * (std::abs(o.sin_yaw) * box.length_m + std::abs(o.cos_yaw) * box.width_m);
-    aabbs.push_back({box.center_m.x() - ex, box.center_m.y() - ey, box.center_m.x() + ex, box.center_m.y() + ey});
+    aabbs.push_back(yawed_box_bounds(box, o.cos_yaw, o.sin_yaw));
     objects_.push_back(o);
   };
   for (const auto& b : scene.static_boxes) add_box(b);
@@ -78,63 +146,30 @@ SceneRaycaster::SceneRaycaster(const SceneSnapshot& scene, const RaycastOptions&
     o.pole = &p;
     o.z_min = scene.ground(p.base_m.x(), p.base_m.y()).height_m;  // stands on the ground
     o.z_max = o.z_min + p.height_m;
-    aabbs.push_back(
-        {p.base_m.x() - p.radius_m, p.base_m.y() - p.radius_m, p.base_m.x() + p.radius_m, p.base_m.y() + p.radius_m});
+    aabbs.push_back(pole_bounds(p));
     objects_.push_back(o);
   }
   if (objects_.empty()) return;
 
-  double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
   objects_z_max_ = -kInf;
   objects_z_min_ = kInf;
-  for (size_t i = 0; i < objects_.size(); ++i) {
-    objects_z_min_ = std::min(objects_z_min_, objects_[i].z_min);
-    x0 = std::min(x0, aabbs[i][0]);
-    y0 = std::min(y0, aabbs[i][1]);
-    x1 = std::max(x1, aabbs[i][2]);
-    y1 = std::max(y1, aabbs[i][3]);
-    objects_z_max_ = std::max(objects_z_max_, objects_[i].z_max);
+  for (const Object& o : objects_) {
+    objects_z_min_ = std::min(objects_z_min_, o.z_min);
+    objects_z_max_ = std::max(objects_z_max_, o.z_max);
   }
+  const XyBounds extent = union_bounds(aabbs);
+  const double x0 = extent[0], y0 = extent[1], x1 = extent[2], y1 = extent[3];
   if (!(finite(x0) && finite(y0) && finite(x1) && finite(y1))) {
     throw ConfigError("", "scene boxes/poles", "finite object positions and sizes");
   }
   const double w = std::max(x1 - x0, 1e-3), h = std::max(y1 - y0, 1e-3);
-  double cell = options_.grid_cell_m;
-  if (cell <= 0.0) {  // a few objects per cell, but not a huge grid
-    cell = std::clamp(std::sqrt(w * h / static_cast<double>(objects_.size())), 2.0, 50.0);
-  }
-  cell = std::max(cell, std::sqrt(w * h / 4.0e6));
+  const double cell = grid_cell_m(options_.grid_cell_m, w, h, objects_.size());
   cell_m_ = cell;
   grid_x0_ = x0;
   grid_y0_ = y0;
   grid_nx_ = std::max(1, static_cast<int>(std::ceil(w / cell)));
   grid_ny_ = std::max(1, static_cast<int>(std::ceil(h / cell)));
-  const size_t n_cells = static_cast<size_t>(grid_nx_) * static_cast<size_t>(grid_ny_);
-
-  auto cell_range = [&](const std::array<double, 4>& bb, int& ix0, int& iy0, int& ix1, int& iy1) {
-    ix0 = std::clamp(static_cast<int>(std::floor((bb[0] - x0) / cell)), 0, grid_nx_ - 1);
-    iy0 = std::clamp(static_cast<int>(std::floor((bb[1] - y0) / cell)), 0, grid_ny_ - 1);
-    ix1 = std::clamp(static_cast<int>(std::floor((bb[2] - x0) / cell)), 0, grid_nx_ - 1);
-    iy1 = std::clamp(static_cast<int>(std::floor((bb[3] - y0) / cell)), 0, grid_ny_ - 1);
-  };
-  std::vector<uint32_t> counts(n_cells + 1, 0);
-  for (size_t i = 0; i < objects_.size(); ++i) {
-    int ix0, iy0, ix1, iy1;
-    cell_range(aabbs[i], ix0, iy0, ix1, iy1);
-    for (int iy = iy0; iy <= iy1; ++iy)
-      for (int ix = ix0; ix <= ix1; ++ix) ++counts[static_cast<size_t>(iy) * grid_nx_ + ix + 1];
-  }
-  for (size_t c = 0; c < n_cells; ++c) counts[c + 1] += counts[c];
-  cell_start_ = counts;
-  cell_items_.resize(cell_start_.back());
-  std::vector<uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
-  for (size_t i = 0; i < objects_.size(); ++i) {
-    int ix0, iy0, ix1, iy1;
-    cell_range(aabbs[i], ix0, iy0, ix1, iy1);
-    for (int iy = iy0; iy <= iy1; ++iy)
-      for (int ix = ix0; ix <= ix1; ++ix)
-        cell_items_[fill[static_cast<size_t>(iy) * grid_nx_ + ix]++] = static_cast<uint32_t>(i);
-  }
+  ObjectGrid{x0, y0, cell, grid_nx_, grid_ny_}.fill(aabbs, cell_start_, cell_items_);
 }
 
 bool SceneRaycaster::clip_to_bounds(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double& t_min,

@@ -116,32 +116,36 @@ void set_type(Agent& a, const VehicleType& t, Rng& rng) {
 
 double dist(const Pose2& a, const Pose2& b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
-}  // namespace
-
-ScenePlan plan_scene(const World& world, double duration_s, Rng& rng) {
-  const SynthConfig& cfg = world.config;
-  ScenePlan plan;
-  // Ego: start on a lane (not a connector) and drive the scene plus a margin.
+// The lanes an agent may start on: lanes, not connectors.
+std::vector<int> drivable_lanes(const World& world) {
   std::vector<int> lanes;
   for (size_t i = 0; i < world.lanes.size(); ++i)
     if (!world.lanes[i].is_connector) lanes.push_back(static_cast<int>(i));
   if (lanes.empty()) throw InternalError("", "world", "no lanes to drive on");
-  plan.ego_speed_mps = cfg.scenes.ego_speed_mps * rng.uniform(0.85, 1.15);
+  return lanes;
+}
+
+// Ego: start on a lane (not a connector) and drive the scene plus a margin.
+void plan_ego(const World& world, const std::vector<int>& lanes, double duration_s, Rng& rng, ScenePlan& plan) {
+  plan.ego_speed_mps = world.config.scenes.ego_speed_mps * rng.uniform(0.85, 1.15);
   for (int attempt = 0; attempt < 20; ++attempt) {
     const int start = lanes[rng.uniform_int(lanes.size())];
     plan.ego = random_route(world, start, plan.ego_speed_mps * duration_s + 30.0, rng);
     plan.ego_start_m = rng.uniform(0.0, std::min(10.0, world.lanes[static_cast<size_t>(start)].length_m / 2.0));
     if (plan.ego.length_m() >= plan.ego_start_m + plan.ego_speed_mps * duration_s) break;
   }
-  const Pose2 ego0 = plan.ego_pose_at(0.0);
-  const double near_m = cfg.traffic.annotation_range_m + 60.0;
+}
+
+// Moving vehicles on lanes near the ego's start, each at least 14 m from the ego and the
+// others at t = 0 (a vehicle without that gap is drawn and dropped).
+void add_moving_vehicles(const World& world, const std::vector<int>& lanes, const Pose2& ego0, double near_m,
+                         double duration_s, Rng& rng, ScenePlan& plan) {
   std::vector<Pose2> taken = {ego0};
   auto free_at = [&](const Pose2& p, double clearance) {
     for (const Pose2& q : taken)
       if (dist(p, q) < clearance) return false;
     return true;
   };
-  // Moving vehicles on lanes near the ego's start.
   std::vector<int> near_lanes;
   for (int i : lanes) {
     const Pose2& s = world.lanes[static_cast<size_t>(i)].paths.front().start_pose;
@@ -149,7 +153,7 @@ ScenePlan plan_scene(const World& world, double duration_s, Rng& rng) {
   }
   if (near_lanes.empty()) near_lanes = lanes;
   std::map<int, double> lane_speed;
-  for (int v = 0; v < cfg.traffic.moving_vehicles_per_scene; ++v) {
+  for (int v = 0; v < world.config.traffic.moving_vehicles_per_scene; ++v) {
     Agent a;
     a.kind = Agent::Kind::kMoving;
     const double u = rng.uniform();
@@ -168,7 +172,12 @@ ScenePlan plan_scene(const World& world, double duration_s, Rng& rng) {
     taken.push_back(p0);
     plan.agents.push_back(std::move(a));
   }
-  // Parked cars in a share of the parking slots near the ego.
+}
+
+// Parked cars in a share of the parking slots near the ego.
+void add_parked_cars(const World& world, const Pose2& ego0, double near_m, double duration_s, Rng& rng,
+                     ScenePlan& plan) {
+  const SynthConfig& cfg = world.config;
   for (const Pose2& slot : world.parking_slots) {
     if (dist(slot, ego0) > near_m + cfg.scenes.ego_speed_mps * duration_s) continue;
     if (!rng.bernoulli(cfg.traffic.parked_occupancy)) continue;
@@ -180,11 +189,14 @@ ScenePlan plan_scene(const World& world, double duration_s, Rng& rng) {
                slot.y + rng.uniform(-0.3, 0.3) * std::sin(slot.yaw), slot.yaw + rng.uniform(-0.03, 0.03)};
     plan.agents.push_back(std::move(a));
   }
-  // Pedestrians on sidewalks near the ego.
+}
+
+// Pedestrians on sidewalks near the ego.
+void add_pedestrians(const World& world, const Pose2& ego0, double near_m, Rng& rng, ScenePlan& plan) {
   std::vector<size_t> walks;
   for (size_t i = 0; i < world.sidewalks.size(); ++i)
     if (dist(world.sidewalks[i].start, ego0) < near_m + world.sidewalks[i].length_m) walks.push_back(i);
-  for (int k = 0; k < cfg.traffic.pedestrians_per_scene && !walks.empty(); ++k) {
+  for (int k = 0; k < world.config.traffic.pedestrians_per_scene && !walks.empty(); ++k) {
     const SidewalkPath& sw = world.sidewalks[walks[rng.uniform_int(walks.size())]];
     Agent a;
     a.kind = Agent::Kind::kPedestrian;
@@ -202,6 +214,20 @@ ScenePlan plan_scene(const World& world, double duration_s, Rng& rng) {
     a.ground_z_m = 0.15;
     plan.agents.push_back(std::move(a));
   }
+}
+
+}  // namespace
+
+// The RNG draws follow the steps' order: ego, moving vehicles, parked cars, pedestrians.
+ScenePlan plan_scene(const World& world, double duration_s, Rng& rng) {
+  ScenePlan plan;
+  const std::vector<int> lanes = drivable_lanes(world);
+  plan_ego(world, lanes, duration_s, rng, plan);
+  const Pose2 ego0 = plan.ego_pose_at(0.0);
+  const double near_m = world.config.traffic.annotation_range_m + 60.0;
+  add_moving_vehicles(world, lanes, ego0, near_m, duration_s, rng, plan);
+  add_parked_cars(world, ego0, near_m, duration_s, rng, plan);
+  add_pedestrians(world, ego0, near_m, rng, plan);
   return plan;
 }
 

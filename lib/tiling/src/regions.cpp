@@ -134,45 +134,45 @@ struct Block {
   std::string split;
 };
 
-}  // namespace
+// The grid of square blocks over the covered window, in whole cells.
+struct BlockGrid {
+  double x0_m = 0, y0_m = 0, block_m = 0;  // south-west corner, edge
+  int64_t nx = 0, ny = 0, block_cells = 0;
+};
 
-std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOptions& options, double crop_size_m,
-                                 uint64_t seed, RegionStats* stats) {
-  // `options` were checked where they were read (the config reader, or validate()).
-  RegionStats local;
-  RegionStats& st = stats != nullptr ? *stats : local;
-  st = {};
-  if (!options.regions.empty()) {
-    st.explicit_regions = true;
-    return options.regions;
-  }
-  const CellWindow e = covered_window(lidar);
-  if (e.empty()) {
-    st.no_lidar = true;
-    return {};
-  }
-  const double res = lidar.resolution_m();
-  const double x0 = static_cast<double>(e.col0) * res, y0 = static_cast<double>(e.row0) * res;
+BlockGrid block_grid(const CellWindow& e, double res, const SplitOptions& options, double crop_size_m) {
+  BlockGrid g;
+  g.x0_m = static_cast<double>(e.col0) * res, g.y0_m = static_cast<double>(e.row0) * res;
   const double w = static_cast<double>(e.col1 - e.col0) * res, h = static_cast<double>(e.row1 - e.row0) * res;
   double block_m =
       options.block_size_m > 0 ? options.block_size_m : auto_block_size_m(w, h, crop_size_m, options.buffer_m);
   block_m = std::ceil(block_m / res - 1e-9) * res;
-  const int64_t nx = static_cast<int64_t>(std::ceil(w / block_m - 1e-9));
-  const int64_t ny = static_cast<int64_t>(std::ceil(h / block_m - 1e-9));
-  const int64_t block_cells = static_cast<int64_t>(std::llround(block_m / res));
-  st.block_size_m = block_m;
-  st.blocks = nx * ny;
+  g.block_m = block_m;
+  g.nx = static_cast<int64_t>(std::ceil(w / block_m - 1e-9));
+  g.ny = static_cast<int64_t>(std::ceil(h / block_m - 1e-9));
+  g.block_cells = static_cast<int64_t>(std::llround(block_m / res));
+  return g;
+}
 
-  // Blocks with enough coverage, ordered by a seeded hash of their grid position.
+// The blocks with enough coverage, row by row; counts the others in `st`.
+std::vector<Block> covered_blocks(const raster::LidarLayer& lidar, const BlockGrid& g, const SplitOptions& options,
+                                  RegionStats& st) {
+  const double x0 = g.x0_m, y0 = g.y0_m, block_m = g.block_m;
   std::vector<Block> blocks;
-  for (int64_t by = 0; by < ny; ++by)
-    for (int64_t bx = 0; bx < nx; ++bx) {
+  for (int64_t by = 0; by < g.ny; ++by)
+    for (int64_t bx = 0; bx < g.nx; ++bx) {
       Block b{bx, by, {x0 + bx * block_m, y0 + by * block_m, x0 + (bx + 1) * block_m, y0 + (by + 1) * block_m}, ""};
-      const double cells = static_cast<double>(block_cells * block_cells);
+      const double cells = static_cast<double>(g.block_cells * g.block_cells);
       if (static_cast<double>(covered_cells_in(lidar, b.bounds)) >= options.min_block_coverage * cells)
         blocks.push_back(b);
       else ++st.blocks_low_coverage;
     }
+  return blocks;
+}
+
+// Splits by the ratios: the blocks ordered by a seeded hash of their grid position take
+// test, then val, then train.
+void assign_splits(std::vector<Block>& blocks, const SplitOptions& options, uint64_t seed, RegionStats& st) {
   const auto rank = [&](const Block& b) {
     return mix64(seed ^ mix64(static_cast<uint64_t>(b.bx) * 0x9E3779B97F4A7C15ull + static_cast<uint64_t>(b.by)));
   };
@@ -191,28 +191,40 @@ std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOpt
     blocks[order[k]].split = k < n_test ? "test" : k < n_test + n_val ? "val" : "train";
     ++st.blocks_assigned[static_cast<size_t>(split_index(blocks[order[k]].split))];
   }
+}
 
-  // Buffers: a block gives up `buffer_m` on each side that faces (edge or corner) a block
-  // of a split ranked higher; equal ranks never meet across different splits.
-  std::map<std::pair<int64_t, int64_t>, const Block*> at;
+using BlockAt = std::map<std::pair<int64_t, int64_t>, const Block*>;
+
+// A block's bounds less `buffer_m` on each side that faces (edge or corner) a block of a
+// split ranked higher; equal ranks never meet across different splits.
+RectM buffered_bounds(const Block& b, const BlockAt& at, double buffer_m) {
+  RectM r = b.bounds;
+  // Edge neighbours first; a corner neighbour then costs only the west/east side, and
+  // only if the edge cuts did not already open the gap.
+  for (const bool corners : {false, true})
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        if ((dx != 0 && dy != 0) != corners || (dx == 0 && dy == 0)) continue;
+        auto it = at.find({b.bx + dx, b.by + dy});
+        if (it == at.end() || split_rank(it->second->split) <= split_rank(b.split)) continue;
+        if (r.distance_to(it->second->bounds) >= buffer_m) continue;
+        if (dx < 0) r.x_west_m = b.bounds.x_west_m + buffer_m;
+        if (dx > 0) r.x_east_m = b.bounds.x_east_m - buffer_m;
+        if (dy < 0 && !corners) r.y_south_m = b.bounds.y_south_m + buffer_m;
+        if (dy > 0 && !corners) r.y_north_m = b.bounds.y_north_m - buffer_m;
+      }
+  return r;
+}
+
+// One region per block that still holds a crop after its buffers, named by split and grid
+// position; counts the others in `st`.
+std::vector<Region> buffered_regions(const std::vector<Block>& blocks, const SplitOptions& options, double crop_size_m,
+                                     RegionStats& st) {
+  BlockAt at;
   for (const Block& b : blocks) at[{b.bx, b.by}] = &b;
   std::vector<Region> regions;
   for (const Block& b : blocks) {
-    RectM r = b.bounds;
-    // Edge neighbours first; a corner neighbour then costs only the west/east side, and
-    // only if the edge cuts did not already open the gap.
-    for (const bool corners : {false, true})
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          if ((dx != 0 && dy != 0) != corners || (dx == 0 && dy == 0)) continue;
-          auto it = at.find({b.bx + dx, b.by + dy});
-          if (it == at.end() || split_rank(it->second->split) <= split_rank(b.split)) continue;
-          if (r.distance_to(it->second->bounds) >= options.buffer_m) continue;
-          if (dx < 0) r.x_west_m = b.bounds.x_west_m + options.buffer_m;
-          if (dx > 0) r.x_east_m = b.bounds.x_east_m - options.buffer_m;
-          if (dy < 0 && !corners) r.y_south_m = b.bounds.y_south_m + options.buffer_m;
-          if (dy > 0 && !corners) r.y_north_m = b.bounds.y_north_m - options.buffer_m;
-        }
+    const RectM r = buffered_bounds(b, at, options.buffer_m);
     if (r.width_m() < crop_size_m || r.height_m() < crop_size_m) {
       ++st.blocks_too_small[static_cast<size_t>(split_index(b.split))];
       continue;
@@ -223,6 +235,31 @@ std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOpt
     regions.push_back({name, b.split, r});
   }
   return regions;
+}
+
+}  // namespace
+
+std::vector<Region> plan_regions(const raster::LidarLayer& lidar, const SplitOptions& options, double crop_size_m,
+                                 uint64_t seed, RegionStats* stats) {
+  // `options` were checked where they were read (the config reader, or validate()).
+  RegionStats local;
+  RegionStats& st = stats != nullptr ? *stats : local;
+  st = {};
+  if (!options.regions.empty()) {
+    st.explicit_regions = true;
+    return options.regions;
+  }
+  const CellWindow e = covered_window(lidar);
+  if (e.empty()) {
+    st.no_lidar = true;
+    return {};
+  }
+  const BlockGrid grid = block_grid(e, lidar.resolution_m(), options, crop_size_m);
+  st.block_size_m = grid.block_m;
+  st.blocks = grid.nx * grid.ny;
+  std::vector<Block> blocks = covered_blocks(lidar, grid, options, st);
+  assign_splits(blocks, options, seed, st);
+  return buffered_regions(blocks, options, crop_size_m, st);
 }
 
 }  // namespace nsg::tiling
