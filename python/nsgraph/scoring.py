@@ -45,6 +45,20 @@ def as_pairs(values, dtype):
     return np.zeros((0, 2), dtype) if a.size == 0 else np.ascontiguousarray(a)
 
 
+def edge_flags(graph):
+    """The ground truth's edge classes as the scorer's flag bytes (1 connector, 2 inside an
+    intersection) from a dataset tile's graph (its ``connector`` and ``in_intersection``),
+    or an empty list when the graph has no edge attributes (the per-class recalls are then
+    undefined)."""
+    if isinstance(graph, dict) and "graph" in graph and isinstance(graph["graph"], dict):
+        graph = graph["graph"]
+    if not (isinstance(graph, dict) and "connector" in graph and "in_intersection" in graph):
+        return []
+    connector = np.asarray(graph["connector"], dtype=bool)
+    inside = np.asarray(graph["in_intersection"], dtype=bool)
+    return (connector.astype(np.uint8) | (inside.astype(np.uint8) << 1)).tolist()
+
+
 def _tile_document(graph):
     nodes, edges = graph_arrays(graph)
     tile = {"nodes": nodes.tolist(), "edges": edges.tolist()}
@@ -81,7 +95,9 @@ def score(ground_truth, submission, split=None, threads=0, verify=True, max_seco
 
     ground_truth: a dataset folder (its ``split``; default: the split the submission's keys
     are tiles of, as the CLI), a ground-truth file in
-    the submission format, or in memory {key: graph} / a submission-format dict.
+    the submission format, or in memory {key: graph} / a submission-format dict. Only a
+    dataset folder carries the edge classes: otherwise the per-class recalls
+    (``geo_recall_connector``, ...) are undefined.
     submission: a submission file, or in memory likewise. params: docs/metrics.md parameters
     (resolution_m, snap_m, ...). Raises SubmissionError (with .issues) when the submission
     has problems (the CLI's exit 1), nsgraph.errors.* for bad input (exit 2). A dataset
@@ -102,7 +118,8 @@ def score(ground_truth, submission, split=None, threads=0, verify=True, max_seco
 
 def score_tile(gt, pred, key="tile", **params):
     """Metrics of one tile (the report's per-tile entry: values and counts). gt, pred: any
-    form graph_arrays takes; pred None = a missing prediction. The prediction gets a file's
+    form graph_arrays takes; pred None = a missing prediction. A dataset tile's graph
+    brings its edge classes (the per-class recalls); other forms have none. The prediction gets a file's
     checks first (finite coordinates, node indices in range, the scoring limits): problems
     raise SubmissionError (with .issues), a ground truth with them DataError."""
     gt_nodes, gt_edges = graph_arrays(gt)
@@ -110,7 +127,8 @@ def score_tile(gt, pred, key="tile", **params):
         pred_nodes = pred_edges = None
     else:
         pred_nodes, pred_edges = graph_arrays(pred)
-    values, issues, text = _nsgraph.score_tile(gt_nodes, gt_edges, pred_nodes, pred_edges, _params_json(params), key)
+    values, issues, text = _nsgraph.score_tile(gt_nodes, gt_edges, edge_flags(gt), pred_nodes, pred_edges,
+                                               _params_json(params), key)
     if values is None:
         raise SubmissionError(f"{len(issues)} problem(s) in the prediction of tile {key}; not scored:\n{text}", issues)
     return values

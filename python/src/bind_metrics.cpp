@@ -73,10 +73,16 @@ py::tuple score(const std::string& gt, bool gt_is_path, const std::string& sub, 
 // (measurement dict, []) or (None, issues, text) when the prediction has problems a file's
 // tile would have (NaN, an index out of range, beyond the limits); a ground truth with
 // such problems throws DataError.
-py::tuple score_tile(const Points& gt_nodes, const Pairs& gt_edges, std::optional<Points> pred_nodes,
-                     std::optional<Pairs> pred_edges, const std::string& params_json, const std::string& key) {
+// gt_edge_flags: metrics::EdgeFlag bits per ground-truth edge (the per-class recalls), or
+// empty when the ground truth has no edge attributes.
+py::tuple score_tile(const Points& gt_nodes, const Pairs& gt_edges, const std::vector<uint8_t>& gt_edge_flags,
+                     std::optional<Points> pred_nodes, std::optional<Pairs> pred_edges, const std::string& params_json,
+                     const std::string& key) {
   const metrics::ScoreOptions options = score_options(params_json, 1);
-  const metrics::Graph gt = graph_arg(gt_nodes, gt_edges, "ground truth");
+  metrics::Graph gt = graph_arg(gt_nodes, gt_edges, "ground truth");
+  NSG_CHECK(gt_edge_flags.empty() || gt_edge_flags.size() == gt.edges.size(), DataError, "ground truth",
+            key + "/edge_flags", "one edge class flag per edge");
+  gt.edge_flags = gt_edge_flags;
   const Issues gt_issues = metrics::check_graph(gt, key, "ground truth");
   NSG_CHECK(gt_issues.empty(), DataError, "ground truth", key, "a graph a file could hold:\n" + gt_issues.format());
   std::optional<metrics::Graph> pred;
@@ -141,8 +147,8 @@ void bind_metrics(py::module_& m) {
         py::arg("submission_is_path"), py::arg("split"), py::arg("params_json"), py::arg("threads"),
         py::arg("schemas_dir"), py::arg("ground_truth_label"), py::arg("submission_label"), py::arg("verify") = true,
         py::arg("max_seconds") = metrics::ScoreOptions{}.max_seconds);
-  m.def("score_tile", &score_tile, py::arg("gt_nodes"), py::arg("gt_edges"), py::arg("pred_nodes"),
-        py::arg("pred_edges"), py::arg("params_json"), py::arg("key"));
+  m.def("score_tile", &score_tile, py::arg("gt_nodes"), py::arg("gt_edges"), py::arg("gt_edge_flags"),
+        py::arg("pred_nodes"), py::arg("pred_edges"), py::arg("params_json"), py::arg("key"));
   m.def("write_submission", &write_submission, py::arg("path"), py::arg("keys"), py::arg("nodes"), py::arg("edges"),
         py::arg("schemas_dir"));
   m.def("check_submission", &check_submission, py::arg("source"), py::arg("is_path"), py::arg("label"),

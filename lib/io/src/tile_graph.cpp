@@ -41,9 +41,11 @@ graph::Junction junction(const nlohmann::json& node, const std::string& file, co
 }
 
 // The optional edge attributes: kind, in_intersection, turn.
-void read_edge_attributes(const nlohmann::json& e, const std::string& file, const std::string& path,
+// Returns whether the edge has them (its "kind").
+bool read_edge_attributes(const nlohmann::json& e, const std::string& file, const std::string& path,
                           graph::TileEdge& edge) {
-  if (const auto kind = e.find("kind"); kind != e.end()) {
+  const auto kind = e.find("kind");
+  if (kind != e.end()) {
     NSG_CHECK(*kind == "lane" || *kind == "connector", DataError, file, path + "/kind", "\"lane\" or \"connector\"");
     edge.is_connector = *kind == "connector";
   }
@@ -54,6 +56,7 @@ void read_edge_attributes(const nlohmann::json& e, const std::string& file, cons
   if (const auto turn = e.find("turn"); turn != e.end())
     NSG_CHECK(turn->is_string() && graph::turn_from_name(turn->get<std::string>(), &edge.turn), DataError, file,
               path + "/turn", "\"straight\", \"left\", \"right\" or \"u_turn\"");
+  return kind != e.end();
 }
 
 }  // namespace
@@ -86,7 +89,7 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
     edge.source = node_index(e, "source", index_of, file, p);
     edge.target = node_index(e, "target", index_of, file, p);
     edge.lane_token = text(e, "lane_token", file, p);
-    read_edge_attributes(e, file, p, edge);
+    if (!read_edge_attributes(e, file, p, edge)) g.has_edge_attributes = false;
     g.edges.push_back(std::move(edge));
   }
   const auto changes = doc.find("lane_changes");

@@ -245,10 +245,6 @@ class RadiusSearch {
   int64_t count_ = 0;
 };
 
-struct TopoSums {
-  double precision_sum = 0.0, recall_sum = 0.0;
-};
-
 // Candidate ranks (indices into the sorted list) grouped by sample, each group ascending,
 // with the candidate's sample on the other side (p or g) next to its rank.
 struct RanksBy {
@@ -474,11 +470,12 @@ class WholeComponent {
   bool whole_ = false;
 };
 
-// Rules 6-8 on the undirected or the directed sample graphs, seeds in increasing g.
-TopoSums topo_sums(const SampleGraph& gt, const SampleGraph& pred, bool directed, const std::vector<Candidate>& cands,
-                   const RanksBy& by_g, const RanksBy& by_p, const std::vector<std::pair<int32_t, int32_t>>& seeds,
-                   const std::vector<int32_t>& order, double radius_px, WorkMeter& meter) {
-  TopoSums sums;
+// Rules 6-8 on the undirected or the directed sample graphs: each seed's p_s and r_s, by
+// seed index (seeds in increasing g).
+SeedTopo topo_per_seed(const SampleGraph& gt, const SampleGraph& pred, bool directed,
+                       const std::vector<Candidate>& cands, const RanksBy& by_g, const RanksBy& by_p,
+                       const std::vector<std::pair<int32_t, int32_t>>& seeds, const std::vector<int32_t>& order,
+                       double radius_px, WorkMeter& meter) {
   RadiusSearch search_g(gt, meter), search_p(pred, meter);
   IncrementalMatching matching(cands, by_g, by_p, meter);
   // Seeds are visited in `order` (consecutive reach sets then differ little) and summed
@@ -507,12 +504,15 @@ TopoSums topo_sums(const SampleGraph& gt, const SampleGraph& pred, bool directed
     n_rp[s] = search_p.count();
     n_rg[s] = search_g.count();
   }
+  SeedTopo out;
+  out.p.resize(seeds.size());
+  out.r.resize(seeds.size());
   for (size_t s = 0; s < seeds.size(); ++s) {
     const auto m = static_cast<double>(m_of[s]);
-    sums.precision_sum += m / static_cast<double>(n_rp[s]);
-    sums.recall_sum += m / static_cast<double>(n_rg[s]);
+    out.p[s] = m / static_cast<double>(n_rp[s]);
+    out.r[s] = m / static_cast<double>(n_rg[s]);
   }
-  return sums;
+  return out;
 }
 
 }  // namespace
@@ -550,14 +550,17 @@ GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred, con
   r.seeds = static_cast<int64_t>(seeds.size());
   const double radius_px = params.topo_radius_m / params.resolution_m + kRadiusTolPx;
   const std::vector<int32_t> order = visit_order(g, p, seeds);
-  const TopoSums und = topo_sums(g, p, false, cands, by_g, by_p, seeds, order, radius_px, meter);
-  const TopoSums dir = topo_sums(g, p, true, cands, by_g, by_p, seeds, order, radius_px, meter);
-  r.topo_precision = ratio(und.precision_sum, np);
-  r.topo_recall = ratio(und.recall_sum, ng);
+  const SeedTopo und = topo_per_seed(g, p, false, cands, by_g, by_p, seeds, order, radius_px, meter);
+  const SeedTopo dir = topo_per_seed(g, p, true, cands, by_g, by_p, seeds, order, radius_px, meter);
+  const auto all = [](size_t) { return true; };
+  r.topo_precision = ratio(seed_sum(und.p, all), np);
+  r.topo_recall = ratio(seed_sum(und.r, all), ng);
   r.topo_f1 = f1_of(r.topo_precision, r.topo_recall);
-  r.topo_directed_precision = ratio(dir.precision_sum, np);
-  r.topo_directed_recall = ratio(dir.recall_sum, ng);
+  r.topo_directed_precision = ratio(seed_sum(dir.p, all), np);
+  r.topo_directed_recall = ratio(seed_sum(dir.r, all), ng);
   r.topo_directed_f1 = f1_of(r.topo_directed_precision, r.topo_directed_recall);
+  set_junction_topo(gt, g, seeds, dir, r);
+  set_class_recalls(g, match_of_g, seeds, und, r);
   return r;
 }
 

@@ -47,10 +47,13 @@ SampleGraph sample_graph(const CleanGraph& g, double step_px) {
     if (sample_of[n] < 0) continue;
     sample_of[n] = static_cast<int32_t>(sg.pos.size());
     sg.pos.push_back(g.nodes[n]);
+    sg.node_of.push_back(static_cast<int32_t>(n));
   }
   sg.n_node_samples = static_cast<int32_t>(sg.pos.size());
   sg.chains.reserve(segs.size());
   sg.chain_offset.assign(sg.pos.size() + 1, 0);
+  const bool classed = !g.edge_flags.empty();
+  if (classed) sg.classes.assign(sg.pos.size(), 0);
   for (const Segment& s : segs) {
     const Point a = g.nodes[s.i], b = g.nodes[s.j];
     const double dx = b.u - a.u, dy = b.v - a.v;
@@ -61,10 +64,15 @@ SampleGraph sample_graph(const CleanGraph& g, double step_px) {
         {sample_of[s.i], sample_of[s.j], static_cast<int32_t>(sg.pos.size()), k, len / k, s.fwd, s.bwd});
     ++sg.chain_offset[sample_of[s.i] + 1];
     ++sg.chain_offset[sample_of[s.j] + 1];
+    if (classed) {
+      sg.classes[sample_of[s.i]] |= s.classes;
+      sg.classes[sample_of[s.j]] |= s.classes;
+    }
     for (int s_idx = 1; s_idx < k; ++s_idx) {
       const double t = static_cast<double>(s_idx) / k;
       sg.pos.push_back({a.u + dx * t, a.v + dy * t});
       sg.chain_of_interior.push_back(chain);
+      if (classed) sg.classes.push_back(s.classes);
     }
   }
   for (int32_t n = 0; n < sg.n_node_samples; ++n) sg.chain_offset[n + 1] += sg.chain_offset[n];

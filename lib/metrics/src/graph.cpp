@@ -7,10 +7,19 @@
 
 namespace nsg::metrics {
 
+uint8_t class_mask_of(uint8_t edge_flags) {
+  const int kind = (edge_flags & kEdgeConnector) != 0 ? kClassConnector : kClassLane;
+  const int place = (edge_flags & kEdgeInIntersection) != 0 ? kClassInIntersection : kClassOutsideIntersection;
+  return static_cast<uint8_t>((1u << kind) | (1u << place));
+}
+
 CleanGraph clean_graph(const Graph& graph) {
   CleanGraph out;
   out.nodes = graph.nodes;
   const auto n = static_cast<int64_t>(graph.nodes.size());
+  const bool flagged = !graph.edge_flags.empty();
+  NSG_CHECK(!flagged || graph.edge_flags.size() == graph.edges.size(), DataError, "", "edge_flags",
+            "one flag byte per edge");
   std::set<std::array<int32_t, 2>> seen;
   for (size_t k = 0; k < graph.edges.size(); ++k) {
     const auto [i, j] = graph.edges[k];
@@ -26,6 +35,7 @@ CleanGraph clean_graph(const Graph& graph) {
       continue;
     }
     out.edges.push_back(e);
+    if (flagged) out.edge_flags.push_back(graph.edge_flags[k]);
   }
   return out;
 }
@@ -33,8 +43,10 @@ CleanGraph clean_graph(const Graph& graph) {
 std::vector<Segment> segments_of(const CleanGraph& graph) {
   std::vector<Segment> segs;
   segs.reserve(graph.edges.size());
-  for (const auto& [i, j] : graph.edges) {
+  for (size_t k = 0; k < graph.edges.size(); ++k) {
+    const auto [i, j] = graph.edges[k];
     Segment s;
+    if (!graph.edge_flags.empty()) s.classes = class_mask_of(graph.edge_flags[k]);
     s.i = std::min(i, j);
     s.j = std::max(i, j);
     s.fwd = i < j;
@@ -48,6 +60,7 @@ std::vector<Segment> segments_of(const CleanGraph& graph) {
     if (!merged.empty() && merged.back().i == s.i && merged.back().j == s.j) {
       merged.back().fwd = merged.back().fwd || s.fwd;
       merged.back().bwd = merged.back().bwd || s.bwd;
+      merged.back().classes |= s.classes;
     } else {
       merged.push_back(s);
     }

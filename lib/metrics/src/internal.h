@@ -1,5 +1,6 @@
 #pragma once
 // The metric families, each a plain function of two cleaned graphs (docs/metrics.md).
+#include <array>
 #include <cstdint>
 #include <optional>
 
@@ -76,6 +77,12 @@ struct GeoTopoResult {
   std::optional<double> topo_precision, topo_recall, topo_f1;
   std::optional<double> topo_directed_precision, topo_directed_recall, topo_directed_f1;
   int64_t gt_samples = 0, pred_samples = 0, matched = 0, seeds = 0;
+  // Metrics v2: junction TOPO (directed, seeded at ground-truth split nodes) and, when the
+  // ground truth has edge flags, GEO and TOPO recall per EdgeClass.
+  std::optional<double> jtopo_precision, jtopo_recall, jtopo_f1;
+  int64_t jtopo_seeds = 0;
+  std::array<std::optional<double>, kEdgeClassCount> geo_recall_by_class{}, topo_recall_by_class{};
+  std::array<int64_t, kEdgeClassCount> gt_samples_by_class{}, matched_by_class{};
 };
 GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params,
                                WorkMeter& meter);

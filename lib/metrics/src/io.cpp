@@ -103,6 +103,12 @@ Graph graph_of_tile(const graph::TileGraph& tile) {
   for (const graph::TileNode& n : tile.nodes) g.nodes.push_back({n.u_px, n.v_px});
   g.edges.reserve(tile.edges.size());
   for (const graph::TileEdge& e : tile.edges) g.edges.push_back({e.source, e.target});
+  if (tile.has_edge_attributes) {
+    g.edge_flags.reserve(tile.edges.size());
+    for (const graph::TileEdge& e : tile.edges)
+      g.edge_flags.push_back(
+          static_cast<uint8_t>((e.is_connector ? kEdgeConnector : 0) | (e.in_intersection ? kEdgeInIntersection : 0)));
+  }
   return g;
 }
 

@@ -51,7 +51,19 @@ constexpr MetricInfo kMetrics[kMetricCount] = {
      "split detection (UrbanLaneGraph's SDA@20): predicted split points paired within 20 px / predicted ones"},
     {"sda20_recall", "", false, false, "split detection at 20 px: ground-truth split points paired / all of them"},
     {"sda50_precision", "", false, false, "split detection at 50 px (SDA@50): precision"},
-    {"sda50_recall", "", false, false, "split detection at 50 px: recall"}};
+    {"sda50_recall", "", false, false, "split detection at 50 px: recall"},
+    {"jtopo_precision", "", false, false,
+     "junction TOPO (CGNet's JTOPO): directed TOPO precision at the seeds on ground-truth split nodes"},
+    {"jtopo_recall", "", false, false, "junction TOPO recall: directed TOPO recall at ground-truth split nodes"},
+    {"jtopo_f1", "", false, false, "junction TOPO F1"},
+    {"geo_recall_lane", "", false, false, "GEO recall on the ground truth's lane edges (not connectors)"},
+    {"geo_recall_connector", "", false, false, "GEO recall on the ground truth's connector edges"},
+    {"geo_recall_in_intersection", "", false, false, "GEO recall on ground-truth edges inside intersections"},
+    {"geo_recall_outside_intersection", "", false, false, "GEO recall on ground-truth edges outside intersections"},
+    {"topo_recall_lane", "", false, false, "TOPO recall summed over the seeds on lane edges"},
+    {"topo_recall_connector", "", false, false, "TOPO recall summed over the seeds on connector edges"},
+    {"topo_recall_in_intersection", "", false, false, "TOPO recall over the seeds inside intersections"},
+    {"topo_recall_outside_intersection", "", false, false, "TOPO recall over the seeds outside intersections"}};
 constexpr const char* kCountNames[kCountCount] = {"missing_prediction",
                                                   "gt_self_loops_dropped",
                                                   "gt_duplicate_edges_dropped",
@@ -73,7 +85,16 @@ constexpr const char* kCountNames[kCountCount] = {"missing_prediction",
                                                   "sda_gt_splits",
                                                   "sda_pred_splits",
                                                   "sda20_matched",
-                                                  "sda50_matched"};
+                                                  "sda50_matched",
+                                                  "jtopo_seeds",
+                                                  "geo_gt_samples_lane",
+                                                  "geo_gt_samples_connector",
+                                                  "geo_gt_samples_in_intersection",
+                                                  "geo_gt_samples_outside_intersection",
+                                                  "geo_matched_lane",
+                                                  "geo_matched_connector",
+                                                  "geo_matched_in_intersection",
+                                                  "geo_matched_outside_intersection"};
 
 void set_apls(MetricValues& v, int first, const detail::AplsResult& r) {
   v[first] = r.apls;
@@ -106,6 +127,20 @@ void set_sda(const CleanGraph& g, const CleanGraph& p, detail::WorkMeter& meter,
   }
 }
 
+// Junction TOPO and the per-class recalls, from GEO/TOPO's result.
+void set_geo_topo_v2(const detail::GeoTopoResult& r, TileMeasurement& t) {
+  t.values[kJtopoPrecision] = r.jtopo_precision;
+  t.values[kJtopoRecall] = r.jtopo_recall;
+  t.values[kJtopoF1] = r.jtopo_f1;
+  t.counts[kJtopoSeeds] = r.jtopo_seeds;
+  for (int k = 0; k < kEdgeClassCount; ++k) {
+    t.values[kGeoRecallLane + k] = r.geo_recall_by_class[k];
+    t.values[kTopoRecallLane + k] = r.topo_recall_by_class[k];
+    t.counts[kGeoGtSamplesLane + k] = r.gt_samples_by_class[k];
+    t.counts[kGeoMatchedLane + k] = r.matched_by_class[k];
+  }
+}
+
 // APLS and GEO/TOPO: the metrics whose searches the work meter bounds.
 void measure_searched(const CleanGraph& g, const CleanGraph& p, const MetricParams& params, detail::WorkMeter& meter,
                       TileMeasurement& t) {
@@ -132,6 +167,7 @@ void measure_searched(const CleanGraph& g, const CleanGraph& p, const MetricPara
   c[kGeoPredSamples] = gt_r.pred_samples;
   c[kGeoMatched] = gt_r.matched;
   c[kTopoSeeds] = gt_r.seeds;
+  set_geo_topo_v2(gt_r, t);
 }
 
 }  // namespace

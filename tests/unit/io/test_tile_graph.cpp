@@ -35,6 +35,7 @@ TEST(TileGraph, AttributesAndLaneChangesRoundTrip) {
   EXPECT_EQ(back.lane_changes[1].source, 3);
   EXPECT_EQ(back.lane_changes[1].target, 1);
   EXPECT_EQ(back.lane_changes[1].from_lane_token, "conn-b");
+  EXPECT_TRUE(back.has_edge_attributes);
   EXPECT_EQ(tile_graph_text("boston-seaport-test-000000", back), text) << "the writer is the reader's inverse";
   EXPECT_NE(text.find(R"("kind":"connector","in_intersection":true,"turn":"u_turn")"), std::string::npos) << text;
 }
@@ -49,6 +50,8 @@ TEST(TileGraph, AGraphWithoutAttributesReadsWithTheirDefaults) {
   EXPECT_FALSE(g.edges[0].in_intersection);
   EXPECT_EQ(g.edges[0].turn, graph::Turn::kStraight);
   EXPECT_TRUE(g.lane_changes.empty());
+  // Defaults, not facts: the scorer's per-class recalls must not take them for lanes.
+  EXPECT_FALSE(g.has_edge_attributes);
 }
 
 TEST(TileGraph, BadAttributesAreRefusedByPath) {

@@ -9,7 +9,7 @@ namespace nsg::metrics {
 namespace {
 
 // A straight GT lane along v = 50 from u = 10 to u = 110 (two edges, eastbound).
-Graph east_lane() { return {{{10, 50}, {60, 50}, {110, 50}}, {{0, 1}, {1, 2}}, {}, {}}; }
+Graph east_lane() { return {{{10, 50}, {60, 50}, {110, 50}}, {{0, 1}, {1, 2}}, {}, {}, {}}; }
 
 TEST(EdgeMarks, CorrectWrongUnmatchedAndMissed) {
   Graph pred;
@@ -36,13 +36,13 @@ TEST(EdgeMarks, MissingPredictionMissesEveryGtEdge) {
   EXPECT_TRUE(m.pred_marks.empty());
   EXPECT_EQ(m.gt_missed, (std::vector<bool>{true, true}));
   // Only the eastern half predicted: the western GT edge is missed.
-  Graph half{{{60, 50}, {110, 50}}, {{0, 1}}, {}, {}};
+  Graph half{{{60, 50}, {110, 50}}, {{0, 1}}, {}, {}, {}};
   EXPECT_EQ(mark_edges(east_lane(), &half, MetricParams{}).gt_missed, (std::vector<bool>{true, false}));
 }
 
 TEST(EdgeMarks, BothWaysLaneAcceptsEitherDirection) {
-  Graph gt{{{10, 50}, {110, 50}}, {{0, 1}, {1, 0}}, {}, {}};
-  Graph pred{{{100, 51}, {20, 51}}, {{0, 1}}, {}, {}};
+  Graph gt{{{10, 50}, {110, 50}}, {{0, 1}, {1, 0}}, {}, {}, {}};
+  Graph pred{{{100, 51}, {20, 51}}, {{0, 1}}, {}, {}, {}};
   EXPECT_EQ(mark_edges(gt, &pred, MetricParams{}).pred_marks, std::vector<PredEdgeMark>{PredEdgeMark::kCorrect});
 }
 

@@ -242,3 +242,24 @@ TEST(Io, SubmissionStructureErrorsNamePath) {
 
 }  // namespace
 }  // namespace nsg::metrics
+
+namespace nsg::metrics {
+namespace {
+
+// graph.json's edge attributes reach the scorer as edge flags (the per-class recalls); a
+// graph written before them gives none, so those recalls are undefined, not "all lanes".
+TEST(Io, EdgeAttributesBecomeTheGroundTruthsEdgeFlags) {
+  graph::TileGraph tile;
+  tile.nodes = {{0, 0.0, 0.0, 0.0, 0.0, graph::Junction::kNone},
+                {1, 10.0, 0.0, 2.0, 0.0, graph::Junction::kNone},
+                {2, 20.0, 0.0, 4.0, 0.0, graph::Junction::kNone}};
+  tile.edges.resize(2);
+  tile.edges[0] = {0, 1, "lane", false, false, graph::Turn::kStraight};
+  tile.edges[1] = {1, 2, "connector", true, true, graph::Turn::kLeft};
+  EXPECT_EQ(graph_of_tile(tile).edge_flags, (std::vector<uint8_t>{0, kEdgeConnector | kEdgeInIntersection}));
+  tile.has_edge_attributes = false;
+  EXPECT_TRUE(graph_of_tile(tile).edge_flags.empty());
+}
+
+}  // namespace
+}  // namespace nsg::metrics

@@ -51,6 +51,9 @@ struct TileGraph {
   std::vector<TileNode> nodes;
   std::vector<TileEdge> edges;
   std::vector<TileLaneChange> lane_changes;  // by source, then target node
+  // False when read from a graph.json written before the edge attributes (an edge without
+  // "kind"): its kind and in_intersection are then defaults, not facts.
+  bool has_edge_attributes = true;
   double total_length_m() const;
 };
 

@@ -14,11 +14,20 @@ struct Point {
   double v = 0.0;  // row, px
 };
 
+// What a ground-truth edge is (graph.json's edge attributes, docs/dataset-format.md "Graph
+// attributes"), as bit flags per edge: the per-class recalls of docs/metrics.md "Metrics v2"
+// read them. Submissions carry none.
+enum EdgeFlag : uint8_t {
+  kEdgeConnector = 1,       // kind "connector" (else a lane)
+  kEdgeInIntersection = 2,  // in_intersection
+};
+
 struct Graph {
   std::vector<Point> nodes;
   std::vector<std::array<int64_t, 2>> edges;  // directed i -> j, node indices
   std::vector<double> node_scores;            // optional, empty if absent
   std::vector<double> edge_scores;            // optional, empty if absent
+  std::vector<uint8_t> edge_flags;            // optional, EdgeFlag bits per edge; empty if unknown
 };
 
 // Tile key -> graph, sorted by key (the order of every reduction).
@@ -29,6 +38,7 @@ using GraphSet = std::map<std::string, Graph>;
 struct CleanGraph {
   std::vector<Point> nodes;
   std::vector<std::array<int32_t, 2>> edges;  // first occurrence order kept
+  std::vector<uint8_t> edge_flags;            // per kept edge when the graph had them, else empty
   int64_t self_loops_dropped = 0;
   int64_t duplicate_edges_dropped = 0;
 };
@@ -36,13 +46,20 @@ struct CleanGraph {
 // Throws DataError if an edge index is out of range (submissions are validated first).
 CleanGraph clean_graph(const Graph& graph);
 
+// The edge classes of the per-class recalls (docs/metrics.md "Metrics v2"), as bits of a
+// membership mask: a lane or a connector, inside or outside an intersection.
+enum EdgeClass : int { kClassLane, kClassConnector, kClassInIntersection, kClassOutsideIntersection, kEdgeClassCount };
+// The classes an edge with these EdgeFlag bits belongs to (one of each pair).
+uint8_t class_mask_of(uint8_t edge_flags);
+
 // Undirected segment {i, j} (i < j) with the directions present (docs/metrics.md GEO/TOPO
 // rule 1), sorted by (i, j).
 struct Segment {
   int32_t i = 0;
   int32_t j = 0;
-  bool fwd = false;  // edge i -> j exists
-  bool bwd = false;  // edge j -> i exists
+  bool fwd = false;     // edge i -> j exists
+  bool bwd = false;     // edge j -> i exists
+  uint8_t classes = 0;  // EdgeClass bits of the edges it merges; 0 when the graph has no flags
 };
 std::vector<Segment> segments_of(const CleanGraph& graph);
 

@@ -47,6 +47,19 @@ enum Metric : int {
   kSda20Recall,
   kSda50Precision,
   kSda50Recall,
+  // Junction TOPO (CGNet's JTOPO): directed TOPO seeded at ground-truth split nodes.
+  kJtopoPrecision,
+  kJtopoRecall,
+  kJtopoF1,
+  // GEO and TOPO recall per ground-truth edge class, in EdgeClass order (graph.h).
+  kGeoRecallLane,
+  kGeoRecallConnector,
+  kGeoRecallInIntersection,
+  kGeoRecallOutsideIntersection,
+  kTopoRecallLane,
+  kTopoRecallConnector,
+  kTopoRecallInIntersection,
+  kTopoRecallOutsideIntersection,
   kMetricCount
 };
 // Per-tile integer counts. Names: count_name().
@@ -73,6 +86,15 @@ enum Count : int {
   kSdaPredSplits,
   kSda20Matched,
   kSda50Matched,
+  kJtopoSeeds,
+  kGeoGtSamplesLane,  // per EdgeClass, in its order
+  kGeoGtSamplesConnector,
+  kGeoGtSamplesInIntersection,
+  kGeoGtSamplesOutsideIntersection,
+  kGeoMatchedLane,  // per EdgeClass, in its order
+  kGeoMatchedConnector,
+  kGeoMatchedInIntersection,
+  kGeoMatchedOutsideIntersection,
   kCountCount
 };
 // What a metric is, declared once (measure.cpp's table): its name in reports, its unit,
