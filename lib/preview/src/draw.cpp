@@ -58,6 +58,8 @@ const std::vector<OverlayColor>& overlay_colors() {
       {"wrong_direction", "prediction, wrong direction", kWrongDirectionEdge, false},
       {"unmatched", "prediction, unmatched", kUnmatchedEdge, true},
       {"baseline", "baseline's prediction", kBaselineEdge, true},
+      {"lane_change", "lane change (neighbouring lane, same direction)", kLaneChangeEdge, true},
+      {"junction", "junction node (split, merge)", kJunctionNode, false},
   };
   return kOverlays;
 }

@@ -433,6 +433,10 @@
         predG = drawGraph(d.pred, 'pred', (e) => 'm' + d.pred.marks[e], 2);
         graphs.push(predG);
       }
+      // The ground truth's lane changes (dashed rungs) and junction nodes (rings), each a layer
+      // the side panel toggles: off at first, so the graphs read as before.
+      const attrG = drawAttributes(d);
+      if (attrG) { for (const a of [attrG.changes, attrG.junctions]) a.g.style.display = 'none'; graphs.push(attrG.changes, attrG.junctions); }
       for (const gr of graphs) overlay.append(gr.g);
       svg.append(defs, img, overlay);
       const z = zoomable(svg, box, (upp) => {
@@ -469,6 +473,10 @@
         history.replaceState(null, '', '#' + new URLSearchParams(Object.assign(params(), { base: on ? '1' : '0' })));
       });
       if (d.pred !== undefined) toggle('mark errors', 'show-marks', true, (on) => svg.classList.toggle('plain', !on));
+      if (attrG) {
+        toggle('lane changes (' + d.attributes.lane_changes.length + ')', 'show-lane-changes', false, (on) => { attrG.changes.g.style.display = on ? '' : 'none'; });
+        toggle('junctions (' + d.attributes.junctions.length + ')', 'show-junctions', false, (on) => { attrG.junctions.g.style.display = on ? '' : 'none'; });
+      }
       toggles.append(overlayLegend(d));
       toggles.append(el('div', {}, el('button', { text: '+', onclick: () => z.zoom(0.8) }), ' ', el('button', { text: '−', onclick: () => z.zoom(1.25) }), ' ',
         el('button', { text: 'reset', onclick: () => z.reset() }), el('span', { class: 'muted', text: ' wheel: zoom, drag: pan' })));
@@ -485,12 +493,28 @@
     return el('div', { class: 'legend' }, ...items.map((it) => el('span', {}, el('span', { class: 'swatch', style: 'background:' + it.color }), it.label)));
   }
 
+  // graph.json's lane changes as dashed lines between their two nodes, its split and merge
+  // nodes as rings (docs/dataset-format.md "Graph attributes"); null for a tile without them.
+  function drawAttributes(d) {
+    if (!d.attributes || !d.gt) return null;
+    const nodes = d.gt.nodes;
+    const changes = sv('g', { id: 'lane-change-layer', class: 'lane-changes' });
+    for (const [i, j] of d.attributes.lane_changes)
+      changes.append(sv('path', { d: 'M' + nodes[i] + 'L' + nodes[j], class: 'lane-change' }));
+    const junctions = sv('g', { id: 'junction-layer', class: 'junctions' });
+    for (const [n, kind] of d.attributes.junctions)
+      junctions.append(sv('circle', { cx: nodes[n][0], cy: nodes[n][1], r: 3, class: 'junction ' + kind }));
+    const zoomWidth = (g, w) => (upp) => g.setAttribute('stroke-width', w * upp);
+    return { changes: { g: changes, zoom: zoomWidth(changes, 1.5) }, junctions: { g: junctions, zoom: zoomWidth(junctions, 2) } };
+  }
+
   function overlayLegend(d) {
     const line = (name) => {
       const o = overlay(name);
       return el('span', {}, el('span', { class: 'line-swatch cased' + (o.dashed ? ' dashed' : ''), style: 'border-color:' + o.color }), o.label);
     };
     const items = [line('gt')];
+    if (d.attributes) items.push(line('lane_change'), line('junction'));
     if (d.pred !== undefined) {
       items.push(line('missed'), line('pred'), line('wrong_direction'), line('unmatched'));
       if (d.pred === null) items.push(el('span', { class: 'error', text: 'no prediction for this tile (scored as empty)' }));

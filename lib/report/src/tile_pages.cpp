@@ -14,6 +14,8 @@
 #include "nsg/core/sha256.h"
 #include "nsg/core/strings.h"
 #include "nsg/core/version.h"
+#include "nsg/graph/clip.h"
+#include "nsg/graph/lane_attributes.h"
 #include "nsg/metrics/edge_marks.h"
 #include "nsg/metrics/io.h"
 #include "nsg/preview/preview.h"
@@ -77,7 +79,16 @@ Meta read_meta(const io::DatasetTile& tile) {
   return m;
 }
 
-metrics::Graph read_graph(const io::DatasetTile& tile) { return metrics::tile_graph(tile); }
+// The ground truth's lane changes and junction nodes for the tile view's overlays, by node
+// index (the same nodes as its "gt" graph).
+nlohmann::json attributes_json(const graph::TileGraph& g) {
+  nlohmann::json changes = nlohmann::json::array(), junctions = nlohmann::json::array();
+  for (const graph::TileLaneChange& c : g.lane_changes) changes.push_back({c.source, c.target});
+  for (size_t n = 0; n < g.nodes.size(); ++n)
+    if (g.nodes[n].junction != graph::Junction::kNone)
+      junctions.push_back({n, graph::junction_name(g.nodes[n].junction)});
+  return {{"lane_changes", std::move(changes)}, {"junctions", std::move(junctions)}};
+}
 
 // What a tile's layer images are made of: every member's bytes and the renderer (this
 // build), so a rerun takes an earlier image only when both are unchanged.
@@ -234,9 +245,11 @@ TileOutcome render_tile(const io::DatasetTile& tile, const TileInputs& in,
   outcome.fingerprint = tile_fingerprint(tile);
   outcome.reused = reuse_images(earlier, tile.key, outcome.fingerprint, dir);
   if (!outcome.reused) render_images(tile, dir);
-  const metrics::Graph gt = read_graph(tile);
+  const graph::TileGraph tile_graph = tile.graph();
+  const metrics::Graph gt = metrics::graph_of_tile(tile_graph);
   TileRow row = ground_truth_row(tile, meta, gt);
   nlohmann::ordered_json doc = tile_document(tile, meta);
+  doc["attributes"] = attributes_json(tile_graph);
   if (in.prediction) {
     add_edge_marks(tile, in, gt, doc, row);
     const auto s = scores.find(tile.key);

@@ -106,6 +106,18 @@ TEST(Browser, ReportLoadsSortsAndDrawsOverlays) {
   EXPECT_EQ(st["tile"]["strokes"]["pred"], css_rgb(preview::kPredEdge)) << st.dump(1);
   EXPECT_EQ(st["tile"]["strokes"]["baseline"], css_rgb(preview::kBaselineEdge)) << st.dump(1);
   EXPECT_EQ(st["tile"]["strokes"]["casing"], css_rgb(preview::kOverlayCasing)) << st.dump(1);
+  // The ground truth's lane changes and junctions: one path or ring each, behind two toggles.
+  const nlohmann::json tile_doc =
+      read_data_script(out / "data" / "tile" / (st["tile"]["key"].get<std::string>() + ".js"));
+  EXPECT_EQ(st["tile"]["lane_change_paths"], tile_doc["attributes"]["lane_changes"].size()) << st.dump(1);
+  EXPECT_EQ(st["tile"]["junction_rings"], tile_doc["attributes"]["junctions"].size()) << st.dump(1);
+  EXPECT_EQ(st["tile"]["attribute_toggles"], 2);
+  if (!tile_doc["attributes"]["lane_changes"].empty()) {
+    EXPECT_EQ(st["tile"]["strokes"]["lane_change"], css_rgb(preview::kLaneChangeEdge)) << st.dump(1);
+  }
+  if (!tile_doc["attributes"]["junctions"].empty()) {
+    EXPECT_EQ(st["tile"]["strokes"]["junction"], css_rgb(preview::kJunctionNode)) << st.dump(1);
+  }
   // The table shows the Δ columns and hides the baseline's own values until chosen.
   const auto shown = st["table_columns"].get<std::vector<std::string>>();
   const nlohmann::json summary = read_data_script(out / "data/summary.js");

@@ -9,6 +9,8 @@
 
 #include "generate_fixture.h"
 #include "nsg/core/files.h"
+#include "nsg/graph/clip.h"
+#include "nsg/io/dataset.h"
 #include "nsg/metrics/measure.h"
 #include "nsg/report/report.h"
 #include "report_fixture.h"
@@ -224,6 +226,27 @@ TEST(Report, DatasetOnlyHasStatsAndEveryTile) {
   EXPECT_EQ(tiles["keys"].size(), static_cast<size_t>(all));
   EXPECT_FALSE(tiles["values"].contains("apls"));
   EXPECT_TRUE(tiles["values"].contains("coverage_lidar"));
+  // Each tile view carries its ground truth's lane changes and junction nodes, as graph.json
+  // has them (the overlays the tile view toggles).
+  const io::Dataset dataset = io::Dataset::open(ds);
+  size_t changes = 0, junctions = 0;
+  dataset.for_each_tile("test", [&](const io::DatasetTile& tile) {
+    const graph::TileGraph g = tile.graph();
+    const nlohmann::json doc = read_data_script(out / "data" / "tile" / (tile.key + ".js"));
+    EXPECT_EQ(doc["attributes"]["lane_changes"].size(), g.lane_changes.size()) << tile.key;
+    if (doc["attributes"]["lane_changes"].size() != g.lane_changes.size()) return false;
+    for (size_t k = 0; k < g.lane_changes.size(); ++k)
+      EXPECT_EQ(doc["attributes"]["lane_changes"][k],
+                nlohmann::json({g.lane_changes[k].source, g.lane_changes[k].target}));
+    size_t tile_junctions = 0;
+    for (const graph::TileNode& n : g.nodes) tile_junctions += n.junction != graph::Junction::kNone ? 1 : 0;
+    EXPECT_EQ(doc["attributes"]["junctions"].size(), tile_junctions) << tile.key;
+    changes += g.lane_changes.size();
+    junctions += tile_junctions;
+    return true;
+  });
+  EXPECT_GT(changes, 0u);
+  EXPECT_GT(junctions, 0u);
 }
 
 TEST(Report, SameBytesAtAnyThreadCountAndRerunReplaces) {

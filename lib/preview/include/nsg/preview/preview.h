@@ -58,11 +58,13 @@ inline constexpr Rgb kPredEdge{0, 255, 128};
 inline constexpr Rgb kWrongDirectionEdge{255, 0, 255};
 inline constexpr Rgb kUnmatchedEdge{240, 228, 66};
 inline constexpr Rgb kBaselineEdge{255, 255, 255};
+inline constexpr Rgb kLaneChangeEdge{230, 159, 0};  // graph.json's lane_changes
+inline constexpr Rgb kJunctionNode{255, 64, 64};    // split / merge nodes
 inline constexpr Rgb kOverlayCasing{0, 0, 0};
 inline constexpr double kOverlayMinContrast = 40.0;
 // The report's overlays by the name its page and legend use, in drawing order.
 struct OverlayColor {
-  const char* name;   // "gt", "missed", "pred", "wrong_direction", "unmatched", "baseline"
+  const char* name;   // "gt", "missed", "pred", "wrong_direction", "unmatched", "baseline", "lane_change", "junction"
   const char* label;  // the legend's words
   Rgb color;
   bool dashed;
