@@ -11,7 +11,8 @@ namespace {
 
 // Coordinates are in one frame (metres or pixels, the caller's choice): the tile graph is
 // built with x = u = the given coordinate so lane_graph_from_tile reads either.
-graph::TileGraph tile_graph_arg(const Points& nodes, const Pairs& edges, const std::vector<std::string>& tokens) {
+graph::TileGraph tile_graph_arg(const Points& nodes, const Pairs& edges, const std::vector<std::string>& tokens,
+                                const Pairs& lane_changes) {
   graph::TileGraph g;
   const auto xy = points_arg(nodes, "graph nodes");
   for (size_t k = 0; k < xy.size(); ++k)
@@ -25,12 +26,21 @@ graph::TileGraph tile_graph_arg(const Points& nodes, const Pairs& edges, const s
                 "node indices in [0, " + std::to_string(xy.size()) + ")");
     g.edges.push_back({static_cast<int32_t>(ij[k][0]), static_cast<int32_t>(ij[k][1]), tokens[k]});
   }
+  const auto changes = pairs_arg(lane_changes, "graph lane_changes");
+  for (size_t k = 0; k < changes.size(); ++k) {
+    for (int64_t i : changes[k])
+      NSG_CHECK(i >= 0 && i < static_cast<int64_t>(xy.size()), DataError, "",
+                "graph lane_changes[" + std::to_string(k) + "]",
+                "node indices in [0, " + std::to_string(xy.size()) + ")");
+    g.lane_changes.push_back({static_cast<int32_t>(changes[k][0]), static_cast<int32_t>(changes[k][1]), "", ""});
+  }
   return g;
 }
 
 py::dict adaptive_ground_truth(const Points& nodes, const Pairs& edges, const std::vector<std::string>& tokens,
-                               const Points& proposals, double max_distance, double max_follow) {
-  const graph::TileGraph tile = tile_graph_arg(nodes, edges, tokens);
+                               const Pairs& lane_changes, const Points& proposals, double max_distance,
+                               double max_follow) {
+  const graph::TileGraph tile = tile_graph_arg(nodes, edges, tokens, lane_changes);
   std::vector<graph::Node> points;
   for (const auto& p : points_arg(proposals, "proposals")) points.push_back({p[0], p[1]});
   graph::ProjectionOptions options;
@@ -69,6 +79,9 @@ py::dict adaptive_ground_truth(const Points& nodes, const Pairs& edges, const st
   d["along"] = doubles_to_numpy(along);
   d["distance"] = doubles_to_numpy(distance);
   d["edges"] = pairs_to_numpy(connections);
+  std::vector<std::array<int64_t, 2>> lateral;
+  for (const auto& [a, b] : gt.lane_changes) lateral.push_back({a, b});
+  d["lane_changes"] = pairs_to_numpy(lateral);
   return d;
 }
 
@@ -76,7 +89,7 @@ py::dict adaptive_ground_truth(const Points& nodes, const Pairs& edges, const st
 
 void bind_graph(py::module_& m) {
   m.def("adaptive_ground_truth", &adaptive_ground_truth, py::arg("nodes"), py::arg("edges"), py::arg("lane_tokens"),
-        py::arg("proposals"), py::arg("max_distance"), py::arg("max_follow"));
+        py::arg("lane_changes"), py::arg("proposals"), py::arg("max_distance"), py::arg("max_follow"));
 }
 
 }  // namespace nsg::py_bind

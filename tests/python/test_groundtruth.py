@@ -57,6 +57,40 @@ class AdaptiveGroundTruthTest(unittest.TestCase):
         self.assertEqual(r["lane"].tolist(), [0, 0, 1, 1])
         self.assertEqual(r["edges"].tolist(), [[0, 1], [2, 3]])
 
+    def test_lane_changes_are_lateral_links_not_connections(self):
+        # Two parallel eastbound lanes 3.5 m apart, rungs both ways at every node.
+        nodes = np.array([[0, 0], [10, 0], [20, 0], [0, 3.5], [10, 3.5], [20, 3.5]], dtype=float)
+        rungs = [[0, 3], [3, 0], [1, 4], [4, 1], [2, 5], [5, 2]]
+        graph = {"nodes_m": nodes, "edges": np.array([[0, 1], [1, 2], [3, 4], [4, 5]]),
+                 "lane_tokens": ["A", "A", "B", "B"], "lane_changes": np.array(rungs)}
+        r = nsgraph.adaptive_ground_truth(graph, [[4, 0.2], [11, -0.3], [9, 3.4]], frame="m")
+        self.assertEqual(r["lane_tokens"], ["A", "A", "B"])
+        self.assertEqual(r["edges"].tolist(), [[0, 1]])  # successors only: never across lanes
+        # Nearest point at each node (on an edge there): node 0 -> 0, node 1 -> 1 (1 m, not 6),
+        # node 2 -> 1, node 3 -> 2, node 4 -> 2, node 5 -> none; so rungs 2 <-> 5 link nothing.
+        self.assertEqual(r["lane_changes"].tolist(), [[0, 2], [1, 2], [2, 0], [2, 1]])
+        self.assertEqual(r["lane_changes"].dtype, np.int64)
+        # A graph without lane changes has no lateral links.
+        plain = nsgraph.adaptive_ground_truth(GRAPH, [[15, 1.0]], frame="m")
+        self.assertEqual(plain["lane_changes"].shape, (0, 2))
+        with self.assertRaises(nsgraph.DataError) as e:
+            nsgraph.adaptive_ground_truth(dict(graph, lane_changes=[[0, 9]]), [[4, 0.2]], frame="m")
+        self.assertIn("lane_changes[0]", str(e.exception))
+
+    def test_a_dataset_tiles_lane_changes_reach_the_links(self):
+        # On a generated tile: proposals at the ground truth's own nodes give one link per
+        # lane change (each node its own nearest point), none of them among the connections.
+        import fixtures
+        ds = nsgraph.Dataset(fixtures.e2e_dataset("tar"), "test", modalities=())
+        tile = max(ds, key=lambda t: len(t["graph"]["lane_changes"]))
+        g = tile["graph"]
+        r = nsgraph.adaptive_ground_truth(tile, g["nodes_px"], frame="px")
+        self.assertGreater(len(r["lane_changes"]), 0)
+        point_of = {int(i): k for k, i in enumerate(r["input"])}
+        want = sorted({(point_of[int(s)], point_of[int(t)]) for s, t in g["lane_changes"]})
+        self.assertEqual([tuple(p) for p in r["lane_changes"].tolist()], want)
+        self.assertFalse({tuple(p) for p in r["lane_changes"].tolist()} & {tuple(p) for p in r["edges"].tolist()})
+
     def test_bad_input_names_the_problem(self):
         with self.assertRaises(nsgraph.DataError) as e:
             nsgraph.adaptive_ground_truth({"nodes_m": NODES, "edges": [[0, 99]], "lane_tokens": ["A"]}, [[0, 0]],

@@ -58,6 +58,36 @@ void connect_across(const LaneGraph& graph, int32_t from_point, int32_t lane,
   }
 }
 
+// The projected point nearest each node among those on an edge that starts or ends there
+// (−1: none), ties to the lower point index.
+std::vector<int32_t> nearest_point_at_node(const LaneGraph& graph, const std::vector<ProjectedPoint>& points) {
+  std::vector<int32_t> best(graph.nodes.size(), -1);
+  std::vector<double> best_m(graph.nodes.size(), 0.0);
+  for (size_t k = 0; k < points.size(); ++k) {
+    const Edge& e = graph.edges[static_cast<size_t>(points[k].edge)];
+    for (const int32_t n : {e.source, e.target}) {
+      const Node& node = graph.nodes[static_cast<size_t>(n)];
+      const double d = std::hypot(points[k].x_m - node.x_m, points[k].y_m - node.y_m);
+      if (best[n] < 0 || d < best_m[n]) {
+        best[n] = static_cast<int32_t>(k);
+        best_m[n] = d;
+      }
+    }
+  }
+  return best;
+}
+
+void link_lane_changes(const LaneGraph& graph, AdaptiveGroundTruth* gt) {
+  if (graph.lane_changes.empty()) return;
+  const std::vector<int32_t> at = nearest_point_at_node(graph, gt->points);
+  for (const LaneChange& c : graph.lane_changes) {
+    const int32_t a = at[static_cast<size_t>(c.source)], b = at[static_cast<size_t>(c.target)];
+    if (a >= 0 && b >= 0 && a != b) gt->lane_changes.emplace_back(a, b);
+  }
+  std::sort(gt->lane_changes.begin(), gt->lane_changes.end());
+  gt->lane_changes.erase(std::unique(gt->lane_changes.begin(), gt->lane_changes.end()), gt->lane_changes.end());
+}
+
 }  // namespace
 
 AdaptiveGroundTruth project_onto_lanes(const LaneGraph& graph, const SegmentIndex& index,
@@ -94,6 +124,7 @@ AdaptiveGroundTruth project_onto_lanes(const LaneGraph& graph, const SegmentInde
     if (last[lane] >= 0)
       connect_across(graph, last[lane], static_cast<int32_t>(lane), first, options.max_follow_m, &gt);
   }
+  link_lane_changes(graph, &gt);
   return gt;
 }
 

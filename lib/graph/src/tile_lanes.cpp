@@ -89,6 +89,14 @@ LaneGraph lane_graph_from_tile(const TileGraph& tile, TileFrame frame, std::vect
       if (it->second != static_cast<int32_t>(a)) g.lanes[a].successors.push_back(it->second);
     std::sort(g.lanes[a].successors.begin(), g.lanes[a].successors.end());
   }
+  // Lane changes keep their nodes (the tile's); their lanes are not needed by the readers of
+  // a tile's lane graph (the adaptive ground truth links nodes), so they stay −1.
+  for (const TileLaneChange& c : tile.lane_changes) {
+    NSG_CHECK(c.source >= 0 && c.source < n_nodes && c.target >= 0 && c.target < n_nodes, DataError, "tile graph",
+              "lane change " + std::to_string(c.source) + " -> " + std::to_string(c.target),
+              "node indices in [0, " + std::to_string(n_nodes) + ")");
+    g.lane_changes.push_back({c.source, c.target, -1, -1});
+  }
   return g;
 }
 

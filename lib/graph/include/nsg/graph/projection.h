@@ -29,6 +29,10 @@ struct ProjectedPoint {
 struct AdaptiveGroundTruth {
   std::vector<ProjectedPoint> points;                    // projected inputs, ordered by lane then along the lane
   std::vector<std::pair<int32_t, int32_t>> connections;  // directed, indices into points
+  // Lateral links, apart from the connections (a lane change is no successor): for each of
+  // the graph's lane changes s → t, the point nearest node s among those on an edge at s,
+  // to the point nearest t among those on an edge at t; sorted, each pair once.
+  std::vector<std::pair<int32_t, int32_t>> lane_changes;
 
   // Whether points[a] → points[b] is a connection.
   bool has_connection(int32_t a, int32_t b) const;

@@ -15,7 +15,8 @@ enum class TileFrame { kMetres, kPixels };
 // share a node in the tile graph. Node coordinates are (x, y) metres or, with kPixels,
 // (u, v) pixels (then distances in ProjectionOptions are pixels too). Throws DataError
 // naming the edge when it refers to a node that does not exist. `tile_edge_of`, when
-// given, receives for each edge of the result the index of its edge in `tile`.
+// given, receives for each edge of the result the index of its edge in `tile`. The tile's
+// lane changes become the result's, by node (their lanes −1).
 LaneGraph lane_graph_from_tile(const TileGraph& tile, TileFrame frame = TileFrame::kMetres,
                                std::vector<int32_t>* tile_edge_of = nullptr);
 
