@@ -152,6 +152,9 @@ const Table<ScenesConfig>& scenes_table() {
         .unit("µs")
         .range(Range{1e15, 4e15, true, true, {}})
         .help("Time of the first sample, microseconds since the Unix epoch (2001..2096)");
+    t.integer("scenes.capture_days", &ScenesConfig::capture_days)
+        .range(options::between(1, 365))
+        .help("Days the scenes are spread over in index order (scene i on day floor(i * days / count)); 1 = one day");
     return t;
   }();
   return table;

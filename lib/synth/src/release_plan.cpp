@@ -18,6 +18,7 @@ using geometry::Pose2;
 namespace {
 
 constexpr double kAnnotationPadM = 0.05;
+constexpr int64_t kMicrosecondsPerDay = int64_t{86400} * 1000000;
 
 std::string log_name(const SynthConfig& cfg, int64_t t0_us, std::string* date) {
   const bool boston = cfg.location == "boston-seaport";
@@ -147,7 +148,11 @@ SceneRun plan_scene_run(const World& world, int index, uint64_t seed) {
   Rng rng(seed, 0x1000 + static_cast<uint64_t>(index));
   const int n_samples = cfg.scenes.samples_per_scene;
   const double duration_s = (n_samples - 1) * 0.5;
-  s.t0 = cfg.scenes.first_timestamp_us + static_cast<int64_t>(index) * static_cast<int64_t>((duration_s + 60.0) * 1e6);
+  // Scenes a minute apart, each shifted by whole days to its capture day (0 for every scene
+  // with capture_days = 1, so one-day releases keep their timestamps).
+  const int64_t day = static_cast<int64_t>(index) * cfg.scenes.capture_days / cfg.scenes.count;
+  s.t0 = cfg.scenes.first_timestamp_us + static_cast<int64_t>(index) * static_cast<int64_t>((duration_s + 60.0) * 1e6) +
+         day * kMicrosecondsPerDay;
   s.token = table_token(seed, "scene", static_cast<uint64_t>(index));
   s.log_token = table_token(seed, "log", static_cast<uint64_t>(index));
   s.logfile = log_name(cfg, s.t0, &s.date);

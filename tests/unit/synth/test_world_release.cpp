@@ -249,6 +249,25 @@ TEST(WorldRelease, TimingRules) {
   EXPECT_EQ(sweeps, 31u);
 }
 
+// scenes.capture_days spreads the scenes over days in index order: each scene's log has its
+// day's date (and the same time of day as with one day), and the timing rules still hold.
+TEST(WorldRelease, CaptureDaysGiveEachSceneItsDate) {
+  const fs::path root = generate("synth-days", {"--set", "scenes.count=3", "--set", "scenes.capture_days=3", "--set",
+                                                "scenes.samples_per_scene=2"});
+  const Database db = Database::load(root, "v1.0-mini");
+  ASSERT_EQ(db.scene.size(), 3u);
+  std::vector<std::string> dates;
+  for (const auto& scene : db.scene) dates.push_back(db.log[scene.log].date_captured);
+  // tiny.json's first sample is on 2018-07-23 in Boston (UTC−4); scene i is shifted by i days.
+  EXPECT_EQ(dates, (std::vector<std::string>{"2018-07-23", "2018-07-24", "2018-07-25"}));
+  const int64_t day_us = int64_t{86400} * 1000000;
+  const int64_t t0 = db.sample[db.scene[0].first_sample].timestamp_us;
+  const int64_t t1 = db.sample[db.scene[1].first_sample].timestamp_us;
+  EXPECT_GE(t1 - t0, day_us);
+  EXPECT_LT(t1 - t0, day_us + int64_t{600} * 1000000);  // a minute or so after, a day later
+  check_timing_rules(db, {"LIDAR_TOP", "CAM_FRONT"});
+}
+
 // Cameras at their real 12 Hz: non-key camera frames in sweeps/, key = closest in time.
 TEST(WorldRelease, TimingRulesWithTwelveHertzCameras) {
   test::TempDir dir("synth-cam12");
