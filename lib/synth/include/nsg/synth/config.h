@@ -42,8 +42,8 @@ struct ScenesConfig {
   double ego_speed_mps = 8.0;
   int64_t first_timestamp_us = 1532402927647951;
   // Capture days the scenes are spread over, in index order (scene i on day
-  // floor(i · days / count)), so logs carry several dates (the time-ordered questions of
-  // docs/synthetic.md); 1 = all on the first day.
+  // floor(i · days / count)), so logs carry several dates for time-ordered questions
+  // (docs/synthetic-release.md); 1 = all on the first day.
   int capture_days = 1;
 };
 
