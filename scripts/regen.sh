@@ -5,7 +5,8 @@
 #   docs/options.md (the sections after its title)                  --list-options --format md
 #   samples/semantic-classes.json                                   nsg/core/semantic_classes.h, through _nsgraph
 #   docs/metrics.md (the table of its "Metric list" section)        score --list-metrics
-#   schemas/v1/score-report.schema.json (its four metric lists)     score --list-metrics --format json
+#   schemas/v1/score-report.schema.json (its four metric lists      score --list-metrics --format json
+#     and its two count lists: a tile's counts, aggregate.sums)      score --list-counts
 # --check writes them into a temporary copy and fails naming every file that differs
 # (ctest repo/regen): a declaration changed without `make regen`.
 # usage: scripts/regen.sh [--check] [BUILD]
@@ -68,7 +69,8 @@ rm -f "$out/metric-list.tmp"
 # aggregate's mean, n_defined and n_undefined): their required names and properties written
 # from score --list-metrics, each object keeping the $ref its values have (value or count).
 "$nsgraph" score --list-metrics --format json > "$out/metric-table.tmp"
-/usr/bin/python3 - schemas/v1/score-report.schema.json "$out/metric-table.tmp" <<'PY' | write schemas/v1/score-report.schema.json
+"$nsgraph" score --list-counts > "$out/count-names.tmp"
+/usr/bin/python3 - schemas/v1/score-report.schema.json "$out/metric-table.tmp" "$out/count-names.tmp" <<'PY' | write schemas/v1/score-report.schema.json
 import json, sys
 schema = json.load(open(sys.argv[1], encoding="utf-8"))
 names = [m["name"] for m in json.load(open(sys.argv[2], encoding="utf-8"))]
@@ -79,9 +81,14 @@ for obj, ref in ((schema["definitions"]["tile"], "#/definitions/value"), (aggreg
     others = {k: v for k, v in obj["properties"].items() if v != {"$ref": ref}}
     obj["required"] = names + [k for k in obj["required"] if k in others]
     obj["properties"] = {**{name: {"$ref": ref} for name in names}, **others}
+# A tile's counts and the aggregate's sums: exactly the count names, in their order.
+counts = json.load(open(sys.argv[3], encoding="utf-8"))
+for obj in (schema["definitions"]["tile"]["properties"]["counts"], aggregate["sums"]):
+    obj["required"] = counts
+    obj["properties"] = {name: {"$ref": "#/definitions/count"} for name in counts}
 sys.stdout.write(json.dumps(schema, indent=2, ensure_ascii=False) + "\n")
 PY
-rm -f "$out/metric-table.tmp"
+rm -f "$out/metric-table.tmp" "$out/count-names.tmp"
 PYTHONPATH="$build/python" /usr/bin/python3 - <<'PY' | write samples/semantic-classes.json
 import json
 from nsgraph import SEMANTIC_CLASSES, SEMANTIC_VOID

@@ -29,10 +29,11 @@ struct ScoreCliOptions {
   bool frames = false;          // --frames: an `nsgraph frames` export and an OpenLane-V2 results file
   bool graph_metrics = false;   // --graph-metrics (with --frames)
   bool list_metrics = false;    // --list-metrics: the metric table (md or json) and exit
+  bool list_counts = false;     // --list-counts: the per-tile count names (JSON) and exit
   metrics::SubmissionScoreOptions lib;
 
   void validate() const {
-    // Required unless --list-metrics (which reads neither).
+    // Required unless --list-metrics or --list-counts (which read neither).
     NSG_CHECK(!ground_truth.empty(), ConfigError, "", "--ground-truth", "a dataset folder or a ground-truth file");
     NSG_CHECK(!submission.empty(), ConfigError, "", "--submission", "a submission file");
     NSG_CHECK(format == "json" || format == "md" || format == "csv", ConfigError, "", "--format",
@@ -116,6 +117,12 @@ int run_score(const ScoreCliOptions& o) {
     std::fputs(metrics::metric_list(o.format == "json" ? "json" : "md").c_str(), stdout);
     return kExitOk;
   }
+  if (o.list_counts) {
+    nlohmann::json names = nlohmann::json::array();
+    for (int k = 0; k < metrics::kCountCount; ++k) names.push_back(metrics::count_name(k));
+    std::fputs((names.dump(2) + "\n").c_str(), stdout);
+    return kExitOk;
+  }
   o.validate();
   if (o.frames) return run_score_frames(o);
   if (!o.verify_receipt.empty()) return run_verify_receipt(o);
@@ -174,6 +181,8 @@ void add_score_command(CLI::App& parent, Context& ctx) {
   cmd->add_flag("--list-metrics", opts->list_metrics,
                 "Print every metric (name, unit, which way is better, what it measures) and exit: a Markdown table, "
                 "or JSON with --format json");
+  cmd->add_flag("--list-counts", opts->list_counts,
+                "Print the names of the per-tile counts (the integers that explain the metrics) as JSON and exit");
   cmd->add_option("--format", opts->format,
                   "What score prints on stdout: json, md (paper-style table) or csv (per tile)")
       ->capture_default_str();
