@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates every file the code's declarations generate (`make regen`):
-#   schemas/v1/{generate,synth,train,frames}-config.schema.json   --list-options --format schema
+#   schemas/v1/{generate,synth,train,frames,graphify}-config.schema.json   --list-options --format schema
 #   samples/{generate,train,frames}.json                           --print-config (the defaults)
 #   docs/options.md (the sections after its title)                  --list-options --format md
 #   samples/semantic-classes.json                                   nsg/core/semantic_classes.h, through _nsgraph
@@ -35,7 +35,7 @@ write() {  # write <file>: stdin to <out>/<file> via a temp name, unless the com
   mv "$dest.tmp.$$" "$dest"
 }
 
-for command in generate synth train frames; do
+for command in generate synth train frames graphify; do
   "$nsgraph" "$command" --list-options --format schema | write "schemas/v1/$command-config.schema.json"
 done
 for command in generate train frames; do
@@ -44,7 +44,7 @@ done
 {
   sed -n '1,/^## `nsgraph generate` options$/p' docs/options.md | sed '$d'
   first=1
-  for command in generate synth train frames; do
+  for command in generate synth train frames graphify; do
     (( first )) || echo
     first=0
     "$nsgraph" "$command" --list-options --format md

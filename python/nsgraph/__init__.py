@@ -16,6 +16,7 @@ except ImportError as _error:  # most often: another interpreter than the extens
         f"rebuild (cmake --build build --target nsgraph_python) with this one.") from _error
 from .dataset import JUNCTIONS, LAYERS, MODALITIES, SEMANTIC_CLASSES, SEMANTIC_VOID, TILE_MEMBERS, TURNS, Dataset
 from .errors import ConfigError, DataError, Error, InternalError, IoError, ParseError, SubmissionError
+from .graphify import graphify
 from .groundtruth import adaptive_ground_truth
 from .frames import score_frames
 from .hosting import evaluate
@@ -26,6 +27,6 @@ __version__ = _nsgraph.__version__
 __all__ = [
     "Dataset", "score_frames", "MODALITIES", "LAYERS", "TILE_MEMBERS", "SEMANTIC_CLASSES", "SEMANTIC_VOID", "TURNS", "JUNCTIONS", "METRICS", "HEADLINE_METRICS", "score", "evaluate", "score_tile", "write_submission",
     "check_submission",
-    "adaptive_ground_truth", "graph_arrays", "Error", "ParseError", "DataError", "ConfigError", "IoError",
+    "adaptive_ground_truth", "graphify", "graph_arrays", "Error", "ParseError", "DataError", "ConfigError", "IoError",
     "InternalError", "SubmissionError",
 ]

@@ -1,10 +1,14 @@
 // The paper's adaptive ground truth on one tile: graph::lane_graph_from_tile +
-// graph::project_onto_lanes (nsgraph.adaptive_ground_truth).
+// graph::project_onto_lanes (nsgraph.adaptive_ground_truth); a map's lane graph
+// (skeleton::graphify, nsgraph.graphify).
+#include <cstring>
+
 #include "bindings.h"
 #include "convert.h"
 #include "nsg/core/error.h"
 #include "nsg/graph/projection.h"
 #include "nsg/graph/tile_lanes.h"
+#include "nsg/skeleton/graphify.h"
 
 namespace nsg::py_bind {
 namespace {
@@ -85,9 +89,79 @@ py::dict adaptive_ground_truth(const Points& nodes, const Pairs& edges, const st
   return d;
 }
 
+// Keyword arguments through graphify's declarations (unknown keys and ranges refused by
+// name, as `--set` refuses them).
+skeleton::GraphifyOptions graphify_options(const py::dict& kwargs) {
+  skeleton::GraphifyOptions options;
+  for (const auto& [k, v] : kwargs) {
+    const std::string key = py::str(k);
+    nlohmann::json value;
+    if (py::isinstance<py::bool_>(v)) value = v.cast<bool>();
+    else if (py::isinstance<py::int_>(v)) value = v.cast<int64_t>();
+    else if (py::isinstance<py::float_>(v)) value = v.cast<double>();
+    else value = std::string(py::str(v));
+    skeleton::graphify_option_table().set(options, key, value, "nsgraph.graphify");
+  }
+  return options;
+}
+
+py::dict graph_dict(const metrics::Graph& g) {
+  std::vector<std::array<double, 2>> nodes;
+  for (const auto& n : g.nodes) nodes.push_back({n.u, n.v});
+  py::dict d;
+  d["nodes"] = pairs_to_numpy(nodes);
+  d["edges"] = pairs_to_numpy(g.edges);
+  return d;
+}
+
+// A 2-D uint8, uint16 or float32 array as a cv::Mat (copied: the library owns its map).
+cv::Mat map_arg(const py::array& a) {
+  NSG_CHECK(a.ndim() == 2, DataError, "", "map", "a 2-D array, got " + std::to_string(a.ndim()) + " dimension(s)");
+  const py::dtype dt = a.dtype();
+  // By kind and size (native byte order: the Python side converts others).
+  const int type = dt.kind() == 'u' && dt.itemsize() == 1   ? CV_8U
+                   : dt.kind() == 'u' && dt.itemsize() == 2 ? CV_16U
+                   : dt.kind() == 'f' && dt.itemsize() == 4 ? CV_32F
+                                                            : -1;
+  NSG_CHECK(type >= 0, DataError, "", "map",
+            "dtype uint8, uint16 or float32, got " + dt.attr("name").cast<std::string>());
+  const auto rows = a.shape(0), cols = a.shape(1);
+  const bool ok = rows >= 1 && cols >= 1 && rows <= skeleton::kMaxMapSidePx && cols <= skeleton::kMaxMapSidePx;
+  NSG_CHECK(ok, DataError, "", "map",
+            "each side 1 … " + std::to_string(skeleton::kMaxMapSidePx) + " px, got " + std::to_string(rows) + " x " +
+                std::to_string(cols));
+  const py::array c = py::array::ensure(a, py::array::c_style);
+  cv::Mat m(static_cast<int>(rows), static_cast<int>(cols), type);
+  std::memcpy(m.data, c.data(), m.total() * m.elemSize());
+  return m;
+}
+
+py::dict graphify_array(const py::array& map, const py::dict& kwargs) {
+  const skeleton::GraphifyOptions options = graphify_options(kwargs);
+  const cv::Mat m = map_arg(map);
+  metrics::Graph g;
+  {
+    py::gil_scoped_release release;
+    g = skeleton::graphify(m, options, "map");
+  }
+  return graph_dict(g);
+}
+
+py::dict graphify_file(const std::string& path, const py::dict& kwargs) {
+  const skeleton::GraphifyOptions options = graphify_options(kwargs);
+  metrics::Graph g;
+  {
+    py::gil_scoped_release release;
+    g = skeleton::graphify(skeleton::read_map_file(path), options, path);
+  }
+  return graph_dict(g);
+}
+
 }  // namespace
 
 void bind_graph(py::module_& m) {
+  m.def("graphify_array", &graphify_array, py::arg("map"), py::arg("options"));
+  m.def("graphify_file", &graphify_file, py::arg("path"), py::arg("options"));
   m.def("adaptive_ground_truth", &adaptive_ground_truth, py::arg("nodes"), py::arg("edges"), py::arg("lane_tokens"),
         py::arg("lane_changes"), py::arg("proposals"), py::arg("max_distance"), py::arg("max_follow"));
 }

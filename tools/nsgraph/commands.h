@@ -32,6 +32,7 @@ void add_predict_command(CLI::App& root, Context& ctx);
 void add_segment_command(CLI::App& root, Context& ctx);
 void add_report_command(CLI::App& root, Context& ctx);
 void add_frames_command(CLI::App& root, Context& ctx);
+void add_graphify_command(CLI::App& root, Context& ctx);
 
 // --threads N with the one default (0 = all cores) and range; `what` says what runs in
 // parallel ("Worker threads").

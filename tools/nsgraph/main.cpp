@@ -20,7 +20,7 @@ constexpr nsg::cli::AddCommand kCommands[] = {
     &nsg::cli::add_generate_command, &nsg::cli::add_merge_command,        &nsg::cli::add_stats_command,
     &nsg::cli::add_score_command,    &nsg::cli::add_preview_command,      &nsg::cli::add_report_command,
     &nsg::cli::add_validate_command, &nsg::cli::add_export_cloud_command, &nsg::cli::add_train_command,
-    &nsg::cli::add_predict_command,  &nsg::cli::add_frames_command,
+    &nsg::cli::add_predict_command,  &nsg::cli::add_frames_command,       &nsg::cli::add_graphify_command,
 };
 
 // The command names of `app`, in table order.

@@ -89,29 +89,7 @@ const Table<PairOptions>& pair_table() {
 const Table<ExtractionOptions>& extraction_table() {
   static const Table<ExtractionOptions> table = [] {
     Table<ExtractionOptions> t;
-    t.number("extraction.smooth_sigma_px", &ExtractionOptions::smooth_sigma_px)
-        .unit("px")
-        .range(options::between(0, 10))
-        .help("Gaussian on the likelihood before thresholding (0 = none)");
-    t.number("extraction.threshold", &ExtractionOptions::threshold)
-        .range(kOpenUnit)
-        .help("Likelihood that makes a pixel part of the skeleton");
-    t.integer("extraction.min_component_px", &ExtractionOptions::min_component_px)
-        .unit("px")
-        .range(options::at_least(0))
-        .help("Smaller blobs are dropped before thinning");
-    t.number("extraction.min_spur_px", &ExtractionOptions::min_spur_px)
-        .unit("px")
-        .range(options::at_least(0))
-        .help("Dangling skeleton branches shorter than this are pruned");
-    t.number("extraction.simplify_tolerance_px", &ExtractionOptions::simplify_tolerance_px)
-        .unit("px")
-        .range(options::at_least(0))
-        .help("Douglas-Peucker tolerance before anchors are placed");
-    t.number("extraction.anchor_spacing_px", &ExtractionOptions::anchor_spacing_px)
-        .unit("px")
-        .range(options::at_least(1))
-        .help("Spacing of the anchors placed along skeleton branches");
+    skeleton::declare_skeleton_options(t, "extraction.");
     t.number("extraction.min_node_score", &ExtractionOptions::min_node_score)
         .range(options::between(0, 1))
         .help("Nodes scoring below are dropped");

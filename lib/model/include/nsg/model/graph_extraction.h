@@ -1,6 +1,7 @@
 #pragma once
 // From a centreline likelihood map to a directed lane graph, as in the paper: threshold,
-// thin, trace the skeleton into branches, place anchors at most 2 m apart along them,
+// thin, trace the skeleton into branches, place anchors at most 2 m apart along them
+// (nsg::skeleton, nsg/skeleton/skeleton.h),
 // orient every edge from LaneDirNet's votes at its two anchors, then post-process (node
 // score < 0.5 removed, edge score < 0.2 removed, edges longer than a quarter of the tile
 // removed, isolated nodes removed).
@@ -12,16 +13,13 @@
 
 #include "nsg/metrics/graph.h"
 #include "nsg/model/direction.h"
+#include "nsg/skeleton/skeleton.h"
 
 namespace nsg::model {
 
-struct ExtractionOptions {
-  double smooth_sigma_px = 1.0;        // Gaussian on the likelihood before thresholding (0 = none)
-  double threshold = 0.5;              // likelihood that makes a pixel part of the skeleton
-  int min_component_px = 20;           // smaller blobs are noise, dropped before thinning
-  double min_spur_px = 6.0;            // dangling skeleton branches shorter than this are pruned
-  double simplify_tolerance_px = 1.0;  // Douglas–Peucker before anchors are placed
-  double anchor_spacing_px = 10.0;     // 2 m at 0.2 m/px
+// The skeleton's parameters (extraction.smooth_sigma_px … anchor_spacing_px, declared
+// once in nsg::skeleton) and the post-processing's.
+struct ExtractionOptions : skeleton::SkeletonOptions {
   // The paper's post-processing.
   double min_node_score = 0.5;
   double min_edge_score = 0.2;
@@ -36,36 +34,15 @@ struct ExtractionOptions {
   void validate() const;  // ConfigError naming the field
 };
 
-// The skeleton as branches between vertices (ends and junctions). Every branch's polyline
-// starts at its first vertex's position and ends at its second's (pixel coordinates u, v).
-struct SkeletonGraph {
-  struct Branch {
-    int a = -1, b = -1;
-    std::vector<cv::Point2d> points;
-  };
-  std::vector<cv::Point2d> vertices;
-  std::vector<Branch> branches;
-};
-
-// Bilinear sample of a CV_32F map at pixel coordinates (u, v); 0 outside the map.
-double sample_bilinear(const cv::Mat& map, double u, double v);
-
-// Zhang–Suen thinning of a binary mask (non-zero = foreground) to a one-pixel skeleton.
-cv::Mat thin(const cv::Mat& mask);
-// Traces a one-pixel skeleton (non-zero pixels, 8-connected). Staircase diagonals are
-// treated as one path; touching junction pixels form one vertex at their mean position;
-// closed loops get a vertex where they were first met.
-SkeletonGraph trace_skeleton(const cv::Mat& skeleton);
-// Removes dangling branches shorter than min_length_px (one pass) and unused vertices.
-void prune_spurs(SkeletonGraph& graph, double min_length_px);
-
-// Undirected anchor graph: anchors ≤ spacing apart along every simplified branch; branch
-// vertices are shared anchors.
-struct AnchorGraph {
-  std::vector<std::array<double, 2>> nodes;  // (u, v)
-  std::vector<std::array<int, 2>> pairs;     // undirected, as placed along branches
-};
-AnchorGraph place_anchors(const SkeletonGraph& skeleton, double spacing_px, double simplify_tolerance_px);
+// The skeleton chain lives in nsg::skeleton (shared with `nsgraph graphify`); its names
+// are the model's too.
+using skeleton::AnchorGraph;
+using skeleton::place_anchors;
+using skeleton::prune_spurs;
+using skeleton::sample_bilinear;
+using skeleton::SkeletonGraph;
+using skeleton::thin;
+using skeleton::trace_skeleton;
 
 // LaneDirNet's class votes at anchors: for each (u, v) the votes summed over the pixels of
 // a small window around it (one batched call per tile).

@@ -1,0 +1,61 @@
+#pragma once
+// `nsgraph graphify` and nsgraph.graphify: a centreline probability map or a binary mask
+// per tile → the lane graph in the submission format (docs/graphify.md). The rule is the
+// skeleton chain's (skeleton.h): threshold, thin, trace, prune spurs, anchors ≤ 2 m apart.
+// The output is undirected: every skeleton edge is written in both directions.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "nsg/core/options.h"
+#include "nsg/metrics/graph.h"
+#include "nsg/skeleton/skeleton.h"
+
+namespace nsg::skeleton {
+
+// A map's width and height are at most this (a dataset tile is 256 px; 4096 leaves room
+// for finer or larger tiles), checked from the file's header before anything is allocated.
+constexpr int kMaxMapSidePx = 4096;
+// A map file is at most this big: a 4096 x 4096 float32 .npy is 64 MiB plus its header.
+constexpr uintmax_t kMaxMapFileBytes = 80ull << 20;
+
+struct GraphifyOptions {
+  SkeletonOptions skeleton;  // keys without a prefix: threshold, smooth_sigma_px, …
+  void validate() const;     // ConfigError naming the key
+};
+// The keys of `graphify --set` and nsgraph.graphify's keyword arguments.
+const options::Table<GraphifyOptions>& graphify_option_table();
+// The JSON Schema of a graphify config file (schemas/v1/graphify-config.schema.json).
+options::OrderedJson graphify_config_schema();
+// The options from a config file ("" = none), then each --set "key=value", then flags.
+GraphifyOptions resolve_graphify_config(const std::filesystem::path& file, const std::vector<std::string>& settings,
+                                        const std::vector<options::FlagValue>& flags);
+
+// The map files of a folder: these extensions (lower case), the file's stem is its tile key.
+bool is_map_file_name(const std::filesystem::path& file);
+
+// A map file as a single-channel cv::Mat (CV_8U, CV_16U or CV_32F). The kind is read from
+// the file's first bytes, not its name: PNG (8- or 16-bit grayscale), TIFF (GeoTIFF, one
+// band, uint8 or float32), NumPy .npy (2-D, uint8 or float32). Sizes are checked from the
+// header (each side 1 … kMaxMapSidePx) before decoding. Throws IoError (missing,
+// unreadable), ParseError (not one of these kinds, truncated) or DataError (another
+// dtype, shape or size, non-finite values), each naming the file.
+cv::Mat read_map_file(const std::filesystem::path& file);
+
+// The likelihood in [0, 1] (CV_32F) of a map: float32 as it is; uint8 / uint16 divided by
+// 255 / 65535, except a map holding only 0 and 1, which is a 0/1 mask. DataError naming
+// `name` for another type or channel count.
+cv::Mat likelihood_of(const cv::Mat& map, const std::string& name);
+
+// One tile: the skeleton chain on likelihood_of(map), each anchor pair written as the two
+// edges a → b and b → a; nodes (pixel u, v) in placement order, no scores.
+metrics::Graph graphify(const cv::Mat& map, const GraphifyOptions& options, const std::string& name = "map");
+
+// A map file, or a folder of them (is_map_file_name; other files are ignored), graphified:
+// tile key (the file's stem) → graph. DataError naming the folder when it holds no map or
+// two maps with one stem.
+metrics::GraphSet graphify_input(const std::filesystem::path& input, const GraphifyOptions& options);
+
+}  // namespace nsg::skeleton

@@ -1,0 +1,28 @@
+#pragma once
+// Known lane graphs on a 256 x 256 tile and their masks drawn with a given width, for
+// scoring graphify's output against the graph it came from.
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "nsg/metrics/graph.h"
+
+namespace nsg::test {
+
+struct GraphCase {
+  std::string name;
+  metrics::Graph truth;  // pixel (u, v); each polyline's edges one way
+};
+
+// Straight lane, a curve, a Y split, two parallel lanes 17.5 px (3.5 m) apart, a crossing.
+std::vector<GraphCase> graph_cases();
+// The truth's edges drawn as lines `width_px` wide: CV_8U 0 / 255 of size_px x size_px.
+cv::Mat draw_mask(const metrics::Graph& truth, int width_px, int size_px = 256);
+// A probability map: the mask blurred (σ = blur_sigma_px), scaled by `peak`, then
+// salt-and-pepper noise on a `noise_fraction` of the pixels (seeded, nsg::Rng).
+cv::Mat noisy_map(const cv::Mat& mask, double blur_sigma_px, double peak, double noise_fraction, uint64_t seed);
+// APLS (undirected, metrics::kApls) of `pred` against `truth` on a 256-px tile.
+double apls(const metrics::Graph& truth, const metrics::Graph& pred);
+
+}  // namespace nsg::test
