@@ -12,6 +12,7 @@ namespace nsg::skeleton {
 const options::Table<GraphifyOptions>& graphify_option_table() {
   static const options::Table<GraphifyOptions> table = [] {
     options::Table<GraphifyOptions> t;
+    options::schema_version_option(t);  // as every config file of v1
     t.include(&GraphifyOptions::skeleton, skeleton_option_table());
     return t;
   }();

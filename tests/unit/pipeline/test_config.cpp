@@ -89,7 +89,7 @@ TEST(GenerateConfig, SchemaSampleAndDocsEqualWhatTheDeclarationsGive) {
       << "make regen regenerates it: nsgraph generate --print-config > samples/generate.json";
   // docs/options.md: a title, then each command's section as its --format md prints it.
   std::string sections;
-  for (const char* command : {"generate", "synth", "train", "frames"}) {
+  for (const char* command : {"generate", "synth", "train", "frames", "graphify"}) {
     const CommandResult md = run_nsgraph({command, "--list-options", "--format", "md"});
     ASSERT_EQ(md.exit_code, 0) << md.err;
     sections += (sections.empty() ? "" : "\n") + md.out;
@@ -98,7 +98,7 @@ TEST(GenerateConfig, SchemaSampleAndDocsEqualWhatTheDeclarationsGive) {
   const size_t first = doc.find("## `nsgraph generate` options");
   ASSERT_NE(first, std::string::npos);
   EXPECT_EQ(doc.substr(first), sections)
-      << "make regen regenerates the sections: nsgraph <generate|synth|train|frames> --list-options "
+      << "make regen regenerates the sections: nsgraph <generate|synth|train|frames|graphify> --list-options "
          "--format md, joined by an empty line, after the title";
 }
 

@@ -84,8 +84,8 @@ TEST(Graphify, MapKindsGiveTheSameGraph) {
 TEST(Graphify, OptionsAreTheSkeletonKeysAndAreChecked) {
   std::vector<std::string> keys;
   for (const auto& s : nsg::skeleton::graphify_option_table().specs()) keys.push_back(s.key);
-  EXPECT_EQ(keys, (std::vector<std::string>{"smooth_sigma_px", "threshold", "min_component_px", "min_spur_px",
-                                            "simplify_tolerance_px", "anchor_spacing_px"}));
+  EXPECT_EQ(keys, (std::vector<std::string>{"schema_version", "smooth_sigma_px", "threshold", "min_component_px",
+                                            "min_spur_px", "simplify_tolerance_px", "anchor_spacing_px"}));
   GraphifyOptions bad;
   bad.skeleton.threshold = 0.0;
   EXPECT_THROW(bad.validate(), nsg::ConfigError);
