@@ -209,12 +209,13 @@ def compute(gt, pred, params, keys, rules):
     return {key: geo_topo(gt[key], pred.get(key, {"nodes": [], "edges": []}), params, rules) for key in keys}
 
 
-def aggregate(got):
+def aggregate(got, metric_keys=METRIC_KEYS, sum_keys=SUM_KEYS, pooled=True):
     """The GEO/TOPO entries of aggregate (mean, n_defined, n_undefined, pooled, sums) of
-    per-tile values, tiles in key order as the scorer sums."""
-    agg = {"mean": {}, "n_defined": {}, "n_undefined": {}, "pooled": {}, "sums": {}}
+    per-tile values, tiles in key order as the scorer sums (other metrics' entries with
+    their keys; pooled=False leaves out GEO's pooled figures)."""
+    agg = {"mean": {}, "n_defined": {}, "n_undefined": {}, "sums": {}}
     keys = sorted(got)
-    for k in METRIC_KEYS:
+    for k in metric_keys:
         defined = [got[key][k] for key in keys if got[key][k] is not None]
         total = 0.0
         for v in defined:
@@ -222,8 +223,10 @@ def aggregate(got):
         agg["mean"][k] = total / len(defined) if defined else None
         agg["n_defined"][k] = len(defined)
         agg["n_undefined"][k] = len(keys) - len(defined)
-    for c in SUM_KEYS:
+    for c in sum_keys:
         agg["sums"][c] = sum(got[key]["counts"][c] for key in keys)
+    if not pooled:
+        return agg
     m, n_g, n_p = (agg["sums"][c] for c in ("geo_matched", "geo_gt_samples", "geo_pred_samples"))
     agg["pooled"] = {"geo_precision": ratio(m, n_p), "geo_recall": ratio(m, n_g),
                      "geo_f1": None if n_g + n_p == 0 else 2.0 * m / (n_g + n_p)}

@@ -135,22 +135,6 @@ def v2_values(gt, pred, flags, params):
     return out
 
 
-def aggregate(got):
-    agg = {"mean": {}, "n_defined": {}, "n_undefined": {}, "sums": {}}
-    keys = sorted(got)
-    for k in METRIC_KEYS:
-        defined = [got[key][k] for key in keys if got[key][k] is not None]
-        total = 0.0
-        for v in defined:
-            total += v
-        agg["mean"][k] = total / len(defined) if defined else None
-        agg["n_defined"][k] = len(defined)
-        agg["n_undefined"][k] = len(keys) - len(defined)
-    for c in COUNT_KEYS:
-        agg["sums"][c] = sum(got[key]["counts"][c] for key in keys)
-    return agg
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--write", action="store_true")
@@ -164,7 +148,7 @@ def main():
     flags = {key: flags_rule(len(t.get("edges", []))) for key, t in sorted(gt.items())}
     got = {key: v2_values(gt[key], pred.get(key, {"nodes": [], "edges": []}), flags[key], expected["params"])
            for key in sorted(gt)}
-    agg = aggregate(got)
+    agg = ref.aggregate(got, METRIC_KEYS, COUNT_KEYS, pooled=False)
     if a.write:
         with open(os.path.join(HERE, "edge_flags.json"), "w") as f:
             json.dump({"about": "per tile of gt.json, one flag byte per edge (1 connector, 2 inside an "
