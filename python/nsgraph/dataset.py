@@ -44,14 +44,23 @@ class Dataset(collections.abc.Sequence):
         meta      the tile's meta.json as a dict
 
     ``ds[i]`` by position or ``ds[key]`` / ``ds.get(key)`` by tile key (``ds.keys``).
+    ``rung``: a dataset with an observation ladder (``generate --ladder``) has the split's
+    tiles again as seen by the first k scenes; ``rung=k`` reads those (keys
+    ``<key>-r<k>``, ``meta["ladder"]`` says which scenes), ``None`` or ``"all"`` the
+    split's own tiles. ``Dataset.rungs(root)`` lists the rungs a dataset has.
     ``modalities``: "all", one name, a comma list ("lidar,rgb") or a list of names.
     Only the requested ``modalities`` are read (coverage always). Shards are indexed once
     per process (member offsets), tiles are read with positioned reads and decoded in C++
     without the GIL: safe and parallel in DataLoader workers (fork or spawn).
     """
 
-    def __init__(self, root, split, modalities=MODALITIES, graph=True, meta=True):
+    def __init__(self, root, split, modalities=MODALITIES, graph=True, meta=True, rung=None):
         modalities = _modalities(modalities)
+        if rung == "all":
+            rung = None
+        if rung is not None and (isinstance(rung, bool) or not isinstance(rung, int) or rung < 1):
+            from .errors import ConfigError
+            raise ConfigError(f"rung: {rung!r}; expected a scene count >= 1, \"all\" or None")
         unknown = [m for m in modalities if m not in MODALITIES]
         if unknown:
             from .errors import ConfigError
@@ -61,7 +70,8 @@ class Dataset(collections.abc.Sequence):
         self.modalities = modalities
         self.graph = graph
         self.meta = meta
-        self._index = _nsgraph.SplitIndex(self.root, split)
+        self.rung = rung
+        self._index = _nsgraph.SplitIndex(self.root, split, rung or 0)
         self._layers = list(modalities) + ["coverage"]
 
     def __len__(self):
@@ -81,6 +91,15 @@ class Dataset(collections.abc.Sequence):
         if not 0 <= i < n:
             raise IndexError(f"tile index {i} out of range for {n} tiles of split '{self.split}'")
         return self._index.read(i, self._layers, self.graph, self.meta)
+
+    @staticmethod
+    def rungs(root):
+        """The observation ladder's built rungs of the dataset at ``root`` (scene counts,
+        ascending; the split's own tiles are rung "all"); [] without a ladder."""
+        import json
+        with open(os.path.join(os.fspath(root), "manifest.json"), encoding="utf-8") as f:
+            ladder = json.load(f).get("ladder") or {}
+        return sorted({int(s["rung"]) for s in ladder.get("shards", [])})
 
     def key(self, i):
         return self._index.key(i)
@@ -124,7 +143,7 @@ class Dataset(collections.abc.Sequence):
     # per-process cache when the shards were indexed before.
     def __getstate__(self):
         return {"root": self.root, "split": self.split, "modalities": self.modalities,
-                "graph": self.graph, "meta": self.meta}
+                "graph": self.graph, "meta": self.meta, "rung": self.rung}
 
     def __setstate__(self, state):
         self.__init__(**state)

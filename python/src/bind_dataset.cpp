@@ -164,11 +164,11 @@ void bind_dataset(py::module_& m) {
                      graph::junction_name(graph::Junction::kMerge), graph::junction_name(graph::Junction::kBoth));
   py::class_<io::SplitIndex>(m, "SplitIndex",
                              "Random access to the tiles of one split (tar shards indexed once per process).")
-      .def(py::init([](const std::string& root, const std::string& split) {
+      .def(py::init([](const std::string& root, const std::string& split, int rung) {
              py::gil_scoped_release release;
-             return std::make_unique<io::SplitIndex>(root, split);
+             return std::make_unique<io::SplitIndex>(root, split, rung);
            }),
-           py::arg("root"), py::arg("split"))
+           py::arg("root"), py::arg("split"), py::arg("rung") = 0)
       .def("__len__", &io::SplitIndex::size)
       .def("key", &io::SplitIndex::key, py::arg("i"))
       .def("shard_name", &io::SplitIndex::shard_name, py::arg("i"))

@@ -69,6 +69,15 @@ def e2e_dataset(layout="tar"):
                                          "--version", "v1.0-mini", "--out", d, "--threads", "2", "--layout", layout))
 
 
+def ladder_dataset():
+    """The e2e dataset with an observation ladder (generate --ladder: rungs 1, 2, 4, all)."""
+    release = e2e_release()
+    return _cached("py_dataset_e2e_ladder", _build_key(SYNTH_CONFIG, GENERATE_CONFIG),
+                   lambda d: run_nsgraph("generate", "--quiet", "--config", GENERATE_CONFIG, "--dataroot", release,
+                                         "--version", "v1.0-mini", "--out", d, "--threads", "2", "--ladder"))
+
+
 if __name__ == "__main__":  # the CTest fixture step: make both layouts once
     print(e2e_dataset("tar"))
     print(e2e_dataset("folder"))
+    print(ladder_dataset())

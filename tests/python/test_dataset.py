@@ -186,6 +186,43 @@ class DatasetTest(unittest.TestCase):
 
 
 
+class LadderTest(unittest.TestCase):
+    """Dataset(rung=k) against the rung shards read with tarfile and json."""
+
+    def test_rung_tiles_are_the_split_tiles_keys_with_their_rung(self):
+        root = fixtures.ladder_dataset()
+        self.assertEqual(nsgraph.Dataset.rungs(root), [1, 2, 4])
+        self.assertEqual(nsgraph.Dataset.rungs(fixtures.e2e_dataset()), [])
+        split = nsgraph.Dataset(root, "test", modalities="lidar")
+        for rung in (1, 2, 4):
+            ds = nsgraph.Dataset(root, "test", modalities="lidar", rung=rung)
+            self.assertEqual(ds.keys, [k + f"-r{rung}" for k in split.keys])
+            manifest = fixtures.read_json(os.path.join(root, "manifest.json"))
+            files = {}
+            for shard in manifest["ladder"]["shards"]:
+                if shard["rung"] != rung:
+                    continue
+                with tarfile.open(os.path.join(root, shard["file"])) as tar:
+                    for m in tar.getmembers():
+                        key, suffix = m.name.split(".", 1)
+                        files.setdefault(key, {})[suffix] = tar.extractfile(m).read()
+            for i in range(len(ds)):
+                tile = ds[i]
+                meta = json.loads(files[tile["key"]]["meta.json"])
+                self.assertEqual(tile["meta"], meta)
+                self.assertEqual(tile["meta"]["ladder"]["rung"], rung)
+                self.assertLessEqual(len(tile["meta"]["scenes"]), rung)
+                np.testing.assert_array_equal(tile["lidar"], pil_array(files[tile["key"]]["lidar.tif"]))
+        self.assertEqual(nsgraph.Dataset(root, "test", rung="all").keys, split.keys)
+
+    def test_a_rung_the_dataset_lacks_is_named(self):
+        root = fixtures.ladder_dataset()
+        with self.assertRaisesRegex(nsgraph.ConfigError, "rungs: 1, 2, 4"):
+            nsgraph.Dataset(root, "test", rung=3)
+        with self.assertRaises(nsgraph.ConfigError):
+            nsgraph.Dataset(root, "test", rung=0)
+
+
 class SemanticClassesTest(unittest.TestCase):
     def test_the_one_table_is_the_samples_file_and_the_networks_channels(self):
         # nsg/core/semantic_classes.h, exported by the extension: the same as the samples

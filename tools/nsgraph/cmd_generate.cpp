@@ -75,7 +75,7 @@ void add_generate_command(CLI::App& root, Context& ctx) {
   add_generate_flags(cmd, o->config,
                      {"--dataroot", "--version", "--locations", "--seed", "--detections", "--score-threshold",
                       "--semantic-root", "--max-range", "--no-rgb", "--no-semantic", "--strict", "--min-coverage",
-                      "--train-per-km2", "--train-total", "--tiles-per-shard", "--deflate-level", "--layout"});
+                      "--train-per-km2", "--train-total", "--tiles-per-shard", "--deflate-level", "--layout", "--ladder"});
   cmd->add_option("--shard-index", o->shard_index, "This process's share of the work (with --num-shards)");
   cmd->add_option("--num-shards", o->num_shards, "Number of processes sharing the work");
   add_threads_option(cmd, o->threads);

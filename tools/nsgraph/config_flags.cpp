@@ -26,6 +26,7 @@ constexpr GenerateFlag kGenerateFlags[] = {
     {"--tiles-per-shard", "output.tiles_per_shard", nullptr},
     {"--deflate-level", "output.deflate_level", nullptr},
     {"--layout", "output.layout", nullptr},
+    {"--ladder", "ladder.rungs", pipeline::kDefaultLadderRungs},
 };
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "nsg/io/dataset.h"
 
 #include <algorithm>
+#include <set>
 
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
@@ -52,6 +53,28 @@ std::vector<nlohmann::json> Dataset::shards(const std::string& split) const {
   std::vector<nlohmann::json> out;
   for (const nlohmann::json& s : manifest_["shards"])
     if (split.empty() || s.value("split", "") == split) out.push_back(s);
+  return out;
+}
+
+std::vector<int> Dataset::rungs() const {
+  std::set<int> out;
+  for (const nlohmann::json& s : rung_shards())
+    if (s.contains("rung") && s["rung"].is_number_unsigned() && s["rung"].get<uint64_t>() <= 100000)
+      out.insert(s["rung"].get<int>());
+  return {out.begin(), out.end()};
+}
+
+std::vector<nlohmann::json> Dataset::rung_shards(const std::string& split, int rung) const {
+  std::vector<nlohmann::json> out;
+  const auto ladder = manifest_.find("ladder");
+  if (ladder == manifest_.end() || !ladder->is_object() || !ladder->contains("shards") ||
+      !(*ladder)["shards"].is_array())
+    return out;
+  for (const nlohmann::json& s : (*ladder)["shards"]) {
+    if (!s.is_object() || (!split.empty() && s.value("split", "") != split)) continue;
+    if (rung != 0 && !(s.contains("rung") && s["rung"] == rung)) continue;
+    out.push_back(s);
+  }
   return out;
 }
 
@@ -116,6 +139,13 @@ std::vector<DatasetTile> Dataset::read_shard(const nlohmann::json& shard) const 
 
 void Dataset::for_each_tile(const std::string& split, const std::function<bool(const DatasetTile&)>& fn) const {
   for (const nlohmann::json& shard : shards(split))
+    for (const DatasetTile& t : read_shard(shard))
+      if (!fn(t)) return;
+}
+
+void Dataset::for_each_rung_tile(const std::string& split, int rung,
+                                 const std::function<bool(const DatasetTile&)>& fn) const {
+  for (const nlohmann::json& shard : rung_shards(split, rung))
     for (const DatasetTile& t : read_shard(shard))
       if (!fn(t)) return;
 }

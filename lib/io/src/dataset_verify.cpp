@@ -160,6 +160,11 @@ SplitVerification Dataset::verify_split(const std::string& split, bool hash) con
                     want_sha.c_str(), static_cast<long long>(want_bytes), got.c_str(), static_cast<long long>(bytes)));
     }
   }
+  // The ladder's shards of the split (generate --ladder) share the shards/ folder.
+  if (tar_)
+    for (const nlohmann::json& shard : rung_shards(split))
+      if (shard.contains("file") && shard["file"].is_string())
+        listed.insert((root_ / shard["file"].get<std::string>()).lexically_normal());
   // Leftovers: a shard of this split (tar) or a tile folder (folder layout) in the same
   // place that the manifest does not list, e.g. from an earlier run with more tiles.
   for (const fs::path& dir : shard_dirs) {

@@ -37,6 +37,32 @@ int64_t integer(const json& obj, const char* name, int64_t hi, const std::string
   return v.get<int64_t>();
 }
 
+std::vector<std::string> strings(const json& obj, const char* name, const std::string& file, const std::string& at) {
+  const json& v = member(obj, name, file, at);
+  NSG_CHECK(v.is_array(), ParseError, file, at + "/" + name, "an array of strings");
+  std::vector<std::string> out;
+  for (size_t i = 0; i < v.size(); ++i) {
+    NSG_CHECK(v[i].is_string(), ParseError, file, at + "/" + name + "/" + std::to_string(i), "a string");
+    out.push_back(v[i].get<std::string>());
+  }
+  return out;
+}
+
+TileRung tile_rung_from_json(const json& doc, size_t scenes, const std::string& file) {
+  TileRung r;
+  constexpr int64_t kMaxRung = 100000;
+  r.rung = static_cast<int>(integer(doc, "rung", kMaxRung, file, "/ladder"));
+  NSG_CHECK(r.rung >= 1, ParseError, file, "/ladder/rung", "a scene count of at least 1");
+  r.base_key = text(doc, "base_key", file, "/ladder");
+  r.order = text(doc, "order", file, "/ladder");
+  NSG_CHECK(r.order == "time" || r.order == "seeded", ParseError, file, "/ladder/order", "time or seeded");
+  r.scenes_seen = integer(doc, "scenes_seen", kMaxRung, file, "/ladder");
+  r.capture_dates = strings(doc, "capture_dates", file, "/ladder");
+  NSG_CHECK(r.capture_dates.size() == scenes, ParseError, file, "/ladder/capture_dates",
+            "one date per scene of /scenes (" + std::to_string(scenes) + ")");
+  return r;
+}
+
 }  // namespace
 
 std::array<double, 4> bounds_from_json(const json& b, const std::string& file, const std::string& path) {
@@ -82,21 +108,30 @@ TileMeta tile_meta_from_json(const json& doc, const std::string& file) {
       m.scenes.push_back(s[i].get<std::string>());
     }
   }
+  if (doc.contains("ladder")) m.ladder = tile_rung_from_json(doc["ladder"], m.scenes.size(), file);
   return m;
 }
 
 nlohmann::ordered_json tile_meta_to_json(const TileMeta& m) {
-  return {{"schema_version", "1"},
-          {"key", m.key},
-          {"location", m.location},
-          {"split", m.split},
-          {"region", m.region},
-          {"bounds_m", m.bounds_m},
-          {"resolution_m", m.resolution_m},
-          {"size_px", m.size_px},
-          {"coverage", {{"lidar", m.coverage_lidar}, {"rgb", m.coverage_rgb}, {"semantic", m.coverage_semantic}}},
-          {"counts", {{"nodes", m.nodes}, {"edges", m.edges}, {"vehicle_px", m.vehicle_px}}},
-          {"scenes", m.scenes}};
+  nlohmann::ordered_json doc = {
+      {"schema_version", "1"},
+      {"key", m.key},
+      {"location", m.location},
+      {"split", m.split},
+      {"region", m.region},
+      {"bounds_m", m.bounds_m},
+      {"resolution_m", m.resolution_m},
+      {"size_px", m.size_px},
+      {"coverage", {{"lidar", m.coverage_lidar}, {"rgb", m.coverage_rgb}, {"semantic", m.coverage_semantic}}},
+      {"counts", {{"nodes", m.nodes}, {"edges", m.edges}, {"vehicle_px", m.vehicle_px}}},
+      {"scenes", m.scenes}};
+  if (m.ladder)
+    doc["ladder"] = {{"rung", m.ladder->rung},
+                     {"base_key", m.ladder->base_key},
+                     {"order", m.ladder->order},
+                     {"scenes_seen", m.ladder->scenes_seen},
+                     {"capture_dates", m.ladder->capture_dates}};
+  return doc;
 }
 
 std::string tile_meta_text(const TileMeta& meta) { return tile_meta_to_json(meta).dump(2) + "\n"; }

@@ -139,6 +139,7 @@ nlohmann::json report_to_json(const ScoreReport& r) {
                         {"tiles", tiles},
                         {"aggregate", aggregate_to_json(r.aggregate)}};
   if (!r.receipt.is_null()) out["receipt"] = r.receipt;
+  if (!r.rungs.is_null()) out["rungs"] = r.rungs;
   return out;
 }
 

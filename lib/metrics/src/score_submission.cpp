@@ -10,6 +10,7 @@
 #include "nsg/io/dataset.h"
 #include "nsg/metrics/io.h"
 #include "nsg/metrics/receipt.h"
+#include "nsg/metrics/rungs.h"
 #include "nsg/metrics/submission_input.h"
 
 namespace nsg::metrics {
@@ -66,9 +67,12 @@ ScoredSubmission score_submission(const ScoreSource& ground_truth, const ScoreSo
                               &inputs.ground_truth_sha256);
     inputs.ground_truth_kind = std::filesystem::is_directory(ground_truth.path) ? "dataset" : "file";
   }
+  // An observation ladder's rung tiles (<key>-r<k>) are scored per rung beside the split's.
+  GraphSet all_rung = out.graphs;
+  std::map<int, GraphSet> rung_preds = take_rung_tiles(truth, all_rung);
   // A submission none of whose keys is a tile of the split is for another split (or
   // another dataset): scoring it would report every tile missing, exit 0, all zeros.
-  if (!out.graphs.empty() && !truth.empty() &&
+  if (!out.graphs.empty() && !truth.empty() && rung_preds.empty() &&
       std::none_of(out.graphs.begin(), out.graphs.end(), [&](const auto& kv) { return truth.count(kv.first) > 0; })) {
     out.issues.error(
         "submission.keys", submission.label,
@@ -79,7 +83,10 @@ ScoredSubmission score_submission(const ScoreSource& ground_truth, const ScoreSo
     return out;
   }
   try {
-    out.report = score(truth, out.graphs, options.score);
+    out.report = score(truth, all_rung, options.score);
+    std::map<int, ScoreReport> rung_reports;
+    for (const auto& [rung, preds] : rung_preds) rung_reports[rung] = score(truth, preds, options.score);
+    if (!rung_reports.empty()) out.report.rungs = rungs_to_json(rung_scores(rung_reports, out.report));
   } catch (const SearchWorkExceeded& e) {
     // Beyond a scoring limit, as a file beyond the per-tile limits is (exit 1), though only
     // the ground truth tells.

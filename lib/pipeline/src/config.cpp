@@ -212,6 +212,7 @@ const options::Table<GenerateConfig>& generate_option_table() {
         .help("Explicit split regions per location ({} = automatic blocks everywhere)");
     t.include(&GenerateConfig::crops, tiling::crop_option_table());
     t.include(&GenerateConfig::output, output_option_table());
+    t.include(&GenerateConfig::ladder, ladder_option_table());
     return t;
   }();
   return table;

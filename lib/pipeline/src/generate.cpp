@@ -34,6 +34,7 @@
 #include "nsg/raster/color_layer.h"
 #include "nsg/pipeline/input_checks.h"
 #include "nsg/tiling/tile.h"
+#include "ladder_tiles.h"
 #include "memory_plan.h"
 #include "outputs.h"
 #include "plan.h"
@@ -108,7 +109,7 @@ ordered_json plan_json(const LocationPlan& p) {
                       {"last_key", p.keys[s.first + s.count - 1]}});
   ordered_json excluded = ordered_json::array();
   for (const ExcludedScene& e : p.excluded_scenes) excluded.push_back({{"name", e.name}, {"reason", e.reason}});
-  return {
+  ordered_json doc = {
       {"name", p.location},
       {"map_version", p.map_version},
       {"lane_graph",
@@ -117,6 +118,17 @@ ordered_json plan_json(const LocationPlan& p) {
       {"regions", regions},
       {"counts", counts},
       {"shards", shards}};
+  if (p.rung_shards.empty()) return doc;
+  ordered_json rung_shards = ordered_json::array();
+  for (const RungShard& r : p.rung_shards)
+    rung_shards.push_back({{"name", r.shard.name},
+                           {"split", r.shard.split},
+                           {"rung", r.rung},
+                           {"tiles", r.shard.count},
+                           {"first_key", rung_key(p.keys[r.shard.first], r.rung)},
+                           {"last_key", rung_key(p.keys[r.shard.first + r.shard.count - 1], r.rung)}});
+  doc["rung_shards"] = rung_shards;
+  return doc;
 }
 
 namespace {
@@ -381,6 +393,7 @@ void plan_stage(RunState& rs, LocationRun& lr) {
                                          rs.config.crop_size_m(), seed, &filter.regions);
   st.plan.crops = tiling::plan_crops(st.layers.lidar, st.plan.regions, rs.config.crops, seed, &filter.crops);
   assign_keys_and_shards(st.plan, rs.per_shard, rs.next_shard);
+  st.plan.rung_shards = plan_rung_shards(st.plan, rs.config.ladder);
   rs.summary.tiles_planned += st.plan.crops.size();
   rs.summary.seconds.plan_s += seconds_since(t0);
   log::info(strprintf("generate: %s: %zu regions, %zu train / %zu val / %zu test tiles", lr.location.c_str(),
@@ -393,6 +406,8 @@ std::vector<WorkItem> share_items(RunState& rs, const LocationRun& lr) {
   items.push_back({ItemKind::kMaps, 0, 0, "maps/" + lr.location});
   for (size_t s = 0; s < lr.st.plan.shards.size(); ++s)
     items.push_back({ItemKind::kShard, 0, s, rs.out.shard_item_id(lr.st.plan.shards[s])});
+  for (size_t s = 0; s < lr.st.plan.rung_shards.size(); ++s)
+    items.push_back({ItemKind::kRungShard, 0, s, rs.out.shard_item_id(lr.st.plan.rung_shards[s].shard)});
   std::vector<WorkItem> mine;
   for (const WorkItem& item : items) {
     const bool ours =
@@ -447,6 +462,28 @@ raster::ColorLayer camera_stage(RunState& rs, const LocationRun& lr, const std::
   return color;
 }
 
+// A rung shard of the ladder: its tiles rebuilt from their first k scenes, written like a
+// split shard under its own name (and, in the folder layout, tiles/<split>-r<k>/).
+size_t write_rung_shard(RunState& rs, const LocationRun& lr, const WorkItem& item,
+                        const tiling::LocationRasters& layers, Progress* progress) {
+  const RungShard& r = lr.st.plan.rung_shards[item.shard];
+  const RungInputs inputs{rs.db, rs.config, rs.camera_setup, lr.st.plan, layers, rs.run.threads};
+  std::vector<std::vector<TileFile>> encoded = encode_rung_shard(inputs, r, &rs.summary.ladder);
+  return rs.out.write_tiles(
+      item.id, r.shard, lr.location, r.shard.split + "-r" + rung_name(r.rung),
+      [&](size_t i) { return std::move(encoded[i - r.shard.first]); }, rs.run, progress);
+}
+
+// Tiles in the share's items: the progress total of the tiles stage.
+size_t item_tiles(const LocationPlan& plan, const std::vector<WorkItem>& mine) {
+  size_t n = 0;
+  for (const WorkItem& item : mine) {
+    if (item.kind == ItemKind::kShard) n += plan.shards[item.shard].count;
+    if (item.kind == ItemKind::kRungShard) n += plan.rung_shards[item.shard].shard.count;
+  }
+  return n;
+}
+
 // Stage 5: this share's maps and shards of the location.
 void tiles_stage(RunState& rs, const LocationRun& lr, const std::vector<WorkItem>& mine, size_t tiles,
                  const raster::ColorLayer& color) {
@@ -459,6 +496,8 @@ void tiles_stage(RunState& rs, const LocationRun& lr, const std::vector<WorkItem
   for (const WorkItem& item : mine) {
     if (item.kind == ItemKind::kMaps) {
       rs.out.write_maps(item.id, lr.location, st.graph, st.plan);
+    } else if (item.kind == ItemKind::kRungShard) {
+      rs.summary.tiles_written += write_rung_shard(rs, lr, item, layers, tile_progress ? &*tile_progress : nullptr);
     } else {
       Progress* progress = tile_progress ? &*tile_progress : nullptr;
       rs.summary.tiles_written +=
@@ -485,7 +524,18 @@ void generate_location(RunState& rs, size_t location_index) {
   if (mine.empty()) return camera_stage_done(rs, lr);
   const std::vector<raster::CellRect> rects = tile_rects(rs, lr, mine);
   const raster::ColorLayer color = camera_stage(rs, lr, rects);
-  tiles_stage(rs, lr, mine, rects.size(), color);
+  tiles_stage(rs, lr, mine, item_tiles(lr.st.plan, mine), color);
+}
+
+// What the ladder's rung tiles cost beside the split tiles' one pass over every scene.
+void log_ladder_work(const GenerateSummary& s) {
+  if (s.ladder.tiles == 0) return;
+  log::info(
+      strprintf("generate: ladder: %zu rung tiles from %zu scene lists read %zu sweeps (%.2f× the %zu of the "
+                "all-scenes pass) and %zu images",
+                s.ladder.tiles, s.ladder.scene_sets, s.ladder.sweeps,
+                s.sweeps > 0 ? static_cast<double>(s.ladder.sweeps) / static_cast<double>(s.sweeps) : 0.0, s.sweeps,
+                s.ladder.images));
 }
 
 // The whole plan is known here, the same in every share: an empty dataset is refused by
@@ -537,6 +587,7 @@ GenerateSummary generate(const GenerateConfig& given, const GenerateRun& run) {
   rs.excluded = std::move(excluded_list);
   for (size_t i = 0; i < summary.locations.size(); ++i) generate_location(rs, i);
   check_plan_not_empty(rs);
+  log_ladder_work(summary);
   rs.out.finish();
   if (run.share.count == 1) {
     t0 = std::chrono::steady_clock::now();

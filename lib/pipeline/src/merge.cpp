@@ -64,12 +64,18 @@ void check_record(const ShareRecord& r) {
     need(loc.is_object() && loc.contains("name") && loc["name"].is_string(), at + "/name", "a location name");
     need(loc.contains("map_version"), at + "/map_version", "the map expansion's version");
     need(loc.contains("shards") && loc["shards"].is_array(), at + "/shards", "an array");
-    for (size_t k = 0; k < loc["shards"].size(); ++k) {
-      const ordered_json& sh = loc["shards"][k];
-      const std::string sat = at + "/shards/" + std::to_string(k);
-      for (const char* f : {"name", "split", "first_key", "last_key"})
-        need(sh.is_object() && sh.contains(f) && sh[f].is_string(), sat + "/" + f, "a string");
-      need(sh.contains("tiles") && sh["tiles"].is_number_unsigned(), sat + "/tiles", "a tile count");
+    need(!loc.contains("rung_shards") || loc["rung_shards"].is_array(), at + "/rung_shards", "an array");
+    for (const char* list : {"shards", "rung_shards"}) {
+      if (!loc.contains(list)) continue;
+      for (size_t k = 0; k < loc[list].size(); ++k) {
+        const ordered_json& sh = loc[list][k];
+        const std::string sat = at + "/" + list + "/" + std::to_string(k);
+        for (const char* f : {"name", "split", "first_key", "last_key"})
+          need(sh.is_object() && sh.contains(f) && sh[f].is_string(), sat + "/" + f, "a string");
+        need(sh.contains("tiles") && sh["tiles"].is_number_unsigned(), sat + "/tiles", "a tile count");
+        if (std::string(list) == "rung_shards")
+          need(sh.contains("rung") && sh["rung"].is_number_unsigned(), sat + "/rung", "a rung (scene count)");
+      }
     }
   }
   need(d.contains("items") && d["items"].is_array(), "/items", "an array");
@@ -298,7 +304,7 @@ ordered_json shard_entry(const ordered_json& location, const ordered_json& shard
     entry["sha256"] = item["files"][0]["sha256"];
     entry["bytes"] = item["files"][0]["bytes"];
   } else {
-    entry["folder"] = "tiles/" + split;
+    entry["folder"] = "tiles/" + (shard.contains("rung") ? split + "-r" + shard["rung"].dump() : split);
     entry["sha256"] = item["digest"];
     uint64_t bytes = 0;
     for (const auto& f : item["files"]) bytes += f["bytes"].get<uint64_t>();
@@ -311,6 +317,8 @@ ordered_json shard_entry(const ordered_json& location, const ordered_json& shard
 struct PlannedOutputs {
   ordered_json shards = ordered_json::array(), maps = ordered_json::array();
   std::map<std::string, int64_t> split_tiles, split_shards;
+  ordered_json rung_shards = ordered_json::array();  // the ladder's (generate --ladder)
+  std::map<int64_t, int64_t> rung_tiles, rung_shard_count;
 };
 
 // Every planned item, in plan order, must be recorded and verify on disk; those that do not
@@ -330,8 +338,33 @@ PlannedOutputs planned_outputs(const fs::path& out, const ordered_json& plan, co
       ++o.split_shards[split];
       o.shards.push_back(shard_entry(location, shard, *item, tar));
     }
+    for (const auto& shard : location.value("rung_shards", ordered_json::array())) {
+      const std::string name = shard["name"].get<std::string>();
+      const ordered_json* item = verified_item(out, items, tar ? "shards/" + name + ".tar" : "tiles/" + name, problems);
+      if (item == nullptr) continue;
+      const int64_t rung = shard["rung"].get<int64_t>();
+      o.rung_tiles[rung] += shard["tiles"].get<int64_t>();
+      ++o.rung_shard_count[rung];
+      ordered_json entry = shard_entry(location, shard, *item, tar);
+      entry["rung"] = rung;
+      o.rung_shards.push_back(entry);
+    }
   }
   return o;
+}
+
+// The manifest's "ladder": the config's rungs, which splits have them, tiles and shards per
+// built rung and the rung shards (docs/dataset-format.md). Absent without a ladder.
+ordered_json ladder_json(const ordered_json& config, const PlannedOutputs& o) {
+  const ordered_json& ladder = config["ladder"];
+  ordered_json counts = ordered_json::object();
+  for (const auto& [rung, tiles] : o.rung_tiles)
+    counts[std::to_string(rung)] = {{"tiles", tiles}, {"shards", o.rung_shard_count.at(rung)}};
+  return {{"rungs", ladder["rungs"]},
+          {"order", ladder["order"]},
+          {"splits", ladder["splits"]},
+          {"counts", counts},
+          {"shards", o.rung_shards}};
 }
 
 // Files an older dataset left in `out`: refused, or removed with --overwrite.
@@ -371,24 +404,26 @@ ordered_json excluded_scenes_json(const ordered_json& plan) {
 
 ordered_json manifest_json(const ordered_json& config, const ordered_json& plan, bool tar, const ordered_json& counts,
                            const ordered_json& excluded_scenes, const PlannedOutputs& o) {
-  return {{"schema_version", "1"},
-          {"tool", {{"name", "nsgraph"}, {"version", kVersion}}},
-          {"licence", data_licence_json()},
-          {"seed", config["seed"]},
-          {"config", config},
-          {"inputs", inputs_json(config, plan)},
-          {"georeference", georeference_json(plan)},
-          {"layout", tar ? "tar" : "folder"},
-          {"tile_format",
-           {{"resolution_m", config["resolution_m"]},
-            {"size_px", config["crops"]["size_px"]},
-            {"key_pattern", "<location>-<split>-<NNNNNN>"},
-            {"files", tile_file_suffixes()}}},
-          {"locations", plan},
-          {"excluded_scenes", excluded_scenes},
-          {"counts", counts},
-          {"shards", o.shards},
-          {"maps", o.maps}};
+  ordered_json doc = {{"schema_version", "1"},
+                      {"tool", {{"name", "nsgraph"}, {"version", kVersion}}},
+                      {"licence", data_licence_json()},
+                      {"seed", config["seed"]},
+                      {"config", config},
+                      {"inputs", inputs_json(config, plan)},
+                      {"georeference", georeference_json(plan)},
+                      {"layout", tar ? "tar" : "folder"},
+                      {"tile_format",
+                       {{"resolution_m", config["resolution_m"]},
+                        {"size_px", config["crops"]["size_px"]},
+                        {"key_pattern", "<location>-<split>-<NNNNNN>"},
+                        {"files", tile_file_suffixes()}}},
+                      {"locations", plan},
+                      {"excluded_scenes", excluded_scenes},
+                      {"counts", counts},
+                      {"shards", o.shards},
+                      {"maps", o.maps}};
+  if (config.contains("ladder") && !config["ladder"]["rungs"].empty()) doc["ladder"] = ladder_json(config, o);
+  return doc;
 }
 
 void merge_records(const fs::path& out, bool overwrite) {

@@ -218,7 +218,8 @@ std::string regions_geojson(const LocationPlan& plan, double resolution_m, int s
   return doc.dump(1) + "\n";
 }
 
-// Names of the scenes whose sweeps a tile holds, in scene-table order.
+}  // namespace
+
 std::vector<std::string> scene_names(const nuscenes::Database& db, const std::vector<int32_t>& sweeps) {
   std::set<nuscenes::Index> scenes;
   for (int32_t sd : sweeps) scenes.insert(db.sample[db.sample_data[sd].sample].scene);
@@ -226,8 +227,6 @@ std::vector<std::string> scene_names(const nuscenes::Database& db, const std::ve
   for (nuscenes::Index s : scenes) names.push_back(db.scene[s].name);
   return names;
 }
-
-}  // namespace
 
 void OutputWriter::write_maps(const std::string& id, const std::string& location, const graph::LaneGraph& graph,
                               const LocationPlan& plan) {
@@ -244,6 +243,22 @@ void OutputWriter::write_maps(const std::string& id, const std::string& location
 size_t OutputWriter::write_shard(const std::string& id, const nuscenes::Database& db, const LocationPlan& plan,
                                  const PlannedShard& shard, const tiling::LocationRasters& layers,
                                  const GenerateRun& run, Progress* progress) {
+  return write_tiles(
+      id, shard, plan.location, shard.split,
+      [&](size_t i) {
+        const tiling::Tile tile = tiling::extract_tile(layers, plan.location, plan.crops[i], plan.keys[i],
+                                                       config_.resolution_m, config_.crops.size_px);
+        TileFileOptions options;
+        options.deflate_level = config_.output.deflate_level;
+        options.scenes = scene_names(db, tile.sweeps);
+        return encode_tile_files(tile, options);
+      },
+      run, progress);
+}
+
+size_t OutputWriter::write_tiles(const std::string& id, const PlannedShard& shard, const std::string& location,
+                                 const std::string& folder, const std::function<std::vector<TileFile>(size_t)>& encode,
+                                 const GenerateRun& run, Progress* progress) {
   const bool tar = config_.output.layout == Layout::kTar;
   std::unique_ptr<io::TarWriter> writer;
   if (tar) {
@@ -257,22 +272,15 @@ size_t OutputWriter::write_shard(const std::string& id, const nuscenes::Database
   for (size_t b = shard.first; b < shard.first + shard.count; b += batch) {
     const size_t n = std::min(batch, shard.first + shard.count - b);
     std::vector<std::vector<TileFile>> encoded(n);
-    parallel_for(n, run.threads, [&](size_t k) {
-      const size_t i = b + k;
-      const tiling::Tile tile = tiling::extract_tile(layers, plan.location, plan.crops[i], plan.keys[i],
-                                                     config_.resolution_m, config_.crops.size_px);
-      TileFileOptions options;
-      options.deflate_level = config_.output.deflate_level;
-      options.scenes = scene_names(db, tile.sweeps);
-      encoded[k] = encode_tile_files(tile, options);
-    });
+    parallel_for(n, run.threads, [&](size_t k) { encoded[k] = encode(b + k); });
     for (size_t k = 0; k < n; ++k) {
       for (const TileFile& f : encoded[k]) {
         bytes_written_ += f.bytes.size();
         if (tar) {
           writer->add(f.name, f.bytes);
         } else {
-          const std::string relative = "tiles/" + shard.split + "/" + plan.keys[b + k] + "/" + f.name;
+          const std::string key = f.name.substr(0, f.name.find('.'));
+          const std::string relative = "tiles/" + folder + "/" + key + "/" + f.name;
           remove_stale_temps(out_ / relative);
           write_file_atomic(out_ / relative,
                             std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size()));
@@ -294,7 +302,7 @@ size_t OutputWriter::write_shard(const std::string& id, const nuscenes::Database
   }
   record_item(id, {{"id", id},
                    {"kind", "shard"},
-                   {"location", plan.location},
+                   {"location", location},
                    {"split", shard.split},
                    {"shard", shard.name},
                    {"tiles", shard.count},

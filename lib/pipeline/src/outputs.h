@@ -2,6 +2,7 @@
 // The output side of a share (private to the pipeline): tile shards (tar or folders),
 // the maps of a location, and the share's done-record, rewritten after every item.
 #include <cstdint>
+#include <functional>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -10,6 +11,7 @@
 
 #include "nsg/pipeline/config.h"
 #include "nsg/pipeline/generate.h"
+#include "nsg/pipeline/tile_files.h"
 #include "nsg/tiling/tile.h"
 #include "plan.h"
 
@@ -24,6 +26,9 @@ struct LaneGraph;
 }
 
 namespace nsg::pipeline {
+
+// Names of the scenes whose sweeps a tile holds (Tile::sweeps), in scene-table order.
+std::vector<std::string> scene_names(const nuscenes::Database& db, const std::vector<int32_t>& sweeps);
 
 // parts/share-<i>-of-<n>.json
 std::filesystem::path done_record_path(const std::filesystem::path& out, const ShareSpec& share);
@@ -64,6 +69,13 @@ class OutputWriter {
   size_t write_shard(const std::string& id, const nuscenes::Database& db, const LocationPlan& plan,
                      const PlannedShard& shard, const tiling::LocationRasters& layers, const GenerateRun& run,
                      Progress* progress);
+  // Writes the tiles i in [shard.first, shard.first + shard.count) in key order, `encode(i)`
+  // giving tile i's files (called in parallel batches, so memory stays at one batch and the
+  // bytes do not depend on the thread count); the folder layout puts them under
+  // tiles/<folder>/<key>/. Returns the number of tiles written.
+  size_t write_tiles(const std::string& id, const PlannedShard& shard, const std::string& location,
+                     const std::string& folder, const std::function<std::vector<TileFile>(size_t)>& encode,
+                     const GenerateRun& run, Progress* progress);
   // Bytes of tile files written by this writer (this run; tar headers not counted).
   uint64_t bytes_written() const { return bytes_written_; }
   // Marks the record complete (with the whole plan) and writes it.

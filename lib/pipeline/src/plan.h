@@ -20,6 +20,13 @@ struct PlannedShard {
   size_t count = 0;
 };
 
+// A shard of ladder rung tiles (generate --ladder): the rung tiles of one split shard's
+// crops, named and keyed after it (nsg/pipeline/ladder.h).
+struct RungShard {
+  PlannedShard shard;  // name "<split>-r<k>-NNNNNN"; first/count as the split shard's
+  int rung = 1;
+};
+
 struct LocationPlan {
   std::string location;
   std::string map_version;
@@ -30,6 +37,7 @@ struct LocationPlan {
   std::vector<tiling::Crop> crops;  // train, then val, then test; plan order inside a split
   std::vector<std::string> keys;    // one per crop
   std::vector<PlannedShard> shards;
+  std::vector<RungShard> rung_shards;  // after every split shard; empty without a ladder
   size_t count(const std::string& split) const;
 };
 
@@ -50,16 +58,20 @@ std::string explain_empty_plan(const std::vector<PlanFilters>& filters, const Ge
 // config asks for: a ratio > 0 or explicit regions of the split); empty when none.
 std::vector<std::string> empty_split_warnings(const std::vector<PlanFilters>& filters, const GenerateConfig& config);
 
-enum class ItemKind { kMaps, kShard };
+enum class ItemKind { kMaps, kShard, kRungShard };
 
 struct WorkItem {
   ItemKind kind = ItemKind::kMaps;
   size_t location = 0;  // index into the plan's locations
-  size_t shard = 0;     // index into LocationPlan::shards (kShard)
+  size_t shard = 0;     // index into LocationPlan::shards (kShard) or rung_shards (kRungShard)
   std::string id;       // "maps/<location>" or "shards/<split>-NNNNNN.tar" / "tiles/<split>-NNNNNN"
 };
 
 // The plan as it is recorded (done-records, manifest): regions, counts, shards.
 nlohmann::ordered_json plan_json(const LocationPlan& plan);
+
+// The rung shards of the ladder's splits: for each split shard of a covered split, one per
+// built rung (rung-major within the location).
+std::vector<RungShard> plan_rung_shards(const LocationPlan& plan, const LadderOptions& ladder);
 
 }  // namespace nsg::pipeline

@@ -50,7 +50,7 @@ namespace {
 std::vector<uint8_t> bytes_of(const std::string& text) { return {text.begin(), text.end()}; }
 
 // The tile's meta document (io/tile_meta.h writes it).
-io::TileMeta tile_meta(const tiling::Tile& t, const std::vector<std::string>& scenes) {
+io::TileMeta tile_meta(const tiling::Tile& t, const TileFileOptions& options) {
   io::TileMeta m;
   m.key = t.key;
   m.location = t.location;
@@ -65,7 +65,8 @@ io::TileMeta tile_meta(const tiling::Tile& t, const std::vector<std::string>& sc
   m.nodes = static_cast<int64_t>(t.graph.nodes.size());
   m.edges = static_cast<int64_t>(t.graph.edges.size());
   m.vehicle_px = t.vehicle_px;
-  m.scenes = scenes;
+  m.scenes = options.scenes;
+  m.ladder = options.ladder;
   return m;
 }
 
@@ -84,7 +85,7 @@ std::vector<TileFile> encode_tile_files(const tiling::Tile& t, const TileFileOpt
     } else if (m.name == "graph") {
       bytes = bytes_of(io::tile_graph_text(t.key, t.graph));
     } else if (m.name == "meta") {
-      bytes = bytes_of(io::tile_meta_text(tile_meta(t, options.scenes)));
+      bytes = bytes_of(io::tile_meta_text(tile_meta(t, options)));
     } else {
       throw InternalError("", m.file, "a member the tile writer knows");
     }

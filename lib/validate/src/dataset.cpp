@@ -18,6 +18,7 @@
 #include "nsg/io/raster.h"
 #include "nsg/io/tile_members.h"
 #include "nsg/validate/schema.h"
+#include "ladder_checks.h"
 #include "raster_values.h"
 
 namespace fs = std::filesystem;
@@ -59,6 +60,9 @@ const std::vector<CheckInfo>& dataset_checks() {
        "lane changes join two different nodes at most a lane change's reach apart (docs/dataset-format.md)"},
       {"split.disjoint", "no tile of one split overlaps a region or a tile of another split"},
       {"split.counts", "manifest counts (per shard, split, location, total) equal the tiles found"},
+      {"ladder.rungs",
+       "a ladder's rung tiles (generate --ladder) are keyed <base_key>-r<rung> in shards of their rung, have their "
+       "split tile's crop, region and graph, at most <rung> of its scenes, and the manifest's rung counts"},
   };
   return kChecks;
 }
@@ -148,15 +152,24 @@ class DatasetChecker {
     check_manifest();
     check_maps();
     const json shards = m_.value("shards", json::array());
+    const std::vector<json> rung_shards = ds_.rung_shards();
     // Hashing and decoding every tile takes a while on a real dataset.
-    Progress bar("validate shards", shards.is_array() ? shards.size() : 0, o_.progress);
+    Progress bar("validate shards", (shards.is_array() ? shards.size() : 0) + rung_shards.size(), o_.progress);
     for (const json& shard : shards) {
       if (shard.is_object()) check_shard(shard);
+      bar.advance();
+    }
+    for (const json& shard : rung_shards) {
+      check_shard(shard);
       bar.advance();
     }
     bar.finish();
     check_split_disjoint();
     check_split_counts();
+    if (on("ladder.rungs") && m_.contains("ladder"))
+      check_ladder_tiles(
+          m_, ladder_, found_per_shard_,
+          [this](const std::string& c, const std::string& s, const std::string& msg) { error(c, s, msg); });
     return std::move(issues_);
   }
 
@@ -252,11 +265,13 @@ class DatasetChecker {
   }
 
   void check_key(const io::DatasetTile& t, const json& shard) {
-    static const std::regex kKey(R"(([^.]+)-(train|val|test)-(\d{6}))");
+    static const std::regex kKey(R"(([^.]+)-(train|val|test)-(\d{6})(-r([1-9]\d*))?)");
     std::smatch m;
     const std::string subject = t.shard + "/" + t.key;
-    if (!std::regex_match(t.key, m, kKey)) {
-      error("tile.key", subject, "a key <location>-<split>-<NNNNNN>");
+    const std::string rung = shard.contains("rung") ? shard["rung"].dump() : "";
+    if (!std::regex_match(t.key, m, kKey) || m[5].str() != rung) {
+      error("tile.key", subject,
+            rung.empty() ? "a key <location>-<split>-<NNNNNN>" : "a key <location>-<split>-<NNNNNN>-r" + rung);
     } else {
       if (m[2] != str_of(shard, "split")) error("tile.key", subject, "a key of split '" + str_of(shard, "split") + "'");
       if (m[1] != str_of(shard, "location"))
@@ -298,6 +313,7 @@ class DatasetChecker {
     std::optional<json> graph = parse_member(t, "graph.json", "graph.schema");
     if (graph) check_graph(t, *graph, bounds, meta);
     check_rasters(t, meta, bounds);
+    if (m_.contains("ladder")) ladder_.push_back(ladder_facts(t, shard, meta, graph));
   }
 
   std::optional<Rect> check_meta(const io::DatasetTile& t, const json& meta, const json& shard) {
@@ -318,7 +334,9 @@ class DatasetChecker {
     if (!near(r->x_east - r->x_west, extent) || !near(r->y_north - r->y_south, extent))
       error("meta.schema", subject + ":/bounds_m",
             "a square of size_px * resolution_m = " + format_double(extent) + " m");
-    tiles_.push_back({t.key, str_of(meta, "split"), str_of(meta, "location"), t.shard, *r});
+    // A rung tile repeats its split tile's crop: the split checks count split tiles only.
+    if (!shard.contains("rung"))
+      tiles_.push_back({t.key, str_of(meta, "split"), str_of(meta, "location"), t.shard, *r});
     return r;
   }
 
@@ -562,6 +580,7 @@ class DatasetChecker {
   std::set<std::string> keys_;
   std::vector<TileRecord> tiles_;
   std::map<std::string, int64_t> found_per_shard_;
+  std::vector<LadderTileFacts> ladder_;  // every tile's facts, in a dataset with a ladder
 };
 
 }  // namespace

@@ -381,11 +381,17 @@ SubmissionReport validate_submission(const SubmissionValidateOptions& o) {
   if (has_tiles) report.tiles = static_cast<int64_t>((*doc)["tiles"].size());
   if (o.dataset.empty() || !has_tiles) return report;
   const std::vector<std::string> keys = dataset_split_keys(o.dataset, o.split);
-  const std::set<std::string> known(keys.begin(), keys.end());
+  std::set<std::string> known(keys.begin(), keys.end());
+  // An observation ladder's rung tiles (<key>-r<k>) are predicted and scored per rung; a
+  // submission need not hold them, so they are never missing.
+  const io::Dataset ds = io::Dataset::open(o.dataset);
+  for (int rung : ds.rungs())
+    if (!ds.rung_shards(o.split, rung).empty())
+      for (const std::string& key : keys) known.insert(key + "-r" + std::to_string(rung));
   for (const auto& [key, tile] : (*doc)["tiles"].items())
     if (!known.count(key))
       report.issues.error("submission.keys", label + ":/tiles/" + json_pointer_token(key),
-                          "a tile key of split '" + o.split + "' of the dataset (unknown key)");
+                          "a tile key of split '" + o.split + "' of the dataset, or of one of its ladder rungs (unknown key)");
   for (const std::string& key : keys)
     if (!(*doc)["tiles"].contains(key)) {
       report.missing_keys.push_back(key);

@@ -68,6 +68,14 @@ class Dataset {
   uint64_t tile_count(const std::string& split = "") const { return io::tile_count(shards(split)); }
   // The split names the manifest's shards carry, sorted.
   std::vector<std::string> splits() const;
+  // The observation ladder (manifest "ladder", generate --ladder): the built rungs (scene
+  // counts, ascending; the "all" rung is the split's own tiles), empty without a ladder.
+  std::vector<int> rungs() const;
+  // The ladder's shard entries of `split` ("" = all) and `rung` (0 = every rung), in
+  // manifest order.
+  std::vector<nlohmann::json> rung_shards(const std::string& split = "", int rung = 0) const;
+  // for_each_tile over the rung shards of `split` and `rung`.
+  void for_each_rung_tile(const std::string& split, int rung, const std::function<bool(const DatasetTile&)>& fn) const;
   // DataError naming the manifest, the split and the splits it lists when `split` is not
   // one of them ("" = all: always fine). For every command that takes --split, so a typo
   // is named instead of giving an empty result.

@@ -5,12 +5,23 @@
 // bounds_m, a size_px of 20 000 or a resolution of 0 once crashed or hung them).
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 namespace nsg::io {
+
+// A ladder rung's tile (generate --ladder): the rung, the split tile it was rebuilt from, and
+// the capture date of each of its scenes (TileMeta::scenes, same order).
+struct TileRung {
+  int rung = 1;  // scenes the rung allows; the tile uses min(rung, scenes_seen)
+  std::string base_key;
+  std::string order;        // "time" | "seeded"
+  int64_t scenes_seen = 0;  // scenes whose sweeps the base tile holds
+  std::vector<std::string> capture_dates;
+};
 
 struct TileMeta {
   std::string key, location, split, region;
@@ -20,6 +31,7 @@ struct TileMeta {
   double coverage_lidar = 0, coverage_rgb = 0, coverage_semantic = 0;  // fractions in [0, 1]
   int64_t nodes = 0, edges = 0, vehicle_px = 0;                        // vehicle_px <= size_px²
   std::vector<std::string> scenes;
+  std::optional<TileRung> ladder;  // only in a rung tile
 };
 
 // [x_west, y_south, x_east, y_north] in metres, finite, within ±1e7 m, west < east and

@@ -38,6 +38,9 @@ struct ScoreReport {
   // What the score was computed from and with (receipt.h; set by score_submission, null
   // for a bare score()).
   nlohmann::json receipt;
+  // Per rung of an observation ladder (rungs.h: rungs_to_json), null when the submission
+  // holds no rung tile.
+  nlohmann::json rungs;
 };
 
 ScoreReport score(const GraphSet& gt, const GraphSet& pred, const ScoreOptions& options);

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "nsg/core/options.h"
+#include "nsg/pipeline/ladder.h"
 #include "nsg/graph/lane_graph.h"
 #include "nsg/raster/accumulate.h"
 #include "nsg/raster/color_layer.h"
@@ -59,6 +60,7 @@ struct GenerateConfig {
   std::map<std::string, std::vector<tiling::Region>> regions;  // explicit regions per location
   tiling::CropOptions crops;
   OutputOptions output;
+  LadderOptions ladder;  // the observation ladder (nsg/pipeline/ladder.h)
 
   double crop_size_m() const { return resolution_m * crops.size_px; }
   tiling::SplitOptions split_options_for(const std::string& location) const;

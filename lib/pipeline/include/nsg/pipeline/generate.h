@@ -45,6 +45,14 @@ class EmptyDatasetError : public Error {
   int exit_code() const override { return kExitProblems; }
 };
 
+// The ladder's rung tiles this share wrote and what their LiDAR and camera work read.
+struct LadderSummary {
+  size_t tiles = 0;       // rung tiles written
+  size_t scene_sets = 0;  // distinct scene lists accumulated (tiles that share one share the work)
+  size_t sweeps = 0;      // LiDAR sweeps read for them (the split tiles' pass: GenerateSummary::sweeps)
+  size_t images = 0;      // camera images decoded for them
+};
+
 struct GenerateSummary {
   std::vector<std::string> locations;
   std::vector<std::string> excluded_scenes;  // names left out by scenes.exclude (present in the release)
@@ -55,6 +63,7 @@ struct GenerateSummary {
   size_t items_skipped = 0;                  // verified from an earlier run
   size_t tiles_planned = 0;                  // whole run
   bool manifest_written = false;
+  LadderSummary ladder;  // generate --ladder
   StageTimes seconds;
 };
 

@@ -3,10 +3,12 @@
 // rgb, semantic, vehicle, coverage GeoTIFFs, then graph.json and meta.json — all sharing
 // the tile key.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "nsg/io/raster.h"
+#include "nsg/io/tile_meta.h"
 #include "nsg/io/tile_members.h"
 #include "nsg/tiling/tile.h"
 
@@ -19,7 +21,8 @@ struct TileFile {
 
 struct TileFileOptions {
   int deflate_level = 1;
-  std::vector<std::string> scenes;  // names of the scenes whose sweeps the tile holds
+  std::vector<std::string> scenes;     // names of the scenes whose sweeps the tile holds
+  std::optional<io::TileRung> ladder;  // a ladder rung's tile: its meta.json "ladder"
 };
 
 std::vector<TileFile> encode_tile_files(const tiling::Tile& tile, const TileFileOptions& options);
