@@ -6,7 +6,7 @@
 # /usr/bin/time; bench/python/city_report.py writes city.json: LiDAR sweeps/s, peak RSS per
 # thread count, bytes of peak RSS per covered LiDAR cell, the memory estimate against the
 # measured peak on both worlds, and on the demo world with `camera.semantic_source: lidarseg`
-# (2 threads); then `nsgraph frames` on the demo dataset (frames/s, one core, images referenced). city_report.py exits 1 when a target is missed (BENCH_REPORT_ONLY=1: never).
+# (2 threads) and with --ladder (2 threads); then `nsgraph frames` on the demo dataset (frames/s, one core, images referenced). city_report.py exits 1 when a target is missed (BENCH_REPORT_ONLY=1: never).
 #   usage: bench/city.sh NSGRAPH_EXE OUT_DIR DATA_DIR
 set -euo pipefail
 exe=$1 out=$2 data=$3
@@ -59,4 +59,6 @@ synth_world demo "$root/samples/synth/demo.json"
 FRAMES_ON=demo generate_world demo demo "1 2" --config "$root/samples/generate-demo.json"
 generate_world demo-lidarseg demo "2" --config "$root/samples/generate-demo.json" \
   --set camera.semantic_source=lidarseg
+# The observation ladder (rungs 1, 2, 4 of every test tile) against the plain 2-thread run.
+generate_world demo-ladder demo "2" --config "$root/samples/generate-demo.json" --ladder
 /usr/bin/python3 "$root/bench/python/city_report.py" --dir "$out"

@@ -231,6 +231,12 @@ def verdicts(r):
                 e = run["estimate_over_peak"]
                 add(f"{world} world memory estimate / peak, {key.split('_')[1]} thread(s)", "ratio", e,
                     f"within +-{tol:.0%}", abs(e - 1) <= tol)
+        dg = city.get("demo_ladder")
+        if dg:
+            add("demo world generate --ladder wall time / plain run, 2 threads", "ratio", dg["wall_factor"],
+                f"<= 1 + rung sweeps / all-scenes sweeps ({dg['wall_limit']:.2f})", ok["ladder_wall"])
+            add("demo world generate --ladder peak RSS / plain run, 2 threads", "ratio", dg["peak_ratio"],
+                f"<= {dg['peak_limit']:g}x", ok["ladder_memory"])
     return out
 
 
@@ -320,6 +326,16 @@ def markdown(r):
                          f"peak, 2 threads | {dl['threads_2']['estimate_over_peak']:.2f}× | | | "
                          f"within ±{city['estimate_tolerance']:.0%} | "
                          f"{verdict(abs(dl['threads_2']['estimate_over_peak'] - 1) <= city['estimate_tolerance'])} |")
+        dg = city.get("demo_ladder")
+        if dg:
+            lines.append(f"| demo world, `generate --ladder` (rungs 1, 2, 4 of {dg['rung_tiles'] // 3} test tiles: "
+                         f"{dg['rung_tiles']} rung tiles from {dg['scene_lists']} scene lists): wall time / plain run, "
+                         f"2 threads | {dg['wall_s']:.1f} s / {dg['plain_wall_s']:.1f} s | | {dg['wall_factor']:.2f}× "
+                         f"| ≤ 1 + {dg['sweep_factor']:.2f} (the rungs' sweeps / the all-scenes pass) "
+                         f"| {verdict(ok['ladder_wall'])} |")
+            lines.append(f"| demo world, `generate --ladder`: peak RSS / plain run, 2 threads | "
+                         f"{dg['peak_rss_bytes'] / 1e6:,.0f} MB | | {dg['peak_ratio']:.2f}× | ≤ {dg['peak_limit']}× "
+                         f"| {verdict(ok['ladder_memory'])} |")
         lines.append(f"| city world: LiDAR stage, 1 thread | {one['sweeps_per_s']:,.0f} sweeps/s | | | (info) | |")
     lines.append("")
     lines.append("Verdicts (kind: ratio = two measurements of the same run; absolute = a rate against a fixed number, "

@@ -20,9 +20,7 @@ std::map<int, GraphSet> take_rung_tiles(const GraphSet& gt, GraphSet& pred) {
   return out;
 }
 
-namespace {
-
-RungStat stat_of(const std::vector<double>& xs) {
+RungStat mean_and_se(const std::vector<double>& xs) {
   RungStat s;
   s.n = static_cast<int64_t>(xs.size());
   if (xs.empty()) return s;
@@ -36,6 +34,8 @@ RungStat stat_of(const std::vector<double>& xs) {
   s.se = std::sqrt(ss / static_cast<double>(xs.size() - 1) / static_cast<double>(xs.size()));
   return s;
 }
+
+namespace {
 
 std::map<std::string, const TileMeasurement*> by_key(const ScoreReport& r) {
   std::map<std::string, const TileMeasurement*> out;
@@ -51,7 +51,7 @@ RungStat paired(const ScoreReport& a, const ScoreReport& b, int m) {
     const auto it = bk.find(t.key);
     if (it != bk.end() && t.values[m] && it->second->values[m]) diffs.push_back(*t.values[m] - *it->second->values[m]);
   }
-  return stat_of(diffs);
+  return mean_and_se(diffs);
 }
 
 RungScore score_of(const std::string& name, const ScoreReport& r, const ScoreReport* previous, const ScoreReport* all) {
@@ -63,7 +63,7 @@ RungScore score_of(const std::string& name, const ScoreReport& r, const ScoreRep
     std::vector<double> xs;
     for (const TileMeasurement& t : r.tiles)
       if (t.values[m]) xs.push_back(*t.values[m]);
-    s.metrics[m] = stat_of(xs);
+    s.metrics[m] = mean_and_se(xs);
     if (previous) s.vs_previous[m] = paired(r, *previous, m);
     if (all) s.vs_all[m] = paired(r, *all, m);
   }

@@ -527,17 +527,6 @@ void generate_location(RunState& rs, size_t location_index) {
   tiles_stage(rs, lr, mine, item_tiles(lr.st.plan, mine), color);
 }
 
-// What the ladder's rung tiles cost beside the split tiles' one pass over every scene.
-void log_ladder_work(const GenerateSummary& s) {
-  if (s.ladder.tiles == 0) return;
-  log::info(
-      strprintf("generate: ladder: %zu rung tiles from %zu scene lists read %zu sweeps (%.2f× the %zu of the "
-                "all-scenes pass) and %zu images",
-                s.ladder.tiles, s.ladder.scene_sets, s.ladder.sweeps,
-                s.sweeps > 0 ? static_cast<double>(s.ladder.sweeps) / static_cast<double>(s.sweeps) : 0.0, s.sweeps,
-                s.ladder.images));
-}
-
 // The whole plan is known here, the same in every share: an empty dataset is refused by
 // all shares alike (the done-records stay incomplete, so no merge writes a manifest).
 void check_plan_not_empty(const RunState& rs) {

@@ -4,6 +4,8 @@
 #include <set>
 
 #include "nsg/core/error.h"
+#include "nsg/core/log.h"
+#include "nsg/core/strings.h"
 #include "nsg/core/parallel.h"
 #include "nsg/nuscenes/database.h"
 #include "nsg/pipeline/ladder.h"
@@ -106,6 +108,17 @@ std::vector<std::vector<TileFile>> encode_rung_shard(const RungInputs& in, const
   }
   if (work) work->tiles += shard.count;
   return encoded;
+}
+
+// What the ladder's rung tiles cost beside the split tiles' one pass over every scene.
+void log_ladder_work(const GenerateSummary& s) {
+  if (s.ladder.tiles == 0) return;
+  log::info(
+      strprintf("generate: ladder: %zu rung tiles from %zu scene lists read %zu sweeps (%.2f× the %zu of the "
+                "all-scenes pass) and %zu images",
+                s.ladder.tiles, s.ladder.scene_sets, s.ladder.sweeps,
+                s.sweeps > 0 ? static_cast<double>(s.ladder.sweeps) / static_cast<double>(s.sweeps) : 0.0, s.sweeps,
+                s.ladder.images));
 }
 
 }  // namespace nsg::pipeline

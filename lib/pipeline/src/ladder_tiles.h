@@ -36,4 +36,8 @@ struct RungInputs {
 std::vector<std::vector<TileFile>> encode_rung_shard(const RungInputs& in, const RungShard& rung_shard,
                                                      LadderSummary* work);
 
+// Logs what the ladder's rung tiles cost beside the split tiles' one pass over every scene
+// (nothing without a ladder).
+void log_ladder_work(const GenerateSummary& summary);
+
 }  // namespace nsg::pipeline

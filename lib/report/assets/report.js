@@ -208,6 +208,7 @@
       add('extra keys (ignored)', fmt(sc.n_extra_predictions));
       for (const [k, v] of Object.entries(sc.pooled)) add('pooled ' + k, fmt(v));
       main.append(el('h2', { text: 'Facts' }), facts);
+      if (s.rungs && window.NSG_LADDER) main.append(...window.NSG_LADDER(s, { el, sv, fmt }));
     } else {
       const splits = Object.keys(s.stats.splits || s.stats);
       const data = s.stats.splits || s.stats;

@@ -17,6 +17,8 @@
       const [what, col, dir] = spec.split(':');
       await until(() => document.getElementById('summary-table'), 2000);
       out.summary_rows = document.querySelectorAll('#summary-table tr').length - 1;
+      out.rung_points = document.querySelectorAll('#rung-curves .rung-point').length;
+      out.rung_rows = Math.max(0, document.querySelectorAll('#rung-table tr').length - 1);
       await needTiles();
       out.tiles_loaded_ms = performance.now() - S.t0;
       if (what === 'sort' || what === 'table') {

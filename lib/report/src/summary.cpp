@@ -12,6 +12,7 @@
 #include "nsg/core/version.h"
 #include "nsg/io/manifest.h"
 #include "nsg/io/stats.h"
+#include "nsg/metrics/rungs.h"
 #include "nsg/preview/preview.h"
 
 namespace nsg::report {
@@ -22,18 +23,11 @@ PairedDifference paired_difference(const std::vector<std::optional<double>>& a,
   std::vector<double> d;
   for (size_t i = 0; i < a.size(); ++i)
     if (a[i] && b[i]) d.push_back(*a[i] - *b[i]);
+  const metrics::RungStat s = metrics::mean_and_se(d);
   PairedDifference r;
-  r.n = static_cast<int64_t>(d.size());
-  if (d.empty()) return r;
-  double sum = 0.0;
-  for (double x : d) sum += x;
-  const double mean = sum / static_cast<double>(d.size());
-  r.mean = mean;
-  if (d.size() >= 2) {
-    double ss = 0.0;
-    for (double x : d) ss += (x - mean) * (x - mean);
-    r.standard_error = std::sqrt(ss / static_cast<double>(d.size() - 1)) / std::sqrt(static_cast<double>(d.size()));
-  }
+  r.n = s.n;
+  r.mean = s.mean;
+  r.standard_error = s.se;
   return r;
 }
 
@@ -192,6 +186,7 @@ nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::s
     doc["score"] = score_facts(*scores);
     if (baseline) doc["baseline"] = score_facts(*baseline);
     doc["summary"] = score_rows(*scores, baseline);
+    if (!scores->rungs.is_null()) doc["rungs"] = scores->rungs;
   } else {
     doc["stats"] = io::stats_json(io::compute_stats(dataset.root()));
   }

@@ -390,8 +390,9 @@ SubmissionReport validate_submission(const SubmissionValidateOptions& o) {
       for (const std::string& key : keys) known.insert(key + "-r" + std::to_string(rung));
   for (const auto& [key, tile] : (*doc)["tiles"].items())
     if (!known.count(key))
-      report.issues.error("submission.keys", label + ":/tiles/" + json_pointer_token(key),
-                          "a tile key of split '" + o.split + "' of the dataset, or of one of its ladder rungs (unknown key)");
+      report.issues.error(
+          "submission.keys", label + ":/tiles/" + json_pointer_token(key),
+          "a tile key of split '" + o.split + "' of the dataset, or of one of its ladder rungs (unknown key)");
   for (const std::string& key : keys)
     if (!(*doc)["tiles"].contains(key)) {
       report.missing_keys.push_back(key);

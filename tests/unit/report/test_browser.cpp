@@ -170,6 +170,39 @@ TEST(Browser, ReportLoadsSortsAndDrawsOverlays) {
 // 20 000 tiles: data/tiles.js of the e2e report repeated under new keys (the table and the
 // summary need no per-tile files). The first page of the table holds 100 rows in order and
 // the summary paints within 2 s.
+// A ladder dataset and a submission of its rung tiles: the summary draws one point per rung
+// and main metric, and the rung table one row per metric.
+TEST(Browser, ReportDrawsTheCurvePerRung) {
+  if (!have_chromium()) GTEST_SKIP() << "optional tool chromium not installed (apt-get install chromium)";
+  TempDir dir("report_ladder");
+  std::vector<std::string> args = e2e_generate_args(dir / "dataset");
+  args.insert(args.end(), {"--ladder", "--threads", "2"});
+  CommandResult r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The exact graphs at every rung (and the split tiles: the ladder leaves them as the e2e
+  // dataset's, the same config's).
+  nlohmann::json sub = read_json(exact_submission(dir.path()));
+  nlohmann::json tiles = sub["tiles"];
+  for (const auto& [key, graph] : sub["tiles"].items())
+    for (const char* rung : {"-r1", "-r2", "-r4"}) tiles[key + rung] = graph;
+  sub["tiles"] = tiles;
+  write_text(dir / "ladder-sub.json", sub.dump());
+  const fs::path out = dir / "report";
+  r = run_nsgraph({"report", "--quiet", "--dataset", (dir / "dataset").string(), "--submission",
+                   (dir / "ladder-sub.json").string(), "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json summary = read_data_script(out / "data/summary.js");
+  ASSERT_EQ(summary["rungs"].size(), 4u);
+  r = chromium(dir / "profile", {"--dump-dom"},
+               "file://" + fs::absolute(out / "index.html").string() + "#selftest=sort:apls");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json st = selftest_of(r.out);
+  ASSERT_TRUE(st.is_object()) << r.out.substr(0, 2000);
+  EXPECT_EQ(st["errors"], nlohmann::json::array()) << st.dump(1);
+  EXPECT_EQ(st["rung_points"], 4 * summary["main"].size()) << st.dump(1);
+  EXPECT_EQ(st["rung_rows"], metrics::kMetricCount) << st.dump(1);
+}
+
 TEST(Browser, TwentyThousandTilesStayUsable) {
   if (!have_chromium()) GTEST_SKIP() << "optional tool chromium not installed (apt-get install chromium)";
   TempDir dir("report_scale");

@@ -24,6 +24,9 @@ struct RungStat {
   int64_t n = 0;
 };
 
+// Mean and standard error of `xs` (the report's paired differences use it too).
+RungStat mean_and_se(const std::vector<double>& xs);
+
 struct RungScore {
   std::string rung;  // "1", "2", …, "all"
   int64_t tiles = 0, missing = 0;
