@@ -1,6 +1,7 @@
 #include "nsg/pipeline/config.h"
 
 #include <cmath>
+#include <regex>
 #include <set>
 
 #include "nsg/core/error.h"
@@ -43,12 +44,25 @@ void GenerateConfig::check_inputs() const {
   if (version.empty()) throw ConfigError("", "version", "a release version such as v1.0-mini (--version)");
 }
 
+void GenerateConfig::check_split_preset() const {
+  const bool date_ok = std::regex_match(split_date, std::regex(R"(\d{4}-\d{2}-\d{2})"));
+  if (split_preset == SplitPreset::kRegions) {
+    if (!split_date.empty())
+      throw ConfigError("", "splits.before_after_date", "\"\" unless splits.preset is before-after");
+    return;
+  }
+  if (!date_ok) throw ConfigError("", "splits.before_after_date", "a date YYYY-MM-DD for splits.preset before-after");
+  if (!regions.empty())
+    throw ConfigError("", "splits.regions", "{} with splits.preset before-after (the dates make the splits)");
+}
+
 void GenerateConfig::check_relations(const options::Origins& origins) const {
   try {
     if (std::abs(raster.lidar.resolution_m - resolution_m) > 1e-12)
       throw InternalError("", "raster.lidar.resolution_m", "equal to resolution_m");
     for (const auto& [location, list] : regions) split_options_for(location).check_relations(crop_size_m());
     splits.check_relations(crop_size_m());
+    check_split_preset();
   } catch (const ConfigError& e) {
     options::rethrow_from_origin(e, origins);  // the value came from the source that set the key last
   }
@@ -210,6 +224,13 @@ const options::Table<GenerateConfig>& generate_option_table() {
            c.regions = std::move(out);
          })
         .help("Explicit split regions per location ({} = automatic blocks everywhere)");
+    t.choice("splits.preset", &GenerateConfig::split_preset,
+             {{"regions", SplitPreset::kRegions}, {"before-after", SplitPreset::kBeforeAfter}})
+        .help(
+            "regions: splits by place (the regions above); before-after: train tiles from the scenes captured before "
+            "splits.before_after_date, test tiles from those on or after it, over the same streets");
+    t.text("splits.before_after_date", &GenerateConfig::split_date)
+        .help("The date of splits.preset before-after, YYYY-MM-DD as log.date_captured (\"\" otherwise)");
     t.include(&GenerateConfig::crops, tiling::crop_option_table());
     t.include(&GenerateConfig::output, output_option_table());
     t.include(&GenerateConfig::ladder, ladder_option_table());

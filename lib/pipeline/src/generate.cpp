@@ -35,6 +35,7 @@
 #include "nsg/pipeline/input_checks.h"
 #include "nsg/tiling/tile.h"
 #include "ladder_tiles.h"
+#include "layer_sources.h"
 #include "memory_plan.h"
 #include "outputs.h"
 #include "plan.h"
@@ -88,49 +89,6 @@ ShareSpec resolve_share(std::optional<int> index, std::optional<int> count) {
   return s;
 }
 
-size_t LocationPlan::count(const std::string& split) const {
-  return static_cast<size_t>(
-      std::count_if(crops.begin(), crops.end(), [&](const tiling::Crop& c) { return c.split == split; }));
-}
-
-ordered_json plan_json(const LocationPlan& p) {
-  ordered_json regions = ordered_json::array();
-  for (const tiling::Region& r : p.regions)
-    regions.push_back(io::region_to_json(
-        {r.name, r.split, {r.bounds.x_west_m, r.bounds.y_south_m, r.bounds.x_east_m, r.bounds.y_north_m}}));
-  ordered_json counts = ordered_json::object();
-  for (std::string_view s : tiling::kSplitNames) counts[std::string(s)] = p.count(std::string(s));
-  ordered_json shards = ordered_json::array();
-  for (const PlannedShard& s : p.shards)
-    shards.push_back({{"name", s.name},
-                      {"split", s.split},
-                      {"tiles", s.count},
-                      {"first_key", p.keys[s.first]},
-                      {"last_key", p.keys[s.first + s.count - 1]}});
-  ordered_json excluded = ordered_json::array();
-  for (const ExcludedScene& e : p.excluded_scenes) excluded.push_back({{"name", e.name}, {"reason", e.reason}});
-  ordered_json doc = {
-      {"name", p.location},
-      {"map_version", p.map_version},
-      {"lane_graph",
-       {{"nodes", p.graph_nodes}, {"edges", p.graph_edges}, {"lanes", p.graph_lanes}, {"map_defects", p.map_defects}}},
-      {"scenes", {{"used", p.scenes_used}, {"excluded", excluded}}},
-      {"regions", regions},
-      {"counts", counts},
-      {"shards", shards}};
-  if (p.rung_shards.empty()) return doc;
-  ordered_json rung_shards = ordered_json::array();
-  for (const RungShard& r : p.rung_shards)
-    rung_shards.push_back({{"name", r.shard.name},
-                           {"split", r.shard.split},
-                           {"rung", r.rung},
-                           {"tiles", r.shard.count},
-                           {"first_key", rung_key(p.keys[r.shard.first], r.rung)},
-                           {"last_key", rung_key(p.keys[r.shard.first + r.shard.count - 1], r.rung)}});
-  doc["rung_shards"] = rung_shards;
-  return doc;
-}
-
 namespace {
 
 // Everything a location needs while its items run.
@@ -138,7 +96,7 @@ struct LocationState {
   LocationPlan plan;
   graph::LaneGraph graph;
   std::unique_ptr<graph::SegmentIndex> index;
-  raster::LocationLayers layers;
+  std::vector<LayerSource> sources;  // the layers of every scene, or of each side of the split date
 };
 
 std::vector<std::string> resolve_locations(const GenerateConfig& config, const nuscenes::Database& db) {
@@ -258,27 +216,6 @@ uint64_t location_seed(uint64_t seed, const std::string& location) {
   return mix64(seed ^ hash_string(location.data(), location.size()));
 }
 
-// Orders crops by split (train, val, test), names them and cuts shards of `per_shard`.
-void assign_keys_and_shards(LocationPlan& plan, int64_t per_shard, std::map<std::string, int64_t>& next_shard) {
-  std::vector<tiling::Crop> ordered;
-  for (std::string_view split : tiling::kSplitNames) {
-    const size_t first = ordered.size();
-    for (const tiling::Crop& c : plan.crops)
-      if (c.split == split) ordered.push_back(c);
-    for (size_t i = first; i < ordered.size(); ++i)
-      plan.keys.push_back(tiling::tile_key(plan.location, std::string(split), static_cast<int64_t>(i - first)));
-    for (size_t i = first; i < ordered.size(); i += static_cast<size_t>(per_shard)) {
-      PlannedShard s;
-      s.split = std::string(split);
-      s.name = s.split + "-" + strprintf("%06lld", static_cast<long long>(next_shard[s.split]++));
-      s.first = i;
-      s.count = std::min(static_cast<size_t>(per_shard), ordered.size() - i);
-      plan.shards.push_back(s);
-    }
-  }
-  plan.crops = std::move(ordered);
-}
-
 // What the stages of one run share as it goes from location to location: its inputs, the
 // output, the shard numbering, the share's item count and one progress line per stage over
 // the whole run (tiles: per location, as a location's tiles are known only once its LiDAR
@@ -364,20 +301,39 @@ void lidar_stage(RunState& rs, LocationRun& lr) {
   if (lr.scenes.empty())
     log::warn("generate: " + lr.location + ": every scene is excluded (scenes.exclude): no LiDAR, no tiles");
   else log::info(strprintf("generate: %s: accumulating LiDAR of %zu scene(s)", lr.location.c_str(), lr.scenes.size()));
-  st.layers = accumulate_layers(rs.db, rs.config, lr.scenes, rs.run.threads, &rs.lidar_progress);
-  rs.summary.sweeps += st.layers.stats.sweeps;
+  st.sources = layer_sources(rs.db, rs.config, lr.scenes);
+  for (LayerSource& src : st.sources) {
+    if (st.sources.size() > 1)
+      log::info(strprintf("generate: %s: %zu scene(s) %s for %s", lr.location.c_str(), src.scenes.size(),
+                          src.name.c_str(), join(src.splits, ", ").c_str()));
+    src.layers = accumulate_layers(rs.db, rs.config, src.scenes, rs.run.threads, &rs.lidar_progress);
+    rs.summary.sweeps += src.layers.stats.sweeps;
+    const raster::LocationLayers& l = src.layers;
+    log_memory(lr.location + ": LiDAR accumulated: " +
+               strprintf("%zu blocks, %zu covered cells, %zu B a block besides its cells (LiDAR layer %s, vehicle "
+                         "layer %s over %zu blocks)",
+                         l.stats.lidar_blocks, l.stats.covered_cells, packed_block_overhead_bytes(l.lidar),
+                         human_bytes(static_cast<double>(l.lidar.cells().memory_bytes())).c_str(),
+                         human_bytes(static_cast<double>(l.vehicles.cells().memory_bytes())).c_str(),
+                         l.vehicles.cells().block_count()));
+    rs.scenes_done += l.stats.scenes;
+  }
   rs.summary.seconds.lidar_s += seconds_since(t0);
-  log_memory(lr.location + ": LiDAR accumulated: " +
-             strprintf("%zu blocks, %zu covered cells, %zu B a block besides its cells (LiDAR layer %s, vehicle "
-                       "layer %s over %zu blocks)",
-                       st.layers.stats.lidar_blocks, st.layers.stats.covered_cells,
-                       packed_block_overhead_bytes(st.layers.lidar),
-                       human_bytes(static_cast<double>(st.layers.lidar.cells().memory_bytes())).c_str(),
-                       human_bytes(static_cast<double>(st.layers.vehicles.cells().memory_bytes())).c_str(),
-                       st.layers.vehicles.cells().block_count()));
-  rs.scenes_done += st.layers.stats.scenes;
   rs.lidar_progress.set_detail(strprintf("%zu/%zu scenes", rs.scenes_done, rs.scenes_total));
   if (lr.last) rs.lidar_progress.finish();
+}
+
+// splits.preset before-after: how near the test tiles come to the train tiles (they share
+// streets by design), logged and recorded in the plan.
+void log_time_split(RunState& rs, LocationRun& lr) {
+  const TimeSplitLeakage leak = time_split_leakage(lr.st.plan.crops, rs.config.resolution_m, rs.config.crops.size_px);
+  lr.st.plan.time_split = time_split_json(rs.config, lr.st.sources, leak);
+  log::info(
+      strprintf("generate: %s: before-after split at %s (a temporal split over the same streets): %lld of %lld "
+                "test tiles overlap a train tile; median distance to the nearest train tile %s",
+                lr.location.c_str(), rs.config.split_date.c_str(), static_cast<long long>(leak.overlapping_train),
+                static_cast<long long>(leak.test_tiles),
+                leak.median_distance_m ? strprintf("%.1f m", *leak.median_distance_m).c_str() : "(none)"));
 }
 
 // Stage 3: split regions, crops, tile keys and shards (the same in every share).
@@ -389,10 +345,16 @@ void plan_stage(RunState& rs, LocationRun& lr) {
   filter.location = lr.location;
   filter.scenes_used = st.plan.scenes_used;
   filter.scenes_excluded = st.plan.excluded_scenes.size();
-  st.plan.regions = tiling::plan_regions(st.layers.lidar, rs.config.split_options_for(lr.location),
-                                         rs.config.crop_size_m(), seed, &filter.regions);
-  st.plan.crops = tiling::plan_crops(st.layers.lidar, st.plan.regions, rs.config.crops, seed, &filter.crops);
+  if (rs.config.split_preset == SplitPreset::kRegions) {
+    const raster::LidarLayer& lidar = st.sources.front().layers.lidar;
+    st.plan.regions = tiling::plan_regions(lidar, rs.config.split_options_for(lr.location), rs.config.crop_size_m(),
+                                           seed, &filter.regions);
+    st.plan.crops = tiling::plan_crops(lidar, st.plan.regions, rs.config.crops, seed, &filter.crops);
+  } else {
+    plan_time_split(st.sources, rs.config, seed, st.plan.regions, st.plan.crops, &filter.crops);
+  }
   assign_keys_and_shards(st.plan, rs.per_shard, rs.next_shard);
+  if (rs.config.split_preset == SplitPreset::kBeforeAfter) log_time_split(rs, lr);
   st.plan.rung_shards = plan_rung_shards(st.plan, rs.config.ladder);
   rs.summary.tiles_planned += st.plan.crops.size();
   rs.summary.seconds.plan_s += seconds_since(t0);
@@ -430,11 +392,12 @@ void camera_stage_done(RunState& rs, const LocationRun& lr) {
   if (lr.last) rs.camera_progress->finish();
 }
 
-// One rectangle of cells per tile of the shards in `mine`.
-std::vector<raster::CellRect> tile_rects(const RunState& rs, const LocationRun& lr, const std::vector<WorkItem>& mine) {
+// One rectangle of cells per tile of the shards in `mine` that `source` makes.
+std::vector<raster::CellRect> tile_rects(const RunState& rs, const LocationRun& lr, const std::vector<WorkItem>& mine,
+                                         const LayerSource& source) {
   std::vector<raster::CellRect> rects;
   for (const WorkItem& item : mine) {
-    if (item.kind != ItemKind::kShard) continue;
+    if (item.kind != ItemKind::kShard || !source.serves(lr.st.plan.shards[item.shard].split)) continue;
     const PlannedShard& s = lr.st.plan.shards[item.shard];
     for (size_t i = s.first; i < s.first + s.count; ++i) {
       const tiling::Crop& c = lr.st.plan.crops[i];
@@ -444,29 +407,42 @@ std::vector<raster::CellRect> tile_rects(const RunState& rs, const LocationRun& 
   return rects;
 }
 
-// Stage 4: camera colours and semantics, only for the cells of this share's tiles.
-raster::ColorLayer camera_stage(RunState& rs, const LocationRun& lr, const std::vector<raster::CellRect>& rects) {
+// Stage 4: camera colours and semantics, only for the cells of this share's tiles, each
+// source's from its own scenes. Returns the number of tiles coloured.
+size_t camera_stage(RunState& rs, LocationRun& lr, const std::vector<WorkItem>& mine) {
   const auto t0 = std::chrono::steady_clock::now();
-  if (rs.camera_setup.cameras && !rects.empty() && !lr.scenes.empty())
-    log::info(strprintf("generate: %s: colouring %zu tiles from the cameras", lr.location.c_str(), rects.size()));
-  raster::ColorLayer color = camera_layers(rs.db, rs.config, rs.camera_setup, lr.scenes, lr.st.layers.lidar, rects,
-                                           rs.run.threads, lr.location);
-  rs.summary.images += color.stats().images_used;
-  rs.images_decoded += color.stats().images_used;
+  size_t tiles = 0;
+  for (LayerSource& src : lr.st.sources) {
+    const std::vector<raster::CellRect> rects = tile_rects(rs, lr, mine, src);
+    tiles += rects.size();
+    if (rs.camera_setup.cameras && !rects.empty() && !src.scenes.empty())
+      log::info(strprintf("generate: %s: colouring %zu tiles from the cameras", lr.location.c_str(), rects.size()));
+    src.color = camera_layers(rs.db, rs.config, rs.camera_setup, src.scenes, src.layers.lidar, rects, rs.run.threads,
+                              lr.location);
+    rs.summary.images += src.color.stats().images_used;
+    rs.images_decoded += src.color.stats().images_used;
+    log_memory(lr.location + ": cameras done" +
+               strprintf(" (%zu points indexed, colour layer %s over %zu blocks)", src.color.stats().points,
+                         human_bytes(static_cast<double>(src.color.cells().memory_bytes())).c_str(),
+                         src.color.cells().block_count()));
+  }
   camera_stage_done(rs, lr);
   rs.summary.seconds.camera_s += seconds_since(t0);
-  log_memory(lr.location + ": cameras done" +
-             strprintf(" (%zu points indexed, colour layer %s over %zu blocks)", color.stats().points,
-                       human_bytes(static_cast<double>(color.cells().memory_bytes())).c_str(),
-                       color.cells().block_count()));
-  return color;
+  return tiles;
+}
+
+// The layers the tiles of `split` are cut from.
+tiling::LocationRasters rasters_for(const RunState& rs, const LocationState& st, const std::string& split) {
+  const LayerSource& src = source_for(st.sources, split);
+  return {&src.layers.lidar, rs.camera_setup.cameras ? &src.color : nullptr, &src.layers.vehicles, &st.graph,
+          st.index.get()};
 }
 
 // A rung shard of the ladder: its tiles rebuilt from their first k scenes, written like a
 // split shard under its own name (and, in the folder layout, tiles/<split>-r<k>/).
-size_t write_rung_shard(RunState& rs, const LocationRun& lr, const WorkItem& item,
-                        const tiling::LocationRasters& layers, Progress* progress) {
+size_t write_rung_shard(RunState& rs, const LocationRun& lr, const WorkItem& item, Progress* progress) {
   const RungShard& r = lr.st.plan.rung_shards[item.shard];
+  const tiling::LocationRasters layers = rasters_for(rs, lr.st, r.shard.split);
   const RungInputs inputs{rs.db, rs.config, rs.camera_setup, lr.st.plan, layers, rs.run.threads};
   std::vector<std::vector<TileFile>> encoded = encode_rung_shard(inputs, r, &rs.summary.ladder);
   return rs.out.write_tiles(
@@ -485,23 +461,21 @@ size_t item_tiles(const LocationPlan& plan, const std::vector<WorkItem>& mine) {
 }
 
 // Stage 5: this share's maps and shards of the location.
-void tiles_stage(RunState& rs, const LocationRun& lr, const std::vector<WorkItem>& mine, size_t tiles,
-                 const raster::ColorLayer& color) {
+void tiles_stage(RunState& rs, const LocationRun& lr, const std::vector<WorkItem>& mine, size_t tiles) {
   const auto t0 = std::chrono::steady_clock::now();
   const LocationState& st = lr.st;
-  const tiling::LocationRasters layers{&st.layers.lidar, rs.camera_setup.cameras ? &color : nullptr,
-                                       &st.layers.vehicles, &st.graph, st.index.get()};
   std::optional<Progress> tile_progress;
   if (tiles > 0) tile_progress.emplace("tiles " + lr.location, tiles, rs.run.progress);
   for (const WorkItem& item : mine) {
     if (item.kind == ItemKind::kMaps) {
       rs.out.write_maps(item.id, lr.location, st.graph, st.plan);
     } else if (item.kind == ItemKind::kRungShard) {
-      rs.summary.tiles_written += write_rung_shard(rs, lr, item, layers, tile_progress ? &*tile_progress : nullptr);
+      rs.summary.tiles_written += write_rung_shard(rs, lr, item, tile_progress ? &*tile_progress : nullptr);
     } else {
       Progress* progress = tile_progress ? &*tile_progress : nullptr;
+      const PlannedShard& shard = st.plan.shards[item.shard];
       rs.summary.tiles_written +=
-          rs.out.write_shard(item.id, rs.db, st.plan, st.plan.shards[item.shard], layers, rs.run, progress);
+          rs.out.write_shard(item.id, rs.db, st.plan, shard, rasters_for(rs, st, shard.split), rs.run, progress);
     }
     ++rs.summary.items_done;
   }
@@ -522,9 +496,8 @@ void generate_location(RunState& rs, size_t location_index) {
   const std::vector<WorkItem> mine = share_items(rs, lr);
   rs.out.add_plan(plan_json(lr.st.plan));
   if (mine.empty()) return camera_stage_done(rs, lr);
-  const std::vector<raster::CellRect> rects = tile_rects(rs, lr, mine);
-  const raster::ColorLayer color = camera_stage(rs, lr, rects);
-  tiles_stage(rs, lr, mine, item_tiles(lr.st.plan, mine), color);
+  camera_stage(rs, lr, mine);
+  tiles_stage(rs, lr, mine, item_tiles(lr.st.plan, mine));
 }
 
 // The whole plan is known here, the same in every share: an empty dataset is refused by

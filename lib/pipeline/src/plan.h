@@ -2,6 +2,7 @@
 // The plan of a run (private to the pipeline): per location its regions, ordered crops,
 // keys and shards; and the work items in their stable order.
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,7 @@ struct LocationPlan {
   std::vector<std::string> keys;    // one per crop
   std::vector<PlannedShard> shards;
   std::vector<RungShard> rung_shards;  // after every split shard; empty without a ladder
+  nlohmann::ordered_json time_split;   // splits.preset before-after: date, scenes, leakage; else null
   size_t count(const std::string& split) const;
 };
 
@@ -69,6 +71,10 @@ struct WorkItem {
 
 // The plan as it is recorded (done-records, manifest): regions, counts, shards.
 nlohmann::ordered_json plan_json(const LocationPlan& plan);
+
+// Orders the plan's crops by split (train, val, test), names them (keys) and cuts shards of
+// `per_shard`, numbered per split across the run's locations (`next_shard`).
+void assign_keys_and_shards(LocationPlan& plan, int64_t per_shard, std::map<std::string, int64_t>& next_shard);
 
 // The rung shards of the ladder's splits: for each split shard of a covered split, one per
 // built rung (rung-major within the location).

@@ -47,6 +47,12 @@ struct ExcludedScene {
 // docs/nuscenes-input.md): 499, 515, 517 fit the map badly, 501, 502 lie outside it.
 std::vector<ExcludedScene> default_excluded_scenes();
 
+// How a location's tiles are given splits: by region (splits.*, geographic: no pixel of
+// one split near another's), or by capture date (train from the scenes before
+// splits.before_after_date, test from those on or after it: the same streets in both, the
+// temporal question; docs/generating.md).
+enum class SplitPreset { kRegions, kBeforeAfter };
+
 struct GenerateConfig {
   std::string dataroot;
   std::string version = "v1.0-trainval";
@@ -58,6 +64,8 @@ struct GenerateConfig {
   graph::LaneGraphOptions graph;
   tiling::SplitOptions splits;                                 // ratios, buffer, automatic blocks (regions: below)
   std::map<std::string, std::vector<tiling::Region>> regions;  // explicit regions per location
+  SplitPreset split_preset = SplitPreset::kRegions;
+  std::string split_date;  // YYYY-MM-DD (log.date_captured) of splits.preset before-after
   tiling::CropOptions crops;
   OutputOptions output;
   LadderOptions ladder;  // the observation ladder (nsg/pipeline/ladder.h)
@@ -67,6 +75,8 @@ struct GenerateConfig {
   // What one key cannot say alone (splits against the crop size, explicit regions);
   // ConfigError naming the key and, from `origins`, where its value came from.
   void check_relations(const options::Origins& origins = {}) const;
+  // splits.preset against splits.before_after_date and splits.regions; ConfigError.
+  void check_split_preset() const;
   // The inputs a run needs (dataroot, version); ConfigError naming the flag.
   void check_inputs() const;
   // For a config built in code: every declared check, the relations and (when
