@@ -3,7 +3,7 @@ BUILD   ?= build
 JOBS    ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build test demo ablation baselines bench fuzz clean format pretrained regen
+.PHONY: all deps configure build test demo ablation baselines ladder bench fuzz clean format pretrained regen
 
 all: build
 
@@ -31,6 +31,9 @@ ablation: build
 
 baselines: build
 	@bash scripts/baselines.sh $(BUILD)
+
+ladder: build
+	@bash scripts/ladder.sh $(BUILD)
 
 bench: build
 	@bash scripts/bench.sh $(BUILD)

@@ -72,10 +72,11 @@ void add_generate_command(CLI::App& root, Context& ctx) {
   CLI::App* cmd = root.add_subcommand("generate", "Build NuScenesGraph tiles, shards and a manifest from a release");
   cmd->add_option("--out", o->out_dir, "Output dataset folder");
   add_config_options(cmd, o->config, "Generate config JSON (defaults: samples/generate.json)");
-  add_generate_flags(cmd, o->config,
-                     {"--dataroot", "--version", "--locations", "--seed", "--detections", "--score-threshold",
-                      "--semantic-root", "--max-range", "--no-rgb", "--no-semantic", "--strict", "--min-coverage",
-                      "--train-per-km2", "--train-total", "--tiles-per-shard", "--deflate-level", "--layout", "--ladder"});
+  add_generate_flags(
+      cmd, o->config,
+      {"--dataroot", "--version", "--locations", "--seed", "--detections", "--score-threshold", "--semantic-root",
+       "--max-range", "--no-rgb", "--no-semantic", "--strict", "--min-coverage", "--train-per-km2", "--train-total",
+       "--tiles-per-shard", "--deflate-level", "--layout", "--ladder"});
   cmd->add_option("--shard-index", o->shard_index, "This process's share of the work (with --num-shards)");
   cmd->add_option("--num-shards", o->num_shards, "Number of processes sharing the work");
   add_threads_option(cmd, o->threads);

@@ -1,6 +1,7 @@
 #include "nsg/io/dataset.h"
 
 #include <algorithm>
+#include <regex>
 #include <set>
 
 #include "nsg/core/error.h"
@@ -49,7 +50,15 @@ Dataset Dataset::open(const fs::path& root) {
   return d;
 }
 
+std::optional<std::pair<std::string, int>> rung_split(const std::string& split) {
+  static const std::regex kRungSplit(R"((train|val|test)-r([1-9][0-9]{0,5}))");
+  std::smatch m;
+  if (!std::regex_match(split, m, kRungSplit)) return std::nullopt;
+  return std::pair{m[1].str(), std::stoi(m[2].str())};
+}
+
 std::vector<nlohmann::json> Dataset::shards(const std::string& split) const {
+  if (const auto rung = rung_split(split)) return rung_shards(rung->first, rung->second);
   std::vector<nlohmann::json> out;
   for (const nlohmann::json& s : manifest_["shards"])
     if (split.empty() || s.value("split", "") == split) out.push_back(s);

@@ -105,7 +105,10 @@ std::optional<std::string> Dataset::split_of_keys(const std::vector<std::string>
 
 void Dataset::require_split(const std::string& split) const {
   if (split.empty()) return;
-  const std::vector<std::string> known = splits();
+  std::vector<std::string> known = splits();
+  for (int rung : rungs())
+    for (const std::string& base : splits())
+      if (!rung_shards(base, rung).empty()) known.push_back(base + "-r" + std::to_string(rung));
   NSG_CHECK(std::find(known.begin(), known.end(), split) != known.end(), DataError, (root_ / "manifest.json").string(),
             "split '" + split + "'",
             "a split the manifest lists (" + (known.empty() ? std::string("none") : join(known, ", ")) + ")");
@@ -161,7 +164,7 @@ SplitVerification Dataset::verify_split(const std::string& split, bool hash) con
     }
   }
   // The ladder's shards of the split (generate --ladder) share the shards/ folder.
-  if (tar_)
+  if (tar_ && !rung_split(split))
     for (const nlohmann::json& shard : rung_shards(split))
       if (shard.contains("file") && shard["file"].is_string())
         listed.insert((root_ / shard["file"].get<std::string>()).lexically_normal());

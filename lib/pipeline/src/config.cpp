@@ -153,6 +153,17 @@ const options::Table<OutputOptions>& output_option_table() {
   return table;
 }
 
+// splits.preset and its date (GenerateConfig::check_split_preset holds their relations).
+void add_split_preset_options(options::Table<GenerateConfig>& t) {
+  t.choice("splits.preset", &GenerateConfig::split_preset,
+           {{"regions", SplitPreset::kRegions}, {"before-after", SplitPreset::kBeforeAfter}})
+      .help(
+          "regions: splits by place (the regions above); before-after: train tiles from the scenes captured before "
+          "splits.before_after_date, test tiles from those on or after it, over the same streets");
+  t.text("splits.before_after_date", &GenerateConfig::split_date)
+      .help("The date of splits.preset before-after, YYYY-MM-DD as log.date_captured (\"\" otherwise)");
+}
+
 }  // namespace
 
 const options::Table<GenerateConfig>& generate_option_table() {
@@ -224,13 +235,7 @@ const options::Table<GenerateConfig>& generate_option_table() {
            c.regions = std::move(out);
          })
         .help("Explicit split regions per location ({} = automatic blocks everywhere)");
-    t.choice("splits.preset", &GenerateConfig::split_preset,
-             {{"regions", SplitPreset::kRegions}, {"before-after", SplitPreset::kBeforeAfter}})
-        .help(
-            "regions: splits by place (the regions above); before-after: train tiles from the scenes captured before "
-            "splits.before_after_date, test tiles from those on or after it, over the same streets");
-    t.text("splits.before_after_date", &GenerateConfig::split_date)
-        .help("The date of splits.preset before-after, YYYY-MM-DD as log.date_captured (\"\" otherwise)");
+    add_split_preset_options(t);
     t.include(&GenerateConfig::crops, tiling::crop_option_table());
     t.include(&GenerateConfig::output, output_option_table());
     t.include(&GenerateConfig::ladder, ladder_option_table());

@@ -262,13 +262,13 @@ TEST(GenerateLadder, ScoreReportsEveryMetricPerRungWithPairedDifferences) {
   EXPECT_FALSE(rungs[2].contains("vs_all"));
   EXPECT_FALSE(rungs[0].contains("vs_previous"));
   // validate --submission knows the rung keys, and only the rungs the dataset has.
-  CommandResult v = run_nsgraph({"validate", "--submission", (dir / "sub.json").string(), "--dataset",
-                                 dataset.string(), "--split", "test"});
+  CommandResult v = run_nsgraph(
+      {"validate", "--submission", (dir / "sub.json").string(), "--dataset", dataset.string(), "--split", "test"});
   EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
   tiles[tiles.begin().key() + "-r3"] = tiles.begin().value();
   write_text(dir / "sub3.json", json({{"schema_version", "1"}, {"tiles", tiles}}).dump());
-  v = run_nsgraph({"validate", "--submission", (dir / "sub3.json").string(), "--dataset", dataset.string(), "--split",
-                   "test"});
+  v = run_nsgraph(
+      {"validate", "--submission", (dir / "sub3.json").string(), "--dataset", dataset.string(), "--split", "test"});
   EXPECT_EQ(v.exit_code, 1);
   EXPECT_NE((v.out + v.err).find("-r3"), std::string::npos) << v.out << v.err;
 }

@@ -22,9 +22,8 @@ fs::path two_day_release() {
   const fs::path config = source_dir() / "tests/data/synth/e2e.json";
   return cached_folder("release_two_days", nsgraph_build_key() + "-" + sha256_hex(read_file(config)).substr(0, 16),
                        [&](const fs::path& dir) {
-                         const CommandResult r =
-                             run_nsgraph({"synth", "--quiet", "--config", config.string(), "--set",
-                                          "scenes.capture_days=2", "--out", dir.string()});
+                         const CommandResult r = run_nsgraph({"synth", "--quiet", "--config", config.string(), "--set",
+                                                              "scenes.capture_days=2", "--out", dir.string()});
                          if (r.exit_code != 0) throw std::runtime_error("synth failed: " + r.err);
                        });
 }
@@ -38,22 +37,14 @@ std::map<std::string, std::string> scene_dates(const fs::path& release) {
 }
 
 std::vector<std::string> time_split_args(const fs::path& release, const fs::path& out, const std::string& date) {
-  return {"generate",
-          "--quiet",
-          "--config",
-          (source_dir() / "tests/data/generate/e2e.json").string(),
-          "--dataroot",
-          release.string(),
-          "--version",
-          "v1.0-mini",
-          "--out",
-          out.string(),
-          "--set",
-          "splits.regions={}",
-          "--set",
-          "splits.preset=\"before-after\"",
-          "--set",
-          "splits.before_after_date=\"" + date + "\""};
+  return {"generate",   "--quiet",
+          "--config",   (source_dir() / "tests/data/generate/e2e.json").string(),
+          "--dataroot", release.string(),
+          "--version",  "v1.0-mini",
+          "--out",      out.string(),
+          "--set",      "splits.regions={}",
+          "--set",      "splits.preset=\"before-after\"",
+          "--set",      "splits.before_after_date=\"" + date + "\""};
 }
 
 TEST(GenerateTimeSplit, TrainTilesComeFromBeforeTheDateAndTestTilesFromAfter) {
@@ -111,10 +102,10 @@ TEST(GenerateTimeSplit, TheRelationsOfThePresetAreNamed) {
        "splits.before_after_date"},
   };
   for (const auto& [settings, named] : cases) {
-    std::vector<std::string> args = {"generate",  "--quiet",         "--config",
-                                     (source_dir() / "tests/data/generate/e2e.json").string(),
-                                     "--dataroot", release.string(), "--version",
-                                     "v1.0-mini",  "--out",          out.path().string()};
+    std::vector<std::string> args = {
+        "generate",   "--quiet",          "--config",  (source_dir() / "tests/data/generate/e2e.json").string(),
+        "--dataroot", release.string(),   "--version", "v1.0-mini",
+        "--out",      out.path().string()};
     args.insert(args.end(), settings.begin(), settings.end());
     const CommandResult r = run_nsgraph(args);
     EXPECT_EQ(r.exit_code, 2) << named;

@@ -50,6 +50,11 @@ struct SplitVerification {
 // count add nothing): a progress total, read before any shard is.
 uint64_t tile_count(const std::vector<nlohmann::json>& shards);
 
+// A ladder rung as a split name: "test-r1" = rung 1 of split test ({"test", 1}); nullopt
+// for other names. Dataset::shards, require_split, verify_split and for_each_tile take it,
+// so every command that reads a split reads a rung the same way (predict --split test-r1).
+std::optional<std::pair<std::string, int>> rung_split(const std::string& split);
+
 class Dataset {
  public:
   // Reads <root>/manifest.json; IoError / ParseError naming it.
@@ -58,7 +63,8 @@ class Dataset {
   const std::filesystem::path& root() const { return root_; }
   const nlohmann::json& manifest() const { return manifest_; }
   bool tar_layout() const { return tar_; }
-  // Shard entries of the manifest for `split` ("" = all), in manifest order.
+  // Shard entries of the manifest for `split` ("" = all; "<split>-r<k>" = the ladder's rung
+  // k of it), in manifest order.
   std::vector<nlohmann::json> shards(const std::string& split = "") const;
   // Calls fn for every tile of `split` ("" = all) in manifest order, one shard in memory
   // at a time. Stops early when fn returns false.
