@@ -197,8 +197,7 @@ WorldBuilder::WorldBuilder(const SynthConfig& config, uint64_t seed)
 }
 
 World WorldBuilder::build() {
-  make_streets();
-  make_pieces();
+  make_layout();
   make_lanes();
   make_connectors();
   make_ground();
