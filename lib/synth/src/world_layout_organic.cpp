@@ -157,7 +157,7 @@ void OrganicPlanner::plan_nodes() {
   nodes_[kE1].centre = at(0.97, 0.36);
   nodes_[kSE].centre = at(0.97, 0.14);
   nodes_[kK].centre = at(0.36, 0.50);
-  nodes_[kBT] = {at(0.25, 0.14), NodeKind::kTransition, 12.0};
+  nodes_[kBT] = {at(0.26, 0.14), NodeKind::kTransition, 12.0};
   nodes_[kB1].centre = at(0.36, 0.14);
   nodes_[kDiverge] = {at(0.44, 0.14), NodeKind::kTransition, 10.0};
   nodes_[kMerge] = {at(0.72, 0.14), NodeKind::kTransition, 10.0};
@@ -228,7 +228,10 @@ void OrganicPlanner::plan_boulevard() {
   const Eigen::Vector2d d = nodes_[kDiverge].centre, m = nodes_[kMerge].centre;
   const Eigen::Vector2d u = (m - d).normalized(), n = left_of(u);
   const double near = curb * (kMedianM / 2.0 + 2.0 * w + w / 2.0), far = near + curb * kRampShiftM;
-  const double leg = std::min(22.0, 0.2 * (m - d).norm()), run = std::min(30.0, 0.25 * (m - d).norm());
+  // Straight beside the carriageway for `leg` (its gap and a bend), out over `run`, and at
+  // least 24 m straight between the two bends in the middle.
+  const double leg = nodes_[kDiverge].gap_m + 11.0;
+  const double run = std::clamp(((m - d).norm() - 2.0 * leg - 24.0) / 2.0, 15.0, 30.0);
   road(street(1, 0, false), kDiverge, kMerge,
        {d + n * near, d + u * leg + n * near, d + u * (leg + run) + n * far, m - u * (leg + run) + n * far,
         m - u * leg + n * near, m + n * near});

@@ -25,8 +25,8 @@ double bend_tangent_m(double turn_rad, double radius_m, bool spiral);
 
 // The prims of a road along `poly` (first and last points on the node arms' axes), from
 // `ext_a_m` after its first point to `ext_b_m` before its last, every corner a bend of at
-// most `radius_m` (smaller where the legs are short). Throws InternalError when a bend
-// does not fit even at kMinBendRadiusM.
+// most `radius_m` (smaller where the legs are short; single arcs where clothoid-like bends
+// do not fit). Throws InternalError when a bend does not fit even at kMinBendRadiusM.
 std::vector<Prim> polyline_prims(const std::vector<Eigen::Vector2d>& poly, double ext_a_m, double ext_b_m,
                                  double radius_m, bool spiral);
 

@@ -57,6 +57,33 @@ double bend_tangent_m(double turn_rad, double radius_m, bool spiral) {
   return e.x - e.y / std::tan(turn_rad);  // where the exit tangent crosses the x axis
 }
 
+namespace {
+
+// Bend radii (≤ radius_m) that fit every leg of the polyline, or an empty vector.
+std::vector<double> fitting_radii(const std::vector<double>& leg, const std::vector<double>& turn, double ext_a_m,
+                                  double ext_b_m, double radius_m, bool spiral) {
+  const size_t n = turn.size();
+  std::vector<double> radius(n, radius_m);
+  for (;;) {
+    bool fits = true, shrunk = false;
+    for (size_t i = 0; i + 1 < n; ++i) {
+      const double t0 = i == 0 ? ext_a_m + kEndStubM : bend_tangent_m(turn[i], radius[i], spiral);
+      const double t1 = i + 2 == n ? ext_b_m + kEndStubM : bend_tangent_m(turn[i + 1], radius[i + 1], spiral);
+      if (t0 + t1 <= leg[i]) continue;
+      fits = false;
+      for (size_t v : {i, i + 1}) {
+        if (v == 0 || v + 1 == n || radius[v] <= kMinBendRadiusM) continue;
+        radius[v] = std::max(kMinBendRadiusM, radius[v] * 0.9);
+        shrunk = true;
+      }
+    }
+    if (fits) return radius;
+    if (!shrunk) return {};
+  }
+}
+
+}  // namespace
+
 std::vector<Prim> polyline_prims(const std::vector<Eigen::Vector2d>& poly, double ext_a_m, double ext_b_m,
                                  double radius_m, bool spiral) {
   const size_t n = poly.size();
@@ -67,31 +94,22 @@ std::vector<Prim> polyline_prims(const std::vector<Eigen::Vector2d>& poly, doubl
     leg[i] = (poly[i + 1] - poly[i]).norm();
     dir[i] = (poly[i + 1] - poly[i]) / leg[i];
   }
-  std::vector<double> turn(n, 0.0), radius(n, radius_m), tangent(n, 0.0);
+  std::vector<double> turn(n, 0.0);
   for (size_t i = 1; i + 1 < n; ++i) turn[i] = geometry::wrap_angle_devkit(heading(dir[i]) - heading(dir[i - 1]));
-  // Shrink the bends at both ends of a leg that is too short for them.
-  for (int guard = 0;; ++guard) {
-    for (size_t i = 1; i + 1 < n; ++i) tangent[i] = bend_tangent_m(turn[i], radius[i], spiral);
-    bool fits = true;
-    for (size_t i = 0; i + 1 < n; ++i) {
-      const double need =
-          (i == 0 ? ext_a_m + kEndStubM : tangent[i]) + (i + 2 == n ? ext_b_m + kEndStubM : tangent[i + 1]);
-      if (need <= leg[i]) continue;
-      fits = false;
-      for (size_t v : {i, i + 1})
-        if (v > 0 && v + 1 < n) radius[v] *= 0.9;
-    }
-    if (fits) break;
-    if (guard > 60 || *std::min_element(radius.begin(), radius.end()) < kMinBendRadiusM)
-      throw InternalError("", "organic layout",
-                          strprintf("a road from (%.1f, %.1f) has no room for its bends", poly[0].x(), poly[0].y()));
-  }
+  // Clothoid-like bends need longer legs than single arcs: where they do not fit even at
+  // the smallest radius, the road bends in single arcs.
+  std::vector<double> radius = fitting_radii(leg, turn, ext_a_m, ext_b_m, radius_m, spiral);
+  if (radius.empty() && spiral) radius = fitting_radii(leg, turn, ext_a_m, ext_b_m, radius_m, spiral = false);
+  if (radius.empty())
+    throw InternalError("", "organic layout",
+                        strprintf("a road from (%.1f, %.1f) has no room for its bends", poly[0].x(), poly[0].y()));
   std::vector<Prim> prims;
   const Eigen::Vector2d s = poly[0] + dir[0] * ext_a_m;
   geometry::Pose2 pose{s.x(), s.y(), heading(dir[0])};
   for (size_t i = 1; i < n; ++i) {
     // Straight up to the next bend (or to the road's end), measured along the leg.
-    const Eigen::Vector2d target = i + 1 < n ? poly[i] - dir[i - 1] * tangent[i] : poly[i] - dir[i - 1] * ext_b_m;
+    const Eigen::Vector2d target =
+        i + 1 < n ? poly[i] - dir[i - 1] * bend_tangent_m(turn[i], radius[i], spiral) : poly[i] - dir[i - 1] * ext_b_m;
     const double straight = dir[i - 1].dot(target - Eigen::Vector2d(pose.x, pose.y));
     if (straight > 1e-6) {
       prims.push_back(chained(pose, straight, 0.0));
@@ -112,6 +130,7 @@ double junction_radius_m(const std::vector<Arm>& arms, double crosswalk_m) {
     return along > 0.0 && std::fabs(across) < arm.extent_m;
   };
   for (;; r += 0.25) {
+    if (r > 200.0) throw InternalError("", "organic layout", "no junction radius keeps its arms apart");
     bool clear = true;
     for (size_t i = 0; i < arms.size() && clear; ++i) {
       const Eigen::Vector2d n(-arms[i].dir.y(), arms[i].dir.x());

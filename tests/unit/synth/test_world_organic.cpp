@@ -3,6 +3,7 @@
 // the devkit discretization; junction areas that follow their arms; traffic that drives it.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -98,6 +99,25 @@ TEST(OrganicLaneGraph, ManySeedsAndBothSidesBuildWithoutDeadEnds) {
     EXPECT_GT(w.buildings.size(), 10u) << what;
     EXPECT_GT(w.poles.size(), 20u) << what;
     EXPECT_GT(w.sidewalks.size(), 20u) << what;
+  }
+}
+
+// The corners of the accepted sizes (300 m tall, 1.2 to 3 times as wide) and a taller city
+// build with every feature in place and the same connection properties.
+TEST(OrganicLaneGraph, SizesAtTheLimitsBuild) {
+  const std::vector<std::array<int, 2>> blocks = {{6, 5}, {15, 5}, {12, 10}};
+  for (const auto& [bx, by] : blocks) {
+    SynthConfig c = organic_config();
+    c.city.blocks_x = bx;
+    c.city.blocks_y = by;
+    c.city.block_size_m = 60.0;
+    c.city.ground_resolution_m = 0.2;
+    c.map_size_m = {bx * 60.0 + 80.0, by * 60.0 + 80.0};
+    c.validate();
+    for (const char* location : {"boston-seaport", "singapore-hollandvillage"}) {
+      c.location = location;
+      expect_connected(build_world(c, 21), std::string(location) + " " + std::to_string(bx) + "x" + std::to_string(by));
+    }
   }
 }
 
