@@ -70,6 +70,12 @@ bool is_plain_file_name(const std::string& v) {
 const Table<CityConfig>& city_table() {
   static const Table<CityConfig> table = [] {
     Table<CityConfig> t;
+    t.choice("city.layout", &CityConfig::layout,
+             std::vector<std::pair<std::string, CityLayout>>{{"grid", CityLayout::kGrid},
+                                                             {"organic", CityLayout::kOrganic}})
+        .help(
+            "Street layout: a grid inside a ring road, or the organic city in the same rectangle "
+            "(blocks · block_size_m from origin_m)");
     number_pair(t, "city.origin_m", &CityConfig::origin_m, Range{}, "[x, y] in metres")
         .unit("m")
         .help("South-west corner of the street grid (at least sidewalk + 20 m inside the map)");
@@ -279,6 +285,16 @@ void check_geometry(const SynthConfig& c) {
                 city.ring_corner_radius_m <= city.block_size_m / 2.0,
             ConfigError, "", "city.ring_corner_radius_m",
             "a radius larger than the road half-width + sidewalk + 5 m and ≤ block_size/2");
+  if (city.layout == CityLayout::kOrganic) {
+    // The organic plan has two-lane roads and needs room for its roundabout, bends and ramp.
+    const double w = city.blocks_x * city.block_size_m, h = city.blocks_y * city.block_size_m;
+    NSG_CHECK(city.max_lanes_per_direction >= 2, ConfigError, "", "city.max_lanes_per_direction",
+              "2 or 3 for the organic layout (its lane drop and boulevard have two lanes a way)");
+    NSG_CHECK(h >= 300.0, ConfigError, "", "city.blocks_y",
+              "blocks_y · block_size_m of at least 300 m for the organic layout");
+    NSG_CHECK(w >= 1.2 * h && w <= 3.0 * h, ConfigError, "", "city.blocks_x",
+              "blocks_x · block_size_m between 1.2 and 3 times blocks_y · block_size_m for the organic layout");
+  }
   NSG_CHECK(c.lidar.roof_points < c.lidar.points_per_sweep, ConfigError, "", "lidar.roof_points",
             "an integer in [0, points_per_sweep)");
   const double margin = city.sidewalk_width_m + 20.0;

@@ -1,8 +1,9 @@
-// The synthetic city: street grid + ring road, lanes/connectors, ground raster, buildings.
-// Map records are collected by MapBuilder (map_builder.h) while the geometry is made.
-// The builder's members live in world_roads.cpp (roads and the map) and world_surface.cpp
+// The synthetic city (a street grid + ring road, or the organic layout), lanes/connectors,
+// ground raster, buildings. Map records are collected by MapBuilder (map_builder.h) while
+// the geometry is made. The builder's members live in world_layout_*.cpp (the layout),
+// world_roads.cpp and world_connectors.cpp (roads and the map) and world_surface.cpp
 // (ground, buildings, poles); this file holds the public functions of world.h, the street
-// layout helpers both halves use, and the build order.
+// layout helpers they share, and the build order.
 #include "nsg/synth/world.h"
 
 #include <algorithm>
@@ -197,8 +198,7 @@ WorldBuilder::WorldBuilder(const SynthConfig& config, uint64_t seed)
 }
 
 World WorldBuilder::build() {
-  make_streets();
-  make_pieces();
+  make_layout();
   make_lanes();
   make_connectors();
   make_ground();

@@ -1,7 +1,8 @@
 #pragma once
 // The world builder's shared state, internal to the synth module: the street layout types
 // and the WorldBuilder class whose members are split by what they make —
-// world_roads.cpp: streets, road pieces, lanes, connectors, crossings and the map's areas;
+// world_layout_grid.cpp / world_layout_organic.cpp: the layout (streets, nodes, pieces);
+// world_roads.cpp: lanes, crossings and the map's areas; world_connectors.cpp: connectors;
 // world_surface.cpp: the ground raster and its markings, buildings, poles, parking, sidewalks;
 // world.cpp: the construction, the build order and the public functions of world.h.
 #include <Eigen/Core>
@@ -35,6 +36,9 @@ struct Street {
   int n_bwd = 1;  // 0 = one-way
   bool parking = false;
   double lane_w = 3.5;
+  // The innermost forward lane (index 0) is a turn pocket: it only turns across the
+  // oncoming traffic (left in right-hand traffic) at the piece's end node.
+  bool pocket = false;
   bool two_way() const { return n_bwd > 0; }
 };
 
@@ -57,6 +61,8 @@ struct Piece {
   std::vector<Prim> prims;
   double ext_a = 0.0;  // distance from node centre to the piece start (= box half + crosswalk)
   double ext_b = 0.0;
+  bool cross_a = true;  // a crosswalk and stop line at the start / end (not on roundabout rings)
+  bool cross_b = true;
   double length() const {
     double l = 0.0;
     for (const Prim& p : prims) l += p.length;
@@ -64,10 +70,21 @@ struct Piece {
   }
 };
 
+enum class NodeKind {
+  kJunction,    // an intersection area (road_segment with is_intersection) joins its arms
+  kTransition,  // no area: the lanes of collinear pieces meet (lane drops, pockets, ramps)
+};
+
 struct Intersection {
   Eigen::Vector2d centre;
-  double half_m = 0.0;  // half-size of the square box
+  double half_m = 0.0;  // grid: half-size of the square box; organic: radius of the junction area
   int arms = 0;
+  NodeKind kind = NodeKind::kJunction;
+  bool signalized = false;  // traffic lights on every arm (the grid's 4-way crossings)
+  // The organic junction area is painted and joins the drivable area; the grid's arms
+  // already cover their square.
+  bool own_area = false;
+  std::vector<Eigen::Vector2d> area;  // the intersection road_segment's polygon
   std::string segment_token;
 };
 
@@ -77,6 +94,8 @@ struct LaneBuild {
   bool forward = true;
   int index = 0;  // 0 = innermost
   int group_size = 1;
+  bool pocket = false;        // this lane is a turn pocket (Street::pocket, index 0 forward)
+  bool group_pocket = false;  // its direction's group has one
   int start_node = -1, end_node = -1;
   double offset_ref = 0.0;  // in the reference frame
   std::string road_block;
@@ -103,18 +122,18 @@ class WorldBuilder {
   World build();
 
  private:
-  // ---- streets (world_roads.cpp) ---------------------------------------------------------
+  // ---- layout: streets, nodes, pieces (world_layout_grid.cpp, world_layout_organic.cpp) --
+  void make_layout();
   double X(int i) const { return city_.origin_m[0] + i * city_.block_size_m; }
   double Y(int j) const { return city_.origin_m[1] + j * city_.block_size_m; }
   int node_id(int i, int j) const { return j * (city_.blocks_x + 1) + i; }
   Street random_street(bool allow_one_way, bool allow_parking);
   void make_streets();
-
-  // ---- pieces (world_roads.cpp) ----------------------------------------------------------
   double ext(int node) const { return nodes_[static_cast<size_t>(node)].half_m + kCrosswalkDepthM; }
   void add_straight_piece(int street, int na, int nb);
   void add_corner_piece(int na, int nb, const Eigen::Vector2d& corner);
   void make_pieces();
+  void make_organic_layout();
 
   // ---- lanes (world_roads.cpp) -----------------------------------------------------------
   std::vector<ArclinePath> lane_paths(const Piece& piece, double d, bool forward);
@@ -122,14 +141,17 @@ class WorldBuilder {
   void add_lane_record(const Piece& piece, const Street& st, const StreetLayout& lay, const LaneBuild& lb,
                        LaneInfo& lane);
 
-  // ---- connectors and crossings (world_roads.cpp) ----------------------------------------
+  // ---- connectors (world_connectors.cpp) and crossings (world_roads.cpp) ------------------
   void make_connectors();
+  void connect_junction(const std::vector<int>& ins, const std::vector<int>& outs);
+  void connect_transition(const std::vector<int>& ins, const std::vector<int>& outs);
   void add_connector(int a, int b);
   void make_crossings(int ni);
   std::vector<std::string> opposite_blocks(int ni, int from_piece);
 
   // ---- ground (world_surface.cpp) --------------------------------------------------------
   void make_ground();
+  void paint_parks(GroundRaster& r);
   void paint_markings(GroundRaster& r, const Piece& piece, const Street& st, const StreetLayout& lay,
                       const DrawPrim& dp);
 
@@ -139,6 +161,9 @@ class WorldBuilder {
   // ---- buildings, poles, parking, sidewalks (world_surface.cpp) --------------------------
   bool footprint_free(double cx, double cy, double hx, double hy) const;
   void make_buildings_and_poles();
+  void make_block_buildings();
+  void make_free_buildings();
+  void add_building(double cx, double cy, double hx, double hy, double height);
   void make_parking_and_sidewalks();
 
   // ---- map JSON (world.cpp) --------------------------------------------------------------
@@ -158,6 +183,7 @@ class WorldBuilder {
   std::map<size_t, std::array<std::string, 2>> piece_block_;
   std::vector<LaneBuild> builds_;
   std::vector<bool> park_blocks_;
+  std::vector<std::pair<Eigen::Vector2d, double>> parks_;  // organic: centre and radius of each park
 };
 
 }  // namespace nsg::synth::world_detail

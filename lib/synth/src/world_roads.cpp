@@ -1,7 +1,6 @@
-// The road half of the world builder (world_builder.h): the street grid and ring road,
-// road pieces between intersections, lanes, lane connectors, ped crossings, stop lines,
-// traffic lights and the map's walkways and drivable area. Map records go to MapBuilder in
-// the order they are made, so the order of the calls here is part of the output.
+// The road half of the world builder (world_builder.h): over the layout's road pieces,
+// lanes, ped crossings, stop lines, traffic lights and the map's walkways and drivable area. Map records go to
+// MapBuilder in the order they are made, so the order of the calls here is part of the output.
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -41,11 +40,6 @@ ArclinePath arc_path(const Pose2& start, double length, double curvature) {
   return path;
 }
 
-Pose2 lane_end_pose(const LaneInfo& lane) {
-  const ArclinePath& last = lane.paths.back();
-  return geometry::arcline_pose_at(last, last.length_m());
-}
-
 double lane_length(const std::vector<ArclinePath>& paths) {
   double l = 0.0;
   for (const auto& p : paths) l += p.length_m();
@@ -53,105 +47,6 @@ double lane_length(const std::vector<ArclinePath>& paths) {
 }
 
 }  // namespace
-
-// ---- streets -------------------------------------------------------------------------
-
-Street WorldBuilder::random_street(bool allow_one_way, bool allow_parking) {
-  Street s;
-  s.lane_w = city_.lane_width_m;
-  s.n_fwd = static_cast<int>(rng_.uniform_int(int64_t{1}, int64_t{city_.max_lanes_per_direction}));
-  const bool one_way = allow_one_way && rng_.bernoulli(city_.one_way_fraction);
-  s.n_bwd = one_way ? 0 : static_cast<int>(rng_.uniform_int(int64_t{1}, int64_t{city_.max_lanes_per_direction}));
-  if (one_way && s.n_fwd == 1 && city_.max_lanes_per_direction > 1) s.n_fwd = 2;
-  s.parking = allow_parking && rng_.bernoulli(city_.parking_fraction);
-  return s;
-}
-
-void WorldBuilder::make_streets() {
-  const int nx = city_.blocks_x, ny = city_.blocks_y;
-  NSG_CHECK(nx >= 2 && ny >= 2, ConfigError, "synth config", "city.blocks_x",
-            "at least 2 blocks in x and y (the ring road needs T-junctions on every side)");
-  ring_ = static_cast<int>(streets_.size());
-  streets_.push_back(random_street(false, rng_.bernoulli(city_.parking_fraction)));
-  for (int i = 1; i < nx; ++i) {
-    vertical_[i] = static_cast<int>(streets_.size());
-    streets_.push_back(random_street(true, true));
-  }
-  for (int j = 1; j < ny; ++j) {
-    horizontal_[j] = static_cast<int>(streets_.size());
-    streets_.push_back(random_street(true, true));
-  }
-  // Intersections: interior crossings and T-junctions on the ring (no node at the corners).
-  nodes_.resize(static_cast<size_t>((nx + 1) * (ny + 1)));
-  for (int j = 0; j <= ny; ++j) {
-    for (int i = 0; i <= nx; ++i) {
-      Intersection& n = nodes_[static_cast<size_t>(node_id(i, j))];
-      n.centre = {X(i), Y(j)};
-      const bool corner = (i == 0 || i == nx) && (j == 0 || j == ny);
-      if (corner) continue;
-      const Street& sv = streets_[static_cast<size_t>(i == 0 || i == nx ? ring_ : vertical_.at(i))];
-      const Street& sh = streets_[static_cast<size_t>(j == 0 || j == ny ? ring_ : horizontal_.at(j))];
-      const StreetLayout lv = layout_of(sv, rht_), lh = layout_of(sh, rht_);
-      n.half_m = std::max({lv.left_edge, -lv.right_edge, lh.left_edge, -lh.right_edge}) + 0.5;
-      n.arms = (i == 0 || i == nx || j == 0 || j == ny) ? 3 : 4;
-    }
-  }
-}
-
-// ---- pieces --------------------------------------------------------------------------
-
-void WorldBuilder::add_straight_piece(int street, int na, int nb) {
-  const Eigen::Vector2d a = nodes_[static_cast<size_t>(na)].centre, b = nodes_[static_cast<size_t>(nb)].centre;
-  const Eigen::Vector2d t = (b - a).normalized();
-  Piece p;
-  p.street = street;
-  p.node_a = na;
-  p.node_b = nb;
-  p.ext_a = ext(na);
-  p.ext_b = ext(nb);
-  const Eigen::Vector2d s = a + t * p.ext_a;
-  p.prims.push_back({{s.x(), s.y(), std::atan2(t.y(), t.x())}, (b - a).norm() - p.ext_a - p.ext_b, 0.0});
-  pieces_.push_back(p);
-}
-
-// Ring corner: straight from node a to the corner's tangent point, quarter arc left,
-// straight to node b.
-void WorldBuilder::add_corner_piece(int na, int nb, const Eigen::Vector2d& corner) {
-  const double rc = city_.ring_corner_radius_m;
-  const Eigen::Vector2d a = nodes_[static_cast<size_t>(na)].centre, b = nodes_[static_cast<size_t>(nb)].centre;
-  const Eigen::Vector2d t1 = (corner - a).normalized(), t2 = (b - corner).normalized();
-  Piece p;
-  p.street = ring_;
-  p.node_a = na;
-  p.node_b = nb;
-  p.ext_a = ext(na);
-  p.ext_b = ext(nb);
-  const Eigen::Vector2d s = a + t1 * p.ext_a;
-  const double yaw1 = std::atan2(t1.y(), t1.x());
-  p.prims.push_back({{s.x(), s.y(), yaw1}, (corner - a).norm() - rc - p.ext_a, 0.0});
-  const Eigen::Vector2d tp1 = corner - t1 * rc;
-  p.prims.push_back({{tp1.x(), tp1.y(), yaw1}, kPi / 2.0 * rc, 1.0 / rc});
-  const Eigen::Vector2d tp2 = corner + t2 * rc;
-  p.prims.push_back({{tp2.x(), tp2.y(), std::atan2(t2.y(), t2.x())}, (b - corner).norm() - rc - p.ext_b, 0.0});
-  pieces_.push_back(p);
-}
-
-void WorldBuilder::make_pieces() {
-  const int nx = city_.blocks_x, ny = city_.blocks_y;
-  for (int i = 1; i < nx; ++i)
-    for (int j = 0; j < ny; ++j) add_straight_piece(vertical_.at(i), node_id(i, j), node_id(i, j + 1));
-  for (int j = 1; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) add_straight_piece(horizontal_.at(j), node_id(i, j), node_id(i + 1, j));
-  // The ring, counter-clockwise: bottom (+x), right (+y), top (−x), left (−y).
-  for (int i = 1; i + 1 < nx; ++i) add_straight_piece(ring_, node_id(i, 0), node_id(i + 1, 0));
-  add_corner_piece(node_id(nx - 1, 0), node_id(nx, 1), {X(nx), Y(0)});
-  for (int j = 1; j + 1 < ny; ++j) add_straight_piece(ring_, node_id(nx, j), node_id(nx, j + 1));
-  add_corner_piece(node_id(nx, ny - 1), node_id(nx - 1, ny), {X(nx), Y(ny)});
-  for (int i = nx - 1; i > 1; --i) add_straight_piece(ring_, node_id(i, ny), node_id(i - 1, ny));
-  add_corner_piece(node_id(1, ny), node_id(0, ny - 1), {X(0), Y(ny)});
-  for (int j = ny - 1; j > 1; --j) add_straight_piece(ring_, node_id(0, j), node_id(0, j - 1));
-  add_corner_piece(node_id(0, 1), node_id(1, 0), {X(0), Y(0)});
-}
 
 // ---- lanes ---------------------------------------------------------------------------
 
@@ -205,6 +100,8 @@ void WorldBuilder::make_lanes() {
         lb.forward = forward;
         lb.index = static_cast<int>(k);
         lb.group_size = static_cast<int>(offs.size());
+        lb.group_pocket = forward && st.pocket;
+        lb.pocket = lb.group_pocket && k == 0;
         lb.start_node = forward ? piece.node_a : piece.node_b;
         lb.end_node = forward ? piece.node_b : piece.node_a;
         lb.offset_ref = offs[k];
@@ -256,108 +153,14 @@ void WorldBuilder::add_lane_record(const Piece& piece, const Street& st, const S
   lane.token = map_.lane(l, r, boundary_type(d_left), boundary_type(d_right));
 }
 
-// ---- connectors ----------------------------------------------------------------------
-
-void WorldBuilder::make_connectors() {
-  const size_t n_lanes = world_.lanes.size();
-  std::map<int, std::vector<int>> in_by_node, out_by_node;
-  for (size_t i = 0; i < n_lanes; ++i) {
-    in_by_node[builds_[i].end_node].push_back(static_cast<int>(i));
-    out_by_node[builds_[i].start_node].push_back(static_cast<int>(i));
-  }
-  for (size_t ni = 0; ni < nodes_.size(); ++ni) {
-    Intersection& node = nodes_[ni];
-    if (node.arms == 0) continue;
-    const double h = node.half_m;
-    std::vector<Eigen::Vector2d> square = {node.centre + Eigen::Vector2d(-h, -h), node.centre + Eigen::Vector2d(h, -h),
-                                           node.centre + Eigen::Vector2d(h, h), node.centre + Eigen::Vector2d(-h, h)};
-    node.segment_token = map_.road_segment(square, true);
-    const std::vector<int>& ins = in_by_node[static_cast<int>(ni)];
-    const std::vector<int>& outs = out_by_node[static_cast<int>(ni)];
-    for (int a : ins) {
-      const Pose2 A = lane_end_pose(world_.lanes[static_cast<size_t>(a)]);
-      const LaneBuild& la = builds_[static_cast<size_t>(a)];
-      std::vector<int> moves;  // out lanes
-      std::vector<int> fallback;
-      for (int b : outs) {
-        const LaneBuild& lb = builds_[static_cast<size_t>(b)];
-        if (lb.piece == la.piece) continue;  // no U-turns
-        const Pose2& B = world_.lanes[static_cast<size_t>(b)].paths.front().start_pose;
-        const double turn = geometry::wrap_angle_devkit(B.yaw - A.yaw);
-        const bool straight = std::fabs(turn) < kPi / 4.0;
-        const bool near_turn = !straight && ((turn < 0) == rht_);
-        bool take = false;
-        if (straight) take = lb.index == std::min(la.index, lb.group_size - 1);
-        else if (near_turn) take = la.index == la.group_size - 1 && lb.index == lb.group_size - 1;
-        else take = la.index == 0 && lb.index == 0;
-        if (take) moves.push_back(b);
-        else if (lb.index == (near_turn ? lb.group_size - 1 : 0)) fallback.push_back(b);
-      }
-      if (moves.empty() && !fallback.empty()) moves.push_back(fallback.front());
-      for (int b : moves) add_connector(a, b);
-    }
-    // An outgoing lane nobody reaches (more lanes out than in) forks off the incoming
-    // lane heading the same way that is nearest to it, else off any other arm.
-    for (int b : outs) {
-      if (!world_.lanes[static_cast<size_t>(b)].incoming.empty()) continue;
-      const LaneBuild& lb = builds_[static_cast<size_t>(b)];
-      const Pose2& B = world_.lanes[static_cast<size_t>(b)].paths.front().start_pose;
-      int best = -1;
-      double best_cost = 1e300;
-      for (int a : ins) {
-        const LaneBuild& la = builds_[static_cast<size_t>(a)];
-        if (la.piece == lb.piece) continue;
-        const double turn =
-            std::fabs(geometry::wrap_angle_devkit(B.yaw - lane_end_pose(world_.lanes[static_cast<size_t>(a)]).yaw));
-        const double cost = (turn < kPi / 4.0 ? 0.0 : 100.0) + std::abs(la.index - lb.index);
-        if (cost < best_cost) best_cost = cost, best = a;
-      }
-      if (best >= 0) add_connector(best, b);
-    }
-    make_crossings(static_cast<int>(ni));
-  }
-}
-
-void WorldBuilder::add_connector(int a, int b) {
-  const Pose2 A = lane_end_pose(world_.lanes[static_cast<size_t>(a)]);
-  const Pose2 B = world_.lanes[static_cast<size_t>(b)].paths.front().start_pose;
-  const double c = std::cos(A.yaw), s = std::sin(A.yaw);
-  const double fx = c * (B.x - A.x) + s * (B.y - A.y), ly = -s * (B.x - A.x) + c * (B.y - A.y);
-  const double turn = geometry::wrap_angle_devkit(B.yaw - A.yaw);
-  const double radius =
-      std::fabs(turn) < kPi / 4.0 ? kStraightRadiusM : std::max(2.0, 0.98 * std::min(std::fabs(fx), std::fabs(ly)));
-  ArclinePath path = dubins_path(A, B, radius);
-  const Pose2 end = geometry::arcline_pose_at(path, path.length_m());
-  if (std::hypot(end.x - B.x, end.y - B.y) > 1e-3)
-    throw InternalError("", "lane connector",
-                        strprintf("Dubins end misses the lane start by %g m", std::hypot(end.x - B.x, end.y - B.y)));
-  LaneInfo conn;
-  conn.is_connector = true;
-  conn.paths = {path};
-  conn.length_m = path.length_m();
-  // Placeholder polygon like real connectors: the centreline buffered by half a lane.
-  std::vector<Eigen::Vector2d> l, r;
-  for (const Pose2& p : geometry::discretize_arcline(path, 2.0)) {
-    const Eigen::Vector2d n(-std::sin(p.yaw), std::cos(p.yaw));
-    l.push_back(Eigen::Vector2d(p.x, p.y) + n * 1.5);
-    r.push_back(Eigen::Vector2d(p.x, p.y) - n * 1.5);
-  }
-  conn.token = map_.lane_connector(band_ring(l, r));
-  const int ci = static_cast<int>(world_.lanes.size());
-  world_.lanes.push_back(std::move(conn));
-  world_.lanes[static_cast<size_t>(a)].outgoing.push_back(ci);
-  world_.lanes[static_cast<size_t>(ci)].incoming.push_back(a);
-  world_.lanes[static_cast<size_t>(ci)].outgoing.push_back(b);
-  world_.lanes[static_cast<size_t>(b)].incoming.push_back(ci);
-}
-
-// Ped crossings on every arm, stop lines before them, traffic lights at 4-way crossings.
+// Ped crossings on every arm (roundabout rings excepted), stop lines before them, traffic
+// lights at signalized junctions.
 void WorldBuilder::make_crossings(int ni) {
   const Intersection& node = nodes_[static_cast<size_t>(ni)];
   for (size_t pi = 0; pi < pieces_.size(); ++pi) {
     const Piece& piece = pieces_[pi];
     for (int end = 0; end < 2; ++end) {
-      if ((end == 0 ? piece.node_a : piece.node_b) != ni) continue;
+      if ((end == 0 ? piece.node_a : piece.node_b) != ni || !(end == 0 ? piece.cross_a : piece.cross_b)) continue;
       const StreetLayout lay = layout_of(streets_[static_cast<size_t>(piece.street)], rht_);
       const double L = piece.length();
       // Crosswalk zone in piece coordinates.
@@ -377,7 +180,7 @@ void WorldBuilder::make_crossings(int ni) {
       const double in_hi = dir == 0 ? std::max(lay.fwd_inner, lay.fwd_outer) : std::max(lay.bwd_inner, lay.bwd_outer);
       const double t0 = end == 1 ? L - 0.5 : 0.0, t1 = end == 1 ? L : 0.5;
       std::vector<std::string> lights;
-      if (node.arms == 4) {
+      if (node.signalized) {
         const double curb = dir == 0 ? (lay.fwd_outer > lay.fwd_inner ? lay.left_edge : lay.right_edge)
                                      : (lay.bwd_outer > lay.bwd_inner ? lay.left_edge : lay.right_edge);
         const double sl = end == 1 ? L + kCrosswalkDepthM : -kCrosswalkDepthM;
@@ -421,6 +224,8 @@ void WorldBuilder::make_map_areas() {
     drivable.push_back(map_.polygon(band_ring(piece_curve(piece, -piece.ext_a, L + piece.ext_b, lay.left_edge, 4.0),
                                               piece_curve(piece, -piece.ext_a, L + piece.ext_b, lay.right_edge, 4.0))));
   }
+  for (const Intersection& node : nodes_)
+    if (node.own_area) drivable.push_back(map_.polygon(node.area));
   map_.drivable_area(drivable);
 }
 

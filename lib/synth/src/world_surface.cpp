@@ -49,6 +49,44 @@ void paint_band(GroundRaster& r, const Prim& prim, double s0, double s1, double 
   }
 }
 
+// Fills the cells whose centres lie inside the convex polygon `ring` (either orientation).
+void paint_polygon(GroundRaster& r, const std::vector<Eigen::Vector2d>& ring, GroundMaterial m) {
+  if (ring.size() < 3) return;
+  Eigen::Vector2d lo = ring.front(), hi = ring.front();
+  for (const Eigen::Vector2d& p : ring) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const int c0 = std::max(0, static_cast<int>(std::floor((lo.x() - r.x0()) / r.resolution())));
+  const int c1 = std::min(r.width() - 1, static_cast<int>(std::floor((hi.x() - r.x0()) / r.resolution())));
+  const int r0 = std::max(0, static_cast<int>(std::floor((lo.y() - r.y0()) / r.resolution())));
+  const int r1 = std::min(r.height() - 1, static_cast<int>(std::floor((hi.y() - r.y0()) / r.resolution())));
+  for (int row = r0; row <= r1; ++row) {
+    const double y = r.y0() + (row + 0.5) * r.resolution();
+    for (int col = c0; col <= c1; ++col) {
+      const double x = r.x0() + (col + 0.5) * r.resolution();
+      int pos = 0, neg = 0;
+      for (size_t i = 0; i < ring.size(); ++i) {
+        const Eigen::Vector2d& a = ring[i];
+        const Eigen::Vector2d& b = ring[(i + 1) % ring.size()];
+        const double cross = (b.x() - a.x()) * (y - a.y()) - (b.y() - a.y()) * (x - a.x());
+        pos += cross >= 0.0, neg += cross <= 0.0;
+      }
+      if (pos == static_cast<int>(ring.size()) || neg == static_cast<int>(ring.size()))
+        r.at(col, row) = static_cast<uint8_t>(m);
+    }
+  }
+}
+
+void paint_disc(GroundRaster& r, const Eigen::Vector2d& centre, double radius_m, GroundMaterial m) {
+  const double res = r.resolution();
+  const int c0 = std::max(0, static_cast<int>(std::floor((centre.x() - radius_m - r.x0()) / res)));
+  const int c1 = std::min(r.width() - 1, static_cast<int>(std::floor((centre.x() + radius_m - r.x0()) / res)));
+  const int r0 = std::max(0, static_cast<int>(std::floor((centre.y() - radius_m - r.y0()) / res)));
+  const int r1 = std::min(r.height() - 1, static_cast<int>(std::floor((centre.y() + radius_m - r.y0()) / res)));
+  for (int row = r0; row <= r1; ++row)
+    for (int col = c0; col <= c1; ++col)
+      if (std::hypot(r.x0() + (col + 0.5) * res - centre.x(), r.y0() + (row + 0.5) * res - centre.y()) <= radius_m)
+        r.at(col, row) = static_cast<uint8_t>(m);
+}
+
 std::vector<DrawPrim> draw_prims(const Piece& piece) {
   std::vector<DrawPrim> out;
   double acc = 0.0;
@@ -76,17 +114,7 @@ void WorldBuilder::make_ground() {
   auto raster = std::make_shared<GroundRaster>(x0, y0, res, static_cast<int>(std::ceil((x1 - x0) / res)),
                                                static_cast<int>(std::ceil((y1 - y0) / res)));
   GroundRaster& r = *raster;
-  // Parks: whole blocks of vegetation (roads and sidewalks drawn over their edges).
-  for (int j = 0; j < city_.blocks_y; ++j) {
-    for (int i = 0; i < city_.blocks_x; ++i) {
-      const bool park = rng_.bernoulli(city_.park_fraction);
-      park_blocks_.push_back(park);
-      if (!park) continue;
-      Prim p{{X(i), (Y(j) + Y(j + 1)) / 2.0, 0.0}, city_.block_size_m, 0.0};
-      paint_band(r, p, 0.0, city_.block_size_m, -city_.block_size_m / 2.0, city_.block_size_m / 2.0,
-                 GroundMaterial::kVegetation);
-    }
-  }
+  paint_parks(r);
   const double sw = city_.sidewalk_width_m;
   for (int pass = 0; pass < 4; ++pass) {
     for (const Piece& piece : pieces_) {
@@ -106,8 +134,30 @@ void WorldBuilder::make_ground() {
         }
       }
     }
+    if (pass != 2) continue;
+    for (const Intersection& node : nodes_)
+      if (node.own_area) paint_polygon(r, node.area, GroundMaterial::kAsphalt);
   }
   world_.ground = raster;
+}
+
+// Parks under the roads (roads and sidewalks are drawn over their edges): whole grid
+// blocks, or the organic layout's discs.
+void WorldBuilder::paint_parks(GroundRaster& r) {
+  if (city_.layout == CityLayout::kOrganic) {
+    for (const auto& [centre, radius] : parks_) paint_disc(r, centre, radius, GroundMaterial::kVegetation);
+    return;
+  }
+  for (int j = 0; j < city_.blocks_y; ++j) {
+    for (int i = 0; i < city_.blocks_x; ++i) {
+      const bool park = rng_.bernoulli(city_.park_fraction);
+      park_blocks_.push_back(park);
+      if (!park) continue;
+      Prim p{{X(i), (Y(j) + Y(j + 1)) / 2.0, 0.0}, city_.block_size_m, 0.0};
+      paint_band(r, p, 0.0, city_.block_size_m, -city_.block_size_m / 2.0, city_.block_size_m / 2.0,
+                 GroundMaterial::kVegetation);
+    }
+  }
 }
 
 void WorldBuilder::paint_markings(GroundRaster& r, const Piece& piece, const Street& st, const StreetLayout& lay,
@@ -135,7 +185,7 @@ void WorldBuilder::paint_markings(GroundRaster& r, const Piece& piece, const Str
   }
   // Stop lines (incoming lanes) and crosswalk stripes at the ends.
   auto span = [](double a, double b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
-  if (dp.s_offset + dp.prim.length >= L - 1e-9) {  // last prim: forward lanes arrive at node_b
+  if (dp.s_offset + dp.prim.length >= L - 1e-9 && piece.cross_b) {  // last prim: forward lanes arrive at node_b
     if (!lay.fwd_offsets.empty()) {
       const auto [lo, hi] = span(lay.fwd_inner, lay.fwd_outer);
       paint_band(r, dp.prim, dp.prim.length - 0.5, dp.prim.length, lo, hi, GroundMaterial::kPaintWhite);
@@ -144,7 +194,7 @@ void WorldBuilder::paint_markings(GroundRaster& r, const Piece& piece, const Str
                GroundMaterial::kCrosswalkPaint,
                [&lay](double, double d) { return std::fmod(d - lay.right_edge, 1.0) < 0.5; });
   }
-  if (dp.s_offset == 0.0) {
+  if (dp.s_offset == 0.0 && piece.cross_a) {
     if (!lay.bwd_offsets.empty()) {
       const auto [lo, hi] = span(lay.bwd_inner, lay.bwd_outer);
       paint_band(r, dp.prim, 0.0, 0.5, lo, hi, GroundMaterial::kPaintWhite);
@@ -172,6 +222,39 @@ bool WorldBuilder::footprint_free(double cx, double cy, double hx, double hy) co
 }
 
 void WorldBuilder::make_buildings_and_poles() {
+  if (city_.layout == CityLayout::kOrganic) make_free_buildings();
+  else make_block_buildings();
+  // Street lights along both sidewalks, every ~30 m (where a sidewalk is: not where a ramp
+  // runs beside its road).
+  for (const Piece& piece : pieces_) {
+    const StreetLayout lay = layout_of(streets_[static_cast<size_t>(piece.street)], rht_);
+    const double L = piece.length();
+    for (double s = 8.0; s < L - 8.0; s += 30.0) {
+      for (double d : {lay.left_edge + 0.8, lay.right_edge - 0.8}) {
+        const Eigen::Vector2d p = piece_point(piece, s, d);
+        if (is_drivable_material(world_.ground->material(p.x(), p.y()))) continue;
+        world_.poles.push_back(ScenePole{p, 0.12, 7.0, SemanticClass::kPoleSign, 80, {120, 120, 125}});
+      }
+    }
+  }
+}
+
+void WorldBuilder::add_building(double cx, double cy, double hx, double hy, double height) {
+  const uint8_t shade = static_cast<uint8_t>(rng_.uniform_int(int64_t{110}, int64_t{200}));
+  SceneBox b;
+  b.center_m = {cx, cy, height / 2.0};
+  b.yaw_rad = 0.0;
+  b.length_m = 2.0 * hx;
+  b.width_m = 2.0 * hy;
+  b.height_m = height;
+  b.cls = SemanticClass::kBuilding;
+  b.lidar_intensity = static_cast<uint8_t>(rng_.uniform_int(int64_t{20}, int64_t{60}));
+  b.rgb = {shade, static_cast<uint8_t>(shade * 0.9), static_cast<uint8_t>(shade * 0.8)};
+  world_.buildings.push_back(b);
+}
+
+// Grid: trees in park blocks, rows of buildings along the four sides of the others.
+void WorldBuilder::make_block_buildings() {
   const double B = city_.block_size_m;
   for (int j = 0; j < city_.blocks_y; ++j) {
     for (int i = 0; i < city_.blocks_x; ++i) {
@@ -200,17 +283,7 @@ void WorldBuilder::make_buildings_and_poles() {
             else if (side == 2) cx = X(i + 1) - along, cy = Y(j + 1) - across, hx = front / 2.0, hy = depth / 2.0;
             else cx = X(i) + across, cy = Y(j + 1) - along, hx = depth / 2.0, hy = front / 2.0;
             if (!footprint_free(cx, cy, hx, hy)) continue;
-            const uint8_t shade = static_cast<uint8_t>(rng_.uniform_int(int64_t{110}, int64_t{200}));
-            SceneBox b;
-            b.center_m = {cx, cy, height / 2.0};
-            b.yaw_rad = 0.0;
-            b.length_m = 2.0 * hx;
-            b.width_m = 2.0 * hy;
-            b.height_m = height;
-            b.cls = SemanticClass::kBuilding;
-            b.lidar_intensity = static_cast<uint8_t>(rng_.uniform_int(int64_t{20}, int64_t{60}));
-            b.rgb = {shade, static_cast<uint8_t>(shade * 0.9), static_cast<uint8_t>(shade * 0.8)};
-            world_.buildings.push_back(b);
+            add_building(cx, cy, hx, hy, height);
             break;
           }
           pos += front + rng_.uniform(2.0, 8.0);
@@ -218,15 +291,27 @@ void WorldBuilder::make_buildings_and_poles() {
       }
     }
   }
-  // Street lights along both sidewalks, every ~30 m.
-  for (const Piece& piece : pieces_) {
-    const StreetLayout lay = layout_of(streets_[static_cast<size_t>(piece.street)], rht_);
-    const double L = piece.length();
-    for (double s = 8.0; s < L - 8.0; s += 30.0) {
-      for (double d : {lay.left_edge + 0.8, lay.right_edge - 0.8}) {
-        const Eigen::Vector2d p = piece_point(piece, s, d);
-        world_.poles.push_back(ScenePole{p, 0.12, 7.0, SemanticClass::kPoleSign, 80, {120, 120, 125}});
-      }
+}
+
+// Organic: trees in the parks, then buildings wherever a jittered lattice over the city's
+// rectangle finds bare terrain (the ground raster keeps them off roads, sidewalks, parks).
+void WorldBuilder::make_free_buildings() {
+  for (const auto& [centre, radius] : parks_) {
+    const int trees = static_cast<int>(rng_.uniform_int(int64_t{4}, int64_t{12}));
+    for (int t = 0; t < trees; ++t) {
+      const double ang = rng_.uniform(0.0, 2.0 * kPi), rad = radius * std::sqrt(rng_.uniform(0.0, 0.8));
+      const Eigen::Vector2d p = centre + rad * Eigen::Vector2d(std::cos(ang), std::sin(ang));
+      if (world_.ground->material(p.x(), p.y()) != GroundMaterial::kVegetation) continue;
+      world_.poles.push_back(ScenePole{p, 0.3, rng_.uniform(4.0, 9.0), SemanticClass::kVegetation, 40, {60, 110, 50}});
+    }
+  }
+  constexpr double kStepM = 26.0, kSetbackM = 2.0;
+  for (double y = Y(0); y < Y(city_.blocks_y); y += kStepM) {
+    for (double x = X(0); x < X(city_.blocks_x); x += kStepM) {
+      const double hx = rng_.uniform(5.0, 12.0), hy = rng_.uniform(5.0, 11.0), height = rng_.uniform(6.0, 35.0);
+      const double cx = x + rng_.uniform(-4.0, 4.0), cy = y + rng_.uniform(-4.0, 4.0);
+      if (!footprint_free(cx, cy, hx + kSetbackM, hy + kSetbackM)) continue;
+      add_building(cx, cy, hx, hy, height);
     }
   }
 }
@@ -240,7 +325,8 @@ void WorldBuilder::make_parking_and_sidewalks() {
     for (const Prim& prim : piece.prims) {
       if (prim.curvature == 0.0) {
         for (double d : {lay.left_edge + sw / 2.0, lay.right_edge - sw / 2.0}) {
-          const Eigen::Vector2d p = prim_point(prim, 0.0, d);
+          const Eigen::Vector2d p = prim_point(prim, 0.0, d), mid = prim_point(prim, prim.length / 2.0, d);
+          if (is_drivable_material(world_.ground->material(mid.x(), mid.y()))) continue;  // a ramp beside it
           world_.sidewalks.push_back({{p.x(), p.y(), prim.start.yaw}, prim.length});
         }
         if (st.parking && prim.length > 12.0) {

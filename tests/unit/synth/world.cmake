@@ -3,6 +3,8 @@
 nsg_add_test(synth PART world
   SOURCES
     ${CMAKE_CURRENT_LIST_DIR}/test_world_map.cpp
+    ${CMAKE_CURRENT_LIST_DIR}/test_world_organic.cpp
+    ${CMAKE_CURRENT_LIST_DIR}/test_world_organic_features.cpp
     ${CMAKE_CURRENT_LIST_DIR}/test_world_release.cpp
     ${CMAKE_CURRENT_LIST_DIR}/test_world_py_json.cpp
     ${CMAKE_CURRENT_LIST_DIR}/test_synth_config.cpp

@@ -13,7 +13,13 @@
 
 namespace nsg::synth {
 
+// How the streets are laid out: a Manhattan grid inside a ring road, or the organic city
+// (curved arterials, skewed, T and Y junctions, a roundabout, lane drops, turn pockets, a
+// divided boulevard with a ramp; docs/synthetic-release.md) in the same rectangle.
+enum class CityLayout { kGrid, kOrganic };
+
 struct CityConfig {
+  CityLayout layout = CityLayout::kGrid;
   std::array<double, 2> origin_m{200.0, 200.0};  // south-west corner of the street grid
   int blocks_x = 2;                              // blocks between the grid's streets
   int blocks_y = 2;

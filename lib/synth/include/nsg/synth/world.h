@@ -1,5 +1,6 @@
 #pragma once
-// The synthetic city: street grid with a ring road (rounded corners), lanes and lane
+// The synthetic city: a street grid with a ring road (rounded corners) or the organic
+// layout (config city.layout, docs/synthetic-release.md), lanes and lane
 // connectors as devkit arcline paths with connectivity, the map expansion JSON, the ground
 // material raster behind the GroundFunction, buildings, poles, parking slots and sidewalks.
 #include <array>
