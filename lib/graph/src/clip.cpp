@@ -41,6 +41,8 @@ bool clip_segment(double ax, double ay, double bx, double by, const TileBounds& 
 
 namespace {
 
+constexpr double kMinClippedPieceM = 1e-9;
+
 class TileBuilder {
  public:
   TileBuilder(const TileBounds& bounds, double resolution_m) : bounds_(bounds), res_(resolution_m) {}
@@ -123,6 +125,9 @@ TileGraph clip_to_tile(const LaneGraph& graph, const SegmentIndex& index, const 
     const Node& b = graph.nodes[edge.target];
     double t0 = 0.0, t1 = 1.0;
     if (!clip_segment(a.x_m, a.y_m, b.x_m, b.y_m, bounds, &t0, &t1)) continue;
+    // An edge ending exactly on a border from outside can leave a rounding sliver (~1e-14 m)
+    // inside; two such slivers into one lane start became one edge twice. Not a piece of lane.
+    if ((t1 - t0) * graph.edge_length_m(edge) < kMinClippedPieceM) continue;
     const int32_t s = t0 == 0.0 ? builder.graph_node(edge.source, a)
                                 : builder.border_node(a.x_m + t0 * (b.x_m - a.x_m), a.y_m + t0 * (b.y_m - a.y_m));
     const int32_t t = t1 == 1.0 ? builder.graph_node(edge.target, b)

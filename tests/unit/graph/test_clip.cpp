@@ -76,6 +76,29 @@ TEST(Clip, SegmentMissingOrTouchingACornerIsDropped) {
   EXPECT_NEAR(t1, 2.0 / 3, 1e-15);
 }
 
+// Two connectors from the west merging into a lane that starts on the tile's west border —
+// in the map a lane start at x = 373.6, the tile's border 1868 × 0.2 m, a few ulps apart (as
+// in the organic synthetic city): the cut leaves each connector a sliver ~1e-14 m long
+// inside, which once became one edge twice. Not a piece of lane.
+TEST(Clip, RoundingSliversAtABorderAreNotEdges) {
+  const double border = 373.6;
+  const double start_x = std::nextafter(border, 1e9);  // the lane start, just inside
+  const TileBounds box{border, 0, border + kTile, kTile};
+  double t0, t1;
+  ASSERT_TRUE(clip_segment(border - 5, 10, start_x, 10, box, &t0, &t1));
+  ASSERT_GT(t1, t0) << "no sliver: the case is not exercised";
+  ASSERT_LT((t1 - t0) * 5, 1e-12);
+  LaneGraph g;
+  g.nodes = {{border - 5, 10}, {border - 5, 12}, {start_x, 10}, {border + 10, 10}};
+  g.lanes = {{"c1", true, 5, {0, 2}, {2}}, {"c2", true, 5, {1, 2}, {2}}, {"L", false, 10, {2, 3}, {}}};
+  g.edges = {{0, 2, 0}, {1, 2, 1}, {2, 3, 2}};
+  const SegmentIndex index(g);
+  const TileGraph t = clip_to_tile(g, index, box);
+  ASSERT_EQ(t.edges.size(), 1u);
+  EXPECT_EQ(t.edges[0].lane_token, "L");
+  EXPECT_NEAR(t.total_length_m(), 10.0, 1e-9);
+}
+
 TEST(Clip, NodeIdsAreDenseAndDeterministic) {
   const LaneGraph g = build_lane_graph(test::t_junction(), {}, nullptr);
   const SegmentIndex index(g);
