@@ -77,7 +77,10 @@ std::vector<std::vector<TileFile>> encode_rung_shard(const RungInputs& in, const
     groups[plans[k].scenes].push_back(k);
   }
   std::vector<std::vector<TileFile>> encoded(shard.count);
-  for (const auto& [scenes, members] : groups) {
+  for (const auto& group : groups) {
+    // Named, not a structured binding: a lambda below captures them (C++17 forbids that).
+    const std::vector<nuscenes::Index>& scenes = group.first;
+    const std::vector<size_t>& members = group.second;
     const raster::LocationLayers layers = accumulate_layers(in.db, in.config, scenes, in.threads);
     std::vector<raster::CellRect> rects;
     const int64_t size = in.config.crops.size_px;
