@@ -84,9 +84,8 @@ ScoredSubmission score_submission(const ScoreSource& ground_truth, const ScoreSo
   }
   try {
     out.report = score(truth, all_rung, options.score);
-    std::map<int, ScoreReport> rung_reports;
-    for (const auto& [rung, preds] : rung_preds) rung_reports[rung] = score(truth, preds, options.score);
-    if (!rung_reports.empty()) out.report.rungs = rungs_to_json(rung_scores(rung_reports, out.report));
+    for (const auto& [rung, preds] : rung_preds) out.rung_reports[rung] = score(truth, preds, options.score);
+    if (!out.rung_reports.empty()) out.report.rungs = rungs_to_json(rung_scores(out.rung_reports, out.report));
   } catch (const SearchWorkExceeded& e) {
     // Beyond a scoring limit, as a file beyond the per-tile limits is (exit 1), though only
     // the ground truth tells.

@@ -52,3 +52,45 @@ window.NSG_LADDER = function (s, h) {
   nodes.push(el('p', { class: 'muted', text: facts + '. Paired differences are over the tiles defined at both rungs; a missing prediction is scored as empty.' }));
   return nodes;
 };
+
+// The tile view's rungs (a ladder dataset: the tile's data file has `rungs`, one entry per
+// built rung; the tile itself is rung "all"): the selected layer of every rung side by side
+// under the viewer, and a chooser beside it. Choosing a rung calls h.show(entry), which puts
+// that rung's layer and, with a submission, its prediction in the viewer. report.js calls
+// NSG_LADDER_TILE(tileData, h) with h = {el, fmt, layer: () => the layer shown, rung: the
+// URL's rung or undefined, show}; returns {strip, side, setLayer(layer), initial}.
+window.NSG_LADDER_TILE = function (d, h) {
+  const { el, fmt } = h;
+  const all = { rung: 'all', key: d.key, scenes: d.scenes, coverage_lidar: d.figures.coverage_lidar,
+    pred: d.pred, missed: d.gt && d.gt.missed, metrics: d.metrics };
+  const rungs = d.rungs.concat([all]);
+  const pct = (v) => (v === null || v === undefined ? '—' : Math.round(100 * v) + ' %');
+  const strip = el('div', { id: 'rung-strip', class: 'rung-strip' });
+  const side = el('fieldset', { id: 'rung-chooser' }, el('legend', { text: 'Rung (observation ladder)' }));
+  const shown = [];
+  const select = (r) => {
+    for (const s of shown) {
+      s.radio.checked = s.r === r;
+      s.fig.classList.toggle('selected', s.r === r);
+    }
+    h.show(r);
+  };
+  for (const r of rungs) {
+    const apls = r.metrics && r.metrics.apls !== undefined ? ' · APLS ' + fmt(r.metrics.apls) : '';
+    const img = el('img', { class: 'rung-thumb', 'data-rung': r.rung, alt: r.key, src: 'img/' + r.key + '.' + h.layer() + '.png' });
+    const fig = el('figure', { class: 'rung-fig', title: (r.scenes || []).join(', '), onclick: () => select(r) }, img,
+      el('figcaption', { text: 'rung ' + r.rung + ' · ' + (r.scenes || []).length + ' scene(s) · LiDAR ' + pct(r.coverage_lidar) + apls }));
+    const radio = el('input', { type: 'radio', name: 'rung', value: r.rung, id: 'rung-' + r.rung });
+    radio.addEventListener('change', () => select(r));
+    side.append(el('label', {}, radio, ' ' + r.rung + ' '));
+    strip.append(fig);
+    shown.push({ r, img, fig, radio });
+  }
+  side.append(el('div', { class: 'muted', text: 'tiles rebuilt from the first k scenes that saw them; same ground truth' }));
+  const initial = rungs.find((r) => String(r.rung) === h.rung) || all;
+  return {
+    strip, side,
+    initial: () => select(initial),
+    setLayer: (layer) => { for (const s of shown) s.img.setAttribute('src', 'img/' + s.r.key + '.' + layer + '.png'); },
+  };
+};

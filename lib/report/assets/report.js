@@ -384,7 +384,7 @@
   // The tile view: one layer image, the two graphs over it, the tile's figures.
   function tilePage(main, key) {
     const p = params(), s = S.summary;
-    const layer = s.layers.includes(p.layer) ? p.layer : 'lidar';
+    let layer = s.layers.includes(p.layer) ? p.layer : 'lidar';
     main.append(el('p', { class: 'muted', id: 'tile-loading', text: 'loading ' + key + '…' }));
     Promise.all([needTiles(), needTile(key)]).then(([T, d]) => {
       if (params().key !== key) return;
@@ -424,7 +424,7 @@
       const graphs = [];
       const gtG = drawGraph(d.gt, 'gt', (e) => (d.gt.missed && d.gt.missed[e] ? 'missed' : ''), 3);
       graphs.push(gtG);
-      let baseG = null, predG = null;
+      let baseG = null, predG = null, shownKey = key;
       if (d.base) {
         baseG = drawGraph(d.base, 'base', () => '', 2);
         baseG.g.style.display = params().base === '1' ? '' : 'none';
@@ -444,6 +444,24 @@
         overlay.style.setProperty('--dash', 6 * upp + ' ' + 4 * upp);
         for (const gr of graphs) gr.zoom(upp);
       });
+      // A ladder tile's rung r in the viewer: its layer image, its prediction and the ground
+      // truth's edges that prediction missed (ladder.js draws the rungs side by side).
+      const showRung = (r) => {
+        shownKey = r.key;
+        img.setAttribute('href', 'img/' + r.key + '.' + layer + '.png');
+        if (d.pred !== undefined) {
+          gtG.g.querySelectorAll('path.line').forEach((path, e) => path.classList.toggle('missed', !!(r.missed && r.missed[e])));
+          const pr = r.pred || { nodes: [], edges: [], marks: [] };
+          const fresh = drawGraph(pr, 'pred', (e) => 'm' + pr.marks[e], 2);
+          if (predG) { fresh.g.style.display = predG.g.style.display; predG.g.replaceWith(fresh.g); graphs[graphs.indexOf(predG)] = fresh; }
+          else { overlay.append(fresh.g); graphs.push(fresh); }
+          predG = fresh;
+          z.apply();
+        }
+        history.replaceState(null, '', '#' + new URLSearchParams(Object.assign(params(), { rung: String(r.rung) })));
+      };
+      const ladder = d.rungs && d.rungs.length && window.NSG_LADDER_TILE
+        ? window.NSG_LADDER_TILE(d, { el, fmt, layer: () => layer, rung: p.rung, show: showRung }) : null;
 
       // Side panel: layers, overlays, legend, figures.
       const side = el('div', { class: 'side' });
@@ -452,7 +470,9 @@
         const r = el('input', { type: 'radio', name: 'layer', value: l, id: 'layer-' + l });
         if (l === layer) r.checked = true;
         r.addEventListener('change', () => {
-          img.setAttribute('href', 'img/' + key + '.' + l + '.png');
+          layer = l;
+          img.setAttribute('href', 'img/' + shownKey + '.' + l + '.png');
+          if (ladder) ladder.setLayer(l);
           legendBox.replaceChildren(layerLegend(l));
           history.replaceState(null, '', '#' + new URLSearchParams(Object.assign(params(), { layer: l })));
         });
@@ -468,7 +488,7 @@
         toggles.append(el('label', {}, c, ' ' + label), el('br'));
       };
       toggle('ground truth', 'show-gt', true, (on) => { gtG.g.style.display = on ? '' : 'none'; });
-      if (predG) toggle('prediction', 'show-pred', true, (on) => { predG.g.style.display = on ? '' : 'none'; });
+      if (predG || (ladder && d.pred !== undefined)) toggle('prediction', 'show-pred', true, (on) => { if (predG) predG.g.style.display = on ? '' : 'none'; });
       if (baseG) toggle("baseline's prediction", 'show-base', params().base === '1', (on) => {
         baseG.g.style.display = on ? '' : 'none';
         history.replaceState(null, '', '#' + new URLSearchParams(Object.assign(params(), { base: on ? '1' : '0' })));
@@ -481,8 +501,9 @@
       toggles.append(overlayLegend(d));
       toggles.append(el('div', {}, el('button', { text: '+', onclick: () => z.zoom(0.8) }), ' ', el('button', { text: '−', onclick: () => z.zoom(1.25) }), ' ',
         el('button', { text: 'reset', onclick: () => z.reset() }), el('span', { class: 'muted', text: ' wheel: zoom, drag: pan' })));
-      side.append(layers, toggles, figures(d));
-      main.append(el('div', { class: 'tile-view' }, svg, side));
+      side.append(layers, ...(ladder ? [ladder.side] : []), toggles, figures(d));
+      main.append(el('div', { class: 'tile-view' }, el('div', { class: 'tile-main' }, svg, ladder ? ladder.strip : null), side));
+      if (ladder) ladder.initial();
       requestAnimationFrame(z.apply);
       S.marks.tileShown = key;
     }).catch((e) => { main.textContent = ''; main.append(el('p', { class: 'error', text: String(e) })); S.errors.push(String(e)); });

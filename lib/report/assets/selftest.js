@@ -59,7 +59,17 @@
           image: img ? img.getAttribute('href') : null,
           layers: document.querySelectorAll('input[name=layer]').length,
           figures_rows: document.querySelectorAll('#tile-figures tr').length,
+          rung_thumbs: Array.from(document.querySelectorAll('#rung-strip img')).map((i) => i.getAttribute('src')),
         };
+        // A ladder tile: choose its first rung and look at what the viewer shows then.
+        const first = document.querySelector('input[name=rung]');
+        if (first) {
+          first.click();
+          out.tile.rung_chosen = { rung: first.value, image: img.getAttribute('href'),
+            pred_paths: document.querySelectorAll('#pred-layer path.line').length,
+            missed_paths: document.querySelectorAll('#gt-layer path.line.missed').length,
+            selected: document.querySelectorAll('#rung-strip figure.selected').length };
+        }
         go({ view: 'overview', color: 'split' });
         await until(() => document.querySelector('svg.map rect.tile'), 2000);
         out.overview_tiles = document.querySelectorAll('svg.map rect.tile').length;

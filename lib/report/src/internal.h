@@ -24,6 +24,9 @@ struct TileInputs {
   const metrics::ScoreReport* scores = nullptr;
   const metrics::ScoreReport* baseline = nullptr;
   const metrics::GraphSet* baseline_prediction = nullptr;  // the baseline's graphs (overlay)
+  // The submission's observation-ladder rungs, each rung's tiles under their ground-truth
+  // keys (ScoredSubmission::rung_reports); null or empty without rung keys.
+  const std::map<int, metrics::ScoreReport>* rung_scores = nullptr;
 };
 // The layer images of an earlier report that a rerun may take instead of rendering them:
 // img/<key>.<layer>.png of tiles whose fingerprint (tile_fingerprint) is unchanged.
@@ -47,7 +50,10 @@ struct TilePass {
 };
 // Writes img/<key>.<layer>.png, data/tile/<key>.js and kFingerprints under `dir` for every
 // tile of `split` ("" = all), taking unchanged tiles' images from `earlier`; returns the
-// table rows. `progress`: a progress line on stderr.
+// table rows. A dataset with an observation ladder adds its rung tiles' images
+// (img/<key>-r<k>.<layer>.png) and, in each split tile's data file, its rungs: what each saw
+// and, when the submission predicts the rung key, that prediction marked and scored. Rung
+// tiles are not table rows. `progress`: a progress line on stderr.
 TilePass write_tile_pages(const io::Dataset& dataset, const std::string& split, const TileInputs& inputs,
                           const EarlierImages& earlier, const std::filesystem::path& dir, int threads, bool progress);
 // The per-tile table's columns in display order (metrics first, then diagnostics).

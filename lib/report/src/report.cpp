@@ -116,6 +116,7 @@ detail::TileInputs tile_inputs(bool scored, bool with_baseline, const metrics::S
   if (scored) {
     inputs.prediction = &sub.graphs;
     inputs.scores = &sub.report;
+    inputs.rung_scores = &sub.rung_reports;
     if (with_baseline) {
       inputs.baseline = &base.report;
       inputs.baseline_prediction = &base.graphs;

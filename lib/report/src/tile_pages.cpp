@@ -162,42 +162,60 @@ TileRow ground_truth_row(const io::DatasetTile& tile, const Meta& meta, const me
   return row;
 }
 
+// A prediction's edges marked against the ground truth: both graphs with their marks for
+// the tile view and the mark counts.
+struct MarkedGraphs {
+  nlohmann::json gt, pred;  // pred: null without a prediction
+  int64_t n_mark[4] = {0, 0, 0, 0};
+  int64_t missed = 0;  // ground-truth edges no predicted edge matched
+  int64_t pred_edges = 0;
+};
+
+MarkedGraphs marked_graphs(const metrics::Graph& gt, const metrics::Graph* pred, const metrics::MetricParams& params) {
+  const metrics::EdgeMarks marks = metrics::mark_edges(gt, pred, params);
+  MarkedGraphs out;
+  nlohmann::json pred_marks = nlohmann::json::array(), gt_missed = nlohmann::json::array();
+  for (metrics::PredEdgeMark m : marks.pred_marks) {
+    ++out.n_mark[static_cast<int>(m)];
+    pred_marks.push_back(static_cast<int>(m));
+  }
+  for (bool b : marks.gt_missed) {
+    out.missed += b;
+    gt_missed.push_back(b ? 1 : 0);
+  }
+  out.gt = graph_json(marks.gt);
+  out.gt["missed"] = std::move(gt_missed);
+  out.pred = nullptr;
+  if (pred) {
+    out.pred = graph_json(marks.pred);
+    out.pred["marks"] = std::move(pred_marks);
+  }
+  out.pred_edges = static_cast<int64_t>(marks.pred.edges.size());
+  return out;
+}
+
+nlohmann::ordered_json mark_counts(const MarkedGraphs& m) {
+  nlohmann::ordered_json counts;
+  for (int k = 0; k < 3; ++k) counts[kMarkNames[k]] = m.n_mark[k];
+  counts["missed_gt"] = m.missed;
+  return counts;
+}
+
 // The prediction's edges marked against the ground truth: both graphs with their marks for
 // the tile view, the mark counts, and the row's prediction columns.
 void add_edge_marks(const io::DatasetTile& tile, const TileInputs& in, const metrics::Graph& gt,
                     nlohmann::ordered_json& doc, TileRow& row) {
   const auto p = in.prediction->find(tile.key);
   const metrics::Graph* pred = p == in.prediction->end() ? nullptr : &p->second;
-  const metrics::EdgeMarks marks = metrics::mark_edges(gt, pred, in.scores->params);
-  int64_t n_mark[4] = {0, 0, 0, 0}, missed = 0;
-  nlohmann::json pred_marks = nlohmann::json::array(), gt_missed = nlohmann::json::array();
-  for (metrics::PredEdgeMark m : marks.pred_marks) {
-    ++n_mark[static_cast<int>(m)];
-    pred_marks.push_back(static_cast<int>(m));
-  }
-  for (bool b : marks.gt_missed) {
-    missed += b;
-    gt_missed.push_back(b ? 1 : 0);
-  }
-  nlohmann::json g = graph_json(marks.gt);
-  g["missed"] = std::move(gt_missed);
-  doc["gt"] = std::move(g);
-  if (pred) {
-    nlohmann::json pj = graph_json(marks.pred);
-    pj["marks"] = std::move(pred_marks);
-    doc["pred"] = std::move(pj);
-  } else {
-    doc["pred"] = nullptr;
-  }
-  nlohmann::ordered_json counts;
-  for (int k = 0; k < 3; ++k) counts[kMarkNames[k]] = n_mark[k];
-  counts["missed_gt"] = missed;
-  doc["marks"] = counts;
+  MarkedGraphs m = marked_graphs(gt, pred, in.scores->params);
+  doc["gt"] = std::move(m.gt);
+  doc["pred"] = std::move(m.pred);
+  doc["marks"] = mark_counts(m);
   row.values["missing_prediction"] = pred ? 0.0 : 1.0;
-  row.values["pred_edges"] = static_cast<double>(marks.pred.edges.size());
-  row.values["wrong_direction_edges"] = static_cast<double>(n_mark[1]);
-  row.values["unmatched_edges"] = static_cast<double>(n_mark[2]);
-  row.values["missed_gt_edges"] = static_cast<double>(missed);
+  row.values["pred_edges"] = static_cast<double>(m.pred_edges);
+  row.values["wrong_direction_edges"] = static_cast<double>(m.n_mark[1]);
+  row.values["unmatched_edges"] = static_cast<double>(m.n_mark[2]);
+  row.values["missed_gt_edges"] = static_cast<double>(m.missed);
 }
 
 // The submission's metrics and counts of the tile.
@@ -239,7 +257,7 @@ void add_baseline(const io::DatasetTile& tile, const TileInputs& in, const metri
 TileOutcome render_tile(const io::DatasetTile& tile, const TileInputs& in,
                         const std::map<std::string, const metrics::TileMeasurement*>& scores,
                         const std::map<std::string, const metrics::TileMeasurement*>& baseline,
-                        const EarlierImages& earlier, const fs::path& dir) {
+                        const nlohmann::ordered_json* rungs, const EarlierImages& earlier, const fs::path& dir) {
   const Meta meta = read_meta(tile);
   TileOutcome outcome;
   outcome.fingerprint = tile_fingerprint(tile);
@@ -250,6 +268,7 @@ TileOutcome render_tile(const io::DatasetTile& tile, const TileInputs& in,
   TileRow row = ground_truth_row(tile, meta, gt);
   nlohmann::ordered_json doc = tile_document(tile, meta);
   doc["attributes"] = attributes_json(tile_graph);
+  if (rungs) doc["rungs"] = *rungs;
   if (in.prediction) {
     add_edge_marks(tile, in, gt, doc, row);
     const auto s = scores.find(tile.key);
@@ -270,6 +289,107 @@ TileOutcome render_tile(const io::DatasetTile& tile, const TileInputs& in,
   write_bytes(dir / "data" / "tile" / (tile.key + ".js"), script.data(), script.size());
   outcome.row = std::move(row);
   return outcome;
+}
+
+// --- The observation ladder (generate --ladder): the split tiles' rung tiles, drawn beside
+// them in the tile view.
+
+// Rung k's per-tile scores by the split tile's key (the rung reports score under it).
+using RungScores = std::map<std::pair<int, std::string>, const metrics::TileMeasurement*>;
+
+RungScores rung_scores_by_key(const TileInputs& in) {
+  RungScores out;
+  if (in.rung_scores)
+    for (const auto& [rung, report] : *in.rung_scores)
+      for (const metrics::TileMeasurement& t : report.tiles) out[{rung, t.key}] = &t;
+  return out;
+}
+
+// A rung tile's entry in its split tile's data file: the rung, the scenes it was built from
+// and their layers' coverage; with a submission, its prediction for the rung key marked
+// against the tile's ground truth (the same graph at every rung) and its metrics.
+nlohmann::ordered_json rung_entry(const io::DatasetTile& tile, const io::TileMeta& meta, const TileInputs& in,
+                                  const RungScores& scores) {
+  const io::TileRung& r = *meta.ladder;
+  nlohmann::ordered_json e = {{"rung", r.rung},
+                              {"key", tile.key},
+                              {"scenes", meta.scenes},
+                              {"capture_dates", r.capture_dates},
+                              {"scenes_seen", r.scenes_seen},
+                              {"coverage_lidar", rounded(meta.coverage_lidar)},
+                              {"coverage_rgb", rounded(meta.coverage_rgb)},
+                              {"coverage_semantic", rounded(meta.coverage_semantic)},
+                              {"vehicle_px", meta.vehicle_px}};
+  if (!in.prediction) return e;
+  const auto p = in.prediction->find(tile.key);
+  const metrics::Graph* pred = p == in.prediction->end() ? nullptr : &p->second;
+  MarkedGraphs m = marked_graphs(metrics::graph_of_tile(tile.graph()), pred, in.scores->params);
+  e["missed"] = std::move(m.gt["missed"]);
+  e["pred"] = std::move(m.pred);
+  e["marks"] = mark_counts(m);
+  const auto s = scores.find({r.rung, r.base_key});
+  if (s != scores.end()) {
+    nlohmann::ordered_json values;
+    for (int k = 0; k < metrics::kMetricCount; ++k) values[metrics::metric_name(k)] = rounded(s->second->values[k]);
+    e["metrics"] = std::move(values);
+  }
+  return e;
+}
+
+// One rung tile: its images (img/<key>-r<k>.<layer>.png) and its entry.
+struct RungOutcome {
+  std::string base_key;
+  int rung = 0;
+  nlohmann::ordered_json entry;
+  std::string fingerprint;
+  bool reused = false;
+};
+
+RungOutcome render_rung_tile(const io::DatasetTile& tile, const TileInputs& in, const RungScores& scores,
+                             const EarlierImages& earlier, const fs::path& dir) {
+  const io::TileMeta meta = tile.meta();
+  NSG_CHECK(meta.ladder.has_value(), DataError, tile.shard, tile.key, "a rung tile's meta.json with its ladder");
+  RungOutcome out{meta.ladder->base_key, meta.ladder->rung, rung_entry(tile, meta, in, scores), tile_fingerprint(tile)};
+  out.reused = reuse_images(earlier, tile.key, out.fingerprint, dir);
+  if (!out.reused) render_images(tile, dir);
+  return out;
+}
+
+// The rung tiles of `split`'s tiles: their images, fingerprints and image counts into `pass`,
+// their entries by split tile key (each an array by rung). None for a split that is itself a
+// rung ("test-r1").
+std::map<std::string, nlohmann::ordered_json> write_rung_tiles(const io::Dataset& dataset, const std::string& split,
+                                                               const TileInputs& inputs, const EarlierImages& earlier,
+                                                               const fs::path& dir, int threads, bool progress,
+                                                               nlohmann::json& fingerprints, TilePass& pass) {
+  std::map<std::string, std::map<int, nlohmann::ordered_json>> by_base;
+  const std::vector<nlohmann::json> shards =
+      io::rung_split(split) ? std::vector<nlohmann::json>{} : dataset.rung_shards(split);
+  if (shards.empty()) return {};
+  const RungScores scores = rung_scores_by_key(inputs);
+  Progress bar("report rung tiles", io::tile_count(shards), progress);
+  const int64_t layers = static_cast<int64_t>(std::size(preview::kTileLayerNames));
+  for (const nlohmann::json& shard : shards) {
+    const std::vector<io::DatasetTile> tiles = dataset.read_shard(shard);
+    std::vector<RungOutcome> done(tiles.size());
+    parallel_for(tiles.size(), threads, [&](size_t i) {
+      done[i] = render_rung_tile(tiles[i], inputs, scores, earlier, dir);
+      bar.advance();
+    });
+    for (size_t i = 0; i < tiles.size(); ++i) {
+      fingerprints[tiles[i].key] = done[i].fingerprint;
+      pass.images_reused += done[i].reused ? layers : 0;
+      by_base[done[i].base_key][done[i].rung] = std::move(done[i].entry);
+    }
+    pass.images += static_cast<int64_t>(tiles.size()) * layers;
+  }
+  bar.finish();
+  std::map<std::string, nlohmann::ordered_json> out;
+  for (auto& [key, rungs] : by_base) {
+    nlohmann::ordered_json& list = out[key] = nlohmann::ordered_json::array();
+    for (auto& [rung, entry] : rungs) list.push_back(std::move(entry));
+  }
+  return out;
 }
 
 std::map<std::string, const metrics::TileMeasurement*> by_key(const metrics::ScoreReport* r) {
@@ -347,12 +467,15 @@ TilePass write_tile_pages(const io::Dataset& dataset, const std::string& split, 
   const auto baseline = by_key(inputs.baseline);
   TilePass pass;
   nlohmann::json fingerprints = nlohmann::json::object();
+  const std::map<std::string, nlohmann::ordered_json> rungs =
+      write_rung_tiles(dataset, split, inputs, earlier, dir, threads, progress, fingerprints, pass);
   Progress bar("report tiles", dataset.tile_count(split), progress);
   for (const nlohmann::json& shard : dataset.shards(split)) {
     const std::vector<io::DatasetTile> tiles = dataset.read_shard(shard);
     std::vector<TileOutcome> done(tiles.size());
     parallel_for(tiles.size(), threads, [&](size_t i) {
-      done[i] = render_tile(tiles[i], inputs, scores, baseline, earlier, dir);
+      const auto r = rungs.find(tiles[i].key);
+      done[i] = render_tile(tiles[i], inputs, scores, baseline, r == rungs.end() ? nullptr : &r->second, earlier, dir);
       bar.advance();
     });
     const int64_t layers = static_cast<int64_t>(std::size(preview::kTileLayerNames));

@@ -72,6 +72,16 @@ fs::path e2e_dataset() {
   });
 }
 
+fs::path e2e_ladder_dataset() {
+  const fs::path config = source_dir() / "tests/data/generate/e2e.json";
+  return cached_folder("dataset_e2e_ladder", nsgraph_build_key() + "-" + content_key(config), [&](const fs::path& dir) {
+    std::vector<std::string> args = e2e_generate_args(dir);
+    args.insert(args.end(), {"--ladder", "--threads", "2"});
+    const CommandResult r = run_nsgraph(args);
+    if (r.exit_code != 0) throw std::runtime_error("generate e2e --ladder failed: " + r.err);
+  });
+}
+
 nlohmann::json read_json(const fs::path& path) { return nlohmann::json::parse(read_file(path)); }
 
 std::vector<std::pair<std::string, std::string>> tree_hashes(const fs::path& dir) {

@@ -20,6 +20,9 @@ std::filesystem::path release_with_renamed_scene(const std::filesystem::path& re
                                                  const std::filesystem::path& dir);
 // The dataset generated with 2 threads in one process.
 std::filesystem::path e2e_dataset();
+// The e2e dataset with an observation ladder (generate --ladder: rungs 1, 2 and 4 of the test
+// split), built once per build and config like e2e_dataset.
+std::filesystem::path e2e_ladder_dataset();
 std::vector<std::string> e2e_generate_args(const std::filesystem::path& out);
 nlohmann::json read_json(const std::filesystem::path& path);
 // sha256 of every file under `dir` except parts/ (the run's bookkeeping), by relative path.

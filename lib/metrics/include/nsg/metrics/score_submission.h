@@ -3,6 +3,7 @@
 // check the submission (validate's limits, the schema and the structural rules), load the
 // ground truth, score, and stamp the report with where its inputs came from.
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -40,6 +41,9 @@ struct ScoredSubmission {
   Issues issues;       // non-empty: the submission was refused and nothing was scored
   GraphSet graphs;     // the submission's tiles (when scored)
   ScoreReport report;  // stamped with the labels of both sources and the split
+  // An observation ladder's rungs (rungs.h): rung k's tiles scored under their ground-truth
+  // keys (the report's tile view shows them per tile); empty without rung keys.
+  std::map<int, ScoreReport> rung_reports;
   bool scored() const { return issues.empty(); }
 };
 
