@@ -1,11 +1,14 @@
 """The observation ladder's table and curves (scripts/ladder.sh): the per-rung scores of the
-two models (trained on every scene / on rung 1) and the coverage of the test tiles per rung.
+models (the forest and LaneGraphNet, each trained on every scene / on rung 1) and the
+coverage of the test tiles per rung.
 
-Reads DIR/score-{all,r1}.json (nsgraph score's `rungs`) and the ladder dataset's test tiles
-(DIR/dataset, read with tarfile and json); writes DIR/ladder.json, DIR/ladder.md and
-DIR/ladder.svg (APLS and TOPO F1 against the rung, ± one standard error) and prints the
-Markdown. Exits 1 when a figure is worse than scripts/model-expected.json's ladder rows by
-more than their tolerance (rows named ladder:<model>:<rung>).
+Reads DIR/score-<model>.json (nsgraph score's `rungs`) of the models MODELS names — the
+forest's always, LaneGraphNet's when ladder.sh made them (NSG_SKIP_NET=1 leaves them out) —
+and the ladder dataset's test tiles (DIR/dataset, read with tarfile and json); writes
+DIR/ladder.json, DIR/ladder.md and DIR/ladder.svg (APLS and TOPO F1 against the rung, ± one
+standard error) and prints the Markdown. Exits 1 when a figure is worse than
+scripts/model-expected.json's ladder rows by more than their tolerance (rows named
+ladder:<model>:<rung>; a row of a model that was not run is not checked).
 """
 import argparse
 import json
@@ -14,7 +17,11 @@ import sys
 import tarfile
 
 METRICS = ("apls", "f1", "topo_f1", "jtopo_f1", "direction_accuracy")
-MODELS = (("all", "trained on every scene"), ("r1", "trained on rung 1"))
+# (score file's tag, label, colour, dashed): the forest's two, then LaneGraphNet's two.
+MODELS = (("all", "forest, trained on every scene", "#1f5fbf", False),
+          ("r1", "forest, trained on rung 1", "#c0392b", False),
+          ("net-all", "LaneGraphNet, trained on every scene", "#1f5fbf", True),
+          ("net-r1", "LaneGraphNet, trained on rung 1", "#c0392b", True))
 
 
 def coverage_per_rung(dataset):
@@ -37,11 +44,13 @@ def coverage_per_rung(dataset):
 
 
 def svg(results, path):
-    """Two panels (APLS, TOPO F1): one line per model over the rungs, error bars ± 1 SE."""
+    """Two panels (APLS, TOPO F1): one line per model over the rungs (LaneGraphNet's dashed),
+    error bars ± 1 SE."""
     W, H, L, B, T, R = 330, 210, 44, 30, 24, 12
-    colours = {"all": "#1f5fbf", "r1": "#c0392b"}
-    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{2 * W}" height="{H + 24}" font-family="sans-serif" '
-             'font-size="11">']
+    models = [m for m in MODELS if m[0] in results]
+    legend_rows = (len(models) + 1) // 2
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{2 * W}" height="{H + 10 + 14 * legend_rows}" '
+             'font-family="sans-serif" font-size="11">']
     for panel, metric in enumerate(("apls", "topo_f1")):
         x0 = panel * W
         rungs = [r["rung"] for r in results["all"]["rungs"]]
@@ -57,34 +66,74 @@ def svg(results, path):
             parts.append(f'<text x="{x(i):.1f}" y="{H - B + 16}" text-anchor="middle">{r}</text>')
         for v in (lo, (lo + hi) / 2, hi):
             parts.append(f'<text x="{x0 + L - 4}" y="{y(v) + 4:.1f}" text-anchor="end">{v:.2f}</text>')
-        for model, _ in MODELS:
+        for model, _, colour, dashed in models:
             pts = [(i, r["metrics"][metric]) for i, r in enumerate(results[model]["rungs"])]
             line = " ".join(f"{x(i):.1f},{y(m['mean']):.1f}" for i, m in pts if m["mean"] is not None)
-            parts.append(f'<polyline fill="none" stroke="{colours[model]}" stroke-width="2" points="{line}"/>')
+            dash = ' stroke-dasharray="6 3"' if dashed else ""
+            parts.append(f'<polyline fill="none" stroke="{colour}" stroke-width="2"{dash} points="{line}"/>')
             for i, m in pts:
                 if m["mean"] is None:
                     continue
                 se = m["se"] or 0
                 parts.append(f'<line x1="{x(i):.1f}" x2="{x(i):.1f}" y1="{y(m["mean"] - se):.1f}" '
-                             f'y2="{y(m["mean"] + se):.1f}" stroke="{colours[model]}"/>')
-                parts.append(f'<circle cx="{x(i):.1f}" cy="{y(m["mean"]):.1f}" r="3" fill="{colours[model]}"/>')
+                             f'y2="{y(m["mean"] + se):.1f}" stroke="{colour}"/>')
+                parts.append(f'<circle cx="{x(i):.1f}" cy="{y(m["mean"]):.1f}" r="3" fill="{colour}"/>')
         parts.append(f'<text x="{x0 + (W + L) / 2}" y="{H + 8}" text-anchor="middle">rung (drives per tile)</text>')
-    for k, (model, label) in enumerate(MODELS):
-        parts.append(f'<text x="{L + k * 200}" y="{H + 22}" fill="{colours[model]}">— model {label}</text>')
+    for k, (_, label, colour, dashed) in enumerate(models):
+        parts.append(f'<text x="{L + (k % 2) * W}" y="{H + 22 + 14 * (k // 2)}" fill="{colour}">'
+                     f'{"- - " if dashed else "— "}{label}</text>')
     parts.append("</svg>\n")
     open(path, "w").write("\n".join(parts))
 
 
-def check(results, expected):
-    tol = expected["tolerance"]
+def time_split(dir):
+    """The before-after preset's dataset of the demo world (DIR/time, ladder.sh): its leakage
+    figures (manifest locations[].time_split) and the forest's scores on its test split; None
+    when ladder.sh did not make it."""
+    manifest, score = os.path.join(dir, "time", "manifest.json"), os.path.join(dir, "score-time.json")
+    if not (os.path.exists(manifest) and os.path.exists(score)):
+        return None
+    m = json.load(open(manifest))
+    mean = json.load(open(score))["aggregate"]["mean"]
+    out = {"locations": {loc["name"]: loc["time_split"] for loc in m["locations"]},
+           "tiles": {split: c["tiles"] for split, c in m["counts"].items() if isinstance(c, dict)},
+           "forest": {k: mean[k] for k in METRICS}}
+    return out
+
+
+def time_split_md(t):
+    rows = ["| location | date | scenes before / on or after | train tiles | test tiles | "
+            "test tiles overlapping a train tile | median distance to a train tile (m) | "
+            + " | ".join(f"forest {m}" for m in METRICS) + " |", "|" + " --- |" * (7 + len(METRICS))]
+    for name, ts in t["locations"].items():
+        scenes = " / ".join(str(v) for v in ts["scenes"].values())
+        rows.append(f"| {name} | {ts['date']} | {scenes} | {t['tiles'].get('train', 0)} | {ts['test_tiles']} | "
+                    f"{ts['test_tiles_overlapping_train']} | {ts['median_distance_to_train_m']} | "
+                    + " | ".join("—" if t["forest"][m] is None else f"{t['forest'][m]:.3f}" for m in METRICS) + " |")
+    return "\n".join(rows) + "\n"
+
+
+def check(results, ts, expected):
+    """Figures below the committed rows: ladder:<model>:<rung> against the per-rung means,
+    time_split:forest against the time split's forest scores (rows of runs not made are
+    skipped). A row may carry its own "_tolerance" (LaneGraphNet's: its CPU training repeats
+    bit for bit only on the same machine)."""
     missed = []
     for name, want in expected["rows"].items():
-        if not name.startswith("ladder:"):
+        if name.startswith("ladder:"):
+            _, model, rung = name.split(":")
+            if model not in results:
+                continue
+            got = {k: v["mean"] for k, v in next(r for r in results[model]["rungs"] if r["rung"] == rung)["metrics"].items()}
+        elif name == "time_split:forest" and ts:
+            got = ts["forest"]
+        else:
             continue
-        _, model, rung = name.split(":")
-        got = next(r for r in results[model]["rungs"] if r["rung"] == rung)["metrics"]
+        tol = want.get("_tolerance", expected["tolerance"])
         for metric, value in want.items():
-            have = got[metric]["mean"]
+            if metric.startswith("_"):
+                continue
+            have = got[metric]
             if have is None or have < value - tol:
                 missed.append(f"{name} {metric}: {have} < {value} - {tol}")
     return missed
@@ -95,24 +144,28 @@ def main():
     ap.add_argument("--dir", required=True)
     ap.add_argument("--expected", default=os.path.join(os.path.dirname(__file__), "model-expected.json"))
     a = ap.parse_args()
-    results = {m: json.load(open(os.path.join(a.dir, f"score-{m}.json"))) for m, _ in MODELS}
+    results = {m: json.load(open(os.path.join(a.dir, f"score-{m}.json"))) for m, *_ in MODELS
+               if m in ("all", "r1") or os.path.exists(os.path.join(a.dir, f"score-{m}.json"))}
     cov = coverage_per_rung(os.path.join(a.dir, "dataset"))
     lines = ["| model | rung | test tiles | scenes per tile | LiDAR coverage | RGB coverage | "
              + " | ".join(METRICS) + " |", "|" + " --- |" * (6 + len(METRICS))]
-    for model, label in MODELS:
-        for r in results[model]["rungs"]:
+    for model, label, *_ in MODELS:
+        for r in results.get(model, {"rungs": []})["rungs"]:
             c = cov[r["rung"]]
             cells = [f"{r['metrics'][m]['mean']:.3f} ± {r['metrics'][m]['se']:.3f}"
                      if r["metrics"][m]["mean"] is not None else "—" for m in METRICS]
             lines.append(f"| {label} | {r['rung']} | {r['tiles']} | {c['scenes']:.2f} | {c['lidar']:.3f} | "
                          f"{c['rgb']:.3f} | " + " | ".join(cells) + " |")
     md = "\n".join(lines) + "\n"
-    json.dump({"coverage": cov, "models": {m: results[m]["rungs"] for m, _ in MODELS}},
+    ts = time_split(a.dir)
+    if ts:
+        md += "\nTime split (splits.preset before-after) of the same world:\n\n" + time_split_md(ts)
+    json.dump({"coverage": cov, "models": {m: r["rungs"] for m, r in results.items()}, "time_split": ts},
               open(os.path.join(a.dir, "ladder.json"), "w"), indent=1)
     open(os.path.join(a.dir, "ladder.md"), "w").write(md)
     svg(results, os.path.join(a.dir, "ladder.svg"))
     print(md)
-    missed = check(results, json.load(open(a.expected)))
+    missed = check(results, ts, json.load(open(a.expected)))
     if missed:
         print("ladder_table: figures below the committed ones:\n  " + "\n  ".join(missed), file=sys.stderr)
         sys.exit(1)

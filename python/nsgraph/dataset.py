@@ -71,7 +71,8 @@ class Dataset(collections.abc.Sequence):
         self.graph = graph
         self.meta = meta
         self.rung = rung
-        self._index = _nsgraph.SplitIndex(self.root, split, rung or 0)
+        # A rung is read as its split name, "<split>-r<k>" (io::rung_split), as every command does.
+        self._index = _nsgraph.SplitIndex(self.root, f"{split}-r{rung}" if rung else split)
         self._layers = list(modalities) + ["coverage"]
 
     def __len__(self):
@@ -96,10 +97,7 @@ class Dataset(collections.abc.Sequence):
     def rungs(root):
         """The observation ladder's built rungs of the dataset at ``root`` (scene counts,
         ascending; the split's own tiles are rung "all"); [] without a ladder."""
-        import json
-        with open(os.path.join(os.fspath(root), "manifest.json"), encoding="utf-8") as f:
-            ladder = json.load(f).get("ladder") or {}
-        return sorted({int(s["rung"]) for s in ladder.get("shards", [])})
+        return list(_nsgraph.dataset_rungs(os.fspath(root)))
 
     def key(self, i):
         return self._index.key(i)

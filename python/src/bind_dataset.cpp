@@ -162,13 +162,16 @@ void bind_dataset(py::module_& m) {
   m.attr("JUNCTIONS") =
       py::make_tuple(graph::junction_name(graph::Junction::kNone), graph::junction_name(graph::Junction::kSplit),
                      graph::junction_name(graph::Junction::kMerge), graph::junction_name(graph::Junction::kBoth));
+  m.def(
+      "dataset_rungs", [](const std::string& root) { return io::Dataset::open(root).rungs(); }, py::arg("root"),
+      "The observation ladder's built rungs of the dataset at root (io::Dataset::rungs).");
   py::class_<io::SplitIndex>(m, "SplitIndex",
                              "Random access to the tiles of one split (tar shards indexed once per process).")
-      .def(py::init([](const std::string& root, const std::string& split, int rung) {
+      .def(py::init([](const std::string& root, const std::string& split) {
              py::gil_scoped_release release;
-             return std::make_unique<io::SplitIndex>(root, split, rung);
+             return std::make_unique<io::SplitIndex>(root, split);
            }),
-           py::arg("root"), py::arg("split"), py::arg("rung") = 0)
+           py::arg("root"), py::arg("split"))
       .def("__len__", &io::SplitIndex::size)
       .def("key", &io::SplitIndex::key, py::arg("i"))
       .def("shard_name", &io::SplitIndex::shard_name, py::arg("i"))

@@ -217,8 +217,10 @@ class LadderTest(unittest.TestCase):
 
     def test_a_rung_the_dataset_lacks_is_named(self):
         root = fixtures.ladder_dataset()
-        with self.assertRaisesRegex(nsgraph.ConfigError, "rungs: 1, 2, 4"):
+        with self.assertRaisesRegex(nsgraph.ConfigError, "test-r1, test-r2, test-r4"):
             nsgraph.Dataset(root, "test", rung=3)
+        # The rung's split name reads the same tiles.
+        self.assertEqual(nsgraph.Dataset(root, "test-r2").keys, nsgraph.Dataset(root, "test", rung=2).keys)
         with self.assertRaises(nsgraph.ConfigError):
             nsgraph.Dataset(root, "test", rung=0)
 

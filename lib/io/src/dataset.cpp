@@ -65,6 +65,15 @@ std::vector<nlohmann::json> Dataset::shards(const std::string& split) const {
   return out;
 }
 
+std::vector<std::string> Dataset::split_names() const {
+  const std::vector<std::string> base = splits();
+  std::vector<std::string> out = base;
+  for (const std::string& split : base)
+    for (int rung : rungs())
+      if (!rung_shards(split, rung).empty()) out.push_back(split + "-r" + std::to_string(rung));
+  return out;
+}
+
 std::vector<int> Dataset::rungs() const {
   std::set<int> out;
   for (const nlohmann::json& s : rung_shards())

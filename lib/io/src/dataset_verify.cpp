@@ -105,10 +105,7 @@ std::optional<std::string> Dataset::split_of_keys(const std::vector<std::string>
 
 void Dataset::require_split(const std::string& split) const {
   if (split.empty()) return;
-  std::vector<std::string> known = splits();
-  for (int rung : rungs())
-    for (const std::string& base : splits())
-      if (!rung_shards(base, rung).empty()) known.push_back(base + "-r" + std::to_string(rung));
+  const std::vector<std::string> known = split_names();
   NSG_CHECK(std::find(known.begin(), known.end(), split) != known.end(), DataError, (root_ / "manifest.json").string(),
             "split '" + split + "'",
             "a split the manifest lists (" + (known.empty() ? std::string("none") : join(known, ", ")) + ")");

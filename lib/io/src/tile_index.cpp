@@ -9,10 +9,10 @@
 #include <map>
 #include <memory>
 #include <mutex>
-#include <set>
 #include <tuple>
 
 #include "nsg/core/error.h"
+#include "nsg/core/strings.h"
 #include "nsg/io/tar_index.h"
 
 namespace fs = std::filesystem;
@@ -65,7 +65,7 @@ int open_read(const fs::path& path, const std::string& record) {
 
 }  // namespace
 
-SplitIndex::SplitIndex(const fs::path& root, const std::string& split, int rung) : root_(root), split_(split) {
+SplitIndex::SplitIndex(const fs::path& root, const std::string& split) : root_(root), split_(split) {
   const Dataset ds = Dataset::open(root);
   tar_ = ds.tar_layout();
   const nlohmann::json::json_pointer size_ptr("/tile_format/size_px");
@@ -75,21 +75,11 @@ SplitIndex::SplitIndex(const fs::path& root, const std::string& split, int rung)
               "a tile size in [1, 4096] pixels, got " + std::to_string(size));
     size_px_ = static_cast<int>(size);
   }
-  const std::vector<nlohmann::json> entries = rung > 0 ? ds.rung_shards(split, rung) : ds.shards(split);
-  if (entries.empty() && rung > 0) {
-    std::string list;
-    for (int r : ds.rungs()) list += (list.empty() ? "" : ", ") + std::to_string(r);
-    throw ConfigError(
-        (root / "manifest.json").string(), "rung " + std::to_string(rung) + " of split '" + split + "'",
-        "a ladder rung with shards (generate --ladder); the dataset has rungs: " + (list.empty() ? "none" : list));
-  }
+  const std::vector<nlohmann::json> entries = ds.shards(split);
   if (entries.empty()) {
-    std::set<std::string> present;
-    for (const nlohmann::json& s : ds.shards()) present.insert(s.value("split", ""));
-    std::string list;
-    for (const std::string& s : present) list += (list.empty() ? "" : ", ") + s;
+    const std::vector<std::string> names = ds.split_names();
     throw ConfigError((root / "manifest.json").string(), "split '" + split + "'",
-                      "a split with shards; the dataset has: " + (list.empty() ? "none" : list));
+                      "a split with shards; the dataset has: " + (names.empty() ? "none" : join(names, ", ")));
   }
   for (const nlohmann::json& entry : entries) {
     const size_t before = tiles_.size();

@@ -7,6 +7,7 @@
 #include <tuple>
 #include <utility>
 
+#include "layer_sources.h"
 #include "nsg/core/memory.h"
 #include "nsg/core/parallel.h"
 #include "nsg/core/strings.h"
@@ -268,11 +269,48 @@ MemoryEstimate location_estimate(const LocationFootprint& f, const GenerateConfi
       labels =
           reached * kCellsPerBlock * covered_cell_fraction(f, reached, f.key_sweeps) * sizeof(raster::LidarsegCell) +
           kLidarsegScratchBytes;
+    e.colour_bytes = bytes_of(colour);
     e.camera_bytes = bytes_of(colour + std::max(index, labels));
   }
   e.working_bytes =
       tile_stage_bytes(config, threads, planned_crops(config, reached * fill * block_km2), f.map_file_bytes);
   return e;
+}
+
+// A location's estimate over its layer sources (layer_sources.h): one of every scene, or
+// under the before-after preset one per side of the date. generate accumulates every
+// source's layers before it cuts a tile, so their LiDAR, vehicle and colour layers add up (a
+// street both sides drove counts twice); the camera stage's index and images are one
+// source's at a time, a thread holds one scene at a time, and the tile stage's plan and
+// graph are the location's once.
+MemoryEstimate sources_estimate(const nuscenes::Database& db, const std::vector<nuscenes::Index>& scenes,
+                                const GenerateConfig& config, int threads, size_t workers, bool cameras, bool lidarseg,
+                                const std::string& location) {
+  MemoryEstimate sum;
+  bool first = true;
+  for (const LayerSource& source : layer_sources(db, config, scenes)) {
+    if (source.scenes.empty()) continue;
+    const LocationFootprint f = footprint(db, source.scenes, config, location);
+    const MemoryEstimate e =
+        location_estimate(f, config, lane_count(source.scenes.size(), threads), workers, cameras, lidarseg);
+    if (first) {
+      sum = e;
+      first = false;
+      continue;
+    }
+    sum.lidar_blocks += e.lidar_blocks;
+    sum.covered_cells += e.covered_cells;
+    sum.lidar_bytes += e.lidar_bytes;
+    sum.vehicle_bytes += e.vehicle_bytes;
+    // Every colour layer so far, beside the larger of the two sources' index and images.
+    sum.camera_bytes = sum.colour_bytes + e.colour_bytes +
+                       std::max(sum.camera_bytes - sum.colour_bytes, e.camera_bytes - e.colour_bytes);
+    sum.colour_bytes += e.colour_bytes;
+    sum.scenes_bytes = std::max(sum.scenes_bytes, e.scenes_bytes);
+    sum.working_bytes = std::max(sum.working_bytes, e.working_bytes);
+  }
+  sum.location = location;
+  return sum;
 }
 
 std::string mb(uint64_t bytes) { return human_bytes(static_cast<double>(bytes)); }
@@ -318,9 +356,7 @@ MemoryEstimate estimate_generate_memory(const nuscenes::Database& db,
   MemoryEstimate peak;
   for (const auto& [location, list] : scenes) {
     if (list.empty()) continue;
-    const LocationFootprint f = footprint(db, list, config, location);
-    MemoryEstimate e = location_estimate(f, config, lane_count(list.size(), threads), workers, cameras, lidarseg);
-    e.location = location;
+    const MemoryEstimate e = sources_estimate(db, list, config, threads, workers, cameras, lidarseg, location);
     if (peak.location.empty() || e.total() > peak.total()) peak = e;
   }
   peak.base_bytes = current_rss_bytes();

@@ -23,6 +23,7 @@ struct MemoryEstimate {
   uint64_t vehicle_bytes = 0;  // the vehicle layer (packed)
   uint64_t scenes_bytes = 0;   // each thread's dense layers of the scene it accumulates
   uint64_t camera_bytes = 0;   // colour layer, point index and images in flight
+  uint64_t colour_bytes = 0;   // of camera_bytes, the colour layer (kept until the tiles are cut)
   uint64_t working_bytes = 0;  // graph, tile and shard buffers (after the camera stage)
   // Reading the map comes first and is gone before the layers grow; the layers live
   // through both later stages; the camera stage's buffers and the tile writer's do not

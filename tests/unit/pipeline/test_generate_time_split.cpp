@@ -3,7 +3,9 @@
 // leakage figures in the manifest, and the config's relations named.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <map>
+#include <regex>
 
 #include "generate_fixture.h"
 #include "nsg/core/files.h"
@@ -87,6 +89,71 @@ TEST(GenerateTimeSplit, TrainTilesComeFromBeforeTheDateAndTestTilesFromAfter) {
   one_args.insert(one_args.end(), {"--threads", "1"});
   ASSERT_EQ(run_nsgraph(one_args).exit_code, 0);
   EXPECT_EQ(tree_hashes(one.path()), tree_hashes(out.path()));
+}
+
+// The memory plan's LiDAR blocks and covered cells in a -v generate log.
+std::pair<uint64_t, uint64_t> planned_lidar(const std::string& log) {
+  std::smatch m;
+  if (!std::regex_search(log, m, std::regex("memory plan: location=\\S+ lidar_blocks=(\\d+) covered_cells=(\\d+)")))
+    return {0, 0};
+  return {std::stoull(m[1].str()), std::stoull(m[2].str())};
+}
+
+// Each side of the date accumulates its own layers, all held until the tiles are cut: the
+// memory plan is the sum of the two sides' plans (each side alone: the regions preset with
+// the other side's scenes excluded), a street both sides drove counted twice, and it agrees
+// with the run's own per-side measures as a one-source plan does.
+TEST(GenerateTimeSplit, TheMemoryPlanCountsBothSidesLayers) {
+  const fs::path release = two_day_release();
+  const std::map<std::string, std::string> dates = scene_dates(release);
+  std::string second_day;
+  for (const auto& [scene, date] : dates) second_day = std::max(second_day, date);
+  TempDir out("time-split-memory");
+  std::vector<std::string> args = time_split_args(release, out / "both", second_day);
+  args[1] = "-v";
+  std::swap(args[0], args[1]);  // -v generate …
+  const CommandResult r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto [blocks, cells] = planned_lidar(r.err);
+  ASSERT_GT(blocks, 0u) << r.err;
+
+  std::pair<uint64_t, uint64_t> sides{0, 0};
+  for (const bool before : {true, false}) {
+    json exclude = json::array();
+    for (const auto& [scene, date] : dates)
+      if ((date < second_day) != before) exclude.push_back({{"name", scene}, {"reason", "the other side"}});
+    std::vector<std::string> one = e2e_generate_args(out / (before ? "before" : "after"));
+    one[1] = "-v";
+    std::swap(one[0], one[1]);
+    one[5] = release.string();  // --dataroot
+    one.insert(one.end(), {"--allow-empty", "--set", "scenes.exclude=" + exclude.dump()});
+    const CommandResult side = run_nsgraph(one);
+    const auto [b, c] = planned_lidar(side.err);
+    ASSERT_GT(b, 0u) << side.err;
+    sides.first += b;
+    sides.second += c;
+  }
+  EXPECT_EQ(blocks, sides.first);
+  EXPECT_EQ(cells, sides.second);
+
+  double run_blocks = 0, run_cells = 0;
+  int accumulations = 0;
+  const std::regex measured("LiDAR accumulated: (\\d+) blocks, (\\d+) covered cells");
+  for (auto it = std::sregex_iterator(r.err.begin(), r.err.end(), measured); it != std::sregex_iterator(); ++it) {
+    run_blocks += std::stod((*it)[1].str());
+    run_cells += std::stod((*it)[2].str());
+    ++accumulations;
+  }
+  ASSERT_EQ(accumulations, 2) << r.err;
+  const double block_ratio = static_cast<double>(blocks) / run_blocks;
+  const double cell_ratio = static_cast<double>(cells) / run_cells;
+  std::printf("[ figures ] e2e world over two days, before-after: plan / run LiDAR blocks %.2f, covered cells %.2f\n",
+              block_ratio, cell_ratio);
+  // The bands of GenerateMemory.EachPlanTermAgreesWithTheRunsMeasure (one source).
+  EXPECT_GE(block_ratio, 0.67);
+  EXPECT_LE(block_ratio, 1.5);
+  EXPECT_GE(cell_ratio, 0.6);
+  EXPECT_LE(cell_ratio, 1.6);
 }
 
 TEST(GenerateTimeSplit, TheRelationsOfThePresetAreNamed) {

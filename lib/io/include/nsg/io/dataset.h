@@ -74,6 +74,9 @@ class Dataset {
   uint64_t tile_count(const std::string& split = "") const { return io::tile_count(shards(split)); }
   // The split names the manifest's shards carry, sorted.
   std::vector<std::string> splits() const;
+  // The names a reader may ask for: splits(), then "<split>-r<k>" for each of the ladder's
+  // built rungs of each split (rung_split), in that order.
+  std::vector<std::string> split_names() const;
   // The observation ladder (manifest "ladder", generate --ladder): the built rungs (scene
   // counts, ascending; the "all" rung is the split's own tiles), empty without a ladder.
   std::vector<int> rungs() const;

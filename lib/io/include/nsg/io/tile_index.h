@@ -16,11 +16,10 @@ namespace nsg::io {
 class SplitIndex {
  public:
   // Reads <root>/manifest.json (IoError / ParseError naming it) and indexes every shard of
-  // `split`. ConfigError naming the manifest and the splits it has when `split` has no
+  // `split` — a split or a ladder rung of one ("test-r1", Dataset::shards). ConfigError
+  // naming the manifest and the names it has (Dataset::split_names) when `split` has no
   // shard; DataError naming the shard when its tile count differs from the manifest's.
-  // `rung` > 0: the observation ladder's tiles of that rung (Dataset::rung_shards) instead;
-  // ConfigError naming the rungs the dataset has when it has none of that rung.
-  SplitIndex(const std::filesystem::path& root, const std::string& split, int rung = 0);
+  SplitIndex(const std::filesystem::path& root, const std::string& split);
 
   size_t size() const { return tiles_.size(); }
   const std::string& key(size_t i) const { return tiles_.at(i).key; }
