@@ -63,6 +63,21 @@ void plan_time_split(const std::vector<LayerSource>& sources, const GenerateConf
   }
 }
 
+TimeSplitSides time_split_sides(const nuscenes::Database& db, const GenerateConfig& config,
+                                const std::vector<LayerSource>& sources) {
+  TimeSplitSides out;
+  out.date = config.split_date;
+  for (const LayerSource& source : sources) {
+    (source.serves("train") ? out.before : out.after) += source.scenes.size();
+    for (nuscenes::Index s : source.scenes) {
+      const std::string& date = db.log[db.scene[s].log].date_captured;
+      if (out.first_date.empty() || date < out.first_date) out.first_date = date;
+      if (out.last_date.empty() || date > out.last_date) out.last_date = date;
+    }
+  }
+  return out;
+}
+
 TimeSplitLeakage time_split_leakage(const std::vector<tiling::Crop>& crops, double resolution_m, int size_px) {
   std::vector<tiling::RectM> train;
   for (const tiling::Crop& c : crops)

@@ -15,6 +15,7 @@
 #include "nsg/raster/color_layer.h"
 #include "nsg/tiling/crops.h"
 #include "nsg/tiling/regions.h"
+#include "plan.h"
 
 namespace nsg::nuscenes {
 class Database;
@@ -42,6 +43,11 @@ const LayerSource& source_for(const std::vector<LayerSource>& sources, const std
 // split come from the source of that split.
 void plan_time_split(const std::vector<LayerSource>& sources, const GenerateConfig& config, uint64_t seed,
                      std::vector<tiling::Region>& regions, std::vector<tiling::Crop>& crops, tiling::CropStats* stats);
+
+// The sides of a before-after split (plan.h's TimeSplitSides): scene counts and the capture
+// dates of every scene of the sources.
+TimeSplitSides time_split_sides(const nuscenes::Database& db, const GenerateConfig& config,
+                                const std::vector<LayerSource>& sources);
 
 // How far the test tiles of a time split are from the train tiles (they share streets by
 // design): the share of test tiles overlapping a train tile, and the median distance from a

@@ -3,6 +3,7 @@
 // keys and shards; and the work items in their stable order.
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,11 +47,19 @@ struct LocationPlan {
 // How a location's plan came to its crops: what each filter of the region and crop
 // planning took (tiling's stats), kept after the location's layers are gone so the end of
 // the run can explain an empty dataset or an empty split. Every share computes the same.
+// Under splits.preset before-after: the date, the location's scenes on each side of it and
+// the capture dates they span (for an empty split's explanation).
+struct TimeSplitSides {
+  std::string date, first_date, last_date;  // first/last: "" without scenes
+  size_t before = 0, after = 0;             // scenes captured before the date / on or after it
+};
+
 struct PlanFilters {
   std::string location;
   size_t scenes_used = 0, scenes_excluded = 0;
-  tiling::RegionStats regions;
+  tiling::RegionStats regions;  // the regions preset's automatic split
   tiling::CropStats crops;
+  std::optional<TimeSplitSides> time_split;  // the before-after preset's sides instead of regions
 };
 
 // The message of a run whose plan holds no tile at all: per location, which filter dropped

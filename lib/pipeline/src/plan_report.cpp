@@ -15,12 +15,13 @@ namespace {
 
 // What to suggest at the end, gathered while the accounts are written.
 struct Hints {
-  bool keep_scenes = false;                // every scene of a location excluded
-  double best_coverage = 0.0;              // highest coverage among windows below the threshold
-  bool more_random = false;                // random placement asked for 0 crops in a region
-  std::set<std::string> explicit_regions;  // locations where a split got no automatic block
-  bool bigger_regions = false;             // regions or blocks too small for a crop
-  bool block_coverage = false;             // every automatic block below min_block_coverage
+  bool keep_scenes = false;                   // every scene of a location excluded
+  double best_coverage = 0.0;                 // highest coverage among windows below the threshold
+  bool more_random = false;                   // random placement asked for 0 crops in a region
+  std::set<std::string> explicit_regions;     // locations where a split got no automatic block
+  bool bigger_regions = false;                // regions or blocks too small for a crop
+  bool block_coverage = false;                // every automatic block below min_block_coverage
+  const TimeSplitSides* move_date = nullptr;  // a side of a before-after split has no scene
 };
 
 long long ll(int64_t v) { return static_cast<long long>(v); }
@@ -35,6 +36,7 @@ tiling::Placement placement_of(const GenerateConfig& c, size_t k) {
 
 // Whether the config asks for tiles of split k at this location.
 bool split_asked(const PlanFilters& f, const GenerateConfig& c, size_t k) {
+  if (f.time_split) return k != 1;  // before-after: train and test, never val
   if (f.regions.explicit_regions) return f.crops.splits[k].regions > 0;
   return ratio_of(c, k) > 0.0;
 }
@@ -45,7 +47,13 @@ std::string split_account(const PlanFilters& f, const GenerateConfig& c, size_t 
   const std::string split(tiling::kSplitNames[k]);
   if (s.regions == 0) {
     std::string why;
-    if (f.regions.explicit_regions) {
+    if (f.time_split) {
+      const TimeSplitSides& t = *f.time_split;
+      const bool side_empty = (k == 0 ? t.before : t.after) == 0;
+      why = side_empty ? strprintf("no scene captured %s %s", k == 0 ? "before" : "on or after", t.date.c_str())
+                       : "its scenes kept no LiDAR point";
+      if (side_empty) h.move_date = &t;
+    } else if (f.regions.explicit_regions) {
       why = "splits.regions." + f.location + " names none";
     } else if (f.regions.no_lidar) {
       why = "no LiDAR to split";
@@ -102,7 +110,12 @@ std::vector<std::string> location_account(const PlanFilters& f, const GenerateCo
   if (f.regions.no_lidar && f.scenes_used > 0)
     head += strprintf("; no LiDAR point kept (lidar.channel = %s, lidar.max_range_m = %g)",
                       c.raster.lidar_channel.c_str(), c.raster.lidar.max_range_m);
-  if (!f.regions.explicit_regions && !f.regions.no_lidar) {
+  if (f.time_split) {
+    const TimeSplitSides& t = *f.time_split;
+    head += strprintf("; before-after split at %s: %zu scene(s) before (train), %zu on or after (test)", t.date.c_str(),
+                      t.before, t.after);
+    if (!t.first_date.empty()) head += ", captured " + t.first_date + " … " + t.last_date;
+  } else if (!f.regions.explicit_regions && !f.regions.no_lidar) {
     head += strprintf(
         "; automatic split: %lld block(s) of %.1f m over the LiDAR extent, %lld below "
         "splits.min_block_coverage = %g, assigned %lld train / %lld val / %lld test",
@@ -144,6 +157,11 @@ std::vector<std::string> suggestions(const Hints& h, const GenerateConfig& c) {
         strprintf("make regions hold a crop: larger regions or splits.block_size_m, a smaller splits.buffer_m "
                   "(now %g m, at least one crop), or smaller crops.size_px (now %d)",
                   c.splits.buffer_m, c.crops.size_px));
+  if (h.move_date)
+    out.push_back(
+        strprintf("move splits.before_after_date (now %s) inside the capture dates (%s … %s) so both "
+                  "sides have scenes",
+                  h.move_date->date.c_str(), h.move_date->first_date.c_str(), h.move_date->last_date.c_str()));
   if (h.block_coverage)
     out.push_back(strprintf("let sparser blocks take part: --set splits.min_block_coverage=… (now %g)",
                             c.splits.min_block_coverage));

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <map>
 #include <regex>
+#include <tuple>
 
 #include "generate_fixture.h"
 #include "nsg/core/files.h"
@@ -154,6 +155,37 @@ TEST(GenerateTimeSplit, TheMemoryPlanCountsBothSidesLayers) {
   EXPECT_LE(block_ratio, 1.5);
   EXPECT_GE(cell_ratio, 0.6);
   EXPECT_LE(cell_ratio, 1.6);
+}
+
+// A date outside the capture dates leaves one side without scenes: the warning says so by
+// the date and the dates the release spans, and suggests moving the date — not the regions
+// preset's advice (automatic blocks, explicit regions), which does not apply.
+TEST(GenerateTimeSplit, AnEmptySideIsExplainedByTheDate) {
+  const fs::path release = two_day_release();
+  std::string first = "9999", last;
+  for (const auto& [scene, date] : scene_dates(release)) {
+    first = std::min(first, date);
+    last = std::max(last, date);
+  }
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      {"2030-01-01", "test", "no scene captured on or after 2030-01-01"},
+      {"2000-01-01", "train", "no scene captured before 2000-01-01"}};
+  for (const auto& [date, empty, why] : cases) {
+    SCOPED_TRACE(date);
+    TempDir out("time-split-empty");
+    std::vector<std::string> args = time_split_args(release, out.path(), date);
+    args.erase(args.begin() + 1);  // not --quiet: the warning is printed
+    const CommandResult r = run_nsgraph(args);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("the " + empty + " split has no tiles"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(why), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("move splits.before_after_date (now " + date + ") inside the capture dates (" + first + " … " +
+                         last + ")"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("automatic split"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("splits.regions"), std::string::npos) << r.err;
+  }
 }
 
 TEST(GenerateTimeSplit, TheRelationsOfThePresetAreNamed) {
