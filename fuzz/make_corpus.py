@@ -144,6 +144,35 @@ def images(release, out):
             break
 
 
+def graphify_maps(out):
+    """Small probability maps of each kind graphify reads: a diagonal stroke as 8- and 16-bit
+    PNG, a one-band uint8 TIFF, and uint8 / float32 .npy."""
+    import struct
+    import zlib
+    side = 24
+    stroke = [[255 if abs(r - c) <= 1 else 0 for c in range(side)] for r in range(side)]
+
+    def png(depth):
+        def chunk(kind, body):
+            return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+        rows = b"".join(b"\x00" + b"".join((v * 257).to_bytes(2, "big") if depth == 16 else bytes([v]) for v in row)
+                        for row in stroke)
+        head = struct.pack(">IIBBBBB", side, side, depth, 0, 0, 0, 0)
+        return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", head) + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b"")
+
+    def npy(dtype, values):
+        header = "{'descr': '%s', 'fortran_order': False, 'shape': (%d, %d), }" % (dtype, side, side)
+        header += " " * (63 - (10 + len(header)) % 64) + "\n"
+        return b"\x93NUMPY\x01\x00" + struct.pack("<H", len(header)) + header.encode() + values
+
+    flat = [v for row in stroke for v in row]
+    put(out, "graphify", "png8", png(8))
+    put(out, "graphify", "png16", png(16))
+    put(out, "graphify", "tiff", honest_tiff(16, 16))
+    put(out, "graphify", "npy-u8", npy("|u1", bytes(flat)))
+    put(out, "graphify", "npy-f4", npy("<f4", struct.pack("<%df" % len(flat), *[v / 255.0 for v in flat])))
+
+
 def scores(out):
     import random
     rng = random.Random(7)
@@ -207,6 +236,7 @@ def main():
     tars(out)
     tile_jsons(out)
     images(release, out)
+    graphify_maps(out)
     scores(out)
     merge_records(out)
     models(out)
