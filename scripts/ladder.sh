@@ -19,10 +19,11 @@ ensure_demo_dataset
 config="$root/samples/generate-demo.json"
 time_date=2018-08-05
 # What the ladder's datasets are made from: the generate config and the release's synth
-# config (its capture dates are in the rung tiles' meta.json); a change rebuilds them.
+# config (its capture dates are in the rung tiles' meta.json); a change rebuilds them and
+# retrains the networks from scratch (their --resume checkpoints are of the old tiles).
 inputs_now=$(cat "$config" "$out/release/.synth-done" | sha256sum)
 if [ ! -f "$dir/dataset/manifest.json" ] || [ "$inputs_now" != "$(cat "$dir/.dataset-inputs" 2>/dev/null)" ]; then
-  rm -rf "$dir/dataset" "$dir/time"
+  rm -rf "$dir/dataset" "$dir/time" "$dir"/net-*-run  # the networks' checkpoints were of the old tiles
   /usr/bin/time -f 'generate --ladder: %e s wall, %M KiB peak RSS' \
     "$exe" generate -q --config "$config" --dataroot "$out/release" --out "$dir/dataset" --ladder \
     --set 'ladder.splits=["train", "test"]'
