@@ -12,6 +12,7 @@
 #include "nsg/core/sha256.h"
 #include "nsg/io/dataset.h"
 #include "nsg/io/raster.h"
+#include "nsg/io/tile_meta.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -271,6 +272,38 @@ TEST(GenerateLadder, ScoreReportsEveryMetricPerRungWithPairedDifferences) {
       {"validate", "--submission", (dir / "sub3.json").string(), "--dataset", dataset.string(), "--split", "test"});
   EXPECT_EQ(v.exit_code, 1);
   EXPECT_NE((v.out + v.err).find("-r3"), std::string::npos) << v.out << v.err;
+}
+
+// The real key frame (tests/data/real/scene-0061-keyframe: one scene, one sweep): its crops
+// need sparse-data settings, and every rung is that one scene — so each rung tile holds the
+// split tile's LiDAR layer byte for byte, records one scene seen, and the dataset validates.
+TEST(GenerateLadder, TheRealKeyFrameGivesRungsOfItsOneSceneAndValidates) {
+  TempDir out("ladder-real");
+  const CommandResult r = run_nsgraph(
+      {"generate", "--quiet", "--dataroot", (source_dir() / "tests/data/real/scene-0061-keyframe").string(),
+       "--version", "v1.0-mini", "--out", out.path().string(), "--ladder", "--set", "splits.min_block_coverage=0",
+       "--set", "crops.min_lidar_coverage=0.01", "--set", "splits.ratios={\"train\": 0, \"val\": 0, \"test\": 1}"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const io::Dataset ds = io::Dataset::open(out.path());
+  EXPECT_EQ(ds.rungs(), (std::vector<int>{1, 2, 4}));
+  std::map<std::string, std::vector<uint8_t>> lidar;
+  ds.for_each_tile("test", [&](const io::DatasetTile& t) {
+    lidar[t.key] = t.files.at("lidar.tif");
+    return true;
+  });
+  ASSERT_FALSE(lidar.empty());
+  size_t rung_tiles = 0;
+  ds.for_each_rung_tile("test", 0, [&](const io::DatasetTile& t) {
+    const io::TileMeta m = t.meta();
+    EXPECT_EQ(m.ladder->scenes_seen, 1) << t.key;
+    EXPECT_EQ(m.scenes, std::vector<std::string>{"scene-0061"}) << t.key;
+    EXPECT_EQ(t.files.at("lidar.tif"), lidar.at(m.ladder->base_key)) << t.key;
+    ++rung_tiles;
+    return true;
+  });
+  EXPECT_EQ(rung_tiles, 3 * lidar.size());
+  const CommandResult v = run_nsgraph({"validate", "--dataset", out.path().string(), "--quiet"});
+  EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
 }
 
 TEST(GenerateLadder, BadRungsAreNamed) {
