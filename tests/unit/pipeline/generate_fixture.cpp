@@ -72,11 +72,35 @@ fs::path e2e_dataset() {
   });
 }
 
+std::vector<std::string> e2e_ladder_args(const fs::path& out) {
+  std::vector<std::string> args = e2e_generate_args(out);
+  args.insert(args.end(), {"--ladder", "--tiles-per-shard", "3"});
+  return args;
+}
+
+std::vector<std::string> real_keyframe_ladder_args(const fs::path& out) {
+  return {"generate",
+          "--quiet",
+          "--dataroot",
+          (source_dir() / "tests/data/real/scene-0061-keyframe").string(),
+          "--version",
+          "v1.0-mini",
+          "--out",
+          out.string(),
+          "--ladder",
+          "--set",
+          "splits.min_block_coverage=0",
+          "--set",
+          "crops.min_lidar_coverage=0.01",
+          "--set",
+          "splits.ratios={\"train\": 0, \"val\": 0, \"test\": 1}"};
+}
+
 fs::path e2e_ladder_dataset() {
   const fs::path config = source_dir() / "tests/data/generate/e2e.json";
   return cached_folder("dataset_e2e_ladder", nsgraph_build_key() + "-" + content_key(config), [&](const fs::path& dir) {
-    std::vector<std::string> args = e2e_generate_args(dir);
-    args.insert(args.end(), {"--ladder", "--threads", "2"});
+    std::vector<std::string> args = e2e_ladder_args(dir);
+    args.insert(args.end(), {"--threads", "2"});
     const CommandResult r = run_nsgraph(args);
     if (r.exit_code != 0) throw std::runtime_error("generate e2e --ladder failed: " + r.err);
   });

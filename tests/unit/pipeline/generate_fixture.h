@@ -20,10 +20,16 @@ std::filesystem::path release_with_renamed_scene(const std::filesystem::path& re
                                                  const std::filesystem::path& dir);
 // The dataset generated with 2 threads in one process.
 std::filesystem::path e2e_dataset();
-// The e2e dataset with an observation ladder (generate --ladder: rungs 1, 2 and 4 of the test
-// split), built once per build and config like e2e_dataset.
-std::filesystem::path e2e_ladder_dataset();
 std::vector<std::string> e2e_generate_args(const std::filesystem::path& out);
+// e2e_generate_args with an observation ladder (--ladder: rungs 1, 2 and 4 of the test split)
+// and 3 tiles a shard (so a split has several rung shards).
+std::vector<std::string> e2e_ladder_args(const std::filesystem::path& out);
+// generate --ladder on the real key frame (tests/data/real/scene-0061-keyframe: one scene,
+// one sweep) into `out`, with the sparse-data settings its crops need, every tile to test.
+std::vector<std::string> real_keyframe_ladder_args(const std::filesystem::path& out);
+// The dataset of e2e_ladder_args with 2 threads, built once per build and config like
+// e2e_dataset.
+std::filesystem::path e2e_ladder_dataset();
 nlohmann::json read_json(const std::filesystem::path& path);
 // sha256 of every file under `dir` except parts/ (the run's bookkeeping), by relative path.
 std::vector<std::pair<std::string, std::string>> tree_hashes(const std::filesystem::path& dir);

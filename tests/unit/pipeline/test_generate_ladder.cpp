@@ -9,7 +9,6 @@
 
 #include "generate_fixture.h"
 #include "nsg/core/files.h"
-#include "nsg/core/sha256.h"
 #include "nsg/io/dataset.h"
 #include "nsg/io/raster.h"
 #include "nsg/io/tile_meta.h"
@@ -20,23 +19,6 @@ using nlohmann::json;
 
 namespace nsg::test {
 namespace {
-
-std::vector<std::string> ladder_args(const fs::path& out) {
-  std::vector<std::string> args = e2e_generate_args(out);
-  args.insert(args.end(), {"--ladder", "--tiles-per-shard", "3"});
-  return args;
-}
-
-fs::path ladder_dataset() {
-  const fs::path config = source_dir() / "tests/data/generate/e2e.json";
-  return cached_folder("dataset_ladder", nsgraph_build_key() + "-" + sha256_hex(read_file(config)).substr(0, 16),
-                       [&](const fs::path& dir) {
-                         std::vector<std::string> args = ladder_args(dir);
-                         args.insert(args.end(), {"--threads", "2"});
-                         const CommandResult r = run_nsgraph(args);
-                         if (r.exit_code != 0) throw std::runtime_error("generate --ladder failed: " + r.err);
-                       });
-}
 
 // Every tile of the dataset by key, split tiles and rung tiles alike.
 std::map<std::string, io::DatasetTile> all_tiles(const io::Dataset& ds) {
@@ -65,7 +47,7 @@ std::vector<std::string> scenes_by_capture_time(const fs::path& release) {
 }
 
 TEST(GenerateLadder, TheManifestListsEveryRungOfEveryTestTileAndTheDatasetValidates) {
-  const fs::path dataset = ladder_dataset();
+  const fs::path dataset = e2e_ladder_dataset();
   const io::Dataset ds = io::Dataset::open(dataset);
   const json& ladder = ds.manifest()["ladder"];
   EXPECT_EQ(ladder["rungs"], json::parse(R"([1, 2, 4, "all"])"));
@@ -84,7 +66,7 @@ TEST(GenerateLadder, TheManifestListsEveryRungOfEveryTestTileAndTheDatasetValida
 }
 
 TEST(GenerateLadder, ARungTileIsItsSplitTileFromItsFirstScenesByCaptureTime) {
-  const io::Dataset ds = io::Dataset::open(ladder_dataset());
+  const io::Dataset ds = io::Dataset::open(e2e_ladder_dataset());
   const std::vector<std::string> by_time = scenes_by_capture_time(e2e_release());
   const std::map<std::string, io::DatasetTile> tiles = all_tiles(ds);
   int checked = 0, fewer_scenes = 0;
@@ -147,14 +129,14 @@ TEST(GenerateLadder, ARungTileIsItsSplitTileFromItsFirstScenesByCaptureTime) {
 }
 
 TEST(GenerateLadder, OneThreadAndThreeSharesGiveTheSameBytes) {
-  const fs::path reference = ladder_dataset();
+  const fs::path reference = e2e_ladder_dataset();
   TempDir one("ladder-1thread"), three("ladder-3shares");
-  std::vector<std::string> args = ladder_args(one.path());
+  std::vector<std::string> args = e2e_ladder_args(one.path());
   args.insert(args.end(), {"--threads", "1"});
   ASSERT_EQ(run_nsgraph(args).exit_code, 0);
   EXPECT_EQ(tree_hashes(one.path()), tree_hashes(reference));
   for (int i = 0; i < 3; ++i) {
-    args = ladder_args(three.path());
+    args = e2e_ladder_args(three.path());
     args.insert(args.end(), {"--shard-index", std::to_string(i), "--num-shards", "3"});
     const CommandResult r = run_nsgraph(args);
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -178,7 +160,7 @@ TEST(GenerateLadder, ASeededOrderDiffersFromTimeAndAFolderLayoutRungTileIsChecke
   EXPECT_EQ(ds.manifest()["ladder"]["rungs"], json::parse("[1]"));
   // Rung 1 by a seeded shuffle picks another first scene than capture time on some tile.
   std::map<std::string, std::vector<std::string>> by_time;
-  io::Dataset::open(ladder_dataset()).for_each_rung_tile("test", 1, [&](const io::DatasetTile& t) {
+  io::Dataset::open(e2e_ladder_dataset()).for_each_rung_tile("test", 1, [&](const io::DatasetTile& t) {
     by_time[t.key] = t.meta().scenes;
     return true;
   });
@@ -223,7 +205,7 @@ json submission_graph(const io::DatasetTile& t) {
 // A submission perfect at rung "all" and 2, empty at rung 1, missing at rung 4: each rung's
 // numbers are known, and so are the paired differences.
 TEST(GenerateLadder, ScoreReportsEveryMetricPerRungWithPairedDifferences) {
-  const fs::path dataset = ladder_dataset();
+  const fs::path dataset = e2e_ladder_dataset();
   const io::Dataset ds = io::Dataset::open(dataset);
   json tiles = json::object();
   int64_t n = 0;
@@ -279,10 +261,7 @@ TEST(GenerateLadder, ScoreReportsEveryMetricPerRungWithPairedDifferences) {
 // split tile's LiDAR layer byte for byte, records one scene seen, and the dataset validates.
 TEST(GenerateLadder, TheRealKeyFrameGivesRungsOfItsOneSceneAndValidates) {
   TempDir out("ladder-real");
-  const CommandResult r = run_nsgraph(
-      {"generate", "--quiet", "--dataroot", (source_dir() / "tests/data/real/scene-0061-keyframe").string(),
-       "--version", "v1.0-mini", "--out", out.path().string(), "--ladder", "--set", "splits.min_block_coverage=0",
-       "--set", "crops.min_lidar_coverage=0.01", "--set", "splits.ratios={\"train\": 0, \"val\": 0, \"test\": 1}"});
+  const CommandResult r = run_nsgraph(real_keyframe_ladder_args(out.path()));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const io::Dataset ds = io::Dataset::open(out.path());
   EXPECT_EQ(ds.rungs(), (std::vector<int>{1, 2, 4}));

@@ -3,6 +3,7 @@
 // leakage figures in the manifest, and the config's relations named.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <regex>
@@ -186,6 +187,27 @@ TEST(GenerateTimeSplit, AnEmptySideIsExplainedByTheDate) {
     EXPECT_EQ(r.err.find("automatic split"), std::string::npos) << r.err;
     EXPECT_EQ(r.err.find("splits.regions"), std::string::npos) << r.err;
   }
+}
+
+// The real key frame's log.json dates its one scene 2018-07-24 (date_captured, as every real
+// log has it): a split after that date puts it on the train side and explains the empty test
+// side by the real capture date.
+TEST(GenerateTimeSplit, TheRealKeyFramesCaptureDateDecidesItsSide) {
+  TempDir out("time-split-real");
+  std::vector<std::string> args = real_keyframe_ladder_args(out.path());
+  args.erase(args.begin() + 1);            // not --quiet: the warning is printed
+  args.erase(args.end() - 2, args.end());  // the ratios (the preset takes none)
+  args.erase(std::find(args.begin(), args.end(), "--ladder"));
+  args.insert(args.end(), {"--set", "splits.preset=before-after", "--set", "splits.before_after_date=2018-07-25"});
+  const CommandResult r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("1 scene(s) before (train), 0 on or after (test), captured 2018-07-24 … 2018-07-24"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("no scene captured on or after 2018-07-25"), std::string::npos) << r.err;
+  const io::Dataset ds = io::Dataset::open(out.path());
+  EXPECT_GT(ds.tile_count("train"), 0u);
+  EXPECT_EQ(ds.tile_count("test"), 0u);
 }
 
 TEST(GenerateTimeSplit, TheRelationsOfThePresetAreNamed) {

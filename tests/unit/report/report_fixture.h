@@ -20,6 +20,9 @@ struct PerturbedSubmission {
 PerturbedSubmission perturbed_submission(const std::filesystem::path& dir);
 // The ground truth of the test split as a submission (a perfect score).
 std::filesystem::path exact_submission(const std::filesystem::path& dir);
+// A submission of e2e_ladder_dataset's test tiles with known answers per rung: the exact
+// graph at "all", -r2 and -r4, an empty one at -r1 (dir/ladder-sub.json).
+std::filesystem::path ladder_submission(const std::filesystem::path& dir);
 // A folder of score reports (nsgraph score --out) on the e2e dataset's test split:
 // exact.json (perfect), perturbed.json and empty.json (every tile an empty graph).
 std::filesystem::path leaderboard_reports(const std::filesystem::path& dir);

@@ -178,19 +178,9 @@ TEST(Browser, ReportDrawsTheCurvePerRung) {
   if (!have_chromium()) GTEST_SKIP() << "optional tool chromium not installed (apt-get install chromium)";
   TempDir dir("report_ladder");
   const fs::path ds = e2e_ladder_dataset();
-  // The exact graphs at rungs 2, 4 and "all" (the ladder leaves the split tiles as the e2e
-  // dataset's, the same config's), nothing at rung 1.
-  nlohmann::json sub = read_json(exact_submission(dir.path()));
-  nlohmann::json tiles = sub["tiles"];
-  for (const auto& [key, graph] : sub["tiles"].items()) {
-    for (const char* rung : {"-r2", "-r4"}) tiles[key + rung] = graph;
-    tiles[key + "-r1"] = {{"nodes", nlohmann::json::array()}, {"edges", nlohmann::json::array()}};
-  }
-  sub["tiles"] = tiles;
-  write_text(dir / "ladder-sub.json", sub.dump());
   const fs::path out = dir / "report";
   CommandResult r = run_nsgraph({"report", "--quiet", "--dataset", ds.string(), "--submission",
-                                 (dir / "ladder-sub.json").string(), "--out", out.string()});
+                                 ladder_submission(dir.path()).string(), "--out", out.string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json summary = read_data_script(out / "data/summary.js");
   ASSERT_EQ(summary["rungs"].size(), 4u);

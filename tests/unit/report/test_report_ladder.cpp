@@ -19,33 +19,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-nlohmann::json graph_submission(const metrics::Graph& g) {
-  nlohmann::json nodes = nlohmann::json::array(), edges = nlohmann::json::array();
-  for (const auto& n : g.nodes) nodes.push_back({n.u, n.v});
-  for (const auto& e : g.edges) edges.push_back({e[0], e[1]});
-  return {{"nodes", nodes}, {"edges", edges}};
-}
-
-// The ladder dataset's test tiles: exact at "all", -r2 and -r4; empty at -r1.
-fs::path ladder_submission(const fs::path& ds, const fs::path& dir) {
-  nlohmann::json tiles = nlohmann::json::object();
-  io::Dataset::open(ds).for_each_tile("test", [&](const io::DatasetTile& t) {
-    const nlohmann::json exact = graph_submission(metrics::tile_graph(t));
-    tiles[t.key] = tiles[t.key + "-r2"] = tiles[t.key + "-r4"] = exact;
-    tiles[t.key + "-r1"] = {{"nodes", nlohmann::json::array()}, {"edges", nlohmann::json::array()}};
-    return true;
-  });
-  write_text(dir / "ladder-sub.json", nlohmann::json{{"schema_version", "1"}, {"tiles", tiles}}.dump());
-  return dir / "ladder-sub.json";
-}
-
 TEST(Report, LadderTileViewHasEveryRungMarkedAndScored) {
   TempDir dir("report_ladder_tiles");
   const fs::path ds = e2e_ladder_dataset();
   const fs::path out = dir / "report";
   const CommandResult r =
       run_nsgraph({"report", "--quiet", "--dataset", ds.string(), "--submission",
-                   ladder_submission(ds, dir.path()).string(), "--split", "test", "--out", out.string()});
+                   ladder_submission(dir.path()).string(), "--split", "test", "--out", out.string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const io::Dataset dataset = io::Dataset::open(ds);
   ASSERT_EQ(dataset.rungs(), (std::vector<int>{1, 2, 4}));
@@ -110,6 +90,29 @@ TEST(Report, LadderTileViewHasEveryRungMarkedAndScored) {
             0);
   const nlohmann::json r1_doc = read_data_script(r1 / "data/tile" / (first + "-r1.js"));
   EXPECT_FALSE(r1_doc.contains("rungs"));
+}
+
+// The real key frame's ladder (one scene: every rung is that scene): each tile view lists its
+// three rungs with that scene, and their images are written.
+TEST(Report, TheRealKeyFramesRungsAreInItsTileViews) {
+  TempDir dir("report_ladder_real");
+  ASSERT_EQ(run_nsgraph(real_keyframe_ladder_args(dir / "dataset")).exit_code, 0);
+  const fs::path out = dir / "report";
+  const CommandResult r = run_nsgraph(
+      {"report", "--quiet", "--dataset", (dir / "dataset").string(), "--split", "test", "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  size_t tiles = 0;
+  io::Dataset::open(dir / "dataset").for_each_tile("test", [&](const io::DatasetTile& tile) {
+    const nlohmann::json doc = read_data_script(out / "data/tile" / (tile.key + ".js"));
+    EXPECT_EQ(doc["rungs"].size(), 3u) << tile.key;
+    for (const nlohmann::json& e : doc["rungs"]) {
+      EXPECT_EQ(e["scenes"], nlohmann::json::array({"scene-0061"})) << tile.key;
+      EXPECT_TRUE(fs::is_regular_file(out / "img" / (e["key"].get<std::string>() + ".lidar.png"))) << tile.key;
+    }
+    ++tiles;
+    return true;
+  });
+  EXPECT_GT(tiles, 0u);
 }
 
 }  // namespace
