@@ -352,7 +352,7 @@ void plan_stage(RunState& rs, LocationRun& lr) {
     st.plan.crops = tiling::plan_crops(lidar, st.plan.regions, rs.config.crops, seed, &filter.crops);
   } else {
     plan_time_split(st.sources, rs.config, seed, st.plan.regions, st.plan.crops, &filter.crops);
-    filter.time_split = time_split_sides(rs.db, rs.config, st.sources);
+    filter.time_split = time_split_sides(rs.db, st.sources);
   }
   assign_keys_and_shards(st.plan, rs.per_shard, rs.next_shard);
   if (rs.config.split_preset == SplitPreset::kBeforeAfter) log_time_split(rs, lr);

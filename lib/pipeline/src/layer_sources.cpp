@@ -63,10 +63,8 @@ void plan_time_split(const std::vector<LayerSource>& sources, const GenerateConf
   }
 }
 
-TimeSplitSides time_split_sides(const nuscenes::Database& db, const GenerateConfig& config,
-                                const std::vector<LayerSource>& sources) {
+TimeSplitSides time_split_sides(const nuscenes::Database& db, const std::vector<LayerSource>& sources) {
   TimeSplitSides out;
-  out.date = config.split_date;
   for (const LayerSource& source : sources) {
     (source.serves("train") ? out.before : out.after) += source.scenes.size();
     for (nuscenes::Index s : source.scenes) {

@@ -46,8 +46,7 @@ void plan_time_split(const std::vector<LayerSource>& sources, const GenerateConf
 
 // The sides of a before-after split (plan.h's TimeSplitSides): scene counts and the capture
 // dates of every scene of the sources.
-TimeSplitSides time_split_sides(const nuscenes::Database& db, const GenerateConfig& config,
-                                const std::vector<LayerSource>& sources);
+TimeSplitSides time_split_sides(const nuscenes::Database& db, const std::vector<LayerSource>& sources);
 
 // How far the test tiles of a time split are from the train tiles (they share streets by
 // design): the share of test tiles overlapping a train tile, and the median distance from a

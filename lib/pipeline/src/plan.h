@@ -47,11 +47,12 @@ struct LocationPlan {
 // How a location's plan came to its crops: what each filter of the region and crop
 // planning took (tiling's stats), kept after the location's layers are gone so the end of
 // the run can explain an empty dataset or an empty split. Every share computes the same.
-// Under splits.preset before-after: the date, the location's scenes on each side of it and
-// the capture dates they span (for an empty split's explanation).
+// Under splits.preset before-after: the location's scenes on each side of the date
+// (splits.before_after_date) and the capture dates they span (for an empty split's
+// explanation).
 struct TimeSplitSides {
-  std::string date, first_date, last_date;  // first/last: "" without scenes
-  size_t before = 0, after = 0;             // scenes captured before the date / on or after it
+  std::string first_date, last_date;  // "" without scenes
+  size_t before = 0, after = 0;       // scenes captured before the date / on or after it
 };
 
 struct PlanFilters {

@@ -50,7 +50,7 @@ std::string split_account(const PlanFilters& f, const GenerateConfig& c, size_t 
     if (f.time_split) {
       const TimeSplitSides& t = *f.time_split;
       const bool side_empty = (k == 0 ? t.before : t.after) == 0;
-      why = side_empty ? strprintf("no scene captured %s %s", k == 0 ? "before" : "on or after", t.date.c_str())
+      why = side_empty ? strprintf("no scene captured %s %s", k == 0 ? "before" : "on or after", c.split_date.c_str())
                        : "its scenes kept no LiDAR point";
       if (side_empty) h.move_date = &t;
     } else if (f.regions.explicit_regions) {
@@ -112,8 +112,8 @@ std::vector<std::string> location_account(const PlanFilters& f, const GenerateCo
                       c.raster.lidar_channel.c_str(), c.raster.lidar.max_range_m);
   if (f.time_split) {
     const TimeSplitSides& t = *f.time_split;
-    head += strprintf("; before-after split at %s: %zu scene(s) before (train), %zu on or after (test)", t.date.c_str(),
-                      t.before, t.after);
+    head += strprintf("; before-after split at %s: %zu scene(s) before (train), %zu on or after (test)",
+                      c.split_date.c_str(), t.before, t.after);
     if (!t.first_date.empty()) head += ", captured " + t.first_date + " … " + t.last_date;
   } else if (!f.regions.explicit_regions && !f.regions.no_lidar) {
     head += strprintf(
@@ -161,7 +161,7 @@ std::vector<std::string> suggestions(const Hints& h, const GenerateConfig& c) {
     out.push_back(
         strprintf("move splits.before_after_date (now %s) inside the capture dates (%s … %s) so both "
                   "sides have scenes",
-                  h.move_date->date.c_str(), h.move_date->first_date.c_str(), h.move_date->last_date.c_str()));
+                  c.split_date.c_str(), h.move_date->first_date.c_str(), h.move_date->last_date.c_str()));
   if (h.block_coverage)
     out.push_back(strprintf("let sparser blocks take part: --set splits.min_block_coverage=… (now %g)",
                             c.splits.min_block_coverage));
