@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""The reference model's tables from `nsgraph score` reports: Table II (the variants), the
-input ablation, the per-tile paired differences between variants (mean ± standard error),
+"""The reference model's tables from `nsgraph score` reports: Table II (the variants) and
+its junction metrics (metrics v2: split detection, junction TOPO, GEO recall in and out of
+intersections), the input ablation, the per-tile paired differences between variants (mean ± standard error),
 and a check of every row against committed values (scripts/model-expected.json).
 
   model_table.py --dir demo-out/baselines --rows b1 b2 graph \
@@ -18,7 +19,13 @@ import os
 import sys
 
 METRICS = ["apls", "f1", "iou", "chamfer_mean_m", "direction_accuracy", "topo_f1"]
-HIGHER_IS_BETTER = {"apls", "f1", "iou", "direction_accuracy", "topo_f1"}
+# Where models fail (docs/metrics.md "Metrics v2"); SDA is a mean over the tiles with a
+# ground-truth split, the per-class recalls over the tiles with lanes of the class.
+JUNCTION_METRICS = ["sda20_precision", "sda20_recall", "sda50_precision", "sda50_recall", "jtopo_f1",
+                    "geo_recall_in_intersection", "geo_recall_outside_intersection"]
+JUNCTION_HEADERS = ["SDA@20 P", "SDA@20 R", "SDA@50 P", "SDA@50 R", "JTOPO F1", "GEO R in intersections",
+                    "GEO R outside"]
+HIGHER_IS_BETTER = {"apls", "f1", "iou", "direction_accuracy", "topo_f1"} | set(JUNCTION_METRICS)
 VARIANT_LABELS = {"b1": "b1: skeletonized centreline regression", "b2": "b2: anchors + two nearest neighbours",
                   "graph": "graph: anchors + has-connection classifier",
                   "net": "net: LaneGraphNet (PyTorch → ONNX, C++ predict)"}
@@ -27,7 +34,9 @@ ABLATION_LABELS = {"lidar": "LiDAR only", "lidar+rgb": "LiDAR + RGB", "lidar+sem
 # The differences docs/reference-model.md quotes: (a, b, metric) → a − b per tile.
 PAIRS = [("graph", "b1", "apls"), ("graph", "b1", "f1"), ("graph", "b1", "topo_f1"),
          ("graph", "b2", "apls"), ("graph", "b2", "f1"), ("graph", "b2", "topo_f1"),
-         ("net", "graph", "apls"), ("net", "graph", "f1"), ("net", "graph", "topo_f1")]
+         ("net", "graph", "apls"), ("net", "graph", "f1"), ("net", "graph", "topo_f1"),
+         ("graph", "b1", "sda50_recall"), ("graph", "b1", "jtopo_f1"), ("net", "graph", "sda50_recall"),
+         ("net", "graph", "jtopo_f1")]
 
 
 def load_row(folder, name):
@@ -35,8 +44,8 @@ def load_row(folder, name):
     with open(os.path.join(folder, f"{name}.score.json")) as f:
         rep = json.load(f)
     row = {"name": name, "tiles": rep["aggregate"]["n_tiles"],
-           "mean": {m: rep["aggregate"]["mean"].get(m) for m in METRICS},
-           "per_tile": {key: {m: t.get(m) for m in METRICS} for key, t in rep["tiles"].items()}}
+           "mean": {m: rep["aggregate"]["mean"].get(m) for m in METRICS + JUNCTION_METRICS},
+           "per_tile": {key: {m: t.get(m) for m in METRICS + JUNCTION_METRICS} for key, t in rep["tiles"].items()}}
     try:
         with open(os.path.join(folder, f"{name}.time.json")) as f:
             row["train_s"] = json.load(f)["train_s"]
@@ -95,6 +104,12 @@ def markdown(variants, ablation, pairs, checks):
         lines += [f"| variant (synthetic demo test split, {tiles} tiles) | APLS | F1 | IoU | Chamfer mean m | "
                   "direction acc. | TOPO F1 | train s |", "|---|---:|---:|---:|---:|---:|---:|---:|"]
         lines += [row_line(VARIANT_LABELS.get(r["name"], r["name"]), r, METRICS) for r in variants]
+        lines.append("")
+        lines += [f"| variant, junction metrics ({tiles} tiles) | " + " | ".join(JUNCTION_HEADERS) + " |",
+                  "|---|" + "---:|" * len(JUNCTION_HEADERS)]
+        for r in variants:
+            cells = " | ".join(fmt(r["mean"][m]) for m in JUNCTION_METRICS)
+            lines.append(f"| {VARIANT_LABELS.get(r['name'], r['name'])} | {cells} |")
         lines.append("")
     if ablation:
         metrics = ["apls", "f1", "iou", "direction_accuracy", "topo_f1"]

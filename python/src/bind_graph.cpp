@@ -2,6 +2,7 @@
 // graph::project_onto_lanes (nsgraph.adaptive_ground_truth); a map's lane graph
 // (skeleton::graphify, nsgraph.graphify).
 #include <cstring>
+#include <optional>
 
 #include "bindings.h"
 #include "convert.h"
@@ -111,6 +112,8 @@ py::dict graph_dict(const metrics::Graph& g) {
   py::dict d;
   d["nodes"] = pairs_to_numpy(nodes);
   d["edges"] = pairs_to_numpy(g.edges);
+  d["node_scores"] = py::array_t<double>(static_cast<py::ssize_t>(g.node_scores.size()), g.node_scores.data());
+  d["edge_scores"] = py::array_t<double>(static_cast<py::ssize_t>(g.edge_scores.size()), g.edge_scores.data());
   return d;
 }
 
@@ -136,32 +139,49 @@ cv::Mat map_arg(const py::array& a) {
   return m;
 }
 
-py::dict graphify_array(const py::array& map, const py::dict& kwargs) {
+// graphify's directed mode: None (undirected), a heading file's path or a 2-D array.
+std::optional<cv::Mat> heading_arg(const py::object& heading, std::string& name) {
+  if (heading.is_none()) return std::nullopt;
+  if (py::isinstance<py::str>(heading)) {
+    name = heading.cast<std::string>();
+    return skeleton::read_map_file(name);
+  }
+  name = "heading";
+  return map_arg(heading.cast<py::array>());
+}
+
+py::dict graphify_one(const cv::Mat& map, const std::string& map_name, const py::object& heading,
+                      const py::dict& kwargs) {
   const skeleton::GraphifyOptions options = graphify_options(kwargs);
-  const cv::Mat m = map_arg(map);
+  std::string heading_name;
+  const std::optional<cv::Mat> h = heading_arg(heading, heading_name);
   metrics::Graph g;
   {
     py::gil_scoped_release release;
-    g = skeleton::graphify(m, options, "map");
+    if (h) skeleton::check_heading_map(*h, map.size(), heading_name);
+    g = skeleton::graphify(map, options, map_name, h ? &*h : nullptr);
   }
   return graph_dict(g);
 }
 
-py::dict graphify_file(const std::string& path, const py::dict& kwargs) {
-  const skeleton::GraphifyOptions options = graphify_options(kwargs);
-  metrics::Graph g;
+py::dict graphify_array(const py::array& map, const py::object& heading, const py::dict& kwargs) {
+  return graphify_one(map_arg(map), "map", heading, kwargs);
+}
+
+py::dict graphify_file(const std::string& path, const py::object& heading, const py::dict& kwargs) {
+  cv::Mat m;
   {
     py::gil_scoped_release release;
-    g = skeleton::graphify(skeleton::read_map_file(path), options, path);
+    m = skeleton::read_map_file(path);
   }
-  return graph_dict(g);
+  return graphify_one(m, path, heading, kwargs);
 }
 
 }  // namespace
 
 void bind_graph(py::module_& m) {
-  m.def("graphify_array", &graphify_array, py::arg("map"), py::arg("options"));
-  m.def("graphify_file", &graphify_file, py::arg("path"), py::arg("options"));
+  m.def("graphify_array", &graphify_array, py::arg("map"), py::arg("heading"), py::arg("options"));
+  m.def("graphify_file", &graphify_file, py::arg("path"), py::arg("heading"), py::arg("options"));
   m.def("adaptive_ground_truth", &adaptive_ground_truth, py::arg("nodes"), py::arg("edges"), py::arg("lane_tokens"),
         py::arg("lane_changes"), py::arg("proposals"), py::arg("max_distance"), py::arg("max_follow"));
 }

@@ -32,7 +32,10 @@ class GraphifyTest(unittest.TestCase):
     def test_a_drawn_graph_comes_back(self):
         mask, truth = two_lanes_mask()
         g = nsgraph.graphify(mask)
-        self.assertEqual(sorted(g), ["edges", "nodes"])
+        self.assertEqual(sorted(g), ["edge_scores", "edges", "node_scores", "nodes"])
+        self.assertEqual(g["node_scores"].shape, (len(g["nodes"]),))
+        self.assertEqual(g["edge_scores"].shape, (len(g["edges"]),))
+        self.assertGreaterEqual(g["node_scores"].min(), 0.99)  # a clean mask: ~1 under every anchor
         self.assertEqual(g["nodes"].dtype, np.float64)
         self.assertEqual(g["edges"].dtype, np.int64)
         self.assertEqual(g["nodes"].shape[1], 2)
@@ -50,6 +53,24 @@ class GraphifyTest(unittest.TestCase):
                       nsgraph.graphify((mask.astype(np.uint16) * 257))):
             np.testing.assert_array_equal(other["edges"], g["edges"])
             np.testing.assert_allclose(other["nodes"], g["nodes"])
+
+    def test_a_heading_map_directs_the_edges(self):
+        # The upper lane runs east (a quarter turn clockwise from north), the lower west;
+        # the truth's second polyline runs east too, so flip it to west.
+        mask, (nodes, edges) = two_lanes_mask()
+        edges = np.concatenate([edges[:8], edges[8:][:, ::-1]])
+        heading = np.full((256, 256), -1.0, np.float32)
+        heading[mask > 0] = np.where(np.arange(256)[:, None] < 128, 0.25, 0.75).repeat(256, 1)[mask > 0]
+        g = nsgraph.graphify(mask, heading=heading)
+        directed = {tuple(e) for e in g["edges"].tolist()}
+        self.assertFalse(directed & {(b, a) for a, b in directed})
+        self.assertGreaterEqual(nsgraph.score_tile((nodes, edges), g)["apls_directed"], 0.95)
+        path = os.path.join(self.tmp.name, "heading.npy")
+        np.save(path, heading)
+        np.testing.assert_array_equal(nsgraph.graphify(mask, heading=path)["edges"], g["edges"])
+        with self.assertRaises(nsgraph.DataError) as e:
+            nsgraph.graphify(mask, heading=heading[:100])
+        self.assertIn("the size of its map", str(e.exception))
 
     def test_options_are_the_declared_keys(self):
         mask, _ = two_lanes_mask()

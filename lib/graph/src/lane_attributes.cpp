@@ -150,19 +150,37 @@ void add_lane_attributes(LaneGraph& graph) {
 }
 
 void mark_intersections(LaneGraph& graph, const nuscenes::MapExpansion& map) {
-  std::vector<const nuscenes::MapPolygon*> intersections;
-  for (const nuscenes::RoadSegment& segment : map.road_segments())
-    if (segment.is_intersection && segment.polygon != nuscenes::kNoMapIndex && segment.polygon < map.polygons().size())
-      intersections.push_back(&map.polygons()[segment.polygon]);
+  // Each intersection polygon with its exterior's bounding box, so a lane's middle is
+  // tested against the few polygons around it (a city map has hundreds of them).
+  struct Area {
+    const nuscenes::MapPolygon* polygon;
+    double x0, y0, x1, y1;
+  };
+  std::vector<Area> areas;
+  for (const nuscenes::RoadSegment& segment : map.road_segments()) {
+    if (!segment.is_intersection || segment.polygon == nuscenes::kNoMapIndex ||
+        segment.polygon >= map.polygons().size())
+      continue;
+    Area a{&map.polygons()[segment.polygon], 1e300, 1e300, -1e300, -1e300};
+    for (nuscenes::MapIndex n : a.polygon->exterior_nodes) {
+      if (n == nuscenes::kNoMapIndex || n >= map.nodes().size()) continue;
+      const nuscenes::MapNode& p = map.nodes()[n];
+      a.x0 = std::min(a.x0, p.x_m), a.y0 = std::min(a.y0, p.y_m);
+      a.x1 = std::max(a.x1, p.x_m), a.y1 = std::max(a.y1, p.y_m);
+    }
+    areas.push_back(a);
+  }
   for (Lane& lane : graph.lanes) {
     lane.in_intersection = false;
     if (lane.nodes.empty()) continue;
     const Node& middle = graph.nodes[static_cast<size_t>(lane.nodes[lane.nodes.size() / 2])];
-    for (const nuscenes::MapPolygon* polygon : intersections)
-      if (inside_polygon(map, *polygon, middle.x_m, middle.y_m)) {
+    for (const Area& a : areas) {
+      if (middle.x_m < a.x0 || middle.x_m > a.x1 || middle.y_m < a.y0 || middle.y_m > a.y1) continue;
+      if (inside_polygon(map, *a.polygon, middle.x_m, middle.y_m)) {
         lane.in_intersection = true;
         break;
       }
+    }
   }
 }
 

@@ -33,12 +33,4 @@ std::array<double, 2> mean_direction_px(const std::array<float, kDirectionClasse
   return m;
 }
 
-bool orient_a_to_b(const std::array<double, 2>& a_uv, const std::array<double, 2>& b_uv,
-                   const std::array<double, 2>& mean_dir_a, const std::array<double, 2>& mean_dir_b) {
-  const double du = b_uv[0] - a_uv[0], dv = b_uv[1] - a_uv[1];
-  const double mu = mean_dir_a[0] + mean_dir_b[0], mv = mean_dir_a[1] + mean_dir_b[1];
-  // dot(a→b, m) vs dot(b→a, m) = −dot(a→b, m): a→b wins unless its dot is negative.
-  return du * mu + dv * mv >= 0.0;
-}
-
 }  // namespace nsg::model

@@ -35,13 +35,7 @@ metrics::Graph orient_and_score(const AnchorGraph& anchors, const cv::Mat& likel
       const double c = norm > 0.0 ? std::fabs(du * mu + dv * mv) / norm : 0.0;
       angle_deg->push_back(std::acos(std::min(1.0, c)) * 180.0 / M_PI);
     }
-    const int samples = std::max(2, static_cast<int>(std::ceil(std::hypot(du, dv))) + 1);
-    double sum = 0.0;
-    for (int s = 0; s < samples; ++s) {
-      const double t = static_cast<double>(s) / (samples - 1);
-      sum += sample_bilinear(likelihood, anchors.nodes[a][0] + t * du, anchors.nodes[a][1] + t * dv);
-    }
-    g.edge_scores.push_back(sum / samples);
+    g.edge_scores.push_back(skeleton::segment_score(likelihood, anchors.nodes[a], anchors.nodes[b]));
   }
   return g;
 }

@@ -66,6 +66,25 @@ double sample_bilinear(const cv::Mat& map, double u, double v) {
          fv * ((1 - fu) * at(v0 + 1, u0) + fu * at(v0 + 1, u0 + 1));
 }
 
+double segment_score(const cv::Mat& likelihood, const std::array<double, 2>& a_uv, const std::array<double, 2>& b_uv) {
+  const double du = b_uv[0] - a_uv[0], dv = b_uv[1] - a_uv[1];
+  const int samples = std::max(2, static_cast<int>(std::ceil(std::hypot(du, dv))) + 1);
+  double sum = 0.0;
+  for (int s = 0; s < samples; ++s) {
+    const double t = static_cast<double>(s) / (samples - 1);
+    sum += sample_bilinear(likelihood, a_uv[0] + t * du, a_uv[1] + t * dv);
+  }
+  return sum / samples;
+}
+
+bool orient_a_to_b(const std::array<double, 2>& a_uv, const std::array<double, 2>& b_uv,
+                   const std::array<double, 2>& mean_dir_a, const std::array<double, 2>& mean_dir_b) {
+  const double du = b_uv[0] - a_uv[0], dv = b_uv[1] - a_uv[1];
+  const double mu = mean_dir_a[0] + mean_dir_b[0], mv = mean_dir_a[1] + mean_dir_b[1];
+  // dot(a→b, m) vs dot(b→a, m) = −dot(a→b, m): a→b wins unless its dot is negative.
+  return du * mu + dv * mv >= 0.0;
+}
+
 cv::Mat drop_small_components(const cv::Mat& mask, int min_px) {
   cv::Mat labels, stats, centroids;
   const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);

@@ -76,6 +76,10 @@ const Table<CityConfig>& city_table() {
         .help(
             "Street layout: a grid inside a ring road, or the organic city in the same rectangle "
             "(blocks · block_size_m from origin_m)");
+    t.boolean("city.local_streets", &CityConfig::local_streets)
+        .help(
+            "The organic layout's local streets between its arterials: ten more junctions (T, skewed "
+            "crossings) in the same rectangle, at least 700 × 400 m");
     number_pair(t, "city.origin_m", &CityConfig::origin_m, Range{}, "[x, y] in metres")
         .unit("m")
         .help("South-west corner of the street grid (at least sidewalk + 20 m inside the map)");
@@ -294,6 +298,13 @@ void check_geometry(const SynthConfig& c) {
               "blocks_y · block_size_m of at least 300 m for the organic layout");
     NSG_CHECK(w >= 1.2 * h && w <= 3.0 * h, ConfigError, "", "city.blocks_x",
               "blocks_x · block_size_m between 1.2 and 3 times blocks_y · block_size_m for the organic layout");
+  }
+  if (city.local_streets) {
+    const double w = city.blocks_x * city.block_size_m, h = city.blocks_y * city.block_size_m;
+    NSG_CHECK(city.layout == CityLayout::kOrganic, ConfigError, "", "city.local_streets",
+              "false unless city.layout is \"organic\" (the grid has its own streets)");
+    NSG_CHECK(w >= 700.0 && h >= 400.0, ConfigError, "", "city.local_streets",
+              "false, or a rectangle of at least 700 × 400 m (blocks · block_size_m) to hold the local streets");
   }
   NSG_CHECK(c.lidar.roof_points < c.lidar.points_per_sweep, ConfigError, "", "lidar.roof_points",
             "an integer in [0, points_per_sweep)");

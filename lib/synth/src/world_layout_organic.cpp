@@ -42,6 +42,22 @@ enum Node : int {
   kNodeCount,  //
 };
 
+// The local streets' nodes (city.local_streets), after the plan's own so a city without
+// them keeps its node numbers.
+enum LocalNode : int {
+  kP = kNodeCount,  // T junction: the local street north of K leaves S1
+  kD,               // skewed 4-way crossing of that street and the diagonal
+  kT2,              // T junction: it meets S2 north of the turn pocket
+  kQ,               // T junction: the mid street from K meets S2 south of X
+  kM3,              // T junction: S3 leaves the mid street south
+  kB3,              // S3 meets the boulevard (both carriageways pass through)
+  kR,               // skewed T junction: the street from Q meets the arterial's last stretch
+  kW0,              // T junction: the west street leaves the arterial
+  kW1,              // 4-way crossing: the west street crosses the roundabout's east road
+  kW2,              // T junction: the west street meets the boulevard's approach
+  kAllNodeCount,    //
+};
+
 constexpr double kMedianM = 4.0;                  // between the boulevard's carriageways
 constexpr double kRampShiftM = 14.0;              // how far the ramp runs beside the boulevard
 constexpr double kClimbRad = 25.0 * kPi / 180.0;  // the arterial's Y branch
@@ -85,6 +101,8 @@ class OrganicPlanner {
   void plan_boulevard();
   void plan_cross_streets();
   void plan_roundabout();
+  void plan_local_streets();
+  void split_road(int a, int b, int node);
   std::vector<Arm> arms_of(int node) const;
   Arm arm(const RoadPlan& r, bool at_a) const;
 
@@ -139,6 +157,7 @@ void OrganicPlanner::plan() {
   plan_arterial();
   plan_boulevard();
   plan_cross_streets();
+  if (city_.local_streets) plan_local_streets();
 }
 
 // Columns and rows as fractions of the rectangle; the diagonal from the Y junction N2 to
@@ -253,6 +272,80 @@ void OrganicPlanner::plan_cross_streets() {
   const Street before = streets_[static_cast<size_t>(s2)];
   straight(street(before.n_fwd + 1, before.n_bwd, false, true), kPocket, kX);
   straight(random_street(true), kX, kB2);
+}
+
+// Local streets (city.local_streets) in the plan's empty quarters, each ending on a road
+// of the plan, which is split there: a street from S1 over the diagonal to S2, the mid
+// street from K to S2 with S3 down to the boulevard, a street from S2 to the arterial's
+// last stretch, and the west street from the arterial over the roundabout's east road to
+// the boulevard's approach. Places are fractions of the rectangle like the plan's nodes.
+void OrganicPlanner::plan_local_streets() {
+  nodes_.resize(kAllNodeCount);
+  auto place = [&](int node, Eigen::Vector2d centre, int a, int b) {
+    nodes_[static_cast<size_t>(node)].centre = centre;
+    split_road(a, b, node);
+  };
+  place(kP, at(0.36, 0.65), kN1, kK);
+  place(kT2, at(0.80, 0.80), kN3, kPocket);
+  // D: where P–T2 crosses the diagonal N2–X (p + s·(t − p) = n2 + r·(x − n2), solved for s).
+  const Eigen::Vector2d p = nodes_[kP].centre, t = nodes_[kT2].centre;
+  const Eigen::Vector2d n2 = nodes_[kN2].centre, x = nodes_[kX].centre;
+  auto cross = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); };
+  place(kD, p + cross(n2 - p, n2 - x) / cross(t - p, n2 - x) * (t - p), kN2, kX);
+  place(kQ, at(0.80, 0.38), kX, kB2);
+  const Eigen::Vector2d k = nodes_[kK].centre, q = nodes_[kQ].centre;
+  nodes_[kM3].centre = k + (at(0.58, 0.0).x() - k.x()) / (q.x() - k.x()) * (q - k);
+  nodes_[kB3].centre = at(0.58, 0.14);
+  split_road(kDiverge, kMerge, kB3);  // the eastbound carriageway (the ramp is farther)
+  split_road(kB2, kB1, kB3);          // the westbound one
+  place(kR, at(0.97, 0.25), kE1, kSE);
+  place(kW0, at(0.23, 0.84), kRingN, kN1);
+  place(kW1, at(0.23, 0.50), kRingE, kK);
+  place(kW2, at(0.20, 0.14), kRingS, kBT);
+
+  auto straight = [&](int st, int a, int b) { road(st, a, b, {nodes_[a].centre, nodes_[b].centre}); };
+  const int north = random_street(true);
+  straight(north, kP, kD);
+  straight(north, kD, kT2);
+  const int mid = random_street(true);
+  straight(mid, kK, kM3);
+  straight(mid, kM3, kQ);
+  straight(random_street(true), kM3, kB3);
+  straight(random_street(true), kQ, kR);
+  const int west = random_street(true);
+  straight(west, kW0, kW1);
+  straight(west, kW1, kW2);
+}
+
+// Splits the road from node a to node b nearest to `node`'s centre where the node projects
+// onto it: the first part ends at the node, the second starts there (same street, bends).
+void OrganicPlanner::split_road(int a, int b, int node) {
+  const Eigen::Vector2d c = nodes_[static_cast<size_t>(node)].centre;
+  size_t best_road = roads_.size(), best_seg = 0;
+  double best_d = 1e300;
+  Eigen::Vector2d best_p = c;
+  for (size_t i = 0; i < roads_.size(); ++i) {
+    const RoadPlan& r = roads_[i];
+    if (r.ring || r.a != a || r.b != b) continue;
+    for (size_t k = 0; k + 1 < r.poly.size(); ++k) {
+      const Eigen::Vector2d u = r.poly[k + 1] - r.poly[k];
+      const double s = std::clamp((c - r.poly[k]).dot(u) / u.squaredNorm(), 0.0, 1.0);
+      const Eigen::Vector2d pt = r.poly[k] + s * u;
+      if ((pt - c).norm() < best_d) best_road = i, best_seg = k, best_d = (pt - c).norm(), best_p = pt;
+    }
+  }
+  NSG_CHECK(best_road < roads_.size() && best_d < 20.0, InternalError, "organic layout",
+            "local street node " + std::to_string(node),
+            "a plan road from node " + std::to_string(a) + " to " + std::to_string(b) + " passing within 20 m");
+  RoadPlan second = roads_[best_road];
+  RoadPlan& first = roads_[best_road];
+  first.b = node;
+  first.poly.resize(best_seg + 1);
+  first.poly.push_back(best_p);
+  second.a = node;
+  second.poly.erase(second.poly.begin(), second.poly.begin() + static_cast<std::ptrdiff_t>(best_seg) + 1);
+  second.poly.insert(second.poly.begin(), best_p);
+  roads_.insert(roads_.begin() + static_cast<std::ptrdiff_t>(best_road) + 1, std::move(second));
 }
 
 // The arm a road makes at one of its nodes: direction out of the node, and how far its

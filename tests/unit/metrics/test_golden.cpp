@@ -97,5 +97,28 @@ TEST_F(Golden, ThreadCountDoesNotChangeTheReport) {
   EXPECT_EQ(report_to_json(score(gt, pred, one)).dump(), report_->dump());
 }
 
+// sda_cases.json (sda_reference.py --cases): tiles where SDA@20 and SDA@50 disagree and
+// where the least-distance assignment is not the greedy nearest match.
+TEST(GoldenSda, RadiiDisagreeAndTheAssignmentIsNotGreedy) {
+  const nlohmann::json cases = read_json_file(kGolden / "sda_cases.json");
+  const GraphSet gt = graphs_from_submission(cases.at("gt"), "sda_cases.json gt");
+  const GraphSet pred = graphs_from_submission(cases.at("pred"), "sda_cases.json pred");
+  const nlohmann::json report = report_to_json(score(gt, pred, ScoreOptions{}));
+  size_t radii_differ = 0;
+  for (const auto& [key, want] : cases.at("expected").items()) {
+    const nlohmann::json& ours = report["tiles"][key];
+    for (const auto& [name, value] : want.items()) {
+      if (name == "counts") {
+        for (const auto& [count, n] : value.items()) EXPECT_EQ(n, ours["counts"][count]) << key << " counts." << count;
+      } else {
+        expect_close(value, ours[name], key + "." + name);
+      }
+    }
+    radii_differ += want["counts"]["sda20_matched"] != want["counts"]["sda50_matched"];
+  }
+  EXPECT_EQ(cases.at("expected").size(), 4u);
+  EXPECT_GE(radii_differ, 3u);
+}
+
 }  // namespace
 }  // namespace nsg::metrics

@@ -81,6 +81,21 @@ cv::Mat draw_mask(const metrics::Graph& truth, int width_px, int size_px) {
   return mask;
 }
 
+cv::Mat draw_heading(const metrics::Graph& truth, int width_px, int size_px) {
+  cv::Mat heading(size_px, size_px, CV_32F, cv::Scalar(-1.0f));
+  for (const auto& e : truth.edges) {
+    const auto& a = truth.nodes[static_cast<size_t>(e[0])];
+    const auto& b = truth.nodes[static_cast<size_t>(e[1])];
+    // Clockwise from north (−v): atan2(du, −dv), as a fraction of a turn in [0, 1).
+    double h = std::atan2(b.u - a.u, -(b.v - a.v)) / (2.0 * M_PI);
+    if (h < 0.0) h += 1.0;
+    cv::line(heading, {static_cast<int>(std::lround(a.u * 16)), static_cast<int>(std::lround(a.v * 16))},
+             {static_cast<int>(std::lround(b.u * 16)), static_cast<int>(std::lround(b.v * 16))}, cv::Scalar(h),
+             width_px, cv::LINE_8, 4);
+  }
+  return heading;
+}
+
 cv::Mat noisy_map(const cv::Mat& mask, double blur_sigma_px, double peak, double noise_fraction, uint64_t seed) {
   cv::Mat map;
   mask.convertTo(map, CV_32F, peak / 255.0);
@@ -92,9 +107,9 @@ cv::Mat noisy_map(const cv::Mat& mask, double blur_sigma_px, double peak, double
   return map;
 }
 
-double apls(const metrics::Graph& truth, const metrics::Graph& pred) {
+double apls(const metrics::Graph& truth, const metrics::Graph& pred, bool directed) {
   const metrics::TileMeasurement m = metrics::measure("tile", truth, &pred, metrics::MetricParams{});
-  return m.values[metrics::kApls].value_or(-1.0);
+  return m.values[directed ? metrics::kAplsDirected : metrics::kApls].value_or(-1.0);
 }
 
 }  // namespace nsg::test

@@ -22,7 +22,11 @@ cv::Mat draw_mask(const metrics::Graph& truth, int width_px, int size_px = 256);
 // A probability map: the mask blurred (σ = blur_sigma_px), scaled by `peak`, then
 // salt-and-pepper noise on a `noise_fraction` of the pixels (seeded, nsg::Rng).
 cv::Mat noisy_map(const cv::Mat& mask, double blur_sigma_px, double peak, double noise_fraction, uint64_t seed);
-// APLS (undirected, metrics::kApls) of `pred` against `truth` on a 256-px tile.
-double apls(const metrics::Graph& truth, const metrics::Graph& pred);
+// The heading of each truth edge drawn along it `width_px` wide (the dataset's vehicle
+// layer convention: a fraction of a turn clockwise from north), −1 elsewhere; CV_32F.
+cv::Mat draw_heading(const metrics::Graph& truth, int width_px, int size_px = 256);
+// APLS (undirected, metrics::kApls; or directed, kAplsDirected) of `pred` against `truth`
+// on a 256-px tile.
+double apls(const metrics::Graph& truth, const metrics::Graph& pred, bool directed = false);
 
 }  // namespace nsg::test

@@ -35,7 +35,7 @@ TEST(WorldConfig, UnknownKeyIsRejectedNamingIt) {
 }
 
 TEST(WorldConfig, SamplesParseAndTrafficSideFollowsLocation) {
-  for (const char* name : {"tiny.json", "demo.json", "bench.json"}) {
+  for (const char* name : {"tiny.json", "demo.json", "demo-grid.json", "bench.json"}) {
     const SynthConfig c = SynthConfig::from_file(test::source_dir() / "samples" / "synth" / name);
     EXPECT_NO_THROW(c.validate()) << name;
   }

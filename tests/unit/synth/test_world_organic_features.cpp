@@ -2,7 +2,8 @@
 // (not the planner's own records): skewed, T and Y junctions, a closed one-way ring, lane
 // drops and added lanes, a turn pocket, a median between opposite carriageways, a ramp
 // that leaves a carriageway and rejoins it, and clothoid-like bends — for both traffic
-// sides.
+// sides, on organic-tiny.json and on the demo world (demo.json: the same plan with its
+// local streets, city.local_streets).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +11,7 @@
 #include <numeric>
 #include <set>
 #include <string>
+#include <tuple>
 
 #include "nsg/geometry/arcline.h"
 #include "nsg/synth/config.h"
@@ -22,9 +24,12 @@ namespace {
 constexpr double kPi = 3.141592653589793;
 constexpr double kDeg = kPi / 180.0;
 
-SynthConfig organic_config(const std::string& location) {
-  SynthConfig c = SynthConfig::from_file(test::source_dir() / "samples" / "synth" / "organic-tiny.json");
-  c.location = location;
+// The sample and the location (its traffic side).
+using WorldParam = std::tuple<std::string, std::string>;
+
+SynthConfig organic_config(const WorldParam& param) {
+  SynthConfig c = SynthConfig::from_file(test::source_dir() / "samples" / "synth" / std::get<0>(param));
+  c.location = std::get<1>(param);
   return c;
 }
 
@@ -62,6 +67,30 @@ std::vector<Place> places(const World& w) {
   for (const LaneInfo& c : w.lanes) {
     if (!c.is_connector) continue;
     parent[static_cast<size_t>(find(parent, 2 * c.incoming[0]))] = find(parent, 2 * c.outgoing[0] + 1);
+  }
+  // Where every lane of an arm turns one way only (a two-lane arm's inner lane left, outer
+  // lane right), a junction's connectors fall into groups no connector joins; they still
+  // cross or touch each other inside the junction (a left turn crosses the opposing
+  // straight movement), which connectors of different places never do.
+  std::vector<int> connectors;
+  std::vector<std::vector<geometry::Pose2>> lines;
+  for (int i = 0; i < n; ++i) {
+    if (!w.lanes[static_cast<size_t>(i)].is_connector) continue;
+    connectors.push_back(i);
+    lines.push_back(lane_polyline(w.lanes[static_cast<size_t>(i)], 1.0));
+  }
+  auto touch = [](const std::vector<geometry::Pose2>& a, const std::vector<geometry::Pose2>& b) {
+    for (const geometry::Pose2& p : a)
+      for (const geometry::Pose2& q : b)
+        if (std::hypot(p.x - q.x, p.y - q.y) < 1.0) return true;
+    return false;
+  };
+  for (size_t i = 0; i < connectors.size(); ++i) {
+    for (size_t j = i + 1; j < connectors.size(); ++j) {
+      const int ri = find(parent, 2 * w.lanes[static_cast<size_t>(connectors[i])].incoming[0]);
+      const int rj = find(parent, 2 * w.lanes[static_cast<size_t>(connectors[j])].incoming[0]);
+      if (ri != rj && touch(lines[i], lines[j])) parent[static_cast<size_t>(ri)] = rj;
+    }
   }
   std::map<int, Place> by_root;
   for (int i = 0; i < n; ++i) {
@@ -103,7 +132,7 @@ double distance_to(const std::vector<geometry::Pose2>& line, const geometry::Pos
   return best;
 }
 
-class OrganicFeatures : public ::testing::TestWithParam<std::string> {
+class OrganicFeatures : public ::testing::TestWithParam<WorldParam> {
  protected:
   void SetUp() override {
     config_ = organic_config(GetParam());
@@ -317,9 +346,12 @@ TEST_P(OrganicFeatures, ClothoidLikeBends) {
   EXPECT_GE(clothoids, 8);
 }
 
-INSTANTIATE_TEST_SUITE_P(BothTrafficSides, OrganicFeatures, ::testing::Values("boston-seaport", "singapore-onenorth"),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
-                           return info.param == "boston-seaport" ? "RightHand" : "LeftHand";
+INSTANTIATE_TEST_SUITE_P(BothTrafficSides, OrganicFeatures,
+                         ::testing::Combine(::testing::Values("organic-tiny.json", "demo.json"),
+                                            ::testing::Values("boston-seaport", "singapore-onenorth")),
+                         [](const ::testing::TestParamInfo<WorldParam>& info) {
+                           return std::string(std::get<0>(info.param) == "demo.json" ? "Demo" : "Tiny") +
+                                  (std::get<1>(info.param) == "boston-seaport" ? "RightHand" : "LeftHand");
                          });
 
 }  // namespace

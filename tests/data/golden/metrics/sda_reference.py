@@ -6,10 +6,12 @@ assignment: an exact dynamic programme over the subsets of the smaller side (the
 shortest augmenting paths), on the graphs after nsgraph's cleaning (self-loops and
 repeated directed edges dropped; docs/metrics.md "Cleaning").
 
-usage: sda_reference.py [--write]
+usage: sda_reference.py [--write] [--cases]
 Prints each tile's values. --write adds them (per tile: the four metrics and four counts;
 the aggregate's mean, n_defined, n_undefined and sums) to expected.json, which
-tests/unit/metrics/test_golden.cpp then holds the scorer to.
+tests/unit/metrics/test_golden.cpp then holds the scorer to. --cases writes
+sda_cases.json: hand-made tiles (CASES below) where the two radii disagree and where the
+least-distance assignment differs from a greedy nearest match, their graphs and values.
 """
 import argparse
 import json
@@ -73,10 +75,57 @@ def sda(gt_tile, pred_tile):
     return out
 
 
+def y_split(graph, x, y):
+    """A Y at split node (x, y): an edge in from 20 px below, two out to 20 px above."""
+    base = len(graph["nodes"])
+    graph["nodes"] += [[x, y + 20], [x, y], [x - 15, y - 20], [x + 15, y - 20]]
+    graph["edges"] += [[base, base + 1], [base + 1, base + 2], [base + 1, base + 3]]
+
+
+# tile key: (ground-truth split points, predicted split points), each a Y on a 256-px tile.
+CASES = {
+    # One split 30 px off: matched at 50 px, not at 20.
+    "sda-one-split-30px": ([(128, 128)], [(128, 98)]),
+    # Two splits, one 5 px off and one 40 px off: 1 of 2 at 20 px, 2 of 2 at 50.
+    "sda-two-splits-5-and-40px": ([(70, 128), (190, 128)], [(75, 128), (190, 88)]),
+    # Nearest-first would pair (118,100) with (130,100) at 12 px and leave 60 px for the
+    # other; the least total pairs 18 + 30 px, so 2 of 2 match at 50 px.
+    "sda-assignment-not-greedy": ([(100, 100), (130, 100)], [(118, 100), (160, 100)]),
+    # 68 px off: no match at either radius; one extra predicted split.
+    "sda-beyond-50px": ([(128, 160)], [(128, 92), (40, 200)]),
+}
+
+
+def write_cases():
+    gt, pred, expected = {}, {}, {}
+    for key, (gt_splits, pred_splits) in CASES.items():
+        gt[key] = {"nodes": [], "edges": []}
+        pred[key] = {"nodes": [], "edges": []}
+        for x, y in gt_splits:
+            y_split(gt[key], x, y)
+        for x, y in pred_splits:
+            y_split(pred[key], x, y)
+        expected[key] = sda(gt[key], pred[key])
+        print(key, json.dumps(expected[key]))
+    doc = {"about": "SDA@20/@50 cases where the radii disagree and the assignment is not greedy; "
+                    "made by sda_reference.py --cases",
+           "gt": {"schema_version": "1", "tiles": gt}, "pred": {"schema_version": "1", "tiles": pred},
+           "expected": expected}
+    path = os.path.join(HERE, "sda_cases.json")
+    with open(path + ".tmp", "w") as f:
+        json.dump(doc, f, indent=1)
+        f.write("\n")
+    os.replace(path + ".tmp", path)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--write", action="store_true")
+    parser.add_argument("--cases", action="store_true")
     args = parser.parse_args()
+    if args.cases:
+        write_cases()
+        return
     gt = json.load(open(os.path.join(HERE, "gt.json")))["tiles"]
     pred = json.load(open(os.path.join(HERE, "pred.json")))["tiles"]
     results = {key: sda(gt[key], pred.get(key)) for key in sorted(gt)}

@@ -5,6 +5,8 @@
 // A tile's pixel step (du, dv) (v grows southwards) has the map angle atan2(−dv, du).
 #include <array>
 
+#include "nsg/skeleton/skeleton.h"
+
 namespace nsg::model {
 
 constexpr int kDirectionBins = 18;                // 20° each, as in the paper
@@ -23,10 +25,8 @@ double bin_centre_rad(int bin);
 // only background was voted.
 std::array<double, 2> mean_direction_px(const std::array<float, kDirectionClasses>& votes);
 
-// The paper's rule: an undirected anchor pair (a, b) gets the orientation — a→b or b→a —
-// whose vector has the larger dot product with the sum of the mean predicted directions
-// at both anchors. Returns true for a→b; ties (including no direction evidence) keep a→b.
-bool orient_a_to_b(const std::array<double, 2>& a_uv, const std::array<double, 2>& b_uv,
-                   const std::array<double, 2>& mean_dir_a, const std::array<double, 2>& mean_dir_b);
+// The paper's rule that orients an anchor pair from the mean directions at its ends lives
+// with the skeleton chain (graphify's directed mode uses it too).
+using skeleton::orient_a_to_b;
 
 }  // namespace nsg::model

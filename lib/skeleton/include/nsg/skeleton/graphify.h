@@ -2,7 +2,11 @@
 // `nsgraph graphify` and nsgraph.graphify: a centreline probability map or a binary mask
 // per tile → the lane graph in the submission format (docs/graphify.md). The rule is the
 // skeleton chain's (skeleton.h): threshold, thin, trace, prune spurs, anchors ≤ 2 m apart.
-// The output is undirected: every skeleton edge is written in both directions.
+// Undirected by default (every skeleton edge written in both directions); directed when a
+// heading map per tile is given (the dataset's vehicle-layer convention), each edge
+// oriented by the paper's rule (orient_a_to_b) from the headings at its two anchors.
+// Nodes are scored by the likelihood at the anchor, edges by the mean along them.
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -23,7 +27,10 @@ constexpr uintmax_t kMaxMapFileBytes = 80ull << 20;
 
 struct GraphifyOptions {
   SkeletonOptions skeleton;  // keys without a prefix: threshold, smooth_sigma_px, …
-  void validate() const;     // ConfigError naming the key
+  // Directed mode: half the side of the square window of heading pixels averaged at an
+  // anchor (3 → 7 x 7 px, 1.4 m: a lane's width at 0.2 m/px).
+  int heading_window_px = 3;
+  void validate() const;  // ConfigError naming the key
 };
 // The keys of `graphify --set` and nsgraph.graphify's keyword arguments.
 const options::Table<GraphifyOptions>& graphify_option_table();
@@ -49,13 +56,32 @@ cv::Mat read_map_file(const std::filesystem::path& file);
 // `name` for another type or channel count.
 cv::Mat likelihood_of(const cv::Mat& map, const std::string& name);
 
-// One tile: the skeleton chain on likelihood_of(map), each anchor pair written as the two
-// edges a → b and b → a; nodes (pixel u, v) in placement order, no scores.
-metrics::Graph graphify(const cv::Mat& map, const GraphifyOptions& options, const std::string& name = "map");
+// A heading map of directed mode, as the dataset's `<key>.vehicle.tif` layer
+// (docs/dataset-format.md): float32, one channel, the direction of travel as a fraction of
+// a turn clockwise from map north in [0, 1) (north 0, east 0.25), negative where unknown.
+// DataError naming `name` for another type, a size other than the map's, or a value that
+// is not finite or is ≥ 1.
+void check_heading_map(const cv::Mat& heading, const cv::Size& map_size, const std::string& name);
+
+// The sum of the unit direction vectors (pixel frame: u right, v down) of the known
+// headings in the window of half-side window_px around (u, v); zero where none is known.
+std::array<double, 2> heading_sum_px(const cv::Mat& heading, double u, double v, int window_px);
+
+// One tile: the skeleton chain on likelihood_of(map); nodes (pixel u, v) in placement
+// order with the likelihood at each as its score, edges scored by segment_score. Without
+// `heading` each anchor pair is written as the two edges a → b and b → a; with it (checked
+// by check_heading_map) as one edge oriented by orient_a_to_b from the heading sums at its
+// ends, or both ways where neither end has a known heading.
+metrics::Graph graphify(const cv::Mat& map, const GraphifyOptions& options, const std::string& name = "map",
+                        const cv::Mat* heading = nullptr);
 
 // A map file, or a folder of them (is_map_file_name; other files are ignored), graphified:
 // tile key (the file's stem) → graph. DataError naming the folder when it holds no map or
-// two maps with one stem.
-metrics::GraphSet graphify_input(const std::filesystem::path& input, const GraphifyOptions& options);
+// two maps with one stem. With `headings` (a heading file for a single map, or a folder
+// holding `<tile key>.tif|.tiff|.npy` or the dataset's `<tile key>.vehicle.tif` for
+// every map) the graphs are directed; a map without its heading is a DataError naming
+// the folder and the key.
+metrics::GraphSet graphify_input(const std::filesystem::path& input, const GraphifyOptions& options,
+                                 const std::filesystem::path& headings = {});
 
 }  // namespace nsg::skeleton

@@ -77,6 +77,18 @@ struct SkeletonGraph {
 // Bilinear sample of a CV_32F map at pixel coordinates (u, v); 0 outside the map.
 double sample_bilinear(const cv::Mat& map, double u, double v);
 
+// An edge's score: the likelihood sampled about every pixel along the segment a → b
+// (both ends included), averaged. The reference model's and graphify's edge scores.
+double segment_score(const cv::Mat& likelihood, const std::array<double, 2>& a_uv, const std::array<double, 2>& b_uv);
+
+// The paper's orientation rule: an undirected anchor pair (a, b) gets the orientation —
+// a→b or b→a — whose vector has the larger dot product with the sum of the mean
+// directions (pixel-frame vectors) at both anchors. Returns true for a→b; ties (including
+// no direction evidence) keep a→b. The reference model feeds it LaneDirNet's votes,
+// graphify's directed mode a heading map.
+bool orient_a_to_b(const std::array<double, 2>& a_uv, const std::array<double, 2>& b_uv,
+                   const std::array<double, 2>& mean_dir_a, const std::array<double, 2>& mean_dir_b);
+
 // Drops 8-connected components of a binary mask smaller than min_px (CV_8U 0 / 255 out).
 cv::Mat drop_small_components(const cv::Mat& mask, int min_px);
 // Zhang–Suen thinning of a binary mask (non-zero = foreground) to a one-pixel skeleton.

@@ -20,6 +20,9 @@ enum class CityLayout { kGrid, kOrganic };
 
 struct CityConfig {
   CityLayout layout = CityLayout::kGrid;
+  // The organic layout's local streets between its arterials (more junctions and lanes in
+  // the same rectangle; needs at least 700 × 400 m). Off keeps earlier organic worlds as they were.
+  bool local_streets = false;
   std::array<double, 2> origin_m{200.0, 200.0};  // south-west corner of the street grid
   int blocks_x = 2;                              // blocks between the grid's streets
   int blocks_y = 2;
