@@ -3,6 +3,8 @@
 // with every feature the grid lacks — curved arterials with clothoid-like bends, skewed
 // junctions, T and Y junctions, a one-way roundabout, a lane drop with an added lane, a
 // turn pocket, a divided boulevard with a median and a ramp leaving and rejoining it.
+// With city.local_streets, five local streets fill the plan's empty quarters, splitting
+// the plan's roads where they meet them (ten more junctions; the demo world has them).
 // Lane counts, parking, bend radii and parks come from the builder's Rng. The plan is
 // nodes plus roads (control polylines or ring arcs); `realize` turns it into the nodes and
 // pieces the later, layout-agnostic stages read.
