@@ -158,8 +158,7 @@ py::dict graphify_one(const cv::Mat& map, const std::string& map_name, const py:
   metrics::Graph g;
   {
     py::gil_scoped_release release;
-    if (h) skeleton::check_heading_map(*h, map.size(), heading_name);
-    g = skeleton::graphify(map, options, map_name, h ? &*h : nullptr);
+    g = skeleton::graphify(map, options, map_name, h ? &*h : nullptr, heading_name);
   }
   return graph_dict(g);
 }

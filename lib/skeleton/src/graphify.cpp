@@ -94,10 +94,10 @@ std::array<double, 2> heading_sum_px(const cv::Mat& heading, double u, double v,
 }
 
 metrics::Graph graphify(const cv::Mat& map, const GraphifyOptions& options, const std::string& name,
-                        const cv::Mat* heading) {
+                        const cv::Mat* heading, const std::string& heading_name) {
   options.validate();
   const cv::Mat likelihood = likelihood_of(map, name);
-  if (heading) check_heading_map(*heading, likelihood.size(), name);
+  if (heading) check_heading_map(*heading, likelihood.size(), heading_name.empty() ? name : heading_name);
   const AnchorGraph anchors = skeleton_anchors(likelihood, options.skeleton);
   // Each undirected pair once (two branches between the same vertices collapse); nodes
   // without a pair are left out.
@@ -177,8 +177,7 @@ metrics::Graph graphify_file(const std::filesystem::path& file, const GraphifyOp
   const cv::Mat map = read_map_file(file);
   if (heading_file.empty()) return graphify(map, options, file.string());
   const cv::Mat heading = read_map_file(heading_file);
-  check_heading_map(heading, map.size(), heading_file.string());
-  return graphify(map, options, file.string(), &heading);
+  return graphify(map, options, file.string(), &heading, heading_file.string());
 }
 
 }  // namespace

@@ -336,8 +336,8 @@ void OrganicPlanner::split_road(int a, int b, int node) {
       if ((pt - c).norm() < best_d) best_road = i, best_seg = k, best_d = (pt - c).norm(), best_p = pt;
     }
   }
-  NSG_CHECK(best_road < roads_.size() && best_d < 20.0, InternalError, "organic layout",
-            "local street node " + std::to_string(node),
+  NSG_CHECK(best_road < roads_.size() && best_d < 20.0, InternalError, "",
+            "organic layout: local street node " + std::to_string(node),
             "a plan road from node " + std::to_string(a) + " to " + std::to_string(b) + " passing within 20 m");
   RoadPlan second = roads_[best_road];
   RoadPlan& first = roads_[best_road];

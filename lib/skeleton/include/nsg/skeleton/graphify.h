@@ -70,10 +70,11 @@ std::array<double, 2> heading_sum_px(const cv::Mat& heading, double u, double v,
 // One tile: the skeleton chain on likelihood_of(map); nodes (pixel u, v) in placement
 // order with the likelihood at each as its score, edges scored by segment_score. Without
 // `heading` each anchor pair is written as the two edges a → b and b → a; with it (checked
-// by check_heading_map) as one edge oriented by orient_a_to_b from the heading sums at its
-// ends, or both ways where neither end has a known heading.
+// by check_heading_map, its errors naming `heading_name`, or `name` when that is empty) as
+// one edge oriented by orient_a_to_b from the heading sums at its ends, or both ways where
+// neither end has a known heading.
 metrics::Graph graphify(const cv::Mat& map, const GraphifyOptions& options, const std::string& name = "map",
-                        const cv::Mat* heading = nullptr);
+                        const cv::Mat* heading = nullptr, const std::string& heading_name = {});
 
 // A map file, or a folder of them (is_map_file_name; other files are ignored), graphified:
 // tile key (the file's stem) → graph. DataError naming the folder when it holds no map or
