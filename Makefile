@@ -44,7 +44,8 @@ bench: build
 regen: build
 	@bash scripts/regen.sh $(BUILD)
 
-# Retrains the LaneGraphNet shipped in samples/models/ (scripts/pretrained_model.sh).
+# Retrains the LaneGraphNet shipped in samples/models/ and holds its score to the band of
+# seeds its record keeps (scripts/pretrained_model.sh; --band N measures the band).
 pretrained: build
 	@bash scripts/pretrained_model.sh $(BUILD)
 

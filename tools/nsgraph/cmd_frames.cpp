@@ -1,5 +1,6 @@
 // `nsgraph frames`: the key frames of a release on a dataset's leak-free regions, in
 // OpenLane-V2's per-frame layout (lib/frames, docs/frames.md).
+#include <array>
 #include <iostream>
 #include <optional>
 
@@ -10,6 +11,7 @@
 #include "nsg/core/strings.h"
 #include "nsg/frames/config.h"
 #include "nsg/frames/export.h"
+#include "nsg/tiling/regions.h"
 
 namespace nsg::cli {
 namespace {
@@ -28,6 +30,33 @@ std::string share_text(const frames::Leakage& l) {
       strprintf("%.1f %% of %lld test frames", 100.0 * *l.share_within, static_cast<long long>(l.test_frames));
   if (l.median_distance_m) text += strprintf(", median %.1f m", *l.median_distance_m);
   return text;
+}
+
+// Why the train or test split got no frame, by the counts of the frames dropped, and the option that keeps
+// them. A split without frames is a warning; an export without any is a failed run (exit 1,
+// like generate's empty run): false then.
+bool explain_empty_splits(const frames::FramesSummary& s) {
+  std::array<int64_t, 3> per_split{};
+  for (const auto& [location, counts] : s.frames)
+    for (size_t k = 0; k < counts.size(); ++k) per_split[k] += counts[k];
+  std::vector<std::string> empty;
+  for (size_t k = 0; k < per_split.size(); ++k)  // val is optional: a dataset may have none
+    if (per_split[k] == 0 && tiling::kSplitNames[k] != "val") empty.emplace_back(tiling::kSplitNames[k]);
+  if (empty.empty()) return true;
+  const frames::DropCounts& d = s.dropped;
+  const std::string why = strprintf(
+      "of the release's %lld key frames, %lld lie outside every region of the dataset (its splits.regions), %lld "
+      "come nearer than the split buffer to another split's region (dropped by --overlap drop; --overlap keep or "
+      "flag keeps them), %lld are of another location, %lld of an excluded scene and %lld have no ego pose",
+      static_cast<long long>(s.key_frames), static_cast<long long>(d.outside_regions),
+      static_cast<long long>(d.overlap), static_cast<long long>(d.other_location),
+      static_cast<long long>(d.excluded_scene), static_cast<long long>(d.no_ego_pose));
+  if (s.total_frames() == 0) {
+    log::error("frames: no frame kept in any split: " + why + "; the manifest records the counts");
+    return false;
+  }
+  log::warn("frames: no frame in split(s) " + join(empty, ", ") + ": " + why);
+  return true;
 }
 
 int run_frames(const FramesCliOptions& o, const Context& ctx) {
@@ -52,6 +81,7 @@ int run_frames(const FramesCliOptions& o, const Context& ctx) {
     std::cout << frames::summary_json(s, config).dump(2) << "\n";
     return kExitOk;
   }
+  if (!explain_empty_splits(s)) return kExitProblems;
   log::info(strprintf("frames: within %.1f m of a train frame: %s (regions); %s (scenes-random, seed %llu)",
                       config.leak_radius_m, share_text(s.regions).c_str(), share_text(s.scenes_random).c_str(),
                       static_cast<unsigned long long>(config.seed)));

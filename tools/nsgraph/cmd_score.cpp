@@ -50,21 +50,20 @@ nlohmann::json read_receipt_file(const std::string& file) {
   return *doc;
 }
 
-// --verify-receipt: recompute with the receipt's options and limits, say "same" or what
+// --verify-receipt: recompute with the verifier's own options and limits (the defaults,
+// --no-verify and the limit flags given here; a receipt verifies, it never configures),
+// on the split the receipt names unless --split is given, then say "same" or what
 // differs. Exit 0 same, 1 differs (or the submission is refused now), 2 unreadable.
 int run_verify_receipt(const ScoreCliOptions& o) {
   const nlohmann::json recorded = read_receipt_file(o.verify_receipt);
-  const metrics::ReceiptRecipe recipe = metrics::receipt_recipe(recorded, o.verify_receipt);
+  const metrics::Receipt receipt = metrics::read_receipt(recorded, o.verify_receipt);
   metrics::SubmissionScoreOptions lib = o.lib;
-  lib.score.params = recipe.params;
-  lib.split = recipe.split;
-  lib.verify_ground_truth = recipe.verify_ground_truth;
-  lib.limits = recipe.limits;
+  if (lib.split.empty()) lib.split = receipt.options_split;
   const metrics::ScoredSubmission scored = metrics::score_submission(metrics::ScoreSource::file(o.ground_truth),
                                                                      metrics::ScoreSource::file(o.submission), lib);
   if (!scored.scored()) {
     std::fputs(scored.issues.format().c_str(), stderr);
-    std::printf("receipt %s: differs\n  the submission is refused under the receipt's limits (%zu problem(s))\n",
+    std::printf("receipt %s: differs\n  the submission is refused under this verifier's limits (%zu problem(s))\n",
                 printable_text(o.verify_receipt).c_str(), scored.issues.size());
     return kExitProblems;
   }
@@ -176,8 +175,9 @@ void add_score_command(CLI::App& parent, Context& ctx) {
                 "checked); the report's ground_truth_verification says \"sizes\"");
   cmd->add_option("--out", opts->out, "Write the JSON report here (atomically)");
   cmd->add_option("--verify-receipt", opts->verify_receipt,
-                  "A score report (or its receipt) to verify: recompute with its options and limits from "
-                  "--ground-truth and --submission, print \"same\" or what differs (exit 0 / 1)");
+                  "A score report (or its receipt) to verify: recompute from --ground-truth and --submission with "
+                  "this command's own options and limits (never the receipt's), print \"same\" or what differs "
+                  "(exit 0 / 1)");
   cmd->add_flag("--list-metrics", opts->list_metrics,
                 "Print every metric (name, unit, which way is better, what it measures) and exit: a Markdown table, "
                 "or JSON with --format json");

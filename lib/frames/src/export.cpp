@@ -15,6 +15,7 @@
 #include "nsg/core/files.h"
 #include "nsg/core/json.h"
 #include "nsg/core/log.h"
+#include "nsg/core/output_folder.h"
 #include "nsg/core/progress.h"
 #include "nsg/core/rng.h"
 #include "nsg/core/sha256.h"
@@ -106,7 +107,9 @@ struct LocationGraph {
 };
 
 LocationGraph location_graph(const fs::path& dataroot, const std::string& location, const DatasetPlan& plan) {
-  const fs::path file = dataroot / "maps" / "expansion" / (location + ".json");
+  const fs::path file =
+      dataroot / "maps" / "expansion" /
+      (safe_name(location, plan.manifest_path.string(), "location '" + printable_text(location) + "'") + ".json");
   NSG_CHECK(fs::exists(file), IoError, file.string(), location,
             "the map expansion the dataset " + plan.manifest_path.string() + " was generated from");
   NSG_CHECK(sha256_file(file) == plan.map_sha256.at(location), DataError, file.string(), location,
@@ -144,29 +147,49 @@ std::string random_scene_split(const std::string& scene_token, uint64_t seed, co
   return "test";
 }
 
-// The export's own files in `out`: removed by --overwrite, refused without it.
-void prepare_out(const fs::path& out, bool overwrite) {
-  const fs::path manifest = out / "manifest.json";
-  if (fs::exists(manifest)) {
-    NSG_CHECK(overwrite, ConfigError, manifest.string(), "--out",
-              "a folder without a frames export (or --overwrite to replace it)");
+// What an export of ours consists of in its folder: --overwrite removes files there only,
+// and only those the earlier manifest lists.
+const std::vector<std::string> kExportEntries = {"manifest.json", "data_dict.json", "train", "val", "test"};
+
+// The files an earlier export's manifest lists (relative; the manifest itself included),
+// read leniently: a listing that cannot be read lists nothing, so its files are refused.
+std::set<std::string> files_listed_by(const ordered_json& manifest) {
+  std::set<std::string> listed = {"manifest.json"};
+  const ordered_json files = manifest.value("files", ordered_json());
+  if (!files.is_array()) return listed;
+  for (const ordered_json& f : files)
+    if (f.is_object() && f.contains("path") && f["path"].is_string()) listed.insert(f["path"].get<std::string>());
+  return listed;
+}
+
+// The export's own files in `out`: removed by --overwrite (only those its manifest lists),
+// refused without it; `out` is never the dataset or the release it reads.
+void prepare_out(const OutputFolder& out, bool overwrite, const fs::path& dataset, const fs::path& dataroot) {
+  refuse_out_over_input(out.root(), dataset, "--dataset");
+  refuse_out_over_input(out.root(), dataroot, "the release (--dataroot or the dataset's config)");
+  const fs::path manifest = out.path("manifest.json");
+  std::set<std::string> listed;
+  if (fs::exists(fs::symlink_status(manifest))) {
+    NSG_CHECK(overwrite, ConfigError, out.root().string(), "--out",
+              "a folder without a frames export: " + manifest.string() +
+                  " is one (or another manifest); add --overwrite to replace that export, or choose another --out");
     // --overwrite replaces a frames export only: a dataset's (or anything else's) manifest
     // there means --out points at the wrong folder.
-    std::string kind;
+    ordered_json old;
     try {
-      kind = parse_json_strict(read_file(manifest), manifest.string()).value("kind", "");
+      old = parse_json_strict(read_file(manifest), manifest.string());
     } catch (const Error&) {
     }
-    NSG_CHECK(kind == "nsgraph-frames", ConfigError, manifest.string(), "--out",
+    NSG_CHECK(old.is_object() && old.value("kind", "") == "nsgraph-frames", ConfigError, manifest.string(), "--out",
               "a frames export to replace: this manifest.json is not one (kind \"nsgraph-frames\"); is --out the "
               "dataset's folder?");
-    fs::remove(manifest);
+    listed = files_listed_by(old);
   }
-  if (overwrite) {
-    fs::remove(out / "data_dict.json");
-    for (std::string_view split : tiling::kSplitNames) fs::remove_all(out / std::string(split));
-  }
-  fs::create_directories(out);
+  const int64_t removed = out.remove_listed(listed, kExportEntries, "the earlier export's manifest.json");
+  if (removed > 0)
+    log::info("frames: --overwrite: removed the " + std::to_string(removed) + " file(s) of the export in " +
+              out.root().string());
+  fs::create_directories(out.root());
 }
 
 struct WrittenFile {
@@ -176,9 +199,8 @@ struct WrittenFile {
 };
 
 void place_image(const fs::path& from, const fs::path& to) {
-  fs::create_directories(to.parent_path());
   std::error_code ec;
-  fs::remove(to, ec);
+  fs::remove(to, ec);  // OutputFolder::prepare refused a link there: this is a file of ours
   fs::create_hard_link(from, to, ec);
   if (ec) fs::copy_file(from, to, fs::copy_options::overwrite_existing);
 }
@@ -276,6 +298,8 @@ std::vector<Candidate> collect_candidates(const nuscenes::Database& db, const Da
 struct ExportState {
   const FramesConfig& config;
   const FramesRun& run;
+  const OutputFolder& out;
+  std::string scene_table, sensor_table;  // named by errors about a scene's or channel's name
   const DatasetPlan& plan;
   const nuscenes::Database& db;
   const std::map<std::string, LocationGraph>& graphs;
@@ -332,28 +356,33 @@ std::optional<FrameContext> frame_context(ExportState& es, const Candidate& c) {
 // Writes the frame's record (and its camera images with copy_images).
 void write_frame(ExportState& es, const Candidate& c, FrameContext& context, const FrameLanes& lanes) {
   const nuscenes::Scene& scene = es.db.scene[es.db.sample[c.sample].scene];
-  const std::string folder = context.split + "/" + scene.name;
+  // The scene name becomes the record's folder (OpenLane-V2's segment_id): checked first.
+  const std::string& scene_name = safe_name(
+      scene.name, es.scene_table, "scene '" + printable_text(scene.name) + "' (token " + scene.token.str() + ")");
+  const std::string folder = context.split + "/" + scene_name;
   if (es.config.copy_images) context.image_root = folder + "/image";
   const std::string name = std::to_string(c.timestamp) + ".json";
   const std::string text = frame_record(es.db, context, lanes).dump() + "\n";
   const std::string relative = folder + "/info/" + name;
-  fs::create_directories(es.run.out / folder / "info");
-  write_file_atomic(es.run.out / relative, text);
+  es.out.write(relative, text);
   es.files.push_back({relative, text.size(), sha256_hex(text)});
-  es.data_dict[context.split][scene.name].push_back(name);
+  es.data_dict[context.split][scene_name].push_back(name);
   if (!es.config.copy_images) return;
   for (const nuscenes::Index sd : camera_key_frames(es.db, c.sample)) {
-    const std::string image =
-        context.image_root + "/" + es.db.channel(es.db.sample_data[sd]) + "/" + std::to_string(c.timestamp) + ".jpg";
-    place_image(es.db.file_path(es.db.sample_data[sd]), es.run.out / image);
-    es.files.push_back({image, fs::file_size(es.run.out / image), sha256_file(es.run.out / image)});
+    const nuscenes::SampleData& data = es.db.sample_data[sd];
+    const std::string& channel =
+        safe_name(es.db.channel(data), es.sensor_table, "channel of sample_data " + data.token.str());
+    const std::string image = context.image_root + "/" + channel + "/" + std::to_string(c.timestamp) + ".jpg";
+    const fs::path target = es.out.prepare(image);
+    place_image(es.db.file_path(data), target);
+    es.files.push_back({image, fs::file_size(target), sha256_file(target)});
   }
 }
 
 // data_dict.json and manifest.json, which lists every file written with its sha256.
 void write_export_manifest(ExportState& es, const fs::path& dataroot) {
   const std::string dict_text = es.data_dict.dump(1) + "\n";
-  write_file_atomic(es.run.out / "data_dict.json", dict_text);
+  es.out.write("data_dict.json", dict_text);
   es.files.push_back({"data_dict.json", dict_text.size(), sha256_hex(dict_text)});
   std::sort(es.files.begin(), es.files.end(),
             [](const WrittenFile& a, const WrittenFile& b) { return a.path < b.path; });
@@ -383,7 +412,7 @@ void write_export_manifest(ExportState& es, const fs::path& dataroot) {
          "none: nuScenes has no traffic-element annotations, so traffic_element is [] and topology_lcte n x 0"}}},
       {"counts", summary_json(es.summary, config)},
       {"files", listed}};
-  write_file_atomic(es.run.out / "manifest.json", manifest.dump(1) + "\n");
+  es.out.write("manifest.json", manifest.dump(1) + "\n");
 }
 
 }  // namespace
@@ -397,12 +426,26 @@ FramesSummary export_frames(const FramesConfig& config, const FramesRun& run) {
   const nuscenes::Database db = nuscenes::Database::load(dataroot, plan.config.version);
   std::map<std::string, LocationGraph> graphs;
   for (const std::string& location : plan.locations) graphs.emplace(location, location_graph(dataroot, location, plan));
-  if (!run.stats_only) prepare_out(run.out, run.overwrite);
+  const OutputFolder out(run.stats_only ? fs::path(".") : run.out);
+  if (!run.stats_only) prepare_out(out, run.overwrite, run.dataset, dataroot);
 
   FramesSummary summary;
   const std::vector<Candidate> candidates = collect_candidates(db, plan, summary);
   const auto start = std::chrono::steady_clock::now();
-  ExportState es{config, run, plan, db, graphs, summary, {}, {}, {}, ordered_json::object()};
+  const fs::path tables = dataroot / plan.config.version;
+  ExportState es{config,
+                 run,
+                 out,
+                 (tables / "scene.json").string(),
+                 (tables / "sensor.json").string(),
+                 plan,
+                 db,
+                 graphs,
+                 summary,
+                 {},
+                 {},
+                 {},
+                 ordered_json::object()};
   Progress progress("frames", candidates.size(), run.progress);
   for (const Candidate& c : candidates) {
     progress.advance();

@@ -47,11 +47,11 @@ constexpr ComparedField kComparedFields[] = {
     {"/ground_truth/manifest_sha256", "dataset manifest sha256", false},
     {"/ground_truth/sha256", "ground-truth file sha256", false},
     {"/ground_truth/split", "split", false},
-    {"/ground_truth/verification", "ground-truth verification", false},
+    {"/ground_truth/verification", "ground-truth verification", true},
     {"/submission/sha256", "submission sha256", false},
     {"/submission/bytes", "submission bytes", false},
     {"/metrics_version", "metrics version", false},
-    {"/limits", "limits", false},
+    {"/limits", "limits", true},
     {"/options", "options", false},
     {"/toolkit/version", "toolkit version", true},
     {"/toolkit/git_commit", "toolkit commit", true},
@@ -93,7 +93,7 @@ std::string text_at(const json& j, const std::string& pointer) {
   return j.at(p).is_string() ? j.at(p).get<std::string>() : j.at(p).dump();
 }
 
-// Every numeric leaf of two aggregates agrees within the tolerance (and every other leaf
+// Every numeric leaf of two documents (aggregates, per-tile rows) agrees within the tolerance (and every other leaf
 // exactly); the first that does not is described in `why`.
 bool aggregates_agree(const json& a, const json& b, const std::string& path, std::string* why) {
   if (a.is_number() && b.is_number()) {
@@ -101,6 +101,15 @@ bool aggregates_agree(const json& a, const json& b, const std::string& path, std
     if (std::fabs(x - y) <= kAggregateTolerance * std::max({1.0, std::fabs(x), std::fabs(y)})) return true;
     *why = path + ": recorded " + a.dump() + ", recomputed " + b.dump();
     return false;
+  }
+  if (a.is_array() && b.is_array()) {
+    if (a.size() != b.size()) {
+      *why = path + ": " + std::to_string(a.size()) + " entries recorded, " + std::to_string(b.size()) + " recomputed";
+      return false;
+    }
+    for (size_t i = 0; i < a.size(); ++i)
+      if (!aggregates_agree(a[i], b[i], path + "/" + std::to_string(i), why)) return false;
+    return true;
   }
   if (a.is_object() && b.is_object()) {
     if (a.size() != b.size()) {
@@ -159,20 +168,78 @@ const json& receipt_of(const json& doc, const std::string& file) {
   return doc;
 }
 
-ReceiptRecipe receipt_recipe(const json& doc, const std::string& file) {
+std::string Receipt::ground_truth_identity() const {
+  return ground_truth_kind + " " + ground_truth_sha256 + " " + split + " metrics v" + metrics_version;
+}
+
+namespace {
+
+std::string string_field(const json& object, const char* name, const std::string& file, const std::string& path) {
+  return field(object, name, file, path, &json::is_string, "a string").get<std::string>();
+}
+
+// One of `allowed`, or ParseError naming the field and the choices.
+std::string choice_field(const json& object, const char* name, const std::string& file, const std::string& path,
+                         std::initializer_list<const char*> allowed) {
+  const std::string value = string_field(object, name, file, path);
+  std::string choices;
+  for (const char* a : allowed) {
+    if (value == a) return value;
+    choices += (choices.empty() ? "" : ", ") + std::string(a);
+  }
+  throw ParseError(file, path + "/" + name, "one of " + choices + ", got '" + printable_text(value) + "'");
+}
+
+// A lowercase hex sha256, as every digest the receipt records.
+std::string digest_field(const json& object, const char* name, const std::string& file, const std::string& path) {
+  const std::string value = string_field(object, name, file, path);
+  const bool hex = value.size() == 64 && value.find_first_not_of("0123456789abcdef") == std::string::npos;
+  NSG_CHECK(hex, ParseError, file, path + "/" + name, "a sha256: 64 lowercase hex digits");
+  return value;
+}
+
+void read_ground_truth(const json& r, const std::string& file, Receipt& out) {
+  const std::string at = "/receipt/ground_truth";
+  const json& gt = field(r, "ground_truth", file, "/receipt", &json::is_object, "an object");
+  out.ground_truth_kind = choice_field(gt, "kind", file, at, {"dataset", "file", "memory"});
+  const bool dataset = out.ground_truth_kind == "dataset";
+  out.ground_truth_sha256 = digest_field(gt, dataset ? "manifest_sha256" : "sha256", file, at);
+  if (dataset) out.split = string_field(gt, "split", file, at);
+  out.verification = choice_field(gt, "verification", file, at, {"sha256", "sizes", "file", "memory"});
+}
+
+void read_options(const json& r, const std::string& file, Receipt& out) {
+  const std::string at = "/receipt/options";
+  const json& options = field(r, "options", file, "/receipt", &json::is_object, "an object");
+  // MetricParams::from_json checks names, types and the documented ranges.
+  out.params = MetricParams::from_json(field(options, "params", file, at, &json::is_object, "an object"),
+                                       file + ":" + at + "/params");
+  out.options_split = string_field(options, "split", file, at);
+  out.verify_ground_truth =
+      field(options, "verify_ground_truth", file, at, &json::is_boolean, "true or false").get<bool>();
+}
+
+}  // namespace
+
+Receipt read_receipt(const json& doc, const std::string& file) {
   const json& r = receipt_of(doc, file);
   NSG_CHECK(r.value("schema_version", json()) == "1", ParseError, file, "/receipt/schema_version", "\"1\"");
-  const json& options = field(r, "options", file, "/receipt", &json::is_object, "an object");
-  ReceiptRecipe recipe;
-  recipe.params =
-      MetricParams::from_json(field(options, "params", file, "/receipt/options", &json::is_object, "an object"),
-                              file + ":/receipt/options/params");
-  recipe.params.validate();
-  recipe.split = field(options, "split", file, "/receipt/options", &json::is_string, "a string").get<std::string>();
-  recipe.verify_ground_truth =
-      field(options, "verify_ground_truth", file, "/receipt/options", &json::is_boolean, "true or false").get<bool>();
-  recipe.limits = limits_from(field(r, "limits", file, "/receipt", &json::is_object, "an object"), file);
-  return recipe;
+  Receipt out;
+  read_ground_truth(r, file, out);
+  const json& submission = field(r, "submission", file, "/receipt", &json::is_object, "an object");
+  out.submission_sha256 = digest_field(submission, "sha256", file, "/receipt/submission");
+  out.submission_bytes = integer_field(submission, "bytes", file, "/receipt/submission");
+  NSG_CHECK(out.submission_bytes >= 0, ParseError, file, "/receipt/submission/bytes", "a size >= 0");
+  const json& toolkit = field(r, "toolkit", file, "/receipt", &json::is_object, "an object");
+  NSG_CHECK(string_field(toolkit, "name", file, "/receipt/toolkit") == "nsgraph", ParseError, file,
+            "/receipt/toolkit/name", "\"nsgraph\"");
+  out.toolkit_version = string_field(toolkit, "version", file, "/receipt/toolkit");
+  out.toolkit_commit = string_field(toolkit, "git_commit", file, "/receipt/toolkit");
+  out.metrics_version = string_field(r, "metrics_version", file, "/receipt");
+  out.limits = limits_from(field(r, "limits", file, "/receipt", &json::is_object, "an object"), file);
+  read_options(r, file, out);
+  out.results_sha256 = digest_field(r, "results_sha256", file, "/receipt");
+  return out;
 }
 
 ReceiptComparison compare_receipt(const json& recorded, const json& recomputed, const std::string& file) {
@@ -196,11 +263,12 @@ ReceiptComparison compare_receipt(const json& recorded, const json& recomputed, 
     if (!whole_report)
       out.differences.push_back("results sha256: recorded " + recorded_results + ", recomputed " +
                                 text_at(b, "/results_sha256") + " (give the whole report to compare the values)");
-    else if (!aggregates_agree(recorded["aggregate"], recomputed.at("aggregate"), "/aggregate", &why))
+    else if (!aggregates_agree(recorded.value("tiles", json()), recomputed.at("tiles"), "/tiles", &why) ||
+             !aggregates_agree(recorded["aggregate"], recomputed.at("aggregate"), "/aggregate", &why))
       out.differences.push_back("results: " + why);
     else
       out.notes.push_back(
-          strprintf("the per-tile values differ in their last bits; every aggregate value agrees "
+          strprintf("the values differ in their last bits; every per-tile and aggregate value agrees "
                     "within %g (another CPU or compiler)",
                     kAggregateTolerance));
   }

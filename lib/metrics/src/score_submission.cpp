@@ -1,6 +1,7 @@
 #include "nsg/metrics/score_submission.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
@@ -82,9 +83,26 @@ ScoredSubmission score_submission(const ScoreSource& ground_truth, const ScoreSo
                   truth.size(), printable_text(truth.begin()->first).c_str()));
     return out;
   }
+  // Each rung is a whole scoring of the split: their number is bounded, and they share the
+  // one --max-seconds budget (a submission of 100 000 rungs would multiply the work).
+  if (rung_preds.size() > kMaxScoredRungs) {
+    out.issues.error("submission.keys", submission.label,
+                     strprintf("at most %zu rungs of an observation ladder (keys <tile>-r<k>), got %zu",
+                               kMaxScoredRungs, rung_preds.size()));
+    return out;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const auto budget_left = [&] {
+    ScoreOptions left = options.score;
+    if (left.max_seconds > 0) {
+      const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      left.max_seconds = std::max(1e-6, options.score.max_seconds - spent);
+    }
+    return left;
+  };
   try {
     out.report = score(truth, all_rung, options.score);
-    for (const auto& [rung, preds] : rung_preds) out.rung_reports[rung] = score(truth, preds, options.score);
+    for (const auto& [rung, preds] : rung_preds) out.rung_reports[rung] = score(truth, preds, budget_left());
     if (!out.rung_reports.empty()) out.report.rungs = rungs_to_json(rung_scores(out.rung_reports, out.report));
   } catch (const SearchWorkExceeded& e) {
     // Beyond a scoring limit, as a file beyond the per-tile limits is (exit 1), though only

@@ -10,6 +10,7 @@
 #include "nsg/core/files.h"
 #include "nsg/core/json.h"
 #include "nsg/core/log.h"
+#include "nsg/core/output_folder.h"
 #include "nsg/core/sha256.h"
 #include "nsg/core/strings.h"
 #include "nsg/core/version.h"
@@ -134,7 +135,8 @@ int run_share_count(const std::vector<ShareRecord>& records) {
 }
 
 // Files under the dataset's folders that none of the run's shares recorded, and a
-// manifest.json written for another config: what an older dataset left behind.
+// manifest.json written for another config: what an older dataset left behind. The
+// folders are walked without following links (a linked maps/ is refused, not entered).
 std::vector<fs::path> older_dataset_files(const fs::path& out, const std::map<int, const ShareRecord*>& shares,
                                           const ordered_json& config) {
   std::set<std::string> recorded;
@@ -142,13 +144,8 @@ std::vector<fs::path> older_dataset_files(const fs::path& out, const std::map<in
     for (const auto& item : record->doc["items"])
       for (const auto& f : item["files"]) recorded.insert(f["file"].get<std::string>());
   std::vector<fs::path> leftovers;
-  for (const char* folder : {"shards", "tiles", "maps"}) {
-    if (!fs::is_directory(out / folder)) continue;
-    for (const auto& e : fs::recursive_directory_iterator(out / folder))
-      if (!e.is_directory() && !recorded.count(fs::relative(e.path(), out).generic_string()))
-        leftovers.push_back(e.path());
-  }
-  std::sort(leftovers.begin(), leftovers.end());
+  for (const std::string& f : OutputFolder(out, "merge").files_under({"shards", "tiles", "maps"}))
+    if (!recorded.count(f)) leftovers.push_back(out / f);
   const fs::path manifest = out / "manifest.json";
   if (fs::exists(manifest)) {
     ordered_json old;
@@ -163,11 +160,25 @@ std::vector<fs::path> older_dataset_files(const fs::path& out, const std::map<in
   return leftovers;
 }
 
-// Removes `files` and the tile folders they leave empty.
-void remove_leftovers(const fs::path& out, const std::vector<fs::path>& files) {
+// Removes `files` (each one a document of ours lists: `ours`, read before anything was
+// removed) and the tile folders they leave empty; refuses, removing nothing, when any
+// other file is among them.
+void remove_leftovers(const fs::path& out, const std::vector<fs::path>& files, const std::set<std::string>& ours) {
+  std::vector<std::string> foreign;
   for (const fs::path& f : files) {
-    fs::remove(f);
-    for (fs::path dir = f.parent_path(); dir != out && fs::is_empty(dir); dir = dir.parent_path()) fs::remove(dir);
+    const std::string relative = f.lexically_relative(out).generic_string();
+    if (!ours.count(relative) && !is_temp_name(f.filename().string())) foreign.push_back(printable_text(relative));
+  }
+  NSG_CHECK(foreign.empty(), ConfigError, out.string(), "--overwrite",
+            "files an older dataset of ours lists (its manifest.json or parts/ records); " +
+                std::to_string(foreign.size()) + " file(s) no document of ours lists, e.g. " + foreign.front() +
+                ": nsgraph removes only files it wrote; move them away");
+  for (const fs::path& f : files) {
+    std::error_code ec;
+    if (!fs::is_regular_file(fs::symlink_status(f, ec))) continue;
+    fs::remove(f, ec);
+    for (fs::path dir = f.parent_path(); dir != out && fs::is_empty(dir, ec); dir = dir.parent_path())
+      fs::remove(dir, ec);
   }
   if (!files.empty())
     log::info("merge: --overwrite: removed " + std::to_string(files.size()) + " file(s) of an older dataset in " +
@@ -229,23 +240,19 @@ namespace {
 // another share count are an older run's: refused, or removed with --overwrite. DataError
 // naming every share missing or unfinished.
 std::map<int, const ShareRecord*> finished_shares(const fs::path& out, const std::vector<ShareRecord>& all, int count,
-                                                  bool overwrite) {
+                                                  bool overwrite, std::vector<fs::path>* other_runs) {
   std::vector<std::string> problems;
   std::map<int, const ShareRecord*> shares;
-  std::vector<fs::path> other_runs;
   for (const ShareRecord& r : all) {
     if (r.count != count) {
-      other_runs.push_back(r.path);
+      other_runs->push_back(r.path);
       problems.push_back(r.path.string() + ": a record of a " + std::to_string(r.count) + "-share run next to a " +
                          std::to_string(count) + "-share run (an older run's; --overwrite removes it)");
       continue;
     }
     shares[r.index] = &r;
   }
-  if (overwrite) {
-    remove_leftovers(out, other_runs);
-    problems.clear();
-  }
+  if (overwrite) problems.clear();  // their records are removed with the older dataset's files
   for (int i = 0; i < count; ++i) {
     auto it = shares.find(i);
     if (it == shares.end())
@@ -367,16 +374,19 @@ ordered_json ladder_json(const ordered_json& config, const PlannedOutputs& o) {
           {"shards", o.rung_shards}};
 }
 
-// Files an older dataset left in `out`: refused, or removed with --overwrite.
+// Files an older dataset left in `out` (and the records of other runs, `other_runs`):
+// refused, or removed with --overwrite — all checked before any is removed.
 void clear_older_dataset(const fs::path& out, const std::map<int, const ShareRecord*>& shares,
-                         const ordered_json& config, bool overwrite) {
-  const std::vector<fs::path> leftovers = older_dataset_files(out, shares, config);
+                         const ordered_json& config, bool overwrite, const std::set<std::string>& ours,
+                         const std::vector<fs::path>& other_runs) {
+  std::vector<fs::path> leftovers = older_dataset_files(out, shares, config);
+  leftovers.insert(leftovers.end(), other_runs.begin(), other_runs.end());
   if (leftovers.empty()) return;
   NSG_CHECK(overwrite, DataError, out.string(), "merge",
             "a folder holding only this run's dataset: " + std::to_string(leftovers.size()) +
                 " file(s) no share of it recorded, e.g. " + leftovers.front().string() +
                 " (left from an older dataset; --overwrite removes them)");
-  remove_leftovers(out, leftovers);
+  remove_leftovers(out, leftovers, ours);
 }
 
 // Tiles and shards per split, in the splits' order, and the total; warns when there are no tiles.
@@ -430,7 +440,9 @@ void merge_records(const fs::path& out, bool overwrite) {
   const std::vector<ShareRecord> all = read_records(out);
   if (all.empty()) throw IoError((out / "parts").string(), "", "done-records share-<i>-of-<n>.json");
   const int count = run_share_count(all);
-  const std::map<int, const ShareRecord*> shares = finished_shares(out, all, count, overwrite);
+  const std::set<std::string> ours = dataset_files_listed(out);  // before anything is removed
+  std::vector<fs::path> other_runs;                              // removed with --overwrite, after every check
+  const std::map<int, const ShareRecord*> shares = finished_shares(out, all, count, overwrite, &other_runs);
 
   const ShareRecord& first = *shares.at(0);
   const ordered_json& plan = first.doc["plan"];
@@ -442,7 +454,7 @@ void merge_records(const fs::path& out, bool overwrite) {
   if (!problems.empty())
     throw DataError(out.string(), "merge", "every planned output present and intact:\n  " + join(problems, "\n  "));
 
-  clear_older_dataset(out, shares, config, overwrite);
+  clear_older_dataset(out, shares, config, overwrite, ours, other_runs);
   const ordered_json counts = counts_json(out, outputs);
   const ordered_json excluded_scenes = excluded_scenes_json(plan);
   write_file_atomic(out / "manifest.json",

@@ -7,6 +7,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
 #include "nsg/core/log.h"
+#include "nsg/core/output_folder.h"
 #include "nsg/core/parallel.h"
 #include "nsg/core/progress.h"
 #include "nsg/core/sha256.h"
@@ -56,8 +57,61 @@ std::string data_licence_line() {
 
 namespace {
 
-// The entries a dataset of ours consists of; --overwrite removes exactly these.
-constexpr const char* kDatasetEntries[] = {"manifest.json", "shards", "tiles", "maps", "parts"};
+// The entries a dataset of ours consists of; --overwrite removes files in these only, and
+// only those its manifest or share records list.
+const std::vector<std::string> kDatasetEntries = {"manifest.json", "shards", "tiles", "maps", "parts"};
+
+// A document of ours read leniently: an unreadable one lists nothing (so its files are
+// refused, not removed).
+json parsed_or_null(const fs::path& file) {
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::symlink_status(file, ec))) return nullptr;
+  try {
+    return json::parse(read_file(file));
+  } catch (const std::exception&) {
+    return nullptr;
+  }
+}
+
+void add_listed(const json& entries, const char* member, std::set<std::string>& listed) {
+  if (!entries.is_array()) return;
+  for (const json& e : entries)
+    if (e.is_object() && e.contains(member) && e[member].is_string()) listed.insert(e[member].get<std::string>());
+}
+
+}  // namespace
+
+std::set<std::string> dataset_files_listed(const fs::path& out) {
+  std::set<std::string> listed;
+  std::error_code ec;
+  if (fs::is_directory(fs::symlink_status(out / "parts", ec)))
+    for (const auto& e : fs::directory_iterator(out / "parts", ec)) {
+      const std::string name = e.path().filename().string();
+      if (!starts_with(name, "share-") || !ends_with(name, ".json")) continue;
+      const json record = parsed_or_null(e.path());
+      if (!record.is_object() || !record.contains("items") || !record["items"].is_array()) continue;
+      listed.insert("parts/" + name);
+      for (const json& item : record["items"])
+        if (item.is_object()) add_listed(item.value("files", json()), "file", listed);
+    }
+  const json manifest = parsed_or_null(out / "manifest.json");
+  // Ours: generate's manifest names the tool and the tile format (a frames export's does not).
+  if (manifest.is_object() && manifest.value("tool", json()).value("name", "") == "nsgraph" &&
+      manifest.contains("tile_format")) {
+    listed.insert("manifest.json");
+    add_listed(manifest.value("shards", json()), "file", listed);
+    add_listed(manifest.value("maps", json()), "file", listed);
+  }
+  return listed;
+}
+
+int64_t remove_our_dataset(const fs::path& out, const std::string& option) {
+  const OutputFolder folder(out, option);
+  return folder.remove_listed(dataset_files_listed(out), kDatasetEntries,
+                              "the dataset's manifest.json or its parts/share-*.json records");
+}
+
+namespace {
 
 // Why `out` holds a dataset this run must not mix with ("" = none).
 std::string older_dataset(const fs::path& out, const std::string& digest) {
@@ -94,9 +148,10 @@ void prepare_output_folder(const fs::path& out, const GenerateConfig& config, co
     // Concurrent shares would delete each other's work.
     NSG_CHECK(share.count == 1, ConfigError, out.string(), "--overwrite",
               "a one-share run (remove the old dataset before starting " + std::to_string(share.count) + " shares)");
-    bool removed = false;
-    for (const char* entry : kDatasetEntries) removed = fs::remove_all(out / entry) > 0 || removed;
-    if (removed) log::info("generate: --overwrite: removed the dataset in " + out.string());
+    const int64_t removed = remove_our_dataset(out, "--overwrite");
+    if (removed > 0)
+      log::info("generate: --overwrite: removed the " + std::to_string(removed) + " file(s) of the dataset in " +
+                out.string());
     return;
   }
   const std::string why = older_dataset(out, config_digest(config));
@@ -127,7 +182,7 @@ bool verify_item(const fs::path& out, const ordered_json& item, std::string* why
 }
 
 OutputWriter::OutputWriter(fs::path out, const GenerateConfig& config, ShareSpec share)
-    : out_(std::move(out)), config_(config), share_(share), config_digest_(config_digest(config)) {
+    : out_(std::move(out)), folder_(out_), config_(config), share_(share), config_digest_(config_digest(config)) {
   std::error_code ec;
   fs::create_directories(out_ / "parts", ec);
   if (ec) throw IoError(out_.string(), "", "a writable output folder (" + ec.message() + ")");
@@ -234,8 +289,8 @@ void OutputWriter::write_maps(const std::string& id, const std::string& location
   const std::string regions = "maps/" + location + "/regions.geojson";
   remove_stale_temps(out_ / lanes);
   remove_stale_temps(out_ / regions);
-  graph::write_geojson_file(graph, location, (out_ / lanes).string());
-  write_file_atomic(out_ / regions, regions_geojson(plan, config_.resolution_m, config_.crops.size_px));
+  graph::write_geojson_file(graph, location, folder_.prepare(lanes).string());
+  write_file_atomic(folder_.prepare(regions), regions_geojson(plan, config_.resolution_m, config_.crops.size_px));
   ordered_json files = ordered_json::array({file_entry(out_, lanes), file_entry(out_, regions)});
   record_item(id, {{"id", id}, {"kind", "maps"}, {"location", location}, {"files", files}});
 }
@@ -263,7 +318,7 @@ size_t OutputWriter::write_tiles(const std::string& id, const PlannedShard& shar
   std::unique_ptr<io::TarWriter> writer;
   if (tar) {
     remove_stale_temps(out_ / id);
-    writer = std::make_unique<io::TarWriter>(out_ / id);
+    writer = std::make_unique<io::TarWriter>(folder_.prepare(id));
   }
   ordered_json files = ordered_json::array();
   // Tiles are cut and encoded in parallel batches and written in key order, so memory
@@ -282,7 +337,7 @@ size_t OutputWriter::write_tiles(const std::string& id, const PlannedShard& shar
           const std::string key = f.name.substr(0, f.name.find('.'));
           const std::string relative = "tiles/" + folder + "/" + key + "/" + f.name;
           remove_stale_temps(out_ / relative);
-          write_file_atomic(out_ / relative,
+          write_file_atomic(folder_.prepare(relative),
                             std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size()));
           files.push_back(
               {{"file", relative},
@@ -331,7 +386,7 @@ void OutputWriter::save(bool complete) {
                                {"complete", complete},
                                {"plan", complete ? plans_ : ordered_json::array()},
                                {"items", items_}};
-  write_file_atomic(done_record_path(out_, share_), record.dump(1) + "\n");
+  write_file_atomic(folder_.prepare(done_record_path({}, share_).generic_string()), record.dump(1) + "\n");
 }
 
 void OutputWriter::finish() { save(true); }

@@ -5,10 +5,12 @@
 #include <functional>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "nsg/core/output_folder.h"
 #include "nsg/pipeline/config.h"
 #include "nsg/pipeline/generate.h"
 #include "nsg/pipeline/tile_files.h"
@@ -44,11 +46,19 @@ std::string config_digest(const GenerateConfig& config);
 // dataset records them.
 nlohmann::ordered_json data_licence_json();
 std::string data_licence_line();
+// The files (relative to `out`) that a dataset of ours in `out` lists: every share
+// record's items, the records themselves, and a generate manifest with its shards and maps.
+std::set<std::string> dataset_files_listed(const std::filesystem::path& out);
+// Removes the dataset of ours in `out` (the files dataset_files_listed names, under
+// manifest.json, shards/, tiles/, maps/, parts/) through OutputFolder::remove_listed:
+// ConfigError naming `option` and any other file found there, before anything is removed.
+int64_t remove_our_dataset(const std::filesystem::path& out, const std::string& option);
 // Before a run writes into `out`: a dataset there from another config (or of unknown
 // config: a manifest or shards without share records) would leave its shards beside the
 // new ones, and a scorer would meet them. Refused (ConfigError naming the folder and
 // --overwrite) unless `overwrite`, which first removes the dataset's own entries
-// (manifest.json, shards/, tiles/, maps/, parts/) and nothing else. A rerun of the same
+// (remove_our_dataset: only files its manifest or records list; any other file
+// there refuses the run). A rerun of the same
 // config resumes as before.
 void prepare_output_folder(const std::filesystem::path& out, const GenerateConfig& config, const ShareSpec& share,
                            bool overwrite);
@@ -86,6 +96,7 @@ class OutputWriter {
   void save(bool complete);
 
   std::filesystem::path out_;
+  OutputFolder folder_;  // every file of the share is written through it (no link followed out)
   const GenerateConfig& config_;
   ShareSpec share_;
   std::string config_digest_;

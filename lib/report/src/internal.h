@@ -84,8 +84,16 @@ struct TempFolder {
     if (!keep) std::filesystem::remove_all(path, ec);
   }
 };
-// Puts `tmp` where `out` is: an earlier page is moved aside first and removed after.
-void replace_folder(const std::filesystem::path& tmp, const std::filesystem::path& out);
+// A page's folder is ours when its marker (report.json, leaderboard.json) lists every file
+// in it (`files`); only then may a later run replace it.
+// Writes the marker `doc` into `dir` with `files`: every file `dir` holds, and the marker.
+void write_marker(const std::filesystem::path& dir, const char* marker, nlohmann::ordered_json doc);
+// ConfigError naming `option` unless `out` is new, empty, or a page of ours (its marker
+// lists every file in it: a user's file in there is named and refused, nothing removed).
+void check_replaceable(const std::filesystem::path& out, const char* marker, const std::string& option);
+// Puts `tmp` where `out` is: an earlier page (checked by check_replaceable) is moved aside
+// first and removed after.
+void replace_folder(const std::filesystem::path& tmp, const std::filesystem::path& out, const char* marker);
 
 // --- assets (generated from lib/report/assets at build time)
 // The leaderboard page's assets are named "leaderboard/<file>"; the report's are the others.

@@ -6,6 +6,7 @@
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
+#include "nsg/core/output_folder.h"
 #include "nsg/core/strings.h"
 #include "nsg/core/version.h"
 #include "nsg/metrics/receipt.h"
@@ -33,23 +34,17 @@ json read_report(const fs::path& file, std::string* why) {
   return std::move(*doc);
 }
 
-// The ground truth a receipt names, as one comparable string.
-std::string ground_truth_identity(const json& receipt) {
-  const json& gt = receipt.at("ground_truth");
-  return gt.value("kind", "") + " " + gt.value("manifest_sha256", gt.value("sha256", "")) + " " +
-         gt.value("split", "") + " metrics v" + receipt.value("metrics_version", "");
-}
-
-// The page's entry of an accepted report; "" in `why` when it is accepted.
-ordered_json entry_of(const fs::path& file, const json& report, std::string* why) {
+// The page's entry of an accepted report and its receipt; "" in `why` when it is accepted.
+// Every field is read through a typed reader (metrics::read_receipt) or checked for its
+// type here, so a mistyped report is rejected with its reason, never an internal error.
+ordered_json entry_of(const fs::path& file, const json& report, metrics::Receipt* receipt, std::string* why) {
   why->clear();
   try {
-    const json& receipt = metrics::receipt_of(report, file.string());
-    metrics::receipt_recipe(report, file.string());  // the receipt's fields are all there
+    *receipt = metrics::read_receipt(report, file.string());
     NSG_CHECK(report.contains("aggregate") && report["aggregate"].is_object() && report["aggregate"].contains("mean") &&
                   report["aggregate"]["mean"].is_object(),
               ParseError, file.string(), "/aggregate", "a score report's aggregate (a receipt alone has no numbers)");
-    if (metrics::results_sha256(report) != receipt.value("results_sha256", "")) {
+    if (metrics::results_sha256(report) != receipt->results_sha256) {
       *why = "its numbers do not hash to its receipt's results_sha256 (changed after scoring)";
       return nullptr;
     }
@@ -57,23 +52,22 @@ ordered_json entry_of(const fs::path& file, const json& report, std::string* why
     ordered_json values = ordered_json::object();
     for (const metrics::HeadlineMetric& h : metrics::headline_metrics()) {
       const char* name = metrics::metric_name(h.metric);
-      const json v = agg["mean"].value(name, json());
+      const json v = agg["mean"].contains(name) ? agg["mean"][name] : json();
       values[name] = v.is_number() ? v : json();
     }
-    const json& toolkit = receipt.at("toolkit");
-    const std::string commit = toolkit.value("git_commit", "unknown");
+    const auto count = [&](const char* name) {
+      return agg.contains(name) && agg[name].is_number_integer() ? agg[name] : json();
+    };
     return {{"name", file.stem().string()},
             {"file", file.filename().string()},
             {"values", values},
-            {"n_tiles", agg.value("n_tiles", json())},
-            {"n_missing_predictions", agg.value("n_missing_predictions", json())},
-            {"submission_sha256", receipt.at("submission").value("sha256", "")},
-            {"results_sha256", receipt.value("results_sha256", "")},
-            {"toolkit", "nsgraph " + toolkit.value("version", "?") + " (" + commit.substr(0, 12) + ")"}};
+            {"n_tiles", count("n_tiles")},
+            {"n_missing_predictions", count("n_missing_predictions")},
+            {"submission_sha256", receipt->submission_sha256},
+            {"results_sha256", receipt->results_sha256},
+            {"toolkit", "nsgraph " + receipt->toolkit_version + " (" + receipt->toolkit_commit.substr(0, 12) + ")"}};
   } catch (const Error& e) {
     *why = e.what();
-  } catch (const json::exception& e) {
-    *why = std::string("not a score report with a receipt (") + e.what() + ")";
   }
   return nullptr;
 }
@@ -92,12 +86,8 @@ ordered_json columns_json() {
 
 LeaderboardResult write_leaderboard(const fs::path& reports, const fs::path& out) {
   NSG_CHECK(fs::is_directory(reports), IoError, reports.string(), "--leaderboard", "a folder of score reports");
-  NSG_CHECK(!out.empty(), ConfigError, "", "--out", "an output folder");
-  if (fs::exists(out)) {
-    const bool empty_dir = fs::is_directory(out) && fs::is_empty(out);
-    NSG_CHECK(empty_dir || fs::exists(out / kMarker), ConfigError, out.string(), "--out",
-              "a new folder, an empty one or an earlier leaderboard (it holds other files; not overwritten)");
-  }
+  refuse_out_over_input(out, reports, "--leaderboard");
+  detail::check_replaceable(out, kMarker, "--out");
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(reports))
     if (e.is_regular_file() && e.path().extension() == ".json") files.push_back(e.path());
@@ -118,16 +108,16 @@ LeaderboardResult write_leaderboard(const fs::path& reports, const fs::path& out
       reject(file, why);
       continue;
     }
-    ordered_json entry = entry_of(file, report, &why);
+    metrics::Receipt receipt;
+    ordered_json entry = entry_of(file, report, &receipt, &why);
     if (entry.is_null()) {
       reject(file, why);
       continue;
     }
-    const json& receipt = report["receipt"];
-    const std::string identity = ground_truth_identity(receipt);
+    const std::string identity = receipt.ground_truth_identity();
     if (reference.empty()) {
       reference = identity;
-      reference_gt = receipt["ground_truth"];
+      reference_gt = metrics::receipt_of(report, file.string())["ground_truth"];
     } else if (identity != reference) {
       reject(file,
              "its receipt names another ground truth (" + identity + ") than the first report's (" + reference + ")");
@@ -157,8 +147,8 @@ LeaderboardResult write_leaderboard(const fs::path& reports, const fs::path& out
   // ASCII only: file names may hold any bytes.
   const std::string text = doc.dump(-1, ' ', true, json::error_handler_t::replace);
   detail::write_text(tmp.path / "data" / "leaderboard.js", detail::data_script("leaderboard", text));
-  detail::write_text(tmp.path / kMarker, doc.dump(1, ' ', true, json::error_handler_t::replace) + "\n");
-  detail::replace_folder(tmp.path, out);
+  detail::write_marker(tmp.path, kMarker, doc);
+  detail::replace_folder(tmp.path, out, kMarker);
   tmp.keep = true;
   return result;
 }

@@ -1,12 +1,16 @@
 // write_report: score (when there is a submission), one pass over the tiles, the
 // documents and the static page, all in a temp folder renamed over `out` at the end.
+#include <algorithm>
 #include <fstream>
+#include <set>
 #include <system_error>
 
 #include "internal.h"
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
+#include "nsg/core/output_folder.h"
+#include "nsg/core/files.h"
 #include "nsg/core/strings.h"
 #include "nsg/metrics/score_submission.h"
 
@@ -35,13 +39,43 @@ int64_t folder_bytes(const fs::path& dir) {
   return n;
 }
 
-void replace_folder(const fs::path& tmp, const fs::path& out) {
+void write_marker(const fs::path& dir, const char* marker, nlohmann::ordered_json doc) {
+  std::vector<std::string> files = OutputFolder(dir).files_under({"."});
+  files.push_back(marker);
+  std::sort(files.begin(), files.end());
+  doc["files"] = files;
+  write_text(dir / marker, doc.dump(1, ' ', true, nlohmann::json::error_handler_t::replace) + "\n");
+}
+
+void check_replaceable(const fs::path& out, const char* marker, const std::string& option) {
+  NSG_CHECK(!out.empty(), ConfigError, "", option, "an output folder");
+  std::error_code ec;
+  if (!fs::exists(out, ec)) return;
+  NSG_CHECK(fs::is_directory(out, ec), ConfigError, out.string(), option, "a folder (it is a file)");
+  if (fs::is_empty(out, ec)) return;
+  const fs::path file = out / marker;
+  NSG_CHECK(fs::is_regular_file(fs::symlink_status(file, ec)), ConfigError, out.string(), option,
+            std::string("a new folder, an empty one or an earlier page of ours (it holds other files and no ") +
+                marker + "; not overwritten)");
+  std::set<std::string> listed = {marker};
+  try {
+    const nlohmann::json doc = nlohmann::json::parse(read_file(file));
+    for (const auto& f : doc.at("files"))
+      if (f.is_string()) listed.insert(f.get<std::string>());
+  } catch (const std::exception&) {
+    // Unreadable or without a listing (an older nsgraph's): only the marker is ours.
+  }
+  OutputFolder(out, option).refuse_unlisted(listed, {"."}, std::string("the earlier page's ") + marker);
+}
+
+void replace_folder(const fs::path& tmp, const fs::path& out, const char* marker) {
   std::error_code ec;
   if (!fs::exists(out)) {
     fs::rename(tmp, out, ec);
     NSG_CHECK(!ec, IoError, out.string(), "", "a folder the report can be renamed to (" + ec.message() + ")");
     return;
   }
+  check_replaceable(out, marker, "--out");  // again: a file may have been added while we rendered
   const fs::path old = temp_path_for(out);
   fs::rename(out, old, ec);
   NSG_CHECK(!ec, IoError, out.string(), "", "an earlier report that can be moved aside (" + ec.message() + ")");
@@ -56,9 +90,11 @@ void replace_folder(const fs::path& tmp, const fs::path& out) {
 
 }  // namespace detail
 
+using detail::check_replaceable;
 using detail::folder_bytes;
 using detail::replace_folder;
 using detail::TempFolder;
+using detail::write_marker;
 using detail::write_text;
 
 void ReportOptions::validate() const {
@@ -69,16 +105,6 @@ void ReportOptions::validate() const {
 }
 
 namespace {
-
-// `out` must be new, empty or an earlier report: a report replaces nothing else.
-void check_out_folder(const fs::path& out) {
-  NSG_CHECK(!out.empty(), ConfigError, "", "--out", "an output folder");
-  if (fs::exists(out)) {
-    const bool empty_dir = fs::is_directory(out) && fs::is_empty(out);
-    NSG_CHECK(empty_dir || fs::exists(out / kMarker), ConfigError, out.string(), "--out",
-              "a new folder, an empty one or an earlier report (it holds other files; not overwritten)");
-  }
-}
 
 // Scores the submission and then the baseline, on the submission's split (which becomes
 // `split`). False, with the refused file and its issues in `result`, when either is refused.
@@ -148,14 +174,17 @@ void write_page(const fs::path& dir, const nlohmann::ordered_json& summary, cons
   write_text(dir / "data" / "tiles.js", detail::data_script("tiles", detail::tiles_document(rows, columns).dump()));
   for (const detail::Asset& a : detail::assets())
     if (!starts_with(a.name, detail::kLeaderboardAssets)) write_text(dir / a.name, a.bytes);
-  write_text(dir / kMarker, summary.dump(1) + "\n");
+  write_marker(dir, kMarker, summary);
 }
 
 }  // namespace
 
 ReportResult write_report(const fs::path& dataset_root, const fs::path& out, const ReportOptions& options) {
   options.validate();
-  check_out_folder(out);
+  refuse_out_over_input(out, dataset_root, "--dataset");
+  for (const fs::path& input : {options.submission, options.baseline})
+    refuse_out_over_input(out, input, "--submission");
+  check_replaceable(out, kMarker, "--out");
   const io::Dataset dataset = io::Dataset::open(dataset_root);
   const bool scored = !options.submission.empty();
   // With a submission and no split: the split its keys are tiles of (score_submission).
@@ -190,7 +219,7 @@ ReportResult write_report(const fs::path& dataset_root, const fs::path& out, con
   result.images = pass.images + n_overviews;
   result.images_reused = pass.images_reused;
   result.bytes = folder_bytes(tmp.path);
-  replace_folder(tmp.path, out);
+  replace_folder(tmp.path, out, kMarker);
   tmp.keep = true;
   return result;
 }

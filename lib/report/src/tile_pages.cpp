@@ -455,7 +455,8 @@ EarlierImages earlier_images(const fs::path& report) {
   } catch (const std::exception&) {
     e.fingerprints.clear();
   }
-  if (!e.fingerprints.empty()) e.dir = report;
+  // Images are taken only from the report's own img/ folder, never through a link out of it.
+  if (!e.fingerprints.empty() && fs::is_directory(fs::symlink_status(report / "img", ec))) e.dir = report;
   return e;
 }
 

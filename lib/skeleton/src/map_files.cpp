@@ -4,8 +4,10 @@
 #include <cmath>
 #include <cstring>
 #include <regex>
+#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
+#include <zlib.h>
 
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
@@ -34,7 +36,69 @@ uint32_t big_endian_u32(const std::string& b, size_t at) {
          (static_cast<uint32_t>(static_cast<uint8_t>(b[at + 2])) << 8) | static_cast<uint8_t>(b[at + 3]);
 }
 
-// PNG: the IHDR chunk (always first) gives size, bit depth and colour type; only then decode.
+// The bytes a PNG's image data inflates to: per row a filter byte and the row's samples,
+// over the seven Adam7 passes when interlaced (PNG specification, sections 7.2 and 8.2).
+uint64_t png_inflated_bytes(uint32_t width, uint32_t height, int bytes_per_px, bool interlaced) {
+  const auto rows_bytes = [&](uint64_t w, uint64_t h) { return w == 0 || h == 0 ? 0 : h * (1 + w * bytes_per_px); };
+  if (!interlaced) return rows_bytes(width, height);
+  constexpr int kStartX[7] = {0, 4, 0, 2, 0, 1, 0}, kStartY[7] = {0, 0, 4, 0, 2, 0, 1};
+  constexpr int kStepX[7] = {8, 8, 4, 4, 2, 2, 1}, kStepY[7] = {8, 8, 8, 4, 4, 2, 2};
+  uint64_t total = 0;
+  for (int p = 0; p < 7; ++p) {
+    const uint64_t w = width > static_cast<uint32_t>(kStartX[p]) ? (width - kStartX[p] + kStepX[p] - 1) / kStepX[p] : 0;
+    const uint64_t h =
+        height > static_cast<uint32_t>(kStartY[p]) ? (height - kStartY[p] + kStepY[p] - 1) / kStepY[p] : 0;
+    total += rows_bytes(w, h);
+  }
+  return total;
+}
+
+// The image data of a PNG (its IDAT chunks, in order) inflates to exactly `expected`
+// bytes: checked here with zlib and a bounded output before any decoder sees the file, so
+// a deflate bomb (IDAT that inflates far beyond the image, which the decoder would still
+// inflate to its end) costs at most the image's own size in time and nothing in memory.
+void check_png_data(const std::string& bytes, uint64_t expected, const std::string& file) {
+  z_stream z{};
+  NSG_CHECK(inflateInit(&z) == Z_OK, InternalError, file, "PNG data", "a zlib stream");
+  std::vector<unsigned char> sink(1 << 16);
+  uint64_t produced = 0;
+  bool ended = false;
+  const auto fail = [&](const std::string& what) {
+    inflateEnd(&z);
+    throw ParseError(file, "PNG data", what);
+  };
+  for (size_t at = 8; at + 12 <= bytes.size() && !ended;) {
+    const uint32_t length = big_endian_u32(bytes, at);
+    if (length > bytes.size() - at - 12) fail("chunks within the file (a chunk's length runs past its end)");
+    const std::string type = bytes.substr(at + 4, 4);
+    if (type == "IEND") break;
+    if (type == "IDAT") {
+      z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data() + at + 8));
+      z.avail_in = length;
+      while (z.avail_in > 0 && !ended) {
+        z.next_out = sink.data();
+        z.avail_out = static_cast<uInt>(sink.size());
+        const int rc = inflate(&z, Z_NO_FLUSH);
+        produced += sink.size() - z.avail_out;
+        if (produced > expected)
+          fail("image data that inflates to the image's " + std::to_string(expected) +
+               " bytes (it inflates to more: a deflate bomb or a corrupt file)");
+        if (rc == Z_STREAM_END) ended = true;
+        else if (rc == Z_BUF_ERROR) break;  // no progress: the stream needs the next chunk
+        else if (rc != Z_OK) fail("a valid zlib stream in its IDAT chunks");
+      }
+    }
+    at += 12 + static_cast<size_t>(length);
+  }
+  inflateEnd(&z);
+  if (produced != expected)
+    throw ParseError(file, "PNG data",
+                     "image data that inflates to the image's " + std::to_string(expected) + " bytes, got " +
+                         std::to_string(produced) + " (the file is truncated or corrupt)");
+}
+
+// PNG: the IHDR chunk (always first) gives size, bit depth and colour type; the image data
+// is checked to inflate to that size (check_png_data); only then decode.
 cv::Mat read_png(const std::string& bytes, const std::string& file) {
   NSG_CHECK(bytes.size() >= 33 && bytes.compare(12, 4, "IHDR") == 0, ParseError, file, "PNG header",
             "an IHDR chunk after the signature (the file is truncated or not a PNG)");
@@ -43,6 +107,9 @@ cv::Mat read_png(const std::string& bytes, const std::string& file) {
   NSG_CHECK(colour == 0 && (depth == 8 || depth == 16), DataError, file, "PNG header",
             "8- or 16-bit grayscale (colour type 0), got colour type " + std::to_string(colour) + " at " +
                 std::to_string(depth) + " bit");
+  const bool interlaced = static_cast<uint8_t>(bytes[28]) == 1;
+  check_png_data(bytes, png_inflated_bytes(big_endian_u32(bytes, 16), big_endian_u32(bytes, 20), depth / 8, interlaced),
+                 file);
   const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data()));
   cv::Mat image;
   try {

@@ -242,9 +242,15 @@ TEST(FramesExport, LeakageIsZeroOnTheRegionsAndMeasuredForAScenesRandomSplit) {
   EXPECT_EQ(read_json(kept_export() / "manifest.json")["counts"]["leakage"], stats["leakage"]);
 }
 
+// An export's exit code: 1 when it kept no frame (NoFrameKeptIsAFailedRunThatSaysWhy), else 0.
+int expected_exit(const fs::path& out) {
+  return sum(read_json(out / "manifest.json")["counts"]["frames"]) == 0 ? 1 : 0;
+}
+
 TEST(FramesExport, DroppingAndFlaggingCountTheSameFrames) {
   TempDir tmp("frames-overlap");
-  ASSERT_EQ(frames(tmp / "drop").exit_code, 0);
+  const CommandResult dropped = frames(tmp / "drop");  // the e2e world's frames all overlap: none kept
+  EXPECT_EQ(dropped.exit_code, expected_exit(tmp / "drop")) << dropped.err;
   ASSERT_EQ(frames(tmp / "flag", {"--overlap", "flag"}).exit_code, 0);
   const json drop = read_json(tmp / "drop/manifest.json")["counts"];
   const json flag = read_json(tmp / "flag/manifest.json")["counts"];
@@ -266,7 +272,7 @@ TEST(FramesExport, TheSameInputsGiveTheSameBytesAndAnExportIsNotOverwrittenUnask
   EXPECT_EQ(again.exit_code, 2);
   EXPECT_NE(again.err.find("--overwrite"), std::string::npos) << again.err;
   const CommandResult replaced = frames(tmp / "out", {"--overwrite"});
-  ASSERT_EQ(replaced.exit_code, 0) << replaced.err;
+  ASSERT_EQ(replaced.exit_code, expected_exit(tmp / "out")) << replaced.err;
   // --overwrite replaces a frames export only, never a dataset given as --out by mistake
   // (a copy of the dataset's manifest stands for it here).
   const std::string dataset_manifest = read_text(e2e_dataset() / "manifest.json");
@@ -282,6 +288,66 @@ TEST(FramesExport, TheSameInputsGiveTheSameBytesAndAnExportIsNotOverwrittenUnask
   for (const auto& e : fs::recursive_directory_iterator(tmp / "out"))
     on_disk += e.is_regular_file() && e.path().parent_path().filename() == "info";
   EXPECT_EQ(on_disk, sum(counts["frames"]));
+}
+
+// --overwrite removes only the files the earlier export's manifest lists: a user's file
+// in a split folder, or a folder with split folders and no manifest (a decoy), is named
+// and the run refused before anything is removed; --out is never the dataset.
+TEST(FramesExport, OverwriteRemovesOnlyTheListedFilesAndOutIsNoInput) {
+  TempDir tmp("frames-own");
+  ASSERT_EQ(frames(tmp / "out", {"--overlap", "keep"}).exit_code, 0);
+  write_text(tmp / "out" / "test" / "my-notes.txt", "the user's");
+  const std::string manifest = read_text(tmp / "out" / "manifest.json");
+  CommandResult r = frames(tmp / "out", {"--overlap", "keep", "--overwrite"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("test/my-notes.txt"), std::string::npos) << r.err;
+  EXPECT_EQ(read_text(tmp / "out" / "test" / "my-notes.txt"), "the user's");
+  EXPECT_EQ(read_text(tmp / "out" / "manifest.json"), manifest);
+
+  write_text(tmp / "decoy" / "train" / "scene-x" / "info" / "1.json", "{}");
+  for (const std::vector<std::string>& extra : {std::vector<std::string>{}, {"--overwrite"}}) {
+    r = frames(tmp / "decoy", extra);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("train/scene-x/info/1.json"), std::string::npos) << r.err;
+    EXPECT_TRUE(fs::exists(tmp / "decoy" / "train" / "scene-x" / "info" / "1.json"));
+  }
+
+  const fs::path dataset = tmp / "dataset";
+  fs::copy(e2e_dataset(), dataset, fs::copy_options::recursive);
+  r = run_nsgraph({"frames", "--quiet", "--dataset", dataset.string(), "--out", dataset.string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--dataset"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dataset / "data_dict.json"));
+}
+
+// An export that keeps no frame says why (the counts by reason and the option that keeps
+// them) and exits 1, like generate's empty run; the manifest still records the counts.
+TEST(FramesExport, NoFrameKeptIsAFailedRunThatSaysWhy) {
+  TempDir tmp("frames-empty");
+  const CommandResult r = run_nsgraph({"frames", "--dataset", e2e_dataset().string(), "--out", (tmp / "out").string(),
+                                       "--set", "window.x_min_m=-200", "--set", "window.x_max_m=200", "--set",
+                                       "window.y_min_m=-200", "--set", "window.y_max_m=200"});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("no frame kept"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--overlap keep"), std::string::npos) << r.err;
+  const json counts = read_json(tmp / "out" / "manifest.json")["counts"];
+  EXPECT_EQ(sum(counts["frames"]), 0);
+  EXPECT_GT(counts["dropped"]["overlap"].get<int64_t>(), 0);
+}
+
+// A scene name from the release becomes the record's folder (segment_id): one named like
+// a path is refused by name (exit 2), and nothing is written outside --out.
+TEST(FramesExport, ASceneNamedLikeAPathIsRefusedByName) {
+  TempDir tmp("frames-escape");
+  const json scenes = read_json(e2e_release() / kVersion / "scene.json");
+  const std::string from = scenes[0]["name"];
+  const fs::path view = release_with_renamed_scene(e2e_release(), kVersion, from, "../../escaped", tmp / "release");
+  const CommandResult r = frames(tmp / "export" / "out", {"--overlap", "keep", "--dataroot", view.string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("../../escaped"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("scene.json"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(tmp / "escaped"));
+  EXPECT_FALSE(fs::exists(tmp / "export" / "escaped"));
 }
 
 TEST(FramesExport, CopiedImagesLieBesideTheRecords) {

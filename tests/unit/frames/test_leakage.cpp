@@ -1,7 +1,10 @@
 // The leakage figure on positions where it is known by hand.
 #include <gtest/gtest.h>
 
+#include "nsg/core/files.h"
+#include "nsg/frames/config.h"
 #include "nsg/frames/leakage.h"
+#include "test_support.h"
 
 namespace nsg::frames {
 namespace {
@@ -44,6 +47,18 @@ TEST(Leakage, TheNearestIsExactAmongManyPoints) {
   double best = 1e9;
   for (int i = 0; i < 200; ++i) best = std::min(best, std::hypot(701.0 - 7.0 * i, 9.5 - (i % 7) * 3.0));
   EXPECT_DOUBLE_EQ(*l.median_distance_m, best);
+}
+
+// The radius is the documented 5 m and is applied whole: a test frame 4 m from a train
+// frame (inside 5 m, outside half of it) counts; 5.0 m does not (strictly nearer).
+TEST(Leakage, TheDocumentedRadiusIsTheDefaultAndIsAppliedWhole) {
+  EXPECT_EQ(FramesConfig{}.leak_radius_m, 5.0);
+  EXPECT_NE(nsg::read_file(nsg::test::source_dir() / "docs/frames.md").find("`leak_radius_m` (5 m)"),
+            std::string::npos);
+  const double radius_m = FramesConfig{}.leak_radius_m;
+  const Leakage l =
+      measure_leakage({{"a", 0.0, 0.0, 0}, {"a", 0.8 * radius_m, 0.0, 2}, {"a", 0.0, radius_m, 2}}, radius_m);
+  EXPECT_EQ(l.test_within_radius, 1);
 }
 
 }  // namespace

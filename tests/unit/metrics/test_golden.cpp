@@ -116,8 +116,8 @@ TEST(GoldenSda, RadiiDisagreeAndTheAssignmentIsNotGreedy) {
     }
     radii_differ += want["counts"]["sda20_matched"] != want["counts"]["sda50_matched"];
   }
-  EXPECT_EQ(cases.at("expected").size(), 4u);
-  EXPECT_GE(radii_differ, 3u);
+  EXPECT_EQ(cases.at("expected").size(), 7u);
+  EXPECT_GE(radii_differ, 6u);
 }
 
 }  // namespace

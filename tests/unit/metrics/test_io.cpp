@@ -198,6 +198,19 @@ TEST(Io, FolderLayoutThroughTheManifest) {
   EXPECT_EQ(e.file(), (dir / "tiles/test/boston-test-000007").string());
   fs::remove_all(dir / "tiles/test/boston-test-000007");
 
+  // A member changed in place, its size kept: only the digest tells (so skipping the
+  // sha256 check makes this test fail), and --no-verify accepts it.
+  std::string raster_file;  // a dummy raster: never parsed
+  for (const io::TileMember& m : io::tile_members())
+    if (m.name != "graph" && m.name != "meta" && raster_file.empty()) raster_file = m.file;
+  const fs::path member = dir / "tiles/test/boston-test-000000" / ("boston-test-000000." + raster_file);
+  std::string member_bytes = nsg::test::read_text(member);
+  member_bytes[0] = member_bytes[0] == 'y' ? 'z' : 'y';
+  nsg::test::write_text(member, member_bytes);
+  const auto changed = expect_refused<DataError>([&] { load_ground_truth(dir.path(), "test"); });
+  EXPECT_NE(changed.expected().find("digest"), std::string::npos) << changed.what();
+  EXPECT_EQ(load_dataset_split(dir.path(), "test", false).size(), 2u);
+
   // A tile removed: the digest (and without hashing, the manifest's count) tells.
   fs::remove_all(dir / "tiles/test/boston-test-000001");
   EXPECT_THROW(load_ground_truth(dir.path(), "test"), DataError);

@@ -251,9 +251,21 @@ TEST(Generate, MergeRefusesAnOlderDatasetsLeftoversUnlessOverwritten) {
   EXPECT_NE(r.err.find("shards/test-000009.tar"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "manifest.json"));
 
-  fs::copy_file(dir / "parts/share-000000-of-000002.json", dir / "parts/share-000000-of-000005.json");
+  // The older run's record lists its shard: --overwrite removes what a record of ours
+  // lists, and refuses (removing nothing) while a file no record lists is there.
+  nlohmann::json older = read_json(dir / "parts/share-000000-of-000002.json");
+  older["items"][0]["files"].push_back(
+      {{"file", "shards/test-000009.tar"}, {"sha256", std::string(64, '0')}, {"bytes", 1}});
+  write_text(dir / "parts/share-000000-of-000005.json", older.dump());
   fs::last_write_time(dir / "parts/share-000000-of-000005.json",
                       fs::last_write_time(dir / "parts/share-000000-of-000002.json") - std::chrono::hours(1));
+  write_text(dir / "shards/user-notes.txt", "the user's");
+  r = run_nsgraph({"merge", "--out", dir.path().string(), "--overwrite"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("shards/user-notes.txt"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "shards/test-000009.tar"));
+  EXPECT_TRUE(fs::exists(dir / "parts/share-000000-of-000005.json"));
+  fs::remove(dir / "shards/user-notes.txt");
   r = run_nsgraph({"merge", "--out", dir.path().string(), "--overwrite"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(fs::exists(dir / "shards/test-000009.tar"));

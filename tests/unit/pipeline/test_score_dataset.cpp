@@ -8,6 +8,7 @@
 #include "generate_fixture.h"
 #include "nsg/core/files.h"
 #include "nsg/core/sha256.h"
+#include "nsg/metrics/receipt.h"
 #include "test_support.h"
 
 namespace nsg::test {
@@ -172,6 +173,50 @@ TEST(GenerateOverwrite, AnOlderDatasetIsRefusedUnlessOverwritten) {
   EXPECT_TRUE(fs::exists(out / "notes.txt"));  // only the dataset's own entries go
 }
 
+// --overwrite removes only the files a manifest or share record of ours lists: a decoy
+// folder (shards/ and maps/ without either) and a user's file beside a dataset are named
+// and the run refused, nothing removed.
+TEST(GenerateOverwrite, RemovesOnlyWhatOurDocumentsList) {
+  TempDir dir("generate-overwrite-decoy");
+  const fs::path decoy = dir / "decoy";
+  write_text(decoy / "shards" / "mine.tar", "the user's tar");
+  write_text(decoy / "maps" / "boston-seaport" / "notes.txt", "the user's notes");
+  std::vector<std::string> args = e2e_generate_args(decoy);
+  args.push_back("--overwrite");
+  CommandResult r = run_nsgraph(args);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("shards/mine.tar"), std::string::npos) << r.err;
+  EXPECT_EQ(read_text(decoy / "shards" / "mine.tar"), "the user's tar");
+  EXPECT_EQ(read_text(decoy / "maps" / "boston-seaport" / "notes.txt"), "the user's notes");
+
+  const fs::path out = dir / "dataset";
+  fs::copy(e2e_dataset(), out, fs::copy_options::recursive);
+  write_text(out / "shards" / "README.txt", "the user's");
+  const auto before = tree_hashes(out);
+  args = e2e_generate_args(out);
+  args.insert(args.end(), {"--set", "output.tiles_per_shard=2", "--overwrite"});
+  r = run_nsgraph(args);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("shards/README.txt"), std::string::npos) << r.err;
+  EXPECT_EQ(tree_hashes(out), before) << "nothing removed before the refusal";
+}
+
+// merge --overwrite walks the dataset's folders without following links: a maps/ that
+// is a link out of the dataset is refused, the files it points at untouched.
+TEST(MergeOverwrite, ALinkedMapsFolderIsRefusedNotFollowed) {
+  TempDir dir("merge-linked-maps");
+  const fs::path out = dir / "dataset";
+  fs::copy(e2e_dataset(), out, fs::copy_options::recursive);
+  fs::rename(out / "maps", dir / "elsewhere");
+  write_text(dir / "elsewhere" / "precious.txt", "not the dataset's");
+  fs::create_directory_symlink(dir / "elsewhere", out / "maps");
+  fs::remove(out / "manifest.json");
+  const CommandResult r = run_nsgraph({"merge", "--out", out.string(), "--overwrite"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("symbolic link"), std::string::npos) << r.err;
+  EXPECT_EQ(read_text(dir / "elsewhere" / "precious.txt"), "not the dataset's");
+}
+
 }  // namespace
 }  // namespace nsg::test
 
@@ -266,7 +311,7 @@ TEST(ScoreReceipt, RecomputesSameAndNamesWhatDiffers) {
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   EXPECT_NE(r.out.find("differs"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("submission sha256: recorded " + sha256_file(sub)), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("results: /aggregate/"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("results: /tiles/"), std::string::npos) << r.out;
 
   // The report's numbers edited after scoring.
   nlohmann::json edited = report;
@@ -290,6 +335,62 @@ TEST(ScoreReceipt, RecomputesSameAndNamesWhatDiffers) {
   r = verify(dir / "broken.json", ds, sub);
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find("/receipt/options"), std::string::npos) << r.err;
+}
+
+// A receipt verifies, it never configures: --verify-receipt scores with the verifier's own
+// options and limits, so a forged receipt cannot make it run out of memory (a tiny
+// geo_step_px is out of range: exit 2), lift its limits (a note, the verifier's hold) or
+// pass other options off as the defaults (a difference); and per-tile values are compared,
+// so a report whose tiles' values were swapped (aggregates equal, digest re-made) differs.
+TEST(ScoreReceipt, AReceiptVerifiesButNeverConfigures) {
+  TempDir dir("score-receipt-forged");
+  const fs::path ds = e2e_dataset();
+  nlohmann::json sub = read_json(perfect_submission(ds, dir.path()));
+  ASSERT_GE(sub["tiles"].size(), 2u);
+  const std::string emptied = sub["tiles"].begin().key();
+  sub["tiles"][emptied] = {{"nodes", nlohmann::json::array()}, {"edges", nlohmann::json::array()}};
+  write_text(dir / "sub.json", sub.dump());
+  std::vector<std::string> args = score_args(ds, dir / "sub.json");
+  args.insert(args.end(), {"--out", (dir / "r.json").string()});
+  ASSERT_EQ(run_nsgraph(args).exit_code, 0);
+  const nlohmann::json report = read_json(dir / "r.json");
+  const auto verify = [&](const nlohmann::json& doc) {
+    write_text(dir / "forged.json", doc.dump());
+    std::vector<std::string> a = score_args(ds, dir / "sub.json");
+    a.insert(a.end(), {"--verify-receipt", (dir / "forged.json").string()});
+    return run_nsgraph(a);
+  };
+  ASSERT_EQ(verify(report).exit_code, 0);
+
+  nlohmann::json forged = report;
+  forged["receipt"]["options"]["params"]["geo_step_px"] = 1e-6;
+  CommandResult r = verify(forged);
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("geo_step_px"), std::string::npos) << r.err;
+
+  forged = report;
+  forged["receipt"]["limits"]["max_file_bytes"] = int64_t{1} << 50;
+  forged["receipt"]["limits"]["max_path_work_per_tile"] = int64_t{1} << 50;
+  r = verify(forged);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("note: limits: recorded"), std::string::npos) << r.out;
+
+  forged = report;
+  forged["receipt"]["options"]["params"]["snap_m"] = 6.0;
+  r = verify(forged);
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("options: recorded"), std::string::npos) << r.out;
+
+  forged = report;
+  std::string other;
+  for (const auto& [key, tile] : report["tiles"].items())
+    if (key != emptied && tile["apls"] != report["tiles"][emptied]["apls"]) other = key;
+  ASSERT_FALSE(other.empty());
+  std::swap(forged["tiles"][emptied], forged["tiles"][other]);
+  forged["receipt"]["results_sha256"] = metrics::results_sha256(forged);
+  r = verify(forged);
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("results: /tiles/"), std::string::npos) << r.out;
 }
 
 }  // namespace

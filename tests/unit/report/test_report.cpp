@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <map>
 
@@ -54,7 +55,16 @@ TEST(Report, SubmissionReportMatchesScoreAndMarksDefects) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json score = read_json(dir / "score.json");
   const nlohmann::json summary = read_data_script(out / "data/summary.js");
-  EXPECT_EQ(summary, read_json(out / "report.json"));
+  nlohmann::json marker = read_json(out / "report.json");
+  // The marker is the summary and the list of every file the report wrote (it replaces only those).
+  const nlohmann::json listed = marker["files"];
+  marker.erase("files");
+  EXPECT_EQ(summary, marker);
+  std::vector<std::string> on_disk;
+  for (const auto& e : fs::recursive_directory_iterator(out))
+    if (e.is_regular_file()) on_disk.push_back(fs::relative(e.path(), out).generic_string());
+  std::sort(on_disk.begin(), on_disk.end());
+  EXPECT_EQ(listed.get<std::vector<std::string>>(), on_disk);
   EXPECT_EQ(summary["mode"], "submission");
   EXPECT_EQ(summary["split"], "test");
   EXPECT_EQ(summary["score"]["n_missing_predictions"], 1);
@@ -259,12 +269,18 @@ TEST(Report, SameBytesAtAnyThreadCountAndRerunReplaces) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   EXPECT_EQ(tree_hashes(dir / "1"), tree_hashes(dir / "2"));
-  // A second run over an earlier report replaces it whole.
-  write_text(dir / "1" / "stale.txt", "x");
-  const CommandResult r = run_nsgraph({"report", "--quiet", "--dataset", ds.string(), "--submission", sub.file.string(),
-                                       "--out", (dir / "1").string()});
+  // A second run over an earlier report replaces the files it wrote; a file of the user's
+  // in there is named and the run refused, the file kept.
+  const std::vector<std::string> again = {"report",       "--quiet",         "--dataset", ds.string(),
+                                          "--submission", sub.file.string(), "--out",     (dir / "1").string()};
+  write_text(dir / "1" / "img" / "stale.txt", "x");
+  CommandResult r = run_nsgraph(again);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("img/stale.txt"), std::string::npos) << r.err;
+  EXPECT_EQ(read_file(dir / "1" / "img" / "stale.txt"), "x");
+  fs::remove(dir / "1" / "img" / "stale.txt");
+  r = run_nsgraph(again);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_FALSE(fs::exists(dir / "1" / "stale.txt"));
   EXPECT_EQ(tree_hashes(dir / "1"), tree_hashes(dir / "2"));
 }
 
@@ -323,6 +339,9 @@ TEST(Leaderboard, AcceptsMatchingReceiptsAndNamesTheRejected) {
   for (const char* f : {"index.html", "leaderboard.js", "leaderboard.css", "leaderboard.json", "data/leaderboard.js"})
     EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
   nlohmann::json board = read_json(out / "leaderboard.json");
+  EXPECT_EQ(board["files"], nlohmann::json::parse(R"(["data/leaderboard.js", "index.html", "leaderboard.css",
+                                                       "leaderboard.js", "leaderboard.json"])"));
+  board.erase("files");  // the marker lists the page's files; the page's data does not
   EXPECT_EQ(read_data_script(out / "data/leaderboard.js"), board);
   ASSERT_EQ(board["entries"].size(), 3u);
   EXPECT_EQ(leaderboard_order(board, "apls"), (std::vector<std::string>{"exact", "perturbed", "empty"}));
@@ -365,8 +384,79 @@ TEST(Leaderboard, AcceptsMatchingReceiptsAndNamesTheRejected) {
   r = run_nsgraph({"report", "--leaderboard", (dir / "none").string(), "--out", (dir / "b3").string()});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_FALSE(fs::exists(dir / "b3"));
+  // --out the folder of reports itself (it used to replace it, every report deleted), or
+  // a folder holding it: refused, nothing removed.
+  const auto before = tree_hashes(reports);
   r = run_nsgraph({"report", "--leaderboard", reports.string(), "--out", reports.string()});
   EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--leaderboard"), std::string::npos) << r.err;
+  r = run_nsgraph({"report", "--leaderboard", reports.string(), "--out", dir.path().string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(tree_hashes(reports), before);
+}
+
+// An --out that holds an earlier leaderboard.json beside the user's other files was
+// replaced whole; now only a page whose leaderboard.json lists every file is replaced.
+TEST(Leaderboard, ReplacesOnlyAPageOfItsOwn) {
+  TempDir dir("leaderboard-own");
+  const fs::path reports = leaderboard_reports(dir.path());
+  const fs::path out = dir / "board";
+  const std::vector<std::string> args = {"report", "--quiet", "--leaderboard", reports.string(), "--out", out.string()};
+  ASSERT_EQ(run_nsgraph(args).exit_code, 0);
+  ASSERT_EQ(run_nsgraph(args).exit_code, 0) << "a rerun replaces its own page";
+  write_text(out / "my-notes.txt", "keep");
+  CommandResult r = run_nsgraph(args);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("my-notes.txt"), std::string::npos) << r.err;
+  EXPECT_EQ(read_file(out / "my-notes.txt"), "keep");
+  // A stranger's folder with a leaderboard.json (no listing) and other files: refused too.
+  write_text(dir / "theirs" / "leaderboard.json", "{}");
+  write_text(dir / "theirs" / "data.csv", "1,2");
+  r = run_nsgraph({"report", "--quiet", "--leaderboard", reports.string(), "--out", (dir / "theirs").string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(read_file(dir / "theirs" / "data.csv"), "1,2");
+  // A report's --out holding a leaderboard is not a report of ours either.
+  r = run_nsgraph({"report", "--quiet", "--dataset", e2e_dataset().string(), "--out", out.string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(read_file(out / "my-notes.txt"), "keep");
+}
+
+// Reports of a stranger with mistyped fields are rejected with their reason (exit 1 with
+// the page written, or 2 when none is left), never an internal error.
+TEST(Leaderboard, MistypedReportsAreRejectedByName) {
+  TempDir dir("leaderboard-mistyped");
+  const fs::path reports = leaderboard_reports(dir.path());
+  const nlohmann::json good = read_json(reports / "exact.json");
+  const std::vector<std::pair<std::string, std::function<void(nlohmann::json&)>>> cases = {
+      {"receipt-number", [](nlohmann::json& d) { d["receipt"] = 7; }},
+      {"no-ground-truth", [](nlohmann::json& d) { d["receipt"].erase("ground_truth"); }},
+      {"metrics-version-number", [](nlohmann::json& d) { d["receipt"]["metrics_version"] = 3; }},
+      {"commit-number", [](nlohmann::json& d) { d["receipt"]["toolkit"]["git_commit"] = 1; }},
+      {"kind-array", [](nlohmann::json& d) { d["receipt"]["ground_truth"]["kind"] = nlohmann::json::array(); }},
+      {"tiny-geo-step", [](nlohmann::json& d) { d["receipt"]["options"]["params"]["geo_step_px"] = 1e-9; }},
+      {"limits-lifted", [](nlohmann::json& d) { d["receipt"]["limits"]["max_depth"] = 100000; }},
+      {"n-tiles-string", [](nlohmann::json& d) { d["aggregate"]["n_tiles"] = "many"; }},
+      {"digest-short", [](nlohmann::json& d) { d["receipt"]["results_sha256"] = "abc"; }},
+  };
+  for (const auto& [name, edit] : cases) {
+    nlohmann::json doc = good;
+    edit(doc);
+    write_text(reports / ("z-" + name + ".json"), doc.dump());
+  }
+  const CommandResult r =
+      run_nsgraph({"report", "--quiet", "--leaderboard", reports.string(), "--out", (dir / "board").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  const nlohmann::json board = read_json(dir / "board" / "leaderboard.json");
+  std::map<std::string, std::string> rejected;
+  for (const auto& e : board["rejected"]) rejected[e["file"]] = e["reason"];
+  for (const auto& [name, edit] : cases) {
+    const std::string file = "z-" + name + ".json";
+    ASSERT_TRUE(rejected.count(file)) << file;
+    EXPECT_FALSE(rejected[file].empty());
+  }
+  EXPECT_NE(rejected["z-metrics-version-number.json"].find("/receipt/metrics_version"), std::string::npos)
+      << rejected["z-metrics-version-number.json"];
+  EXPECT_NE(rejected["z-tiny-geo-step.json"].find("geo_step_px"), std::string::npos);
 }
 
 }  // namespace

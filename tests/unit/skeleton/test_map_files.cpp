@@ -1,10 +1,12 @@
 // The map readers on good files of every kind and on hostile ones: each refusal is an
 // nsg::Error naming the file, before any pixel buffer is allocated from a header's size.
+#include <chrono>
 #include <cstring>
 #include <fstream>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <zlib.h>
 
 #include "nsg/core/error.h"
 #include "nsg/io/raster.h"
@@ -118,6 +120,62 @@ TEST(MapFiles, HostileFilesAreRefusedNamingTheFile) {
   EXPECT_NE(error_of<nsg::DataError>([&] { read_map_file(dir / "huge.png"); }).find("4096"), std::string::npos);
   EXPECT_NE(error_of<nsg::DataError>([&] { read_map_file(dir / "cube.npy"); }).find("2-D"), std::string::npos);
   EXPECT_NE(error_of<nsg::IoError>([&] { read_map_file(dir / "missing.png"); }).find("missing.png"), std::string::npos);
+}
+
+// A PNG chunk: length, type, data, CRC.
+std::string png_chunk(const std::string& type, const std::string& data) {
+  std::string out;
+  for (int shift = 24; shift >= 0; shift -= 8) out += static_cast<char>((data.size() >> shift) & 0xff);
+  out += type + data;
+  uLong crc = crc32(0, reinterpret_cast<const Bytef*>(type.data()), static_cast<uInt>(type.size()));
+  crc = crc32(crc, reinterpret_cast<const Bytef*>(data.data()), static_cast<uInt>(data.size()));
+  for (int shift = 24; shift >= 0; shift -= 8) out += static_cast<char>((crc >> shift) & 0xff);
+  return out;
+}
+
+// An 8-bit grayscale side x side PNG whose image data is `raw` deflated (as the format
+// has it: a filter byte before each row; a well-formed image has side x (side + 1) bytes).
+std::string png_with_raw_data(uint32_t side, const std::string& raw, bool interlaced = false) {
+  std::string ihdr;
+  for (int k = 0; k < 2; ++k)
+    for (int shift = 24; shift >= 0; shift -= 8) ihdr += static_cast<char>((side >> shift) & 0xff);
+  ihdr += std::string("\x08\x00\x00\x00", 4);  // 8 bit, grayscale, deflate, filter 0
+  ihdr += static_cast<char>(interlaced ? 1 : 0);
+  uLongf packed_size = compressBound(static_cast<uLong>(raw.size()));
+  std::string packed(packed_size, '\0');
+  compress2(reinterpret_cast<Bytef*>(packed.data()), &packed_size, reinterpret_cast<const Bytef*>(raw.data()),
+            static_cast<uLong>(raw.size()), 9);
+  packed.resize(packed_size);
+  return std::string("\x89PNG\r\n\x1a\n", 8) + png_chunk("IHDR", ihdr) + png_chunk("IDAT", packed) +
+         png_chunk("IEND", "");
+}
+
+// Image data that inflates past the image (a deflate bomb: 1 GiB of it made graphify
+// spend minutes and pass) or short of it is refused by its size, before decoding; the
+// same construction with the exact size decodes.
+TEST(MapFiles, PngImageDataMustInflateToTheImagesSize) {
+  nsg::test::TempDir dir("map_files_bomb");
+  const uint32_t side = 64;
+  write_bytes(dir / "exact.png", png_with_raw_data(side, std::string(side * (side + 1), '\0')));
+  const cv::Mat exact = read_map_file(dir / "exact.png");
+  EXPECT_EQ(exact.rows, 64);
+  EXPECT_EQ(cv::countNonZero(exact), 0);
+  write_bytes(dir / "bomb.png", png_with_raw_data(side, std::string(side * (side + 1) + (64u << 20), '\0')));
+  const auto start = std::chrono::steady_clock::now();
+  const std::string msg = error_of<nsg::ParseError>([&] { read_map_file(dir / "bomb.png"); });
+  EXPECT_NE(msg.find("bomb.png"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("inflates to more"), std::string::npos) << msg;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0)
+      << "the bound stops inflating at the image's size";
+  write_bytes(dir / "short.png", png_with_raw_data(side, std::string(side * side, '\0')));
+  EXPECT_NE(error_of<nsg::ParseError>([&] { read_map_file(dir / "short.png"); }).find("truncated or corrupt"),
+            std::string::npos);
+  // Interlaced (Adam7): an 8 x 8 image's seven passes hold 2 + 2 + 3 + 6 + 10 + 20 + 36 = 79
+  // bytes (filter bytes included), not 8 x 9 = 72.
+  write_bytes(dir / "adam7.png", png_with_raw_data(8, std::string(79, '\0'), true));
+  EXPECT_EQ(read_map_file(dir / "adam7.png").rows, 8);
+  write_bytes(dir / "adam7-short.png", png_with_raw_data(8, std::string(72, '\0'), true));
+  EXPECT_THROW(read_map_file(dir / "adam7-short.png"), nsg::ParseError);
 }
 
 TEST(MapFiles, AFolderMapsFileStemsToTileKeys) {

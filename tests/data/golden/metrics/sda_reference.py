@@ -93,6 +93,12 @@ CASES = {
     "sda-assignment-not-greedy": ([(100, 100), (130, 100)], [(118, 100), (160, 100)]),
     # 68 px off: no match at either radius; one extra predicted split.
     "sda-beyond-50px": ([(128, 160)], [(128, 92), (40, 200)]),
+    # Just outside 20 px (22) and just inside 50 px (48): the radii themselves are held, a
+    # scorer at 25 or 45 px would differ.
+    "sda-one-split-22px": ([(128, 128)], [(128, 106)]),
+    "sda-one-split-48px": ([(128, 128)], [(128, 80)]),
+    # Exactly 20 px off: not a match at 20 (strictly nearer), a match at 50.
+    "sda-one-split-exactly-20px": ([(128, 128)], [(128, 108)]),
 }
 
 

@@ -36,17 +36,31 @@ nlohmann::json make_receipt(const ScoreReport& report, const ReceiptInputs& inpu
 // read back from its file hashes as it did when written.
 std::string results_sha256(const nlohmann::json& report);
 
-// What to recompute a receipt with.
-struct ReceiptRecipe {
-  MetricParams params;
-  std::string split;
-  bool verify_ground_truth = true;
-  validate::SubmissionLimits limits;
+// A receipt as a typed document: the one reader of a receipt (score --verify-receipt, the
+// leaderboard) checks every field's presence, type and range, so no stranger's receipt
+// reaches the code that uses it mistyped.
+struct Receipt {
+  std::string ground_truth_kind;    // "dataset", "file" or "memory"
+  std::string ground_truth_sha256;  // manifest_sha256 (dataset) or sha256 (file, memory)
+  std::string split;                // ground_truth.split (dataset; "" otherwise)
+  std::string verification;         // "sha256", "sizes", "file" or "memory"
+  std::string submission_sha256;
+  int64_t submission_bytes = 0;
+  std::string toolkit_version, toolkit_commit;
+  std::string metrics_version;
+  validate::SubmissionLimits limits;  // what the scorer that wrote it enforced
+  MetricParams params;                // options.params, within the documented ranges
+  std::string options_split;          // options.split
+  bool verify_ground_truth = true;    // options.verify_ground_truth
+  std::string results_sha256;
+
+  // "<kind> <sha256> <split> metrics v<version>": receipts of one ground truth share it.
+  std::string ground_truth_identity() const;
 };
-// Reads `doc` — a score report carrying a receipt, or a receipt alone — from a stranger:
-// throws ParseError naming `file` and the field when a field is missing or of the wrong
-// type, ConfigError when the options or limits are out of range.
-ReceiptRecipe receipt_recipe(const nlohmann::json& doc, const std::string& file);
+// Reads the receipt of `doc` — a score report carrying one, or a receipt alone — from a
+// stranger: ParseError naming `file` and the JSON pointer of the first field missing or of
+// the wrong type, ConfigError when a limit or option is outside its documented range.
+Receipt read_receipt(const nlohmann::json& doc, const std::string& file);
 // The receipt object of `doc` (a report's /receipt, or `doc` itself).
 const nlohmann::json& receipt_of(const nlohmann::json& doc, const std::string& file);
 
@@ -55,12 +69,16 @@ struct ReceiptComparison {
   std::vector<std::string> notes;        // differences that change no number (toolkit build)
   bool same() const { return differences.empty(); }
 };
-// Compares a recorded report or receipt with a recomputed report (which carries its own
-// receipt). The inputs, options, limits and metrics version must be equal; the numbers
-// must hash the same, or — where the recorded document is a whole report — every
-// aggregate value must agree within 1e-9 (another CPU or compiler may move the last bits
-// of a tile's value; a note says so). A recorded report whose own numbers no longer hash
-// to its receipt is a difference (edited after scoring).
+// Compares a recorded report or receipt (read_receipt has accepted it) with a recomputed
+// report, which carries its own receipt. Receipts verify, never configure: the recomputed
+// report was scored with the verifier's own options and limits, so a recorded receipt
+// with other options differs here, whatever numbers it claims. The inputs, options and
+// metrics version must be equal (other limits, verification or toolkit are notes: they
+// change no number of an accepted submission); the numbers must hash the same, or — where
+// the recorded document is a whole report — every per-tile and aggregate value must agree
+// within 1e-9 (another CPU or compiler may move the last bits; a note says so). A recorded
+// report whose own numbers no longer hash to its receipt is a difference (edited after
+// scoring).
 ReceiptComparison compare_receipt(const nlohmann::json& recorded, const nlohmann::json& recomputed,
                                   const std::string& file);
 

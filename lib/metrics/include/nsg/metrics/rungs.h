@@ -35,6 +35,10 @@ struct RungScore {
   std::array<RungStat, kMetricCount> vs_all{};       // this rung − "all" (none for "all", or without it)
 };
 
+// The most rungs one submission may hold (each is a whole scoring of the split); a
+// ladder is built with a handful (generate --ladder: 1, 2, 4, all).
+inline constexpr size_t kMaxScoredRungs = 32;
+
 // Moves the keys "<gt key>-r<k>" of `pred` into rung k under "<gt key>"; what stays in
 // `pred` is the "all" rung. Empty when no key names a rung of a ground-truth tile.
 std::map<int, GraphSet> take_rung_tiles(const GraphSet& gt, GraphSet& pred);
