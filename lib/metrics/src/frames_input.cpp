@@ -140,6 +140,8 @@ void check_frame_work(const FrameSet& truth, const FrameSet& predictions, const 
 }
 
 ScoredFrames score_frames_submission(const FramesScoreInput& input) {
+  NSG_CHECK(std::isfinite(input.max_seconds) && input.max_seconds >= 0, ConfigError, "", "--max-seconds",
+            "0 (no limit) or a number of seconds");
   const FrameSet truth = fs::is_directory(input.ground_truth)
                              ? read_frames_ground_truth(input.ground_truth, input.split, input.verify)
                              : read_frames_ground_truth_document(input.ground_truth);
@@ -149,7 +151,7 @@ ScoredFrames score_frames_submission(const FramesScoreInput& input) {
   check_frame_work(truth, *predictions, input.limits, input.results.string(), out.issues);
   if (!out.issues.empty()) return out;
   try {
-    out.report = score_frames(truth, *predictions, input.graph_metrics);
+    out.report = score_frames(truth, *predictions, input.graph_metrics, input.max_seconds);
   } catch (const SearchWorkExceeded& e) {  // a prediction costlier than the tile limit allows
     out.issues.error("frames.results.size", input.results.string() + ":" + e.record(), e.expected());
     out.report.reset();

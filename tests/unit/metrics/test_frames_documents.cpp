@@ -2,7 +2,7 @@
 // or missing field of a manifest or a record is a ParseError naming the file, the JSON pointer
 // and what was expected (exit 2, never 3); a listed file is measured — a regular file, no link,
 // its size the manifest's — before a byte of it is read; listed paths stay inside the export;
-// a results file's mistyped fields are issues (exit 1).
+// a results file's mistyped fields are issues (exit 1); --max-seconds stops frame scoring.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -345,6 +345,30 @@ TEST(FramesResults, AMistypedFieldIsAnIssueNeverAnException) {
   // Through the CLI: problems (exit 1), not an internal error.
   const test::CommandResult r = score_frames_cli(kGolden / "gt.json", tmp / "confidence-string.json");
   EXPECT_EQ(r.exit_code, 1) << r.err;
+}
+
+TEST(ScoreFrames, MaxSecondsStopsTheRunByName) {
+  const FrameSet truth = read_frames_ground_truth_document(kGolden / "gt.json");
+  ASSERT_GT(truth.size(), 1u);
+  FrameSet copy = truth;  // a prediction carries a confidence per centerline
+  for (auto& [key, f] : copy) f.confidence.assign(f.lanes.size(), 1.0);
+  const std::optional<ConfigError> e = thrown<ConfigError>([&] { score_frames(truth, copy, false, 1e-9); });
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->record(), "--max-seconds");
+  EXPECT_NE(e->expected().find("frames within"), std::string::npos) << e->what();
+  EXPECT_EQ(score_frames(truth, copy, false, 0).det_l, 1.0);  // 0: no limit
+  FramesScoreInput in;
+  in.ground_truth = kGolden / "gt.json";
+  in.results = kGolden / "pred.json";
+  in.max_seconds = 1e-9;
+  EXPECT_THROW(score_frames_submission(in), ConfigError);
+  in.max_seconds = std::nan("");
+  EXPECT_THROW(score_frames_submission(in), ConfigError);
+  // The CLI's --max-seconds reaches it: exit 2 naming the flag; 0 scores.
+  const test::CommandResult r = score_frames_cli(kGolden / "gt.json", kGolden / "pred.json", {"--max-seconds", "1e-9"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--max-seconds"), std::string::npos) << r.err;
+  EXPECT_EQ(score_frames_cli(kGolden / "gt.json", kGolden / "pred.json", {"--max-seconds", "0"}).exit_code, 0);
 }
 
 }  // namespace

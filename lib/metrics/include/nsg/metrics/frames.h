@@ -49,8 +49,11 @@ Graph frame_graph(const FrameCenterlines& frame, bool truth);
 
 // DET_l, TOP_ll and lane_score of `predictions` on `truth` (a missing prediction = none);
 // with `graph_metrics` also nsgraph's own on each frame's graph (graph_means; about 20× the
-// time of the rest: APLS searches every frame's graph).
-FramesReport score_frames(const FrameSet& truth, const FrameSet& predictions, bool graph_metrics = false);
+// time of the rest: APLS searches every frame's graph). `max_seconds` (0 = none) is the
+// wall-clock budget, as metrics::ScoreOptions::max_seconds is for tiles: checked before each
+// frame's measurement, beyond it a ConfigError naming --max-seconds (exit 2).
+FramesReport score_frames(const FrameSet& truth, const FrameSet& predictions, bool graph_metrics = false,
+                          double max_seconds = 0);
 
 // The records of `split` of an `nsgraph frames` export, through its manifest: every record
 // listed for the split must be present with its size and (when `verify`) sha256. Keys are
@@ -75,6 +78,9 @@ struct FramesScoreInput {
   bool graph_metrics = false;  // --graph-metrics
   std::filesystem::path results;
   FrameResultsLimits limits;
+  // Wall-clock budget of scoring the frames (--max-seconds, the default of
+  // metrics::ScoreOptions; score_frames); 0 = none.
+  double max_seconds = 3600;
 };
 struct ScoredFrames {
   std::optional<FramesReport> report;
