@@ -224,29 +224,32 @@ class RecordReader {
   }
 
  private:
-  [[noreturn]] void fail(const std::string& at, const std::string& expected) const {
-    throw ParseError(file_, at, expected);
+  // What was expected is a view (a literal mostly) and pointers below `at` are spelt out only
+  // for a defect: a record holds thousands of values, read at GB/s.
+  [[noreturn]] void fail(const std::string& at, std::string_view expected) const {
+    throw ParseError(file_, at, std::string(expected));
   }
+  static std::string below(const std::string& at, size_t index) { return at + "/" + std::to_string(index); }
 
-  element member(object o, const std::string& at, const char* key, const std::string& what) const {
+  element member(object o, const std::string& at, const char* key, std::string_view what) const {
     element out;
-    if (o.at_key(key).get(out) != simdjson::SUCCESS) fail(at + "/" + key, what + " (missing)");
+    if (o.at_key(key).get(out) != simdjson::SUCCESS) fail(at + "/" + key, std::string(what) + " (missing)");
     return out;
   }
-  object as_object(element e, const std::string& at, const std::string& expected) const {
+  object as_object(element e, const std::string& at, std::string_view expected) const {
     object out;
     if (e.get_object().get(out) != simdjson::SUCCESS) fail(at, expected);
     return out;
   }
-  array as_array(element e, const std::string& at, const std::string& expected) const {
+  array as_array(element e, const std::string& at, std::string_view expected) const {
     array out;
     if (e.get_array().get(out) != simdjson::SUCCESS) fail(at, expected);
     return out;
   }
-  std::string text(element e, const std::string& at, const std::string& expected, bool non_empty = false) const {
+  std::string text(element e, const std::string& at, std::string_view expected, bool non_empty = false) const {
     std::string_view out;
     if (e.get_string().get(out) != simdjson::SUCCESS || (non_empty && out.empty()))
-      fail(at, non_empty ? expected + " (a non-empty string)" : expected + " (a string)");
+      fail(at, std::string(expected) + (non_empty ? " (a non-empty string)" : " (a string)"));
     return std::string(out);
   }
   bool boolean(element e, const std::string& at) const {
@@ -254,24 +257,25 @@ class RecordReader {
     if (e.get_bool().get(out) != simdjson::SUCCESS) fail(at, "true or false");
     return out;
   }
-  int64_t integer(element e, const std::string& at, int64_t lo, int64_t hi, const std::string& expected) const {
+  int64_t integer(element e, const std::string& at, int64_t lo, int64_t hi, std::string_view expected) const {
     int64_t out = 0;
     if (e.get_int64().get(out) != simdjson::SUCCESS || out < lo || out > hi) fail(at, expected);
     return out;
   }
-  double number(element e, const std::string& at, double bound, const std::string& expected) const {
+  static bool within(element e, double bound, double* out) {
     const std::optional<double> v = detail::number(e);
-    if (!v || !std::isfinite(*v) || std::abs(*v) > bound) fail(at, expected);
-    return *v;
+    if (!v || !std::isfinite(*v) || std::abs(*v) > bound) return false;
+    *out = *v;
+    return true;
   }
 
-  std::array<double, 3> triple(element e, const std::string& at, double bound, const std::string& expected) const {
-    const array a = as_array(e, at, expected);
-    if (a.size() != 3) fail(at, expected);
+  std::array<double, 3> triple(element e, const std::string& at, double bound, std::string_view expected) const {
+    array a;
+    if (e.get_array().get(a) != simdjson::SUCCESS || a.size() != 3) fail(at, expected);
     std::array<double, 3> out{};
     size_t i = 0;
     for (const element v : a) {
-      out[i] = number(v, at + "/" + std::to_string(i), bound, expected);
+      if (!within(v, bound, &out[i])) fail(below(at, i), expected);
       ++i;
     }
     return out;
@@ -351,14 +355,22 @@ class RecordReader {
   }
 
   std::vector<Point3> points(element e, const std::string& at) const {
-    const std::string shape =
-        strprintf("2 to %lld points [x, y, z]", static_cast<long long>(limits_.max_points_per_centerline));
-    const array a = as_array(e, at, shape);
-    if (a.size() < 2 || static_cast<int64_t>(a.size()) > limits_.max_points_per_centerline) fail(at, shape);
-    std::vector<Point3> out;
-    out.reserve(a.size());
-    for (const element p : a)
-      out.push_back(triple(p, at + "/" + std::to_string(out.size()), limits_.max_abs_coordinate_m, coordinates()));
+    array a;
+    if (e.get_array().get(a) != simdjson::SUCCESS || a.size() < 2 ||
+        static_cast<int64_t>(a.size()) > limits_.max_points_per_centerline)
+      fail(at, strprintf("2 to %lld points [x, y, z]", static_cast<long long>(limits_.max_points_per_centerline)));
+    std::vector<Point3> out(a.size());
+    size_t k = 0;
+    for (const element p : a) {
+      array xyz;
+      if (p.get_array().get(xyz) != simdjson::SUCCESS || xyz.size() != 3) fail(below(at, k), coordinates());
+      size_t c = 0;
+      for (const element x : xyz) {
+        if (!within(x, limits_.max_abs_coordinate_m, &out[k][c])) fail(below(below(at, k), c), coordinates());
+        ++c;
+      }
+      ++k;
+    }
     return out;
   }
 
@@ -492,11 +504,14 @@ FrameCenterlines FrameRecord::truth() const {
   return out;
 }
 
-FrameRecord read_frame_record(std::string_view text, const std::string& file, const FramesDocumentLimits& limits) {
+namespace {
+
+// read_frame_record with the caller's parser: a split's records reuse one (its buffers).
+FrameRecord parse_record(simdjson::dom::parser& parser, std::string_view text, const std::string& file,
+                         const FramesDocumentLimits& limits) {
   NSG_CHECK(static_cast<int64_t>(text.size()) <= limits.max_record_bytes, ParseError, file, "",
             strprintf("a frame record of at most %lld bytes", static_cast<long long>(limits.max_record_bytes)));
   const simdjson::padded_string padded(text);
-  simdjson::dom::parser parser;
   element doc;
   Issues issues;
   if (!detail::parse_strict(parser, padded, file, limits.max_depth, limits.max_json_values, doc, issues)) {
@@ -509,22 +524,36 @@ FrameRecord read_frame_record(std::string_view text, const std::string& file, co
   return RecordReader(file, limits).read(doc);
 }
 
-FrameRecord read_listed_record(const FramesManifest& manifest, const FramesListedFile& listed, bool verify,
-                               const FramesDocumentLimits& limits) {
+FrameRecord read_listed_record_with(simdjson::dom::parser& parser, const FramesManifest& manifest,
+                                    const FramesListedFile& listed, bool verify, const FramesDocumentLimits& limits) {
   const std::string text = read_listed_file(manifest, listed, limits.max_record_bytes, verify);
   const std::string file = (manifest.export_dir / listed.path).string();
-  FrameRecord record = read_frame_record(text, file, limits);
+  FrameRecord record = parse_record(parser, text, file, limits);
   const std::string folder = listed.path.substr(0, listed.path.find('/'));
   NSG_CHECK(record.split == folder, DataError, file, "/split",
             "\"" + folder + "\", the split its path " + listed.path + " lies in");
   return record;
 }
 
+}  // namespace
+
+FrameRecord read_frame_record(std::string_view text, const std::string& file, const FramesDocumentLimits& limits) {
+  simdjson::dom::parser parser;
+  return parse_record(parser, text, file, limits);
+}
+
+FrameRecord read_listed_record(const FramesManifest& manifest, const FramesListedFile& listed, bool verify,
+                               const FramesDocumentLimits& limits) {
+  simdjson::dom::parser parser;
+  return read_listed_record_with(parser, manifest, listed, verify, limits);
+}
+
 void for_each_frame_record(const FramesManifest& manifest, const std::string& split, bool verify,
                            const std::function<void(const FrameRecord&, const FramesListedFile&)>& fn,
                            const FramesDocumentLimits& limits) {
+  simdjson::dom::parser parser;
   for (const FramesListedFile* listed : manifest.records(split))
-    fn(read_listed_record(manifest, *listed, verify, limits), *listed);
+    fn(read_listed_record_with(parser, manifest, *listed, verify, limits), *listed);
 }
 
 }  // namespace nsg::metrics
