@@ -226,6 +226,57 @@ def frames_results(out):
     put(out, "frames", "nan", json.dumps(copy).replace("0.9", "NaN", 1))
 
 
+def frame_record():
+    """A frame record as `nsgraph frames` writes it (schemas/v1/frame.schema.json): one
+    camera, two centerlines, the first linked to the second."""
+    eye = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    pose = {"rotation": eye, "translation": [600.0, 1600.0, 0.0]}
+    lanes = [{"id": 1000 * k, "points": [[-20.0 + 4.0 * i, 3.5 * k, 0.0] for i in range(11)],
+              "points_2m": [[-20.0 + 2.0 * i, 3.5 * k, 0.0] for i in range(21)],
+              "is_intersection_or_connector": k == 1, "lane_token": f"lane-{k}",
+              "starts_at_lane_start": k == 1, "ends_at_lane_end": k == 0} for k in range(2)]
+    camera = {"image_path": "samples/CAM_FRONT/x.jpg", "timestamp": 1, "width": 1600, "height": 900,
+              "extrinsic": pose, "intrinsic": {"K": [[1266.4, 0.0, 816.3], [0.0, 1266.4, 491.5], [0.0, 0.0, 1.0]],
+                                               "distortion": []}, "ego_pose": pose}
+    return {"schema_version": "1", "version": "nsgraph-frames-1", "segment_id": "scene-0001",
+            "meta_data": {"source": "nuscenes", "source_id": "s" * 32, "version": "v1.0-mini",
+                          "location": "boston-seaport", "map_version": "1.3", "region": "r0"},
+            "timestamp": 1, "sample_token": "tok", "split": "test", "sensor": {"CAM_FRONT": camera}, "pose": pose,
+            "annotation": {"lane_centerline": lanes, "traffic_element": [], "topology_lclc": [[0, 1], [0, 0]],
+                           "topology_lcte": [[], []]}}
+
+
+def frames_documents(out):
+    """Frame records and frames manifests (fuzz_frames_record, fuzz_frames_manifest): as
+    written, and broken the ways a hostile-input review found (mistyped fields, a missing
+    pose, paths out of the export)."""
+    record = frame_record()
+    put(out, "frames_record", "record", json.dumps(record))
+    no_pose = dict(record)
+    del no_pose["pose"]
+    put(out, "frames_record", "no-pose", json.dumps(no_pose))
+    put(out, "frames_record", "bad-topology", json.dumps(record).replace("[[0, 1], [0, 0]]", "[[0, 2], [0]]"))
+    put(out, "frames_record", "deep", "[" * 40 + "]" * 40)
+    files = [{"path": "test/scene-0001/info/1.json", "bytes": 100, "sha256": "0" * 64},
+             {"path": "data_dict.json", "bytes": 2, "sha256": "1" * 64}]
+    manifest = {"schema_version": "1", "kind": "nsgraph-frames", "tool_version": "0",
+                "source": {"dataset": "d", "dataset_manifest_sha256": "2" * 64, "dataroot": "r",
+                           "version": "v1.0-mini", "split_buffer_m": 10.0},
+                "config": {"window": {"x_min_m": -50.0, "x_max_m": 50.0, "y_min_m": -25.0, "y_max_m": 25.0},
+                           "centerline_points": 11, "copy_images": False},
+                "layout": {"records": "", "images": "", "traffic_elements": ""}, "counts": {}, "files": files}
+    put(out, "frames_manifest", "manifest", json.dumps(manifest))
+    for name, change in (("bytes-string", lambda m: m["files"][0].update(bytes="100")),
+                         ("sha256-number", lambda m: m["files"][0].update(sha256=7)),
+                         ("no-kind", lambda m: m.pop("kind")),
+                         ("files-object", lambda m: m.update(files={})),
+                         ("outside", lambda m: m["files"][0].update(path="test/../../etc/info/passwd")),
+                         ("absolute", lambda m: m["files"][0].update(path="/test/x/info/1.json"))):
+        bad = json.loads(json.dumps(manifest))
+        change(bad)
+        put(out, "frames_manifest", name, json.dumps(bad))
+
+
 def main():
     release, out = sys.argv[1], sys.argv[2]
     tables(release, out)
@@ -241,6 +292,7 @@ def main():
     merge_records(out)
     models(out)
     frames_results(out)
+    frames_documents(out)
 
 
 if __name__ == "__main__":

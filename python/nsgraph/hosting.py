@@ -26,7 +26,8 @@ def evaluate(test_annotation_file, user_submission_file, phase_codename, **kwarg
     split = kwargs.get("split") or "test"
     codename = kwargs.get("split_codename") or split
     if kwargs.get("paradigm") == "frames" or str(phase_codename).startswith("frames"):
-        return _evaluate_frames(test_annotation_file, user_submission_file, split, codename)
+        return _evaluate_frames(test_annotation_file, user_submission_file, split, codename,
+                                kwargs.get("max_seconds", 3600))
     names = kwargs.get("metrics") or LEADERBOARD_METRICS
     report = score(test_annotation_file, user_submission_file, split=split,
                    max_seconds=kwargs.get("max_seconds", 3600))
@@ -38,8 +39,8 @@ def evaluate(test_annotation_file, user_submission_file, phase_codename, **kwarg
     return {"result": [{codename: values}], "submission_result": values}
 
 
-def _evaluate_frames(test_annotation_file, user_submission_file, split, codename):
-    report = score_frames(test_annotation_file, user_submission_file, split=split)
+def _evaluate_frames(test_annotation_file, user_submission_file, split, codename, max_seconds):
+    report = score_frames(test_annotation_file, user_submission_file, split=split, max_seconds=max_seconds)
     values = {name: report[name] for name in ("DET_l", "TOP_ll", "lane_score")}
     values["n_frames"] = report["counts"]["frames"]
     values["n_missing_frames"] = report["counts"]["missing_frames"]

@@ -1,10 +1,13 @@
 """nsgraph.frames: the records of an export (through its manifest), images decoded on
 demand, the PyTorch collate, score_frames (= nsgraph score --frames) and evaluate's frames
 phase, on the e2e dataset's frames."""
+import hashlib
 import json
 import os
+import resource
 import shutil
 import tempfile
+import time
 import unittest
 
 import numpy as np
@@ -129,6 +132,156 @@ class FramesTest(unittest.TestCase):
         with self.assertRaises(nsgraph.SubmissionError) as e:
             nsgraph.score_frames(self.root, bad)
         self.assertTrue(any(i["check"] in ("submission.json", "frames.results.finite") for i in e.exception.issues))
+
+
+def record_doc(split="test"):
+    """A record as `nsgraph frames` writes it: one camera, two centerlines, the first linked
+    to the second (as tests/unit/metrics/frames_export_fixture.h)."""
+    eye = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    pose = {"rotation": eye, "translation": [600.0, 1600.0, 0.0]}
+    lanes = [{"id": 1000 * k, "points": [[-20.0 + 4.0 * i, 3.5 * k, 0.0] for i in range(11)],
+              "points_2m": [[-20.0 + 2.0 * i, 3.5 * k, 0.0] for i in range(21)],
+              "is_intersection_or_connector": k == 1, "lane_token": f"lane-{k}",
+              "starts_at_lane_start": k == 1, "ends_at_lane_end": k == 0} for k in range(2)]
+    camera = {"image_path": "samples/CAM_FRONT/x.jpg", "timestamp": 1, "width": 1600, "height": 900,
+              "extrinsic": pose, "intrinsic": {"K": [[1266.4, 0.0, 816.3], [0.0, 1266.4, 491.5], [0.0, 0.0, 1.0]],
+                                               "distortion": []}, "ego_pose": pose}
+    return {"schema_version": "1", "version": "nsgraph-frames-1", "segment_id": "scene-0001",
+            "meta_data": {"source": "nuscenes", "source_id": "s", "version": "v1.0-mini",
+                          "location": "boston-seaport", "map_version": "1.3", "region": "r0"},
+            "timestamp": 1, "sample_token": "tok", "split": split, "sensor": {"CAM_FRONT": camera}, "pose": pose,
+            "annotation": {"lane_centerline": lanes, "traffic_element": [], "topology_lclc": [[0, 1], [0, 0]],
+                           "topology_lcte": [[], []]}}
+
+
+RECORD = "test/scene-0001/info/1.json"
+
+
+def write_export(root, record_text=None, change=None):
+    """A one-record export: the record (text) listed with its size and sha256; `change(manifest)`
+    edits the manifest before it is written. Returns the manifest's path."""
+    data = (record_text if record_text is not None else json.dumps(record_doc())).encode()
+    os.makedirs(os.path.join(root, os.path.dirname(RECORD)), exist_ok=True)
+    with open(os.path.join(root, RECORD), "wb") as f:
+        f.write(data)
+    manifest = {"schema_version": "1", "kind": "nsgraph-frames", "tool_version": "test",
+                "source": {"dataset": "d", "dataset_manifest_sha256": "2" * 64, "dataroot": "release",
+                           "version": "v1.0-mini", "split_buffer_m": 10.0},
+                "config": {"window": {"x_min_m": -50.0, "x_max_m": 50.0, "y_min_m": -25.0, "y_max_m": 25.0},
+                           "centerline_points": 11, "copy_images": False},
+                "layout": {"records": "", "images": "", "traffic_elements": ""}, "counts": {},
+                "files": [{"path": RECORD, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}]}
+    if change:
+        change(manifest)
+    path = os.path.join(root, "manifest.json")
+    with open(path, "w") as f:
+        json.dump(manifest, f)
+    return path
+
+
+class FramesHostileTest(unittest.TestCase):
+    """Crafted exports through nsgraph.frames.Dataset: the library's reader (the one the CLI
+    uses) names file, JSON pointer and expectation; nothing outside the export is read, nothing
+    is read unbounded, no RecursionError / KeyError / ValueError escapes."""
+
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="nsg-py-frames-hostile-")
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def export(self, name, **kwargs):
+        root = os.path.join(self.tmp, name)
+        write_export(root, **kwargs)
+        return root
+
+    def test_the_crafted_export_reads(self):
+        ds = nsgraph.frames.Dataset(self.export("ok"), "test")
+        self.assertEqual(len(ds), 1)
+        item = ds[0]
+        self.assertEqual(item["token"], "tok")
+        self.assertEqual(item["centerlines"][1].shape, (11, 3))
+        np.testing.assert_array_equal(item["topology"], [[0, 1], [0, 0]])
+        np.testing.assert_array_equal(item["pose"][:3, 3], [600.0, 1600.0, 0.0])
+        self.assertEqual(item["cameras"]["CAM_FRONT"]["image_path"],
+                         os.path.join("release", "samples/CAM_FRONT/x.jpg"))
+
+    def test_paths_outside_the_export_are_refused_by_name(self):
+        outside = os.path.join(self.tmp, "outside", "info")
+        os.makedirs(outside)
+        text = json.dumps(record_doc())
+        with open(os.path.join(outside, "1.json"), "w") as f:
+            f.write(text)
+        for path in ("test/../../outside/info/1.json", os.path.join(outside, "1.json")):
+            root = self.export("escape", change=lambda m, p=path: m["files"][0].update(path=p))
+            with self.assertRaises(nsgraph.ParseError) as e:
+                nsgraph.frames.Dataset(root, "test")
+            self.assertEqual(e.exception.file, os.path.join(root, "manifest.json"))
+            self.assertEqual(e.exception.record, "/files/0/path")
+            self.assertIn("inside the export", e.exception.expected)
+
+    def test_a_record_is_measured_before_it_is_read(self):
+        zero = self.export("zero")
+        os.remove(os.path.join(zero, RECORD))
+        os.symlink("/dev/zero", os.path.join(zero, RECORD))
+        started = time.monotonic()
+        with self.assertRaises(nsgraph.DataError) as e:
+            nsgraph.frames.Dataset(zero, "test")[0]
+        self.assertIn("symbolic link", str(e.exception))
+        self.assertEqual(e.exception.file, os.path.join(zero, RECORD))
+        self.assertLess(time.monotonic() - started, 5.0)
+        # 1 GiB (sparse) listed as a few KiB: refused by its size, not read.
+        big = self.export("big")
+        os.truncate(os.path.join(big, RECORD), 1 << 30)
+        before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+        with self.assertRaises(nsgraph.DataError) as e:
+            nsgraph.frames.Dataset(big, "test")[0]
+        self.assertIn("size", e.exception.expected)
+        self.assertLess(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before, 256 * 1024)  # KiB
+
+    def test_crafted_documents_raise_the_packages_errors_as_the_cli_reports_them(self):
+        no_pose = record_doc()
+        del no_pose["pose"]
+        point_string = record_doc()
+        point_string["annotation"]["lane_centerline"][0]["points"][2] = "x"
+        cases = {
+            "no-pose": (dict(record_text=json.dumps(no_pose)), nsgraph.ParseError, "/pose"),
+            "deep": (dict(record_text="[" * 100000 + "]" * 100000), nsgraph.ParseError, ""),
+            "point-string": (dict(record_text=json.dumps(point_string)), nsgraph.ParseError,
+                             "/annotation/lane_centerline/0/points/2"),
+            "bytes-string": (dict(change=lambda m: m["files"][0].update(bytes="100")), nsgraph.ParseError,
+                             "/files/0/bytes"),
+            "sha256-number": (dict(change=lambda m: m["files"][0].update(sha256=7)), nsgraph.ParseError,
+                              "/files/0/sha256"),
+            "files-object": (dict(change=lambda m: m.update(files={})), nsgraph.ParseError, "/files"),
+            "no-kind": (dict(change=lambda m: m.pop("kind")), nsgraph.ParseError, "/kind"),
+            "no-source": (dict(change=lambda m: m.pop("source")), nsgraph.ParseError, "/source"),
+        }
+        results = os.path.join(self.tmp, "results.json")
+        with open(results, "w") as f:
+            f.write('{"results": {}}')
+        for name, (kwargs, error, pointer) in cases.items():
+            with self.subTest(name):
+                root = self.export(name, **kwargs)
+                with self.assertRaises(error) as e:
+                    nsgraph.frames.Dataset(root, "test")[0]
+                self.assertEqual(e.exception.record, pointer)
+                self.assertTrue(e.exception.file.startswith(root))
+                self.assertTrue(e.exception.expected)
+                cli = fixtures.run_nsgraph("score", "--quiet", "--frames", "--ground-truth", root, "--submission",
+                                           results, check=False)
+                self.assertEqual(cli.returncode, 2, cli.stderr)
+                self.assertIn(str(e.exception), cli.stderr)
+
+    def test_max_seconds_bounds_the_frames_phase(self):
+        golden = os.path.join(fixtures.SOURCE_DIR, "tests", "data", "golden", "frames")
+        gt, pred = os.path.join(golden, "gt.json"), os.path.join(golden, "pred.json")
+        with self.assertRaises(nsgraph.ConfigError) as e:
+            nsgraph.evaluate(gt, pred, "frames-test", max_seconds=1e-9)
+        self.assertEqual(e.exception.record, "--max-seconds")
+        with self.assertRaises(nsgraph.ConfigError):
+            nsgraph.score_frames(gt, pred, max_seconds=1e-9)
+        self.assertIn("DET_l", nsgraph.evaluate(gt, pred, "frames-test", max_seconds=0)["submission_result"])
 
 
 if __name__ == "__main__":

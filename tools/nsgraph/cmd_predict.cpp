@@ -35,14 +35,20 @@ struct PredictCliOptions {
 
 bool is_onnx(const std::string& path) { return ends_with(path, ".onnx"); }
 
-// --frames: the tiles' graphs stitched and cut around each frame of the export's split,
-// written as an OpenLane-V2 results document (docs/frames.md "The tile baseline").
-int write_frame_results(const PredictCliOptions& o, const io::Dataset& dataset, const metrics::GraphSet& graphs,
-                        const std::string& model_name) {
-  const frames::ExportFrames ex = frames::read_export_frames(o.frames, o.split);
+// --frames: the export's frames of the split, read (every record checked, a defect named by
+// file and JSON pointer) before the model runs, so a bad export costs no prediction.
+frames::ExportFrames read_frames_of_dataset(const PredictCliOptions& o, const io::Dataset& dataset) {
+  frames::ExportFrames ex = frames::read_export_frames(o.frames, o.split);
   NSG_CHECK(ex.dataset_manifest_sha256 == sha256_file(dataset.root() / "manifest.json"), DataError,
             (std::filesystem::path(o.frames) / "manifest.json").string(), "/source/dataset_manifest_sha256",
             "the frames export of --dataset " + o.dataset + " (its manifest's sha256)");
+  return ex;
+}
+
+// --frames: the tiles' graphs stitched and cut around each frame of the export's split,
+// written as an OpenLane-V2 results document (docs/frames.md "The tile baseline").
+int write_frame_results(const PredictCliOptions& o, const frames::ExportFrames& ex, const io::Dataset& dataset,
+                        const metrics::GraphSet& graphs, const std::string& model_name) {
   std::vector<frames::TilePrediction> tiles;
   double resolution_m = 0.2;
   dataset.for_each_tile(o.split, [&](const io::DatasetTile& tile) {
@@ -70,13 +76,15 @@ int run_predict(const PredictCliOptions& o, const Context& ctx) {
   std::optional<model::LaneModel> forest;
   if (!is_onnx(o.model)) forest = model::LaneModel::load(o.model);
   const io::Dataset dataset = io::Dataset::open(o.dataset);
+  std::optional<frames::ExportFrames> export_frames;
+  if (!o.frames.empty()) export_frames = read_frames_of_dataset(o, dataset);
   const auto t0 = std::chrono::steady_clock::now();
   const metrics::GraphSet graphs = forest
                                        ? model::predict_dataset(*forest, dataset, o.split, o.threads, !ctx.quiet)
                                        : model::predict_dataset_onnx(o.model, dataset, o.split, o.threads, !ctx.quiet);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!o.frames.empty())
-    return write_frame_results(o, dataset, graphs,
+  if (export_frames)
+    return write_frame_results(o, *export_frames, dataset, graphs,
                                forest ? model::to_string(forest->options().variant) : "LaneGraphNet (ONNX)");
   metrics::write_submission(graphs, o.out);
   size_t nodes = 0, edges = 0;

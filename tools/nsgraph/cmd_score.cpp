@@ -87,6 +87,7 @@ int run_score_frames(const ScoreCliOptions& o) {
   in.graph_metrics = o.graph_metrics;
   in.results = o.submission;
   in.limits.max_file_bytes = o.lib.limits.max_file_bytes;
+  in.max_seconds = o.lib.score.max_seconds;  // the budget tile scoring has (beyond it: exit 2)
   const metrics::ScoredFrames scored = metrics::score_frames_submission(in);
   if (!scored.report) {
     std::fputs(scored.issues.format().c_str(), stderr);

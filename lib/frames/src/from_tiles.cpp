@@ -7,28 +7,22 @@
 #include <map>
 #include <numeric>
 
-#include "nsg/core/error.h"
-#include "nsg/core/files.h"
-#include "nsg/core/json.h"
 #include "nsg/frames/frame_lanes.h"
-#include "nsg/metrics/frames.h"
+#include "nsg/metrics/frames_documents.h"
 
 namespace nsg::frames {
 namespace {
 
 namespace fs = std::filesystem;
-using nlohmann::json;
 using nlohmann::ordered_json;
 
 double rounded_m(double v) { return std::round(v * 1e4) / 1e4; }  // as the records' coordinates
 
-geometry::Rigid3 transform_of(const json& t, const std::string& file) {
+geometry::Rigid3 rigid_of(const metrics::FrameTransform& t) {
   geometry::Rigid3 out;
-  NSG_CHECK(t.is_object() && t.contains("rotation") && t.contains("translation"), ParseError, file, "/pose",
-            "{\"rotation\": 3 x 3, \"translation\": 3}");
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) out.rotation(r, c) = t["rotation"].at(r).at(c).get<double>();
-    out.translation(r) = t["translation"].at(r).get<double>();
+    for (int c = 0; c < 3; ++c) out.rotation(r, c) = t.rotation[static_cast<size_t>(r)][static_cast<size_t>(c)];
+    out.translation(r) = t.translation[static_cast<size_t>(r)];
   }
   return out;
 }
@@ -195,21 +189,17 @@ ordered_json frame_results(const FrameGraph& g, const geometry::Rigid3& global_f
 }  // namespace
 
 ExportFrames read_export_frames(const fs::path& export_dir, const std::string& split) {
-  const json manifest = metrics::read_frames_manifest(export_dir);
+  // The one reader of the export's documents (metrics/frames_documents.h): every field used
+  // here is present, typed and in range, or the file is named with its JSON pointer.
+  const metrics::FramesManifest manifest = metrics::read_frames_manifest(export_dir);
   ExportFrames out;
-  const json& config = manifest.at("config");
-  const json& w = config.at("window");
-  out.window = {w.at("x_min_m").get<double>(), w.at("x_max_m").get<double>(), w.at("y_min_m").get<double>(),
-                w.at("y_max_m").get<double>()};
-  out.centerline_points = config.at("centerline_points").get<int>();
-  out.dataset_manifest_sha256 = manifest.at("source").at("dataset_manifest_sha256").get<std::string>();
-  metrics::for_each_frames_record(export_dir, split, /*verify=*/true,
-                                  [&](const std::string& text, const fs::path& file) {
-                                    const json r = parse_json_strict(text, file.string());
-                                    out.frames.push_back({r.at("sample_token").get<std::string>(),
-                                                          r.at("meta_data").at("location").get<std::string>(),
-                                                          transform_of(r.at("pose"), file.string())});
-                                  });
+  out.window = {manifest.window.x_min_m, manifest.window.x_max_m, manifest.window.y_min_m, manifest.window.y_max_m};
+  out.centerline_points = manifest.centerline_points;
+  out.dataset_manifest_sha256 = manifest.dataset_manifest_sha256;
+  metrics::for_each_frame_record(manifest, split, /*verify=*/true,
+                                 [&](const metrics::FrameRecord& r, const metrics::FramesListedFile&) {
+                                   out.frames.push_back({r.sample_token, r.meta_data.location, rigid_of(r.pose)});
+                                 });
   return out;
 }
 

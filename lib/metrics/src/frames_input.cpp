@@ -1,5 +1,6 @@
-// The inputs of frame scoring: the ground truth of an `nsgraph frames` export (through its
-// manifest) and an OpenLane-V2 results document, a stranger's file checked before use.
+// The inputs of frame scoring: the ground truth of an `nsgraph frames` export (its records
+// through frames_documents.h's readers) or a ground-truth document (the golden set's), and an
+// OpenLane-V2 results document, a stranger's file checked before use.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -8,7 +9,6 @@
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
 #include "nsg/core/json.h"
-#include "nsg/core/sha256.h"
 #include "frames_json.h"
 #include "nsg/metrics/frames.h"
 #include "nsg/metrics/measure.h"
@@ -19,12 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-const json& need(const json& doc, const char* key, const std::string& file, const std::string& at,
-                 const char* expected) {
-  NSG_CHECK(doc.is_object() && doc.contains(key), ParseError, file, at + "/" + key, expected);
-  return doc[key];
-}
 
 // A member of a ground-truth object, ParseError naming the file and pointer when absent.
 simdjson::dom::element member(simdjson::dom::element e, const char* key, const std::string& file, const std::string& at,
@@ -89,56 +83,13 @@ simdjson::dom::element parse_truth(simdjson::dom::parser& parser, const std::str
 
 }  // namespace
 
-json read_frames_manifest(const fs::path& export_dir) {
-  const fs::path manifest_path = export_dir / "manifest.json";
-  NSG_CHECK(fs::exists(manifest_path), IoError, manifest_path.string(), "",
-            "an nsgraph frames export (its manifest.json)");
-  json manifest = parse_json_strict(read_file(manifest_path), manifest_path.string());
-  NSG_CHECK(manifest.value("kind", "") == "nsgraph-frames", ParseError, manifest_path.string(), "/kind",
-            "\"nsgraph-frames\" (the manifest of an `nsgraph frames` export)");
-  return manifest;
-}
-
-void for_each_frames_record(const fs::path& export_dir, const std::string& split, bool verify,
-                            const std::function<void(const std::string& text, const fs::path& file)>& fn) {
-  const fs::path manifest_path = export_dir / "manifest.json";
-  const json manifest = read_frames_manifest(export_dir);
-  const json& files = need(manifest, "files", manifest_path.string(), "", "the export's files");
-  NSG_CHECK(files.is_array(), ParseError, manifest_path.string(), "/files", "an array of files");
-  const std::string prefix = split + "/";
-  for (size_t i = 0; i < files.size(); ++i) {
-    const json& f = files[i];
-    const std::string at = "/files/" + std::to_string(i);
-    const json& path = need(f, "path", manifest_path.string(), at, "the file's path");
-    NSG_CHECK(path.is_string(), ParseError, manifest_path.string(), at + "/path", "a relative path");
-    const std::string rel = path.get<std::string>();
-    if (rel.rfind(prefix, 0) != 0 || rel.find("/info/") == std::string::npos) continue;
-    NSG_CHECK(rel.find("..") == std::string::npos && !rel.empty() && rel[0] != '/', ParseError, manifest_path.string(),
-              at + "/path", "a path inside the export");
-    const fs::path file = export_dir / rel;
-    NSG_CHECK(fs::exists(file), DataError, file.string(), rel, "present, as " + manifest_path.string() + " lists it");
-    const std::string text = read_file(file);
-    NSG_CHECK(static_cast<int64_t>(text.size()) == f.value("bytes", int64_t{-1}), DataError, file.string(), rel,
-              "the size " + manifest_path.string() + " records");
-    if (verify)
-      NSG_CHECK(sha256_hex(text) == f.value("sha256", ""), DataError, file.string(), rel,
-                "the sha256 " + manifest_path.string() + " records");
-    fn(text, file);
-  }
-}
-
 FrameSet read_frames_ground_truth(const fs::path& export_dir, const std::string& split, bool verify) {
+  const FramesManifest manifest = read_frames_manifest(export_dir);
   FrameSet out;
-  simdjson::dom::parser parser;
-  for_each_frames_record(export_dir, split, verify, [&](const std::string& text, const fs::path& file) {
-    const simdjson::dom::element record = parse_truth(parser, text, file.string());
-    std::string_view token;
-    NSG_CHECK(!member(record, "sample_token", file.string(), "", "the frame's sample token").get_string().get(token),
-              ParseError, file.string(), "/sample_token", "a sample token");
-    out.emplace_back(std::string(token), truth_of(member(record, "annotation", file.string(), "", "the annotation"),
-                                                  file.string(), "/annotation"));
+  for_each_frame_record(manifest, split, verify, [&](const FrameRecord& record, const FramesListedFile&) {
+    out.emplace_back(record.sample_token, record.truth());
   });
-  NSG_CHECK(!out.empty(), DataError, (export_dir / "manifest.json").string(), split,
+  NSG_CHECK(!out.empty(), DataError, manifest.file.string(), split,
             "a split with frames (the manifest lists no record under " + split + "/)");
   return out;
 }
@@ -189,6 +140,8 @@ void check_frame_work(const FrameSet& truth, const FrameSet& predictions, const 
 }
 
 ScoredFrames score_frames_submission(const FramesScoreInput& input) {
+  NSG_CHECK(std::isfinite(input.max_seconds) && input.max_seconds >= 0, ConfigError, "", "--max-seconds",
+            "0 (no limit) or a number of seconds");
   const FrameSet truth = fs::is_directory(input.ground_truth)
                              ? read_frames_ground_truth(input.ground_truth, input.split, input.verify)
                              : read_frames_ground_truth_document(input.ground_truth);
@@ -198,7 +151,7 @@ ScoredFrames score_frames_submission(const FramesScoreInput& input) {
   check_frame_work(truth, *predictions, input.limits, input.results.string(), out.issues);
   if (!out.issues.empty()) return out;
   try {
-    out.report = score_frames(truth, *predictions, input.graph_metrics);
+    out.report = score_frames(truth, *predictions, input.graph_metrics, input.max_seconds);
   } catch (const SearchWorkExceeded& e) {  // a prediction costlier than the tile limit allows
     out.issues.error("frames.results.size", input.results.string() + ":" + e.record(), e.expected());
     out.report.reset();

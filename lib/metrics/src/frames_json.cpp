@@ -77,8 +77,11 @@ class StrictWalk {
 
 bool parse_strict(simdjson::dom::parser& parser, const simdjson::padded_string& text, const std::string& label,
                   int max_depth, int64_t max_values, simdjson::dom::element& doc, Issues& issues) {
-  // The parser's own depth limit (one level for the document itself).
-  if (parser.allocate(std::max<size_t>(text.size(), 64), static_cast<size_t>(max_depth) + 1) != simdjson::SUCCESS) {
+  // The parser's own depth limit (one level for the document itself); its buffers are kept
+  // when they are large enough (a split's records reuse one parser).
+  const size_t capacity = std::max<size_t>(text.size(), 64), depth = static_cast<size_t>(max_depth) + 1;
+  if ((parser.capacity() < capacity || parser.max_depth() != depth) &&
+      parser.allocate(capacity, depth) != simdjson::SUCCESS) {
     issues.error("submission.size", label + ":", "expected a file the parser can allocate for");
     return false;
   }

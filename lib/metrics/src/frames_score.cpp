@@ -5,11 +5,14 @@
 // recalls with the thresholds 0, 0.1, …, 1 in float32: 7/10 reaches 0.7 there, and would
 // not reach 0.7000000000000001 in double.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <numeric>
 
+#include "nsg/core/error.h"
+#include "nsg/core/strings.h"
 #include "nsg/metrics/frames.h"
 #include "nsg/metrics/measure.h"
 #include "nsg/metrics/params.h"
@@ -23,6 +26,30 @@ constexpr double kUnset = 1024.0;               // the distance of a pair the Ch
 const float kEps32 = std::numeric_limits<float>::epsilon();
 
 using Curve = std::vector<Point3>;
+
+// The wall-clock budget of a run (0 = none), checked before each frame's work as score()
+// checks it before each tile: a host's last line of defence, since each frame is bounded by
+// the results limits but a run of many frames is bounded only by this.
+class Budget {
+ public:
+  Budget(double max_seconds, size_t frames)
+      : max_seconds_(max_seconds), frames_(frames), start_(std::chrono::steady_clock::now()) {}
+
+  // `done`: the frames whose measurement was finished, for the message.
+  void check(size_t done) const {
+    if (max_seconds_ <= 0) return;
+    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start_;
+    NSG_CHECK(elapsed.count() < max_seconds_, ConfigError, "", "--max-seconds",
+              strprintf("a run that scores its %zu frames within %g s (%zu measured when the budget ran out); raise "
+                        "--max-seconds, or 0 for no limit",
+                        frames_, max_seconds_, done));
+  }
+
+ private:
+  double max_seconds_;
+  size_t frames_;
+  std::chrono::steady_clock::time_point start_;
+};
 
 double point_distance(const Point3& a, const Point3& b) {
   const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
@@ -240,12 +267,13 @@ constexpr std::array<int, 6> kFrameGraphMetrics = {kApls,  kAplsDirected, kDirec
 // nsgraph's metrics per frame as a tile, macro means over frames (the frame's masks are
 // not meaningful — its extent is not a tile's — so they are computed on a 1-pixel square).
 std::vector<std::pair<std::string, std::optional<double>>> graph_means(
-    const FrameSet& truth, const std::vector<const FrameCenterlines*>& preds) {
+    const FrameSet& truth, const std::vector<const FrameCenterlines*>& preds, const Budget& budget) {
   MetricParams params;
   params.size_px = 1;
   std::array<double, 6> sums{};
   std::array<int64_t, 6> defined{};
   for (size_t f = 0; f < truth.size(); ++f) {
+    budget.check(f);
     const Graph gt = frame_graph(truth[f].second, true);
     const Graph pred = frame_graph(*preds[f], false);
     const TileMeasurement m = measure(truth[f].first, gt, &pred, params);
@@ -323,7 +351,9 @@ Graph frame_graph(const FrameCenterlines& frame, bool truth) {
   return g;
 }
 
-FramesReport score_frames(const FrameSet& truth_in, const FrameSet& predictions, bool graph_metrics) {
+FramesReport score_frames(const FrameSet& truth_in, const FrameSet& predictions, bool graph_metrics,
+                          double max_seconds) {
+  const Budget budget(max_seconds, truth_in.size());
   FramesReport r;
   FrameSet truth;
   for (const auto& [key, f] : truth_in) truth.emplace_back(key, as_float32(f));
@@ -347,7 +377,10 @@ FramesReport score_frames(const FrameSet& truth_in, const FrameSet& predictions,
   r.frames = static_cast<int64_t>(truth.size());
 
   std::vector<std::vector<double>> dists;
-  for (size_t f = 0; f < truth.size(); ++f) dists.push_back(distance_matrix(truth[f].second.lanes, preds[f]->lanes));
+  for (size_t f = 0; f < truth.size(); ++f) {
+    budget.check(f);
+    dists.push_back(distance_matrix(truth[f].second.lanes, preds[f]->lanes));
+  }
   std::vector<double> vertex_aps;
   float det_sum = 0.0f;
   for (size_t t = 0; t < kThresholdsM.size(); ++t) {
@@ -355,14 +388,17 @@ FramesReport score_frames(const FrameSet& truth_in, const FrameSet& predictions,
     const float ap = average_precision(truth, preds, dists, kThresholdsM[t], &matches);
     r.det_l_per_threshold[t] = ap;
     det_sum += ap;
-    for (size_t f = 0; f < truth.size(); ++f) frame_topology_aps(truth[f].second, *preds[f], matches[f], &vertex_aps);
+    for (size_t f = 0; f < truth.size(); ++f) {
+      budget.check(f);
+      frame_topology_aps(truth[f].second, *preds[f], matches[f], &vertex_aps);
+    }
   }
   r.det_l = det_sum / 3.0f;
   double top_sum = 0.0;
   for (const double v : vertex_aps) top_sum += v;
   r.top_ll = vertex_aps.empty() ? 0.0 : top_sum / static_cast<double>(vertex_aps.size());
   r.lane_score = (r.det_l + std::sqrt(r.top_ll)) / 2.0;
-  if (graph_metrics) r.graph_means = graph_means(truth, preds);
+  if (graph_metrics) r.graph_means = graph_means(truth, preds, budget);
   return r;
 }
 

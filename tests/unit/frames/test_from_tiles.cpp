@@ -5,7 +5,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "frames_export_fixture.h"
 #include "generate_fixture.h"
+#include "nsg/core/error.h"
 #include "nsg/frames/from_tiles.h"
 #include "test_support.h"
 
@@ -106,6 +108,48 @@ TEST(FromTiles, PredictFramesWritesResultsThatScoreFrames) {
        dataset.string(), "--frames", (tmp / "frames").string(), "--out", (tmp / "r2.json").string()});
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.err.find("dataset_manifest_sha256"), std::string::npos) << refused.err;
+}
+
+// A record without its pose, a manifest without its window: a ParseError naming the file and
+// the field (these were json::out_of_range, exit 3), and `predict --frames` refuses the export
+// (exit 2) before the model runs.
+TEST(FromTiles, AnExportWithoutAPoseOrAWindowIsRefusedByName) {
+  test::TempDir tmp("predict-frames-bad");
+  json record = test::frame_record_json();
+  record.erase("pose");
+  test::write_one_record_export(tmp / "no-pose", record);
+  try {
+    read_export_frames(tmp / "no-pose", "test");
+    ADD_FAILURE() << "a record without its pose was read";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.file(), (tmp / "no-pose" / test::kFixtureRecordPath).string());
+    EXPECT_EQ(e.record(), "/pose");
+  }
+  json manifest = test::write_one_record_export(tmp / "no-window");
+  manifest["config"].erase("window");
+  test::write_text(tmp / "no-window/manifest.json", manifest.dump());
+  try {
+    read_export_frames(tmp / "no-window", "test");
+    ADD_FAILURE() << "a manifest without its window was read";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.file(), (tmp / "no-window/manifest.json").string());
+    EXPECT_EQ(e.record(), "/config/window");
+  }
+  test::write_one_record_export(tmp / "ok");
+  const ExportFrames ok = read_export_frames(tmp / "ok", "test");
+  ASSERT_EQ(ok.frames.size(), 1u);
+  EXPECT_EQ(ok.frames[0].location, "boston-seaport");
+  EXPECT_EQ(ok.frames[0].global_from_ego.translation.x(), 600.0);
+  EXPECT_EQ(ok.window.y_max_m, 25.0);
+  for (const char* name : {"no-pose", "no-window"}) {
+    const test::CommandResult p = test::run_nsgraph(
+        {"predict", "--quiet", "--model", (test::data_dir() / "golden/model/b1-e2e-trees2.yml.gz").string(),
+         "--dataset", test::e2e_dataset().string(), "--split", "test", "--frames", (tmp / name).string(), "--out",
+         (tmp / name / "results.json").string()});
+    EXPECT_EQ(p.exit_code, 2) << p.err;
+    EXPECT_NE(p.err.find(std::string(name) == "no-pose" ? "/pose" : "/config/window"), std::string::npos) << p.err;
+    EXPECT_FALSE(std::filesystem::exists(tmp / name / "results.json"));
+  }
 }
 
 }  // namespace

@@ -17,41 +17,12 @@
 #include <nlohmann/json.hpp>
 
 #include "nsg/core/issues.h"
+#include "nsg/metrics/frames_documents.h"  // the documents: manifest, record, results
 #include "nsg/metrics/graph.h"
 
 namespace nsg::metrics {
 
 inline constexpr const char* kFramesMetricsVersion = "1";
-
-using Point3 = std::array<double, 3>;
-
-// One frame's centerlines: the ground truth's (confidence unused, topology 0/1) or a
-// prediction's. topology is n × n, row-major: [i · n + j] = the link i → j.
-struct FrameCenterlines {
-  std::vector<std::vector<Point3>> lanes;
-  std::vector<double> confidence;
-  std::vector<double> topology;
-};
-
-// Ordered frames (the order of the ground truth: an export's records by path).
-using FrameSet = std::vector<std::pair<std::string, FrameCenterlines>>;
-
-// What a results file may hold, checked before anything is measured (docs/scoring-limits.md).
-struct FrameResultsLimits {
-  int64_t max_centerlines_per_frame = 1000;  // OpenLane-V2's frames hold < 100
-  int64_t max_points_per_centerline = 1000;  // its ground truth has 11 (evaluated) to 201
-  // nsgraph's graph metrics score each frame as a tile: its points are the nodes and its
-  // links (probability > 0.5) edges, within the tile limits (5 000 nodes, 10 000 edges).
-  int64_t max_points_per_frame = 5'000;
-  int64_t max_links_per_frame = 5'000;
-  // Chamfer and Fréchet compare every ground-truth point with every predicted point of a
-  // frame: the product of the two point counts (5.5e7 pairs scored in 0.43 s on one core).
-  int64_t max_point_pairs_per_frame = 100'000'000;
-  double max_abs_coordinate_m = 1e5;
-  int64_t max_file_bytes = int64_t{128} << 20;  // as for tiles (--max-file-mb)
-  int64_t max_json_values = 50'000'000;
-  int max_depth = 16;  // the format nests 7 deep
-};
 
 struct FramesReport {
   std::string split;
@@ -78,17 +49,11 @@ Graph frame_graph(const FrameCenterlines& frame, bool truth);
 
 // DET_l, TOP_ll and lane_score of `predictions` on `truth` (a missing prediction = none);
 // with `graph_metrics` also nsgraph's own on each frame's graph (graph_means; about 20× the
-// time of the rest: APLS searches every frame's graph).
-FramesReport score_frames(const FrameSet& truth, const FrameSet& predictions, bool graph_metrics = false);
-
-// An `nsgraph frames` export's manifest (kind checked; IoError / ParseError naming it).
-nlohmann::json read_frames_manifest(const std::filesystem::path& export_dir);
-// Calls fn(text, file) for every record of `split` the manifest lists, in its order, after
-// checking the path stays inside the export and the record is present with its recorded
-// size and (when `verify`) sha256 (DataError naming the file). The one reader of an
-// export's records: the scorer and `predict --frames` both go through it.
-void for_each_frames_record(const std::filesystem::path& export_dir, const std::string& split, bool verify,
-                            const std::function<void(const std::string& text, const std::filesystem::path& file)>& fn);
+// time of the rest: APLS searches every frame's graph). `max_seconds` (0 = none) is the
+// wall-clock budget, as metrics::ScoreOptions::max_seconds is for tiles: checked before each
+// frame's measurement, beyond it a ConfigError naming --max-seconds (exit 2).
+FramesReport score_frames(const FrameSet& truth, const FrameSet& predictions, bool graph_metrics = false,
+                          double max_seconds = 0);
 
 // The records of `split` of an `nsgraph frames` export, through its manifest: every record
 // listed for the split must be present with its size and (when `verify`) sha256. Keys are
@@ -97,13 +62,6 @@ FrameSet read_frames_ground_truth(const std::filesystem::path& export_dir, const
 // A ground-truth document {"frames": {key: {"lane_centerline": [{"points"}], "topology_lclc"}}}
 // (the golden set's gt.json), keys in file order.
 FrameSet read_frames_ground_truth_document(const std::filesystem::path& file);
-
-// An OpenLane-V2 results document in JSON: {"results": {token: {"predictions":
-// {"lane_centerline": [{"id", "points": [[x, y, z], …], "confidence"}], "topology_lclc":
-// n × n}}}} (other keys are allowed and ignored). Problems are Issues (checks
-// "frames.results.*", subject "<file>:<JSON pointer>"); nullopt when there are any.
-std::optional<FrameSet> read_frames_results(const std::filesystem::path& file, const FrameResultsLimits& limits,
-                                            Issues& issues);
 
 // Each frame's Chamfer/Fréchet work (ground-truth points × predicted points) within
 // limits.max_point_pairs_per_frame; frames.results.size issues naming the frame.
@@ -120,6 +78,9 @@ struct FramesScoreInput {
   bool graph_metrics = false;  // --graph-metrics
   std::filesystem::path results;
   FrameResultsLimits limits;
+  // Wall-clock budget of scoring the frames (--max-seconds, the default of
+  // metrics::ScoreOptions; score_frames); 0 = none.
+  double max_seconds = 3600;
 };
 struct ScoredFrames {
   std::optional<FramesReport> report;
