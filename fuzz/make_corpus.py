@@ -180,6 +180,29 @@ def scores(out):
         put(out, "score", f"random-{n}", bytes(rng.randrange(256) for _ in range(n)))
 
 
+def receipts(out):
+    """A score report's receipt as score --out writes it, alone and inside a report."""
+    digest = "0123456789abcdef" * 4
+    receipt = {
+        "schema_version": "1",
+        "ground_truth": {"kind": "dataset", "manifest_sha256": digest, "split": "test", "verification": "sha256"},
+        "submission": {"sha256": digest, "bytes": 1234},
+        "toolkit": {"name": "nsgraph", "version": "0.1.0", "git_commit": "unknown"},
+        "metrics_version": "3",
+        "limits": {"max_nodes_per_tile": 5000, "max_edges_per_tile": 10000, "max_edge_length_px_per_tile": 100000,
+                   "max_path_work_per_tile": 10000000, "max_search_work_per_tile": 160000000,
+                   "max_abs_coordinate_px": 100000, "max_file_bytes": 134217728, "max_json_values": 10000000,
+                   "max_depth": 16},
+        "options": {"params": {"resolution_m": 0.2, "size_px": 256, "geo_step_px": 2}, "split": "test",
+                    "verify_ground_truth": True},
+        "results_sha256": digest,
+    }
+    put(out, "receipt", "receipt", json.dumps(receipt).encode())
+    report = {"schema_version": "1", "metrics_version": "3", "tiles": {"k": {"apls": 1.0}},
+              "aggregate": {"mean": {"apls": 1.0}, "n_tiles": 1}, "receipt": receipt}
+    put(out, "receipt", "report", json.dumps(report).encode())
+
+
 def merge_records(out):
     """Done-records as generate writes them: finished, unfinished, and one naming a file
     outside the folder (refused by name)."""
@@ -289,6 +312,7 @@ def main():
     images(release, out)
     graphify_maps(out)
     scores(out)
+    receipts(out)
     merge_records(out)
     models(out)
     frames_results(out)

@@ -23,6 +23,7 @@
 #include "nsg/frames/leakage.h"
 #include "nsg/graph/from_map.h"
 #include "nsg/io/dataset.h"
+#include "nsg/metrics/frames_documents.h"
 #include "nsg/nuscenes/map_expansion.h"
 #include "nsg/pipeline/config.h"
 
@@ -151,17 +152,6 @@ std::string random_scene_split(const std::string& scene_token, uint64_t seed, co
 // and only those the earlier manifest lists.
 const std::vector<std::string> kExportEntries = {"manifest.json", "data_dict.json", "train", "val", "test"};
 
-// The files an earlier export's manifest lists (relative; the manifest itself included),
-// read leniently: a listing that cannot be read lists nothing, so its files are refused.
-std::set<std::string> files_listed_by(const ordered_json& manifest) {
-  std::set<std::string> listed = {"manifest.json"};
-  const ordered_json files = manifest.value("files", ordered_json());
-  if (!files.is_array()) return listed;
-  for (const ordered_json& f : files)
-    if (f.is_object() && f.contains("path") && f["path"].is_string()) listed.insert(f["path"].get<std::string>());
-  return listed;
-}
-
 // The export's own files in `out`: removed by --overwrite (only those its manifest lists),
 // refused without it; `out` is never the dataset or the release it reads.
 void prepare_out(const OutputFolder& out, bool overwrite, const fs::path& dataset, const fs::path& dataroot) {
@@ -173,17 +163,18 @@ void prepare_out(const OutputFolder& out, bool overwrite, const fs::path& datase
     NSG_CHECK(overwrite, ConfigError, out.root().string(), "--out",
               "a folder without a frames export: " + manifest.string() +
                   " is one (or another manifest); add --overwrite to replace that export, or choose another --out");
-    // --overwrite replaces a frames export only: a dataset's (or anything else's) manifest
-    // there means --out points at the wrong folder.
-    ordered_json old;
+    // --overwrite replaces a frames export only (read by its one reader): a dataset's (or
+    // anything else's) manifest there means --out points at the wrong folder.
+    metrics::FramesManifest old;
     try {
-      old = parse_json_strict(read_file(manifest), manifest.string());
-    } catch (const Error&) {
+      old = metrics::read_frames_manifest(out.root());
+    } catch (const Error& e) {
+      throw ConfigError(manifest.string(), "--out",
+                        std::string("a frames export to replace: this manifest.json is not one (") + e.what() +
+                            "); is --out the dataset's folder?");
     }
-    NSG_CHECK(old.is_object() && old.value("kind", "") == "nsgraph-frames", ConfigError, manifest.string(), "--out",
-              "a frames export to replace: this manifest.json is not one (kind \"nsgraph-frames\"); is --out the "
-              "dataset's folder?");
-    listed = files_listed_by(old);
+    listed.insert("manifest.json");
+    for (const metrics::FramesListedFile& f : old.files) listed.insert(f.path);
   }
   const int64_t removed = out.remove_listed(listed, kExportEntries, "the earlier export's manifest.json");
   if (removed > 0)
