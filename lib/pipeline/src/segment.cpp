@@ -7,6 +7,7 @@
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
+#include "nsg/core/output_folder.h"
 #include "nsg/core/parallel.h"
 #include "nsg/core/progress.h"
 #include "nsg/core/strings.h"
@@ -37,11 +38,13 @@ namespace {
 
 struct ImageItem {
   Index sample_data;
-  fs::path jpeg, mask;
+  fs::path jpeg;
+  std::string mask_relative;  // <channel>/<image stem>.png inside --out
+  fs::path mask;              // the same, checked by OutputFolder (no link on the way)
 };
 
 // Every key-frame camera image of the chosen channels, in sample_data order.
-std::vector<ImageItem> plan_items(const Database& db, const SegmentOptions& o) {
+std::vector<ImageItem> plan_items(const Database& db, const SegmentOptions& o, const OutputFolder& out) {
   for (const std::string& ch : o.channels) {
     const Index s = db.sensor_by_channel(ch);
     if (s == nuscenes::kNoIndex || db.sensor[s].modality != nuscenes::Modality::kCamera)
@@ -53,8 +56,11 @@ std::vector<ImageItem> plan_items(const Database& db, const SegmentOptions& o) {
     if (sd.modality != nuscenes::Modality::kCamera || !sd.is_key_frame) continue;
     const std::string& channel = db.channel(sd);
     if (!o.channels.empty() && std::find(o.channels.begin(), o.channels.end(), channel) == o.channels.end()) continue;
+    // The channel from the release becomes a folder: checked as one plain name first.
+    safe_name(channel, (o.dataroot / o.version / "sensor.json").string(), "channel of sample_data " + sd.token.str());
     // The path generate's plan_images reads (raster/color_layer.cpp).
-    items.push_back({i, db.file_path(sd), o.out / channel / (fs::path(sd.filename).stem().string() + ".png")});
+    const std::string relative = channel + "/" + fs::path(sd.filename).stem().string() + ".png";
+    items.push_back({i, db.file_path(sd), relative, out.path(relative)});
   }
   return items;
 }
@@ -73,8 +79,8 @@ bool valid_mask(const fs::path& file, int width, int height, int denom) {
   }
 }
 
-void segment_image(const Database& db, const ImageItem& item, segment::SegmentationModel& model,
-                   nuscenes::JpegDecoder& decoder, int mask_scale_denom) {
+void segment_image(const Database& db, const ImageItem& item, const OutputFolder& out,
+                   segment::SegmentationModel& model, nuscenes::JpegDecoder& decoder, int mask_scale_denom) {
   const nuscenes::SampleData& sd = db.sample_data[item.sample_data];
   nuscenes::RgbImage image;
   decoder.decode_file(item.jpeg, nuscenes::JpegScale::kFull, image);
@@ -85,7 +91,7 @@ void segment_image(const Database& db, const ImageItem& item, segment::Segmentat
   nuscenes::GrayImage mask;
   model.segment(image, mask, mask_scale_denom);
   const std::vector<uint8_t> png = segment::encode_mask_png(mask);
-  write_file_atomic(item.mask, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
+  out.write(item.mask_relative, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
 
 }  // namespace
@@ -96,7 +102,9 @@ SegmentSummary segment_cameras(const SegmentOptions& o) {
   const segment::SegmentLabels labels = segment::load_labels(o.labels, o.schemas_dir);
   std::optional<segment::SegmentationModel> probe(std::in_place, o.model, labels);
   const Database db = Database::load(o.dataroot, o.version);
-  const std::vector<ImageItem> items = plan_items(db, o);
+  refuse_out_over_input(o.out, o.dataroot, "--dataroot");
+  const OutputFolder out(o.out);
+  const std::vector<ImageItem> items = plan_items(db, o, out);
   SegmentSummary summary;
   summary.images = items.size();
   std::vector<const ImageItem*> todo;
@@ -127,7 +135,7 @@ SegmentSummary segment_cameras(const SegmentOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   try {
     parallel_for_lanes(todo.size(), o.threads, [&](size_t lane, size_t i) {
-      segment_image(db, *todo[i], models[lane], decoders[lane], o.mask_scale_denom);
+      segment_image(db, *todo[i], out, models[lane], decoders[lane], o.mask_scale_denom);
       progress.advance();
     });
   } catch (...) {

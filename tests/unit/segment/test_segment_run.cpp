@@ -150,6 +150,25 @@ TEST(SegmentRun, AnImageOfTheWrongSizeNamesIt) {
   EXPECT_NE(r.err.find("1600×900"), std::string::npos) << r.err;
 }
 
+// A camera channel becomes the masks' folder: a release whose channel is named like a path
+// is refused naming sensor.json (exit 2), nothing written outside --out.
+TEST(SegmentRun, AChannelNamedLikeAPathIsRefusedByName) {
+  TempDir dir("segment_channel_escape");
+  const fs::path release = dir / "release";
+  fs::copy(tiny_release(), release, fs::copy_options::recursive);
+  const fs::path sensor = release / "v1.0-mini" / "sensor.json";
+  std::string text = read_file(sensor);
+  const size_t at = text.find("\"CAM_FRONT\"");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 11, "\"../../escaped\"");
+  write_text(sensor, text);
+  const CommandResult r = run_nsgraph(segment_args(release, dir / "run" / "out"));
+  expect_input_error(r, "sensor.json");
+  EXPECT_NE(r.err.find("../../escaped"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "escaped"));
+  EXPECT_FALSE(fs::exists(dir / "run" / "escaped"));
+}
+
 TEST(SegmentRun, RunsOnTheRealKeyFrame) {
   const fs::path real = data_dir() / "real" / "scene-0061-keyframe";
   ASSERT_TRUE(fs::exists(real)) << "missing test data " << real;
