@@ -4,6 +4,7 @@
 
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
+#include "nsg/core/output_folder.h"
 #include "nsg/core/log.h"
 #include "nsg/core/progress.h"
 #include "nsg/core/strings.h"
@@ -69,9 +70,11 @@ void write_shard_mosaics(const io::Dataset& ds, const fs::path& out, const Previ
     if (static_cast<int>(tiles.size()) > o.max_tiles) tiles.resize(o.max_tiles);
     std::vector<CardInput> cards;
     for (const auto& t : tiles) cards.push_back({&t, false, nullptr, nullptr});
-    const std::string name = detail::json_guard((ds.root() / "manifest.json").string(),
-                                                [&] { return shard.value("name", std::string("shard")); });
-    write_png(out / (name + ".png"), render_mosaic(name, cards, o.mosaic).image, written);
+    const std::string manifest = (ds.root() / "manifest.json").string();
+    const std::string name = detail::json_guard(manifest, [&] { return shard.value("name", std::string("shard")); });
+    // The shard's name from the manifest becomes the mosaic's file name: one plain name only.
+    safe_name(name, manifest, "shard name '" + printable_text(name) + "'");
+    write_png(OutputFolder(out).prepare(name + ".png"), render_mosaic(name, cards, o.mosaic).image, written);
   }
 }
 
@@ -126,7 +129,7 @@ void write_submission_mosaic(const io::Dataset& ds, const fs::path& out, const P
     cards.push_back({&tiles[i], true, p == pred.end() ? nullptr : &p->second, &scored[i]});
   }
   const std::string name = "submission-" + (o.split.empty() ? std::string("all") : o.split);
-  write_png(out / (name + ".png"), render_mosaic(name, cards, o.mosaic).image, written);
+  write_png(OutputFolder(out).prepare(name + ".png"), render_mosaic(name, cards, o.mosaic).image, written);
 }
 
 }  // namespace
@@ -172,7 +175,8 @@ std::vector<fs::path> write_previews(const fs::path& dataset, const fs::path& ou
       NSG_CHECK(loc.is_object() && loc.contains("name") && loc["name"].is_string(), ParseError,
                 (ds.root() / "manifest.json").string(), "locations", "objects with a name");
       const std::string name = loc["name"].get<std::string>();
-      write_png(out_dir / ("overview-" + name + ".png"),
+      safe_name(name, (ds.root() / "manifest.json").string(), "location '" + printable_text(name) + "'");
+      write_png(OutputFolder(out_dir).prepare("overview-" + name + ".png"),
                 render_overview(ds, name, options.split, options.overview_options).image, written);
     }
   } else if (!options.submission.empty()) {
