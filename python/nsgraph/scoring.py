@@ -144,7 +144,7 @@ def write_submission(path, tiles):
     issues, text = _nsgraph.write_submission(os.fspath(path), keys, [a[0] for a in arrays],
                                              [a[1] for a in arrays], SCHEMAS_DIR)
     if issues:
-        raise SubmissionError(f"{len(issues)} problem(s) in the submission written to {os.fspath(path)}:\n{text}",
+        raise SubmissionError(f"{len(issues)} problem(s) in the submission for {os.fspath(path)}; not written:\n{text}",
                               issues)
     return os.fspath(path)
 

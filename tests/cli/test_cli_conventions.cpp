@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "test_support.h"
 
 namespace nsg {
@@ -111,6 +113,24 @@ TEST(CliConventions, EveryCommandsOptionsFollowDocsCli) {
       }
     }
   }
+}
+
+// Figures the docs state about the tool come from the tool: score --help names the metrics
+// version its reports carry, and usage.md the number of checks validate --list-checks lists.
+TEST(CliConventions, HelpAndUsageFiguresEqualTheCode) {
+  const test::CommandResult help = test::run_nsgraph({"score", "--help"});
+  const test::CommandResult list = test::run_nsgraph({"validate", "--list-checks"});
+  ASSERT_EQ(list.exit_code, 0) << list.err;
+  // The version score reports carry: the const of the report schema's metrics_version.
+  const nlohmann::json schema =
+      nlohmann::json::parse(test::read_text(test::source_dir() / "schemas/v1/score-report.schema.json"));
+  const std::string version = schema["properties"]["metrics_version"]["const"].get<std::string>();
+  EXPECT_NE(help.out.find("metrics v" + version + ")"), std::string::npos) << help.out;
+  size_t checks = 0;
+  for (const char c : list.out) checks += c == '\n';
+  const std::string usage = test::read_text(test::source_dir() / "docs/usage.md");
+  EXPECT_NE(usage.find("and " + std::to_string(checks) + " named checks"), std::string::npos)
+      << "docs/usage.md should say validate has " << checks << " named checks";
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // (docs/metrics.md). Problems of the submission (not JSON, beyond the size, value-count or
 // nesting limits, or invalid) exit 1; an unreadable submission or bad ground truth exits 2.
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 
@@ -44,6 +45,9 @@ struct ScoreCliOptions {
 // The recorded report or receipt, read as a stranger's file: within the submission limits
 // (size, value count, depth, no repeated key).
 nlohmann::json read_receipt_file(const std::string& file) {
+  std::error_code ec;
+  NSG_CHECK(std::filesystem::is_regular_file(file, ec), IoError, file, "--verify-receipt",
+            "a score report or receipt file (score --out writes one): no such file");
   Issues issues;
   const std::optional<nlohmann::json> doc = validate::read_submission(file, validate::SubmissionLimits{}, issues);
   if (!doc) throw ParseError(file, "--verify-receipt", "a score report or receipt: " + issues.items().front().message);
@@ -156,7 +160,9 @@ int run_score(const ScoreCliOptions& o) {
 void add_score_command(CLI::App& parent, Context& ctx) {
   auto opts = std::make_shared<ScoreCliOptions>();
   opts->lib.score.progress = true;
-  CLI::App* cmd = parent.add_subcommand("score", "Score a submission against a ground truth (docs/metrics.md v1)");
+  CLI::App* cmd =
+      parent.add_subcommand("score", "Score a submission against a ground truth (docs/metrics.md, metrics v" +
+                                         std::string(metrics::kMetricsVersion) + ")");
   cmd->add_option("--ground-truth", opts->ground_truth,
                   "Dataset folder (its tiles of --split) or a file in the submission format (required)");
   cmd->add_option("--submission", opts->submission,

@@ -292,6 +292,7 @@ LaneModel LaneModel::train(const io::Dataset& dataset, const std::string& split,
   cv::setNumThreads(1);  // our own pool parallelizes over tiles; results never depend on it
   const auto t0 = std::chrono::steady_clock::now();
   ThreadPool pool(resolve_threads(threads));
+  dataset.require_split(split);  // a mistyped split is named with the ones there are
   const size_t total = detail::split_tile_count(dataset, split);
   NSG_CHECK(total > 0, DataError, (dataset.root() / "manifest.json").string(), "split " + split,
             "at least one tile to train on");

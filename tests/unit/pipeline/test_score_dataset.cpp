@@ -233,6 +233,7 @@ TEST(UnknownSplit, EveryCommandNamesItAndTheListedSplits) {
       {"preview", ds, "--out", (dir / "p").string(), "--split", "tst"},
       {"score", "--ground-truth", ds, "--submission", empty.string(), "--split", "tst"},
       {"validate", "--submission", empty.string(), "--dataset", ds, "--split", "tst"},
+      {"train", "--dataset", ds, "--split", "tst", "--model", (dir / "m.yml.gz").string()},
   };
   for (const auto& args : commands) {
     const CommandResult r = run_nsgraph(args);
