@@ -12,6 +12,7 @@
 #include "nsg/metrics/measure.h"
 #include "nsg/metrics/submission_input.h"
 #include "nsg/core/sha256.h"
+#include "nsg/metrics/rungs.h"
 #include "nsg/metrics/score_submission.h"
 #include "nsg/validate/submission.h"
 #include "test_support.h"
@@ -349,4 +350,27 @@ TEST(CheckGraph, InMemoryGraphsGetTheFileChecks) {
 }
 
 }  // namespace
+// Each rung of an observation ladder is a whole scoring of the split: a submission of more
+// rungs than kMaxScoredRungs is refused by name (it multiplied the work without a bound),
+// one of exactly that many is scored, a rung per key group.
+TEST(ScoreSubmission, RungsAreBoundedInNumber) {
+  const std::string tile = R"({"nodes": [[10, 10], [100, 10]], "edges": [[0, 1]]})";
+  const std::string truth = R"({"schema_version": "1", "tiles": {"k": )" + tile + "}}";
+  const auto with_rungs = [&](size_t n) {
+    std::string doc = R"({"schema_version": "1", "tiles": {"k": )" + tile;
+    for (size_t r = 1; r <= n; ++r) doc += ", \"k-r" + std::to_string(r) + "\": " + tile;
+    return doc + "}}";
+  };
+  const ScoredSubmission at_limit = score_submission(
+      ScoreSource::memory(truth, "<gt>"), ScoreSource::memory(with_rungs(kMaxScoredRungs), "<sub>"), golden_options());
+  ASSERT_TRUE(at_limit.scored()) << at_limit.issues.format();
+  EXPECT_EQ(at_limit.rung_reports.size(), kMaxScoredRungs);
+  const ScoredSubmission over =
+      score_submission(ScoreSource::memory(truth, "<gt>"),
+                       ScoreSource::memory(with_rungs(kMaxScoredRungs + 1), "<sub>"), golden_options());
+  ASSERT_FALSE(over.scored());
+  EXPECT_EQ(over.issues.items()[0].check, "submission.keys");
+  EXPECT_NE(over.issues.items()[0].message.find("at most 32 rungs"), std::string::npos) << over.issues.format();
+}
+
 }  // namespace nsg::metrics
