@@ -143,6 +143,39 @@ nlohmann::json report_to_json(const ScoreReport& r) {
   return out;
 }
 
+namespace {
+
+// "mean ± se" of a rung statistic as rungs_to_json writes it ("—" when undefined).
+std::string md_stat(const nlohmann::json& stat, int digits) {
+  if (!stat.is_object() || !stat.value("mean", nlohmann::json()).is_number()) return "—";
+  std::string text = md_value(stat["mean"].get<double>(), digits);
+  if (stat.value("se", nlohmann::json()).is_number()) text += " ± " + md_value(stat["se"].get<double>(), digits);
+  return text;
+}
+
+// The observation ladder's table (one row per rung: the headline metrics' mean ± s.e. over
+// the rung's tiles, and APLS's paired difference from "all"); "" without rungs.
+std::string rungs_markdown(const nlohmann::json& rungs) {
+  if (!rungs.is_array() || rungs.empty()) return "";
+  std::ostringstream out;
+  out << "\nPer rung of the observation ladder (mean ± standard error over the rung's tiles; Δ APLS: paired "
+         "difference from \"all\" on the same tiles):\n\n| rung | tiles | missing |";
+  for (const HeadlineMetric& h : headline_metrics()) out << " " << h.label << " |";
+  out << " Δ APLS vs all |\n|---|---:|---:|";
+  for (size_t k = 0; k < headline_metrics().size(); ++k) out << "---:|";
+  out << "---:|\n";
+  for (const nlohmann::json& r : rungs) {
+    out << "| " << r.value("rung", "?") << " | " << r.value("tiles", 0) << " | " << r.value("missing", 0) << " |";
+    for (const HeadlineMetric& h : headline_metrics())
+      out << " " << md_stat(r["metrics"].value(metric_name(h.metric), nlohmann::json()), h.digits) << " |";
+    const nlohmann::json vs_all = r.value("vs_all", nlohmann::json::object());
+    out << " " << md_stat(vs_all.value(metric_name(kApls), nlohmann::json()), 4) << " |\n";
+  }
+  return out.str();
+}
+
+}  // namespace
+
 std::string report_to_markdown(const ScoreReport& r) {
   const AggregateReport& a = r.aggregate;
   std::ostringstream out;
@@ -164,6 +197,7 @@ std::string report_to_markdown(const ScoreReport& r) {
   for (int m = 0; m < kMetricCount; ++m)
     out << "| `" << metric_name(m) << "` | " << md_value(a.mean[m], 6) << " | " << a.n_defined[m] << " | "
         << a.n_undefined[m] << " |\n";
+  out << rungs_markdown(r.rungs);
   return out.str();
 }
 

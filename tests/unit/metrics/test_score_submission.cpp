@@ -350,7 +350,8 @@ TEST(CheckGraph, InMemoryGraphsGetTheFileChecks) {
 }
 
 }  // namespace
-// Each rung of an observation ladder is a whole scoring of the split: a submission of more
+// Each rung of an observation ladder is a whole scoring of the split (and a row of score
+// --format md's rung table): a submission of more
 // rungs than kMaxScoredRungs is refused by name (it multiplied the work without a bound),
 // one of exactly that many is scored, a rung per key group.
 TEST(ScoreSubmission, RungsAreBoundedInNumber) {
@@ -365,6 +366,17 @@ TEST(ScoreSubmission, RungsAreBoundedInNumber) {
       ScoreSource::memory(truth, "<gt>"), ScoreSource::memory(with_rungs(kMaxScoredRungs), "<sub>"), golden_options());
   ASSERT_TRUE(at_limit.scored()) << at_limit.issues.format();
   EXPECT_EQ(at_limit.rung_reports.size(), kMaxScoredRungs);
+  // score --format md: a row per rung (every rung here is the perfect copy: APLS 1, no
+  // difference from "all"), and no such table without rungs.
+  const std::string md = report_to_markdown(at_limit.report);
+  EXPECT_NE(md.find("Per rung of the observation ladder"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 1 | 1 | 0 | 1.0000 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 32 | 1 | 0 | 1.0000 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| all | 1 | 0 | 1.0000 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 0.0000 |\n"), std::string::npos) << md;
+  const ScoredSubmission plain =
+      score_submission(ScoreSource::memory(truth, "<gt>"), ScoreSource::memory(truth, "<sub>"), golden_options());
+  EXPECT_EQ(report_to_markdown(plain.report).find("Per rung"), std::string::npos);
   const ScoredSubmission over =
       score_submission(ScoreSource::memory(truth, "<gt>"),
                        ScoreSource::memory(with_rungs(kMaxScoredRungs + 1), "<sub>"), golden_options());
