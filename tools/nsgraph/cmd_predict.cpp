@@ -12,6 +12,7 @@
 #include "nsg/core/strings.h"
 #include "nsg/core/atomic_file.h"
 #include "nsg/frames/from_tiles.h"
+#include "nsg/io/dataset.h"
 #include "nsg/metrics/io.h"
 #include "nsg/model/model.h"
 #include "nsg/model/onnx_net.h"
@@ -24,12 +25,16 @@ struct PredictCliOptions {
   std::string dataset;
   std::string split = "test";
   std::string out;
-  std::string frames;  // --frames: an `nsgraph frames` export of the dataset; write its results instead
+  std::string frames;   // --frames: an `nsgraph frames` export of the dataset; write its results instead
+  bool ladder = false;  // --ladder: the split and every rung of it in one submission
   int threads = 0;
 
   void validate() const {
     NSG_CHECK(!out.empty(), ConfigError, "", "--out", "a submission file to write");
     NSG_CHECK(threads >= 0, ConfigError, "", "--threads", "≥ 0 (0 = all cores)");
+    NSG_CHECK(!ladder || frames.empty(), ConfigError, "", "--ladder", "tile predictions (not with --frames)");
+    NSG_CHECK(!ladder || !io::rung_split(split), ConfigError, "", "--ladder",
+              "a split (train, val, test) whose rungs it predicts, not the rung '" + split + "'");
   }
 };
 
@@ -71,6 +76,19 @@ int write_frame_results(const PredictCliOptions& o, const frames::ExportFrames& 
   return kExitOk;
 }
 
+// --split, and with --ladder every rung of it the dataset holds ("<split>-r<k>"), so one
+// submission scores the whole ladder (score's per-rung report).
+std::vector<std::string> splits_to_predict(const PredictCliOptions& o, const io::Dataset& dataset) {
+  std::vector<std::string> splits = {o.split};
+  if (!o.ladder) return splits;
+  dataset.require_split(o.split);
+  for (const std::string& name : dataset.split_names())
+    if (const auto rung = io::rung_split(name); rung && rung->first == o.split) splits.push_back(name);
+  NSG_CHECK(splits.size() > 1, DataError, (dataset.root() / "manifest.json").string(), "--ladder",
+            "a dataset with an observation ladder on split '" + o.split + "' (generate --ladder); it has none");
+  return splits;
+}
+
 int run_predict(const PredictCliOptions& o, const Context& ctx) {
   o.validate();
   std::optional<model::LaneModel> forest;
@@ -79,9 +97,12 @@ int run_predict(const PredictCliOptions& o, const Context& ctx) {
   std::optional<frames::ExportFrames> export_frames;
   if (!o.frames.empty()) export_frames = read_frames_of_dataset(o, dataset);
   const auto t0 = std::chrono::steady_clock::now();
-  const metrics::GraphSet graphs = forest
-                                       ? model::predict_dataset(*forest, dataset, o.split, o.threads, !ctx.quiet)
-                                       : model::predict_dataset_onnx(o.model, dataset, o.split, o.threads, !ctx.quiet);
+  metrics::GraphSet graphs;
+  for (const std::string& split : splits_to_predict(o, dataset)) {
+    metrics::GraphSet part = forest ? model::predict_dataset(*forest, dataset, split, o.threads, !ctx.quiet)
+                                    : model::predict_dataset_onnx(o.model, dataset, split, o.threads, !ctx.quiet);
+    graphs.merge(part);  // rung keys (<key>-r<k>) never equal a split's keys
+  }
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (export_frames)
     return write_frame_results(o, *export_frames, dataset, graphs,
@@ -116,6 +137,9 @@ void add_predict_command(CLI::App& parent, Context& ctx) {
   cmd->add_option("--frames", opts->frames,
                   "An `nsgraph frames` export of --dataset: the tiles' graphs stitched and cut around each of its "
                   "--split frames, written as OpenLane-V2 results (score them with `score --frames`)");
+  cmd->add_flag("--ladder", opts->ladder,
+                "Also every rung of --split's observation ladder (keys <key>-r<k>) in the same submission: score it "
+                "once for the per-rung report");
   add_threads_option(cmd, opts->threads);
   cmd->callback([opts, &ctx]() { ctx.run = [opts, &ctx]() { return run_predict(*opts, ctx); }; });
 }

@@ -269,6 +269,50 @@ TEST(ModelQuality, B1TrainsToTheCommittedFile) {
   }
 }
 
+// predict --ladder: the split and every rung of its observation ladder in one submission,
+// which score reports per rung (score --format md's rung table); refused, named, on a
+// dataset without a ladder and for a rung given as --split.
+TEST(ModelCli, PredictLadderWritesEveryRungInOneSubmission) {
+  nsg::test::TempDir dir("predict-ladder");
+  const fs::path ladder = nsg::test::e2e_ladder_dataset();
+  const fs::path model = trained_models() / "model-b1.yml.gz";
+  const std::vector<std::string> args = {"predict",
+                                         "--quiet",
+                                         "--model",
+                                         model.string(),
+                                         "--dataset",
+                                         ladder.string(),
+                                         "--split",
+                                         "test",
+                                         "--ladder",
+                                         "--out",
+                                         (dir / "sub.json").string()};
+  CommandResult r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nsg::io::Dataset ds = nsg::io::Dataset::open(ladder);
+  const std::vector<int> rungs = ds.rungs();
+  ASSERT_FALSE(rungs.empty());
+  uint64_t expected = ds.tile_count("test");
+  for (int k : rungs) expected += ds.tile_count("test-r" + std::to_string(k));
+  EXPECT_EQ(nsg::test::read_json(dir / "sub.json")["tiles"].size(), expected);
+  r = run_nsgraph({"score", "--quiet", "--ground-truth", ladder.string(), "--submission", (dir / "sub.json").string(),
+                   "--format", "md"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("Per rung of the observation ladder"), std::string::npos) << r.out;
+  for (int k : rungs) EXPECT_NE(r.out.find("| " + std::to_string(k) + " | "), std::string::npos) << r.out;
+
+  std::vector<std::string> plain = args;
+  plain[5] = nsg::test::e2e_dataset().string();
+  r = run_nsgraph(plain);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--ladder"), std::string::npos) << r.err;
+  std::vector<std::string> rung = args;
+  rung[7] = "test-r1";
+  r = run_nsgraph(rung);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("test-r1"), std::string::npos) << r.err;
+}
+
 TEST(ModelCli, LoadSaveRoundTripIsByteIdentical) {
   const fs::path models = trained_models();
   nsg::test::TempDir dir("model-roundtrip");
