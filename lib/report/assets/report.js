@@ -74,7 +74,8 @@
     if (v === null || v === undefined) return '—';
     if (Number.isInteger(v)) return String(v);
     const a = Math.abs(v);
-    return a >= 1000 ? v.toFixed(0) : a >= 10 ? v.toFixed(2) : v.toFixed(4);
+    // Three significant digits below 0.001 (a small area in km² was 0.0000).
+    return a >= 1000 ? v.toFixed(0) : a >= 10 ? v.toFixed(2) : a >= 0.001 || a === 0 ? v.toFixed(4) : v.toPrecision(3);
   }
   const cmpStr = (a, b) => (a < b ? -1 : a > b ? 1 : 0);  // byte order, like the C++ side
   // A baseline's or a difference's column is better low when its metric is.
@@ -249,10 +250,19 @@
   }
 
   // The per-tile table's columns the reader chose (#hide=<col>,<col>; "-" = none hidden).
-  // By default a baseline's own values are hidden: its differences (delta.*) are shown.
+  // By default only the headline metrics (summary.main) and their differences from a baseline
+  // are shown of the metric columns, beside the prediction's and tile's facts: every metric
+  // with its baseline and Δ is over 50 columns, which pushed the Δ columns off-screen. A
+  // baseline's own values stay hidden; the chooser shows the rest.
   function hiddenColumns() {
     const h = params().hide;
-    if (h === undefined) return new Set(S.summary.columns.filter((c) => c.startsWith('baseline.')));
+    if (h === undefined) {
+      const metrics = new Set((S.summary.summary || []).map((r) => r.metric));
+      const main = new Set(S.summary.main || []);
+      const bare = (c) => c.replace(/^(baseline|delta)\./, '');
+      return new Set(S.summary.columns.filter((c) => c.startsWith('baseline.') ||
+        (metrics.has(bare(c)) && !main.has(bare(c)))));
+    }
     return new Set(h.split(',').filter((c) => c && c !== '-'));
   }
   function setHidden(hidden) { go({ hide: hidden.size ? Array.from(hidden).join(',') : '-' }); }

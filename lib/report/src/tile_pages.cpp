@@ -427,11 +427,13 @@ std::vector<std::string> lower_is_better_columns() {
 std::vector<std::string> table_columns(bool submission, bool baseline) {
   std::vector<std::string> cols;
   if (submission) {
-    for (int m = 0; m < metrics::kMetricCount; ++m) cols.push_back(metrics::metric_name(m));
-    if (baseline) {
-      for (int m = 0; m < metrics::kMetricCount; ++m)
-        cols.push_back(std::string("baseline.") + metrics::metric_name(m));
-      for (int m = 0; m < metrics::kMetricCount; ++m) cols.push_back(std::string("delta.") + metrics::metric_name(m));
+    // With a baseline, each metric's difference and baseline value sit beside it: the table
+    // is read metric by metric, and 3 × the metrics would push a block of Δ off-screen.
+    for (int m = 0; m < metrics::kMetricCount; ++m) {
+      cols.push_back(metrics::metric_name(m));
+      if (!baseline) continue;
+      cols.push_back(std::string("delta.") + metrics::metric_name(m));
+      cols.push_back(std::string("baseline.") + metrics::metric_name(m));
     }
     for (const PredictionColumn& c : kPredictionColumns) cols.push_back(c.name);
   }

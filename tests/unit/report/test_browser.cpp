@@ -125,6 +125,12 @@ TEST(Browser, ReportLoadsSortsAndDrawsOverlays) {
   EXPECT_NE(std::find(shown.begin(), shown.end(), "delta.apls"), shown.end());
   EXPECT_EQ(std::find(shown.begin(), shown.end(), "baseline.apls"), shown.end());
   EXPECT_NE(std::find(shown.begin(), shown.end(), "apls"), shown.end());
+  // Each headline metric's Δ sits right beside it; the other metrics wait in the chooser.
+  const auto at = [&](const std::string& c) { return std::find(shown.begin(), shown.end(), c) - shown.begin(); };
+  EXPECT_EQ(at("delta.apls"), at("apls") + 1);
+  EXPECT_EQ(at("delta.topo_f1"), at("topo_f1") + 1);
+  EXPECT_EQ(std::find(shown.begin(), shown.end(), "chamfer_px2"), shown.end());
+  EXPECT_EQ(std::find(shown.begin(), shown.end(), "delta.chamfer_px2"), shown.end());
   EXPECT_EQ(st["tile"]["layers"], 5);
   EXPECT_EQ(st["overview_tiles"], tiles["keys"].size());
   EXPECT_EQ(st["overview_regions"], 2);
