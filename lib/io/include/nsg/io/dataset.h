@@ -1,8 +1,8 @@
 #pragma once
 // Reading a NuScenesGraph dataset (docs/dataset-format.md) for validate, preview, score, stats,
-// the report, the model and Python: the manifest through its one reader (io/manifest.h), and the tiles of a split
-// streamed shard by shard (tar or folder layout) as raw member bytes with typed readers of their documents
-// (io/tile_meta.h, io/tile_graph.h) and layers (io/raster.h).
+// the report, the model and Python: the manifest through its one reader (io/manifest.h), and
+// the tiles of a split streamed shard by shard (tar or folder layout) as raw member bytes with
+// typed readers of their documents (io/tile_meta.h, io/tile_graph.h) and layers (io/raster.h).
 #include <cstdint>
 #include <filesystem>
 #include <functional>

@@ -196,17 +196,17 @@ std::string read_manifest_text(const std::filesystem::path& path);
 nlohmann::json parse_manifest_text(std::string_view text, const std::string& file);
 
 // The manifest at `path`: its size bounded before it is read (kMaxManifestBytes), parsed
-// strictly (nesting, repeated keys), then manifest_from_json. IoError / ParseError /
-// DataError naming the file.
+// strictly (nesting, repeated keys), then manifest_from_json. IoError (missing,
+// unreadable) or ParseError naming the file.
 Manifest read_manifest(const std::filesystem::path& path);
 
 // `text` as the manifest `file`: the strict parse, then manifest_from_json.
 Manifest manifest_from_text(std::string_view text, const std::string& file);
 
 // Every field the model holds, checked: ParseError naming `file`, the JSON pointer
-// ("/shards/3/bytes") and what was expected for a missing or mistyped field or a value out
-// of its range; DataError for fields that disagree (a tar-layout shard with a folder, a
-// shard whose split is not its name's).
+// ("/shards/3/bytes") and what was expected for a missing or mistyped field, a value out of
+// its range, or a field the layout needs missing (a tar-layout shard without `file`, a
+// shard whose name is not of its split or rung).
 Manifest manifest_from_json(const nlohmann::ordered_json& doc, const std::string& file);
 Manifest manifest_from_json(const nlohmann::json& doc, const std::string& file);
 
@@ -215,7 +215,7 @@ Manifest manifest_from_json(const nlohmann::json& doc, const std::string& file);
 std::vector<ManifestLocation> manifest_locations_from_json(const nlohmann::ordered_json& locations,
                                                            const std::string& file, const std::string& at);
 
-// [x_west, y_south, x_east, y_north] (io/tile_meta.h bounds_from_json) of a region.
+// A region {name, split, bounds_m}, its bounds through io/tile_meta.h's bounds_from_json.
 Region region_from_json(const nlohmann::ordered_json& region, const std::string& file, const std::string& at);
 
 // ---- the writer -----------------------------------------------------------------------------
