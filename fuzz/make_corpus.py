@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""Seed corpora for the fuzz targets, cut small from a synthetic release (nothing committed).
+"""Seed corpora for the fuzz targets, cut small from a synthetic release and a dataset generated
+from it (nothing committed).
 
-usage: make_corpus.py RELEASE OUT  ->  OUT/<target>/<seed files>
+usage: make_corpus.py RELEASE OUT [DATASET]  ->  OUT/<target>/<seed files>
 """
 import gzip
 import json
@@ -112,6 +113,51 @@ def tile_jsons(out):
         "coverage": {"lidar": 0.5, "rgb": 0.5, "semantic": 0.5},
         "counts": {"nodes": 2, "edges": 1, "vehicle_px": 3}, "scenes": ["scene-0001"]}))
     put(out, "tile_json", "nested", "[" * 70 + "]" * 70)
+
+
+def manifests(out, dataset):
+    """The dataset's manifest.json as generate wrote it (when given), a small complete one of each
+    layout with a ladder, and broken ones (a path outside the dataset, a mistyped field)."""
+    if dataset:
+        with open(os.path.join(dataset, "manifest.json"), "rb") as f:
+            put(out, "manifest", "dataset", f.read())
+    key, h = "boston-seaport-test-000000", "0" * 64
+    shard = {"name": "test-000000", "split": "test", "location": "boston-seaport", "tiles": 1,
+             "first_key": key, "last_key": key, "file": "shards/test-000000.tar", "sha256": h, "bytes": 10}
+    rung = dict(shard, name="test-r1-000000", first_key=key + "-r1", last_key=key + "-r1",
+                file="shards/test-r1-000000.tar", rung=1)
+    counts = {"train": {"tiles": 0, "shards": 0}, "val": {"tiles": 0, "shards": 0},
+              "test": {"tiles": 1, "shards": 1}, "total_tiles": 1}
+    location = {"name": "boston-seaport", "map_version": "1.3",
+                "lane_graph": {"nodes": 2, "edges": 1, "lanes": 1, "map_defects": 0},
+                "scenes": {"used": 1, "excluded": []},
+                "regions": [{"name": "r", "split": "test", "bounds_m": [0, 0, 51.2, 51.2]}],
+                "counts": {"train": 0, "val": 0, "test": 1},
+                "shards": [{k: shard[k] for k in ("name", "split", "tiles", "first_key", "last_key")}]}
+    doc = {"schema_version": "1", "seed": 1, "config": {"seed": 1},
+           "inputs": {"dataroot": "r", "version": "v1.0-mini", "tables": [],
+                      "map_expansion": {"boston-seaport": {"file": "m.json", "sha256": h, "bytes": 1,
+                                                           "version": "1.3"}}, "detections": None},
+           "layout": "tar", "tile_format": {"resolution_m": 0.2, "size_px": 256,
+                                            "key_pattern": "<location>-<split>-<NNNNNN>",
+                                            "files": ["lidar.tif", "graph.json", "meta.json"]},
+           "locations": [location], "excluded_scenes": [], "counts": counts, "shards": [shard],
+           "maps": [{"file": "maps/boston-seaport/lanes.geojson", "sha256": h, "bytes": 1}],
+           "ladder": {"rungs": [1, "all"], "order": "time", "splits": ["test"],
+                      "counts": {"1": {"tiles": 1, "shards": 1}}, "shards": [rung]}}
+    put(out, "manifest", "tar-ladder", json.dumps(doc, indent=1))
+    folder = json.loads(json.dumps(doc))
+    folder["layout"] = "folder"
+    del folder["ladder"]
+    del folder["shards"][0]["file"]
+    folder["shards"][0]["folder"] = "tiles/test"
+    put(out, "manifest", "folder", json.dumps(folder))
+    outside = json.loads(json.dumps(doc))
+    outside["shards"][0]["file"] = "../../etc/hostname"
+    put(out, "manifest", "outside", json.dumps(outside))
+    mistyped = json.loads(json.dumps(doc))
+    mistyped["shards"][0]["bytes"] = "10"
+    put(out, "manifest", "mistyped", json.dumps(mistyped))
 
 
 def honest_tiff(width, height):
@@ -302,6 +348,7 @@ def frames_documents(out):
 
 def main():
     release, out = sys.argv[1], sys.argv[2]
+    dataset = sys.argv[3] if len(sys.argv) > 3 else None
     tables(release, out)
     maps(release, out)
     pcds(release, out)
@@ -309,6 +356,7 @@ def main():
     submissions(out)
     tars(out)
     tile_jsons(out)
+    manifests(out, dataset)
     images(release, out)
     graphify_maps(out)
     scores(out)

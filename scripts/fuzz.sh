@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 FUZZ_BUILD=${1:-build-fuzz}
 FUZZ_SECONDS=${FUZZ_SECONDS:-60}
-FUZZ_TARGETS=${FUZZ_TARGETS:-"table map pcd detections submission tar_index tile_json images score merge model frames graphify"}
+FUZZ_TARGETS=${FUZZ_TARGETS:-"table map pcd detections submission tar_index tile_json manifest images score merge model frames graphify"}
 JOBS=${JOBS:-2}
 RELEASE_BUILD=${BUILD:-build}
 
@@ -32,21 +32,33 @@ for t in $FUZZ_TARGETS; do
   fi
 done
 
-# The seed release: given, or synthesized once with a Release nsgraph (never the fuzz build's).
+# The seed release and the dataset generated from it (its manifest seeds fuzz_manifest): given,
+# or made once with a Release nsgraph (never the fuzz build's).
 release=${NSG_FUZZ_RELEASE:-$FUZZ_BUILD/seed-release}
-if [[ ! -f $release/v1.0-mini/sample.json ]]; then
-  exe=$RELEASE_BUILD/tools/nsgraph/nsgraph
+dataset=${NSG_FUZZ_DATASET:-$FUZZ_BUILD/seed-dataset}
+exe=$RELEASE_BUILD/tools/nsgraph/nsgraph
+release_nsgraph() {
   if [[ ! -x $exe ]]; then
     [[ -f $RELEASE_BUILD/CMakeCache.txt ]] || cmake -S . -B "$RELEASE_BUILD" -DCMAKE_BUILD_TYPE=Release
     cmake --build "$RELEASE_BUILD" --target nsgraph -j "$JOBS"
   fi
+}
+if [[ ! -f $release/v1.0-mini/sample.json ]]; then
+  release_nsgraph
   rm -rf "$release.tmp"
   "$exe" synth --quiet --config tests/data/synth/e2e.json --out "$release.tmp"
   mv "$release.tmp" "$release"
 fi
+if [[ ! -f $dataset/manifest.json ]]; then
+  release_nsgraph
+  rm -rf "$dataset.tmp"
+  "$exe" generate --quiet --config tests/data/generate/e2e.json --dataroot "$release" --version v1.0-mini \
+    --out "$dataset.tmp" --ladder --tiles-per-shard 3
+  mv "$dataset.tmp" "$dataset"
+fi
 seeds=$FUZZ_BUILD/fuzz-seeds
 rm -rf "$seeds"
-/usr/bin/python3 fuzz/make_corpus.py "$release" "$seeds"
+/usr/bin/python3 fuzz/make_corpus.py "$release" "$seeds" "$dataset"
 
 status=0
 printf '%-12s %8s %10s %8s %8s  %s\n' target seconds execs execs/s corpus result

@@ -46,56 +46,31 @@ struct DatasetPlan {
   std::map<std::string, std::string> map_version;
 };
 
-const json& member(const json& doc, const char* key, const fs::path& file, const std::string& at,
-                   const char* expected) {
-  NSG_CHECK(doc.is_object() && doc.contains(key), ParseError, file.string(), at + "/" + key, expected);
-  return doc[key];
-}
-
-tiling::Region region_of(const json& r, const fs::path& file, const std::string& at) {
-  const json& b = member(r, "bounds_m", file, at, "[x_west, y_south, x_east, y_north]");
-  NSG_CHECK(
-      b.is_array() && b.size() == 4 && std::all_of(b.begin(), b.end(), [](const json& v) { return v.is_number(); }),
-      ParseError, file.string(), at + "/bounds_m", "[x_west, y_south, x_east, y_north] in metres");
-  const json& split = member(r, "split", file, at, "train, val or test");
-  NSG_CHECK(split.is_string() && tiling::is_split_name(split.get<std::string>()), ParseError, file.string(),
-            at + "/split", "train, val or test");
+tiling::Region region_of(const io::Region& r) {
   tiling::Region out;
-  out.name = r.value("name", "");
-  out.split = split.get<std::string>();
-  out.bounds = {b[0].get<double>(), b[1].get<double>(), b[2].get<double>(), b[3].get<double>()};
-  NSG_CHECK(out.bounds.valid(), ParseError, file.string(), at + "/bounds_m", "west < east and south < north");
+  out.name = r.name;
+  out.split = r.split;
+  out.bounds = {r.bounds_m[0], r.bounds_m[1], r.bounds_m[2], r.bounds_m[3]};
   return out;
 }
 
+// The manifest through its one reader (io/manifest.h: every field checked); the config
+// through its own (pipeline::config_from_json).
 DatasetPlan read_dataset(const fs::path& root) {
   const io::Dataset dataset = io::Dataset::open(root);
+  const io::Manifest& m = dataset.manifest();
   DatasetPlan p;
   p.manifest_path = root / "manifest.json";
   p.manifest_sha256 = sha256_file(p.manifest_path);
-  const json& m = dataset.manifest();
-  p.config = pipeline::config_from_json(member(m, "config", p.manifest_path, "", "the run's config"),
-                                        p.manifest_path.string() + ":/config");
-  const json& locations = member(m, "locations", p.manifest_path, "", "the locations of the run");
-  NSG_CHECK(locations.is_array(), ParseError, p.manifest_path.string(), "/locations", "an array of locations");
-  const json& maps = member(member(m, "inputs", p.manifest_path, "", "the run's inputs"), "map_expansion",
-                            p.manifest_path, "/inputs", "the map expansion files");
-  for (size_t i = 0; i < locations.size(); ++i) {
-    const std::string at = "/locations/" + std::to_string(i);
-    const json& name = member(locations[i], "name", p.manifest_path, at, "the location's name");
-    NSG_CHECK(name.is_string(), ParseError, p.manifest_path.string(), at + "/name", "a location name");
-    const std::string location = name.get<std::string>();
-    p.locations.push_back(location);
-    const json& regions = member(locations[i], "regions", p.manifest_path, at, "the location's regions");
-    NSG_CHECK(regions.is_array(), ParseError, p.manifest_path.string(), at + "/regions", "an array of regions");
-    for (size_t r = 0; r < regions.size(); ++r)
-      p.regions[location].push_back(region_of(regions[r], p.manifest_path, at + "/regions/" + std::to_string(r)));
-    const json& map = member(maps, location.c_str(), p.manifest_path, "/inputs/map_expansion", "the location's map");
-    const json& digest = member(map, "sha256", p.manifest_path, "/inputs/map_expansion/" + location, "its sha256");
-    NSG_CHECK(digest.is_string(), ParseError, p.manifest_path.string(), "/inputs/map_expansion/" + location,
-              "a sha256");
-    p.map_sha256[location] = digest.get<std::string>();
-    p.map_version[location] = map.value("version", "");
+  p.config = pipeline::config_from_json(json(m.config), p.manifest_path.string() + ":/config");
+  for (const io::ManifestLocation& loc : m.locations) {
+    p.locations.push_back(loc.name);
+    for (const io::Region& r : loc.regions) p.regions[loc.name].push_back(region_of(r));
+    const io::MapExpansionRecord* map = m.inputs.map_of(loc.name);
+    NSG_CHECK(map != nullptr, ParseError, p.manifest_path.string(), "/inputs/map_expansion/" + loc.name,
+              "the map expansion file of location " + loc.name);
+    p.map_sha256[loc.name] = map->file.sha256;
+    p.map_version[loc.name] = map->version;
   }
   return p;
 }

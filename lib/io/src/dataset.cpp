@@ -42,11 +42,7 @@ fs::path path_in_dataset(const fs::path& root, const std::string& relative, cons
 Dataset Dataset::open(const fs::path& root) {
   Dataset d;
   d.root_ = root;
-  const fs::path path = root / "manifest.json";
-  d.manifest_ = parse_json_strict(read_file(path), path.string(), "the dataset manifest");
-  if (!d.manifest_.is_object() || !d.manifest_.contains("shards") || !d.manifest_["shards"].is_array())
-    throw ParseError(path.string(), "shards", "a manifest with a \"shards\" array");
-  d.tar_ = d.manifest_.value("layout", "tar") == "tar";
+  d.manifest_ = read_manifest(root / "manifest.json");
   return d;
 }
 
@@ -57,11 +53,11 @@ std::optional<std::pair<std::string, int>> rung_split(const std::string& split) 
   return std::pair{m[1].str(), std::stoi(m[2].str())};
 }
 
-std::vector<nlohmann::json> Dataset::shards(const std::string& split) const {
+std::vector<ShardEntry> Dataset::shards(const std::string& split) const {
   if (const auto rung = rung_split(split)) return rung_shards(rung->first, rung->second);
-  std::vector<nlohmann::json> out;
-  for (const nlohmann::json& s : manifest_["shards"])
-    if (split.empty() || s.value("split", "") == split) out.push_back(s);
+  std::vector<ShardEntry> out;
+  for (const ShardEntry& s : manifest_.shards)
+    if (split.empty() || s.split == split) out.push_back(s);
   return out;
 }
 
@@ -76,32 +72,21 @@ std::vector<std::string> Dataset::split_names() const {
 
 std::vector<int> Dataset::rungs() const {
   std::set<int> out;
-  for (const nlohmann::json& s : rung_shards())
-    if (s.contains("rung") && s["rung"].is_number_unsigned() && s["rung"].get<uint64_t>() <= 100000)
-      out.insert(s["rung"].get<int>());
+  for (const ShardEntry& s : rung_shards()) out.insert(s.rung);
   return {out.begin(), out.end()};
 }
 
-std::vector<nlohmann::json> Dataset::rung_shards(const std::string& split, int rung) const {
-  std::vector<nlohmann::json> out;
-  const auto ladder = manifest_.find("ladder");
-  if (ladder == manifest_.end() || !ladder->is_object() || !ladder->contains("shards") ||
-      !(*ladder)["shards"].is_array())
-    return out;
-  for (const nlohmann::json& s : (*ladder)["shards"]) {
-    if (!s.is_object() || (!split.empty() && s.value("split", "") != split)) continue;
-    if (rung != 0 && !(s.contains("rung") && s["rung"] == rung)) continue;
-    out.push_back(s);
-  }
+std::vector<ShardEntry> Dataset::rung_shards(const std::string& split, int rung) const {
+  std::vector<ShardEntry> out;
+  if (!manifest_.ladder) return out;
+  for (const ShardEntry& s : manifest_.ladder->shards)
+    if ((split.empty() || s.split == split) && (rung == 0 || s.rung == rung)) out.push_back(s);
   return out;
 }
 
-uint64_t tile_count(const std::vector<nlohmann::json>& shards) {
+uint64_t tile_count(const std::vector<ShardEntry>& shards) {
   uint64_t n = 0;
-  for (const nlohmann::json& s : shards) {
-    const auto it = s.find("tiles");
-    if (it != s.end() && it->is_number_unsigned()) n += it->get<uint64_t>();
-  }
+  for (const ShardEntry& s : shards) n += static_cast<uint64_t>(s.tiles);
   return n;
 }
 
@@ -117,24 +102,24 @@ std::pair<std::string, std::string> split_member(const std::string& name, const 
 
 }  // namespace
 
-std::vector<DatasetTile> Dataset::read_shard(const nlohmann::json& shard) const {
+std::vector<DatasetTile> Dataset::read_shard(const ShardEntry& shard) const {
   std::vector<DatasetTile> tiles;
-  const std::string name = shard.value("name", "");
+  const std::string& name = shard.name;
   const auto add = [&](const std::string& member, std::vector<uint8_t> bytes, const std::string& where) {
     auto [key, suffix] = split_member(member, where);
     if (tiles.empty() || tiles.back().key != key) tiles.push_back({key, name, {}});
     tiles.back().files[suffix] = std::move(bytes);
   };
-  if (tar_) {
-    const fs::path file = path_in_dataset(root_, shard.value("file", ""), "shard '" + name + "' file");
+  if (tar_layout()) {
+    const fs::path file = path_in_dataset(root_, shard.file, "shard '" + name + "' file");
     TarReader reader(file);
     TarMember m;
     while (reader.next(m)) add(m.name, std::move(m.bytes), file.string());
     return tiles;
   }
   // Folder layout: tiles/<split>/<key>/<key>.<suffix>, keys from first_key to last_key.
-  const fs::path folder = path_in_dataset(root_, shard.value("folder", ""), "shard '" + name + "' folder");
-  const std::string first = shard.value("first_key", ""), last = shard.value("last_key", "");
+  const fs::path folder = path_in_dataset(root_, shard.folder, "shard '" + name + "' folder");
+  const std::string &first = shard.first_key, &last = shard.last_key;
   std::vector<fs::path> dirs;
   if (fs::is_directory(folder))
     for (const auto& e : fs::directory_iterator(folder)) {
@@ -156,14 +141,14 @@ std::vector<DatasetTile> Dataset::read_shard(const nlohmann::json& shard) const 
 }
 
 void Dataset::for_each_tile(const std::string& split, const std::function<bool(const DatasetTile&)>& fn) const {
-  for (const nlohmann::json& shard : shards(split))
+  for (const ShardEntry& shard : shards(split))
     for (const DatasetTile& t : read_shard(shard))
       if (!fn(t)) return;
 }
 
 void Dataset::for_each_rung_tile(const std::string& split, int rung,
                                  const std::function<bool(const DatasetTile&)>& fn) const {
-  for (const nlohmann::json& shard : rung_shards(split, rung))
+  for (const ShardEntry& shard : rung_shards(split, rung))
     for (const DatasetTile& t : read_shard(shard))
       if (!fn(t)) return;
 }

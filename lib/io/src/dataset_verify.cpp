@@ -15,20 +15,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string text_field(const nlohmann::json& entry, const char* name, const std::string& manifest,
-                       const std::string& record) {
-  NSG_CHECK(entry.is_object() && entry.contains(name) && entry[name].is_string(), ParseError, manifest,
-            record + "/" + name, "a string");
-  return entry[name].get<std::string>();
-}
-
-int64_t count_field(const nlohmann::json& entry, const char* name, const std::string& manifest,
-                    const std::string& record) {
-  NSG_CHECK(entry.contains(name) && entry[name].is_number_integer() && entry[name].get<int64_t>() >= 0, ParseError,
-            manifest, record + "/" + name, "a non-negative integer");
-  return entry[name].get<int64_t>();
-}
-
 // The tile folders of a folder-layout shard: tiles/<split>/<key> for keys in [first, last].
 std::vector<fs::path> tile_folders(const fs::path& folder, const std::string& first, const std::string& last) {
   std::vector<fs::path> dirs;
@@ -64,8 +50,7 @@ std::string folder_digest(const fs::path& root, const std::string& folder_rel, c
 
 std::vector<std::string> Dataset::splits() const {
   std::set<std::string> names;
-  for (const nlohmann::json& s : manifest_["shards"])
-    if (s.is_object() && s.contains("split") && s["split"].is_string()) names.insert(s["split"].get<std::string>());
+  for (const ShardEntry& s : manifest_.shards) names.insert(s.split);
   return {names.begin(), names.end()};
 }
 
@@ -74,14 +59,7 @@ std::optional<std::string> Dataset::split_of_keys(const std::vector<std::string>
     std::string split, first, last;
   };
   std::vector<Range> ranges;
-  for (const nlohmann::json& s : manifest_["shards"]) {
-    if (!s.is_object()) continue;
-    const auto text = [&](const char* name) {
-      const auto it = s.find(name);
-      return it != s.end() && it->is_string() ? it->get<std::string>() : std::string();
-    };
-    if (!text("split").empty()) ranges.push_back({text("split"), text("first_key"), text("last_key")});
-  }
+  for (const ShardEntry& s : manifest_.shards) ranges.push_back({s.split, s.first_key, s.last_key});
   std::map<std::string, int64_t> counts;
   for (const std::string& key : keys) {
     std::set<std::string> in;  // a key in the ranges of two splits counts for both
@@ -106,28 +84,29 @@ std::optional<std::string> Dataset::split_of_keys(const std::vector<std::string>
 void Dataset::require_split(const std::string& split) const {
   if (split.empty()) return;
   const std::vector<std::string> known = split_names();
-  NSG_CHECK(std::find(known.begin(), known.end(), split) != known.end(), DataError, (root_ / "manifest.json").string(),
+  NSG_CHECK(std::find(known.begin(), known.end(), split) != known.end(), DataError, manifest_file(),
             "split '" + split + "'",
             "a split the manifest lists (" + (known.empty() ? std::string("none") : join(known, ", ")) + ")");
 }
 
 SplitVerification Dataset::verify_split(const std::string& split, bool hash) const {
-  const std::string manifest = (root_ / "manifest.json").string();
+  const std::string manifest = manifest_file();
   NSG_CHECK(!split.empty(), DataError, manifest, "split", "a split name");
   require_split(split);
   SplitVerification out;
   out.hashed = hash;
   std::set<fs::path> listed;      // shard files (tar) or tile folders (folder layout)
   std::set<fs::path> shard_dirs;  // where the split's shards live
-  for (const nlohmann::json& shard : shards(split)) {
-    const std::string name = text_field(shard, "name", manifest, "shards");
+  const bool tar = tar_layout();
+  for (const ShardEntry& shard : shards(split)) {
+    const std::string& name = shard.name;
     const std::string record = "shard '" + name + "'";
-    const int64_t want_bytes = count_field(shard, "bytes", manifest, record);
-    const std::string want_sha = text_field(shard, "sha256", manifest, record);
-    out.tiles += count_field(shard, "tiles", manifest, record);
+    const int64_t want_bytes = shard.bytes;
+    const std::string& want_sha = shard.sha256;
+    out.tiles += shard.tiles;
     ++out.shards;
-    if (tar_) {
-      const fs::path file = path_in_dataset(root_, text_field(shard, "file", manifest, record), record + " file");
+    if (tar) {
+      const fs::path file = path_in_dataset(root_, shard.file, record + " file");
       NSG_CHECK(fs::is_regular_file(file), IoError, file.string(), name,
                 "the shard the manifest lists for split '" + split + "' (missing)");
       const auto bytes = static_cast<int64_t>(fs::file_size(file));
@@ -143,11 +122,10 @@ SplitVerification Dataset::verify_split(const std::string& split, bool hash) con
       shard_dirs.insert(file.parent_path().lexically_normal());
       continue;
     }
-    const std::string folder_rel = text_field(shard, "folder", manifest, record);
+    const std::string& folder_rel = shard.folder;
     const fs::path folder = path_in_dataset(root_, folder_rel, record + " folder");
     NSG_CHECK(fs::is_directory(folder), IoError, folder.string(), name, "the shard's tile folder (missing)");
-    const std::vector<fs::path> dirs = tile_folders(folder, text_field(shard, "first_key", manifest, record),
-                                                    text_field(shard, "last_key", manifest, record));
+    const std::vector<fs::path> dirs = tile_folders(folder, shard.first_key, shard.last_key);
     for (const fs::path& d : dirs) listed.insert(d.lexically_normal());
     shard_dirs.insert(folder.lexically_normal());
     if (hash) {
@@ -161,10 +139,8 @@ SplitVerification Dataset::verify_split(const std::string& split, bool hash) con
     }
   }
   // The ladder's shards of the split (generate --ladder) share the shards/ folder.
-  if (tar_ && !rung_split(split))
-    for (const nlohmann::json& shard : rung_shards(split))
-      if (shard.contains("file") && shard["file"].is_string())
-        listed.insert((root_ / shard["file"].get<std::string>()).lexically_normal());
+  if (tar && !rung_split(split))
+    for (const ShardEntry& shard : rung_shards(split)) listed.insert((root_ / shard.file).lexically_normal());
   // Leftovers: a shard of this split (tar) or a tile folder (folder layout) in the same
   // place that the manifest does not list, e.g. from an earlier run with more tiles.
   for (const fs::path& dir : shard_dirs) {
@@ -172,9 +148,9 @@ SplitVerification Dataset::verify_split(const std::string& split, bool hash) con
     for (const auto& e : fs::directory_iterator(dir)) {
       const std::string base = e.path().filename().string();
       const bool candidate =
-          tar_ ? (e.is_regular_file() && starts_with(base, split + "-") && ends_with(base, ".tar")) : e.is_directory();
+          tar ? (e.is_regular_file() && starts_with(base, split + "-") && ends_with(base, ".tar")) : e.is_directory();
       NSG_CHECK(!candidate || listed.count(e.path().lexically_normal()), DataError, e.path().string(), split,
-                std::string(tar_ ? "only shards" : "only tile folders") + " the manifest lists for split '" + split +
+                std::string(tar ? "only shards" : "only tile folders") + " the manifest lists for split '" + split +
                     "' (left from an earlier run? remove it or regenerate with --overwrite)");
     }
   }

@@ -95,18 +95,16 @@ DatasetStats compute_stats(const std::filesystem::path& root, bool progress) {
   double res = 0.2;
   // Every tile is the manifest's size and resolution: a tile's own size_px drives the
   // area loop, so it may not exceed what the dataset declares.
-  const nlohmann::json& format = dataset.manifest().value("tile_format", nlohmann::json::object());
-  const nlohmann::json want_size = format.value("size_px", nlohmann::json()),
-                       want_res = format.value("resolution_m", nlohmann::json());
+  const TileFormat& format = dataset.manifest().tile_format;
   Progress bar("stats tiles", dataset.tile_count(""), progress);
   dataset.for_each_tile("", [&](const DatasetTile& tile) {
     // Checked readers: a tile document is an outside file (io/tile_meta.h, io/tile_graph.h).
     const TileMeta meta = tile.meta();
     const graph::TileGraph graph = tile.graph();
-    NSG_CHECK(!want_size.is_number_integer() || want_size.get<int64_t>() == meta.size_px, DataError,
-              tile.key + ".meta.json", "/size_px", "the manifest's tile_format.size_px " + want_size.dump());
-    NSG_CHECK(!want_res.is_number() || want_res.get<double>() == meta.resolution_m, DataError, tile.key + ".meta.json",
-              "/resolution_m", "the manifest's tile_format.resolution_m " + want_res.dump());
+    NSG_CHECK(format.size_px == meta.size_px, DataError, tile.key + ".meta.json", "/size_px",
+              "the manifest's tile_format.size_px " + std::to_string(format.size_px));
+    NSG_CHECK(format.resolution_m == meta.resolution_m, DataError, tile.key + ".meta.json", "/resolution_m",
+              "the manifest's tile_format.resolution_m " + nlohmann::json(format.resolution_m).dump());
     res = meta.resolution_m;
     const int64_t size = meta.size_px;
     const Raster vehicle = tile.raster("vehicle.tif");

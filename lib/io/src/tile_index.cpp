@@ -68,34 +68,28 @@ int open_read(const fs::path& path, const std::string& record) {
 SplitIndex::SplitIndex(const fs::path& root, const std::string& split) : root_(root), split_(split) {
   const Dataset ds = Dataset::open(root);
   tar_ = ds.tar_layout();
-  const nlohmann::json::json_pointer size_ptr("/tile_format/size_px");
-  if (ds.manifest().contains(size_ptr) && ds.manifest()[size_ptr].is_number_integer()) {
-    const int64_t size = ds.manifest()[size_ptr].get<int64_t>();
-    NSG_CHECK(size > 0 && size <= 4096, ParseError, (root / "manifest.json").string(), "/tile_format/size_px",
-              "a tile size in [1, 4096] pixels, got " + std::to_string(size));
-    size_px_ = static_cast<int>(size);
-  }
-  const std::vector<nlohmann::json> entries = ds.shards(split);
+  size_px_ = ds.manifest().tile_format.size_px;  // bounded by the manifest's reader
+  const std::vector<ShardEntry> entries = ds.shards(split);
   if (entries.empty()) {
     const std::vector<std::string> names = ds.split_names();
-    throw ConfigError((root / "manifest.json").string(), "split '" + split + "'",
+    throw ConfigError(ds.manifest_file(), "split '" + split + "'",
                       "a split with shards; the dataset has: " + (names.empty() ? "none" : join(names, ", ")));
   }
-  for (const nlohmann::json& entry : entries) {
+  for (const ShardEntry& entry : entries) {
     const size_t before = tiles_.size();
     tar_ ? index_tar_shard(entry) : index_folder_shard(entry);
-    const auto expected = entry.value("tiles", int64_t{-1});
+    const int64_t expected = entry.tiles;
     NSG_CHECK(
-        expected < 0 || static_cast<int64_t>(tiles_.size() - before) == expected, DataError,
-        shards_.back().path.string(), "shard '" + shards_.back().name + "'",
+        static_cast<int64_t>(tiles_.size() - before) == expected, DataError, shards_.back().path.string(),
+        "shard '" + shards_.back().name + "'",
         std::to_string(expected) + " tiles as the manifest says, found " + std::to_string(tiles_.size() - before));
   }
 }
 
-void SplitIndex::index_tar_shard(const nlohmann::json& entry) {
+void SplitIndex::index_tar_shard(const ShardEntry& entry) {
   const auto shard = static_cast<uint32_t>(shards_.size());
-  const std::string name = entry.value("name", "");
-  shards_.push_back({name, path_in_dataset(root_, entry.value("file", ""), "shard '" + name + "' file")});
+  const std::string& name = entry.name;
+  shards_.push_back({name, path_in_dataset(root_, entry.file, "shard '" + name + "' file")});
   const fs::path& file = shards_.back().path;
   for (const TarIndexEntry& e : *cached_tar_index(file)) {
     auto [key, suffix] = split_member(e.name, file.string());
@@ -105,13 +99,13 @@ void SplitIndex::index_tar_shard(const nlohmann::json& entry) {
   }
 }
 
-void SplitIndex::index_folder_shard(const nlohmann::json& entry) {
+void SplitIndex::index_folder_shard(const ShardEntry& entry) {
   // Folder layout: <folder>/<key>/<key>.<suffix>, keys from first_key to last_key.
   const auto shard = static_cast<uint32_t>(shards_.size());
-  const std::string name = entry.value("name", "");
-  shards_.push_back({name, path_in_dataset(root_, entry.value("folder", ""), "shard '" + name + "' folder")});
+  const std::string& name = entry.name;
+  shards_.push_back({name, path_in_dataset(root_, entry.folder, "shard '" + name + "' folder")});
   const fs::path& folder = shards_.back().path;
-  const std::string first = entry.value("first_key", ""), last = entry.value("last_key", "");
+  const std::string &first = entry.first_key, &last = entry.last_key;
   NSG_CHECK(fs::is_directory(folder), IoError, folder.string(), "shard '" + shards_.back().name + "'",
             "the split's tile folder");
   std::vector<fs::path> dirs;

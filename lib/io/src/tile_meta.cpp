@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "nsg/core/error.h"
+#include "nsg/io/manifest.h"  // kMaxRung: one bound for the manifest and the tile
 
 namespace nsg::io {
 
@@ -50,7 +51,6 @@ std::vector<std::string> strings(const json& obj, const char* name, const std::s
 
 TileRung tile_rung_from_json(const json& doc, size_t scenes, const std::string& file) {
   TileRung r;
-  constexpr int64_t kMaxRung = 100000;
   r.rung = static_cast<int>(integer(doc, "rung", kMaxRung, file, "/ladder"));
   NSG_CHECK(r.rung >= 1, ParseError, file, "/ladder/rung", "a scene count of at least 1");
   r.base_key = text(doc, "base_key", file, "/ladder");

@@ -119,14 +119,13 @@ GraphSet load_dataset_split(const fs::path& dataset, const std::string& split, b
   const io::SplitVerification checked = ds.verify_split(split, verify);
   GraphSet out;
   int64_t tiles = 0;
-  for (const nlohmann::json& shard : ds.shards(split)) {
+  for (const io::ShardEntry& shard : ds.shards(split)) {
     const std::vector<io::DatasetTile> read = ds.read_shard(shard);
-    const std::string name = shard["name"].get<std::string>();
+    const std::string& name = shard.name;
     // A folder shard whose tile was deleted, or a tar cut at a member boundary, reads
     // cleanly: the manifest's count tells.
-    NSG_CHECK(static_cast<int64_t>(read.size()) == shard["tiles"].get<int64_t>(), DataError,
-              (dataset / "manifest.json").string(), "shard '" + name + "'",
-              strprintf("%lld tiles as listed, found %lld", static_cast<long long>(shard["tiles"].get<int64_t>()),
+    NSG_CHECK(static_cast<int64_t>(read.size()) == shard.tiles, DataError, ds.manifest_file(), "shard '" + name + "'",
+              strprintf("%lld tiles as listed, found %lld", static_cast<long long>(shard.tiles),
                         static_cast<long long>(read.size())));
     for (const io::DatasetTile& t : read) {
       // Named by the key and the shard: the file a host opens to see what is wrong.

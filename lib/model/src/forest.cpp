@@ -153,9 +153,7 @@ std::vector<double> positive_fraction(const cv::ml::RTrees& forest, const cv::Ma
 }
 
 size_t split_tile_count(const io::Dataset& dataset, const std::string& split) {
-  size_t n = 0;
-  for (const auto& s : dataset.shards(split)) n += s.value("tiles", 0);
-  return n;
+  return static_cast<size_t>(io::tile_count(dataset.shards(split)));
 }
 
 void for_each_tile_parallel(const io::Dataset& dataset, const std::string& split, ThreadPool& pool,

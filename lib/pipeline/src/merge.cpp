@@ -15,6 +15,7 @@
 #include "nsg/core/strings.h"
 #include "nsg/core/version.h"
 #include "nsg/geometry/georef.h"
+#include "nsg/io/manifest.h"
 #include "nsg/pipeline/generate.h"
 #include "nsg/pipeline/tile_files.h"
 #include "outputs.h"
@@ -148,14 +149,13 @@ std::vector<fs::path> older_dataset_files(const fs::path& out, const std::map<in
     if (!recorded.count(f)) leftovers.push_back(out / f);
   const fs::path manifest = out / "manifest.json";
   if (fs::exists(manifest)) {
-    ordered_json old;
+    bool this_config = false;
     try {
-      old = ordered_json::parse(read_file(manifest));
-    } catch (const std::exception&) {
-      old = nullptr;  // unreadable: not this run's
+      this_config = io::read_manifest(manifest).config == config;
+    } catch (const Error&) {
+      this_config = false;  // unreadable: not this run's
     }
-    if (!old.is_object() || old.value("config", ordered_json()) != config)
-      leftovers.insert(leftovers.begin(), manifest);
+    if (!this_config) leftovers.insert(leftovers.begin(), manifest);
   }
   return leftovers;
 }
@@ -185,40 +185,33 @@ void remove_leftovers(const fs::path& out, const std::vector<fs::path>& files, c
               out.string());
 }
 
-ordered_json input_file(const fs::path& root, const fs::path& path) {
-  return {{"file", fs::relative(path, root).generic_string()},
-          {"sha256", sha256_file(path)},
-          {"bytes", fs::file_size(path)}};
+io::FileRecord input_file(const fs::path& root, const fs::path& path) {
+  return {fs::relative(path, root).generic_string(), sha256_file(path), static_cast<int64_t>(fs::file_size(path))};
 }
 
-ordered_json inputs_json(const ordered_json& config, const ordered_json& plan) {
+io::ManifestInputs inputs_of(const ordered_json& config, const std::vector<io::ManifestLocation>& plan) {
+  io::ManifestInputs in;
   const fs::path root = config["dataroot"].get<std::string>();
-  const std::string version = config["version"].get<std::string>();
-  ordered_json tables = ordered_json::array();
+  in.dataroot = root.string();
+  in.version = config["version"].get<std::string>();
   std::vector<fs::path> table_files;
-  for (const auto& e : fs::directory_iterator(root / version))
+  for (const auto& e : fs::directory_iterator(root / in.version))
     if (e.path().extension() == ".json") table_files.push_back(e.path());
   std::sort(table_files.begin(), table_files.end());
-  for (const fs::path& p : table_files) tables.push_back(input_file(root, p));
-  ordered_json maps = ordered_json::object();
-  for (const auto& location : plan) {
-    const std::string name = location["name"].get<std::string>();
-    ordered_json m = input_file(root, root / "maps" / "expansion" / (name + ".json"));
-    m["version"] = location["map_version"];
-    maps[name] = m;
-  }
+  for (const fs::path& p : table_files) in.tables.push_back(input_file(root, p));
+  for (const io::ManifestLocation& location : plan)
+    in.map_expansion.push_back({location.name,
+                                input_file(root, root / "maps" / "expansion" / (location.name + ".json")),
+                                location.map_version});
   const std::string detections = config["vehicles"]["detections"].get<std::string>();
-  return {{"dataroot", root.string()},
-          {"version", version},
-          {"tables", tables},
-          {"map_expansion", maps},
-          {"detections", detections.empty() ? ordered_json(nullptr) : input_file(root, detections)}};
+  if (!detections.empty()) in.detections = input_file(root, detections);
+  return in;
 }
 
-ordered_json georeference_json(const ordered_json& plan) {
+ordered_json georeference_json(const std::vector<io::ManifestLocation>& plan) {
   ordered_json locations = ordered_json::object();
-  for (const auto& location : plan) {
-    const std::string name = location["name"].get<std::string>();
+  for (const io::ManifestLocation& location : plan) {
+    const std::string& name = location.name;
     const geometry::LocationInfo& info = geometry::location_info(name);
     locations[name] = {{"origin_lat_deg", info.origin_lat_deg},
                        {"origin_lon_deg", info.origin_lon_deg},
@@ -298,63 +291,63 @@ const ordered_json* verified_item(const fs::path& out, const ItemsById& items, c
 }
 
 // A shard's manifest entry: its plan fields, then the tar's file or the folder's digest and bytes.
-ordered_json shard_entry(const ordered_json& location, const ordered_json& shard, const ordered_json& item, bool tar) {
-  const std::string split = shard["split"].get<std::string>();
-  ordered_json entry = {{"name", shard["name"].get<std::string>()},
-                        {"split", split},
-                        {"location", location["name"]},
-                        {"tiles", shard["tiles"]},
-                        {"first_key", shard["first_key"]},
-                        {"last_key", shard["last_key"]}};
+io::ShardEntry shard_entry(const io::ManifestLocation& location, const io::PlannedShardEntry& shard,
+                           const ordered_json& item, bool tar) {
+  io::ShardEntry entry;
+  entry.name = shard.name;
+  entry.split = shard.split;
+  entry.location = location.name;
+  entry.tiles = shard.tiles;
+  entry.first_key = shard.first_key;
+  entry.last_key = shard.last_key;
+  entry.rung = shard.rung;
   if (tar) {
-    entry["file"] = item["files"][0]["file"];
-    entry["sha256"] = item["files"][0]["sha256"];
-    entry["bytes"] = item["files"][0]["bytes"];
+    entry.file = item["files"][0]["file"].get<std::string>();
+    entry.sha256 = item["files"][0]["sha256"].get<std::string>();
+    entry.bytes = item["files"][0]["bytes"].get<int64_t>();
   } else {
-    entry["folder"] = "tiles/" + (shard.contains("rung") ? split + "-r" + shard["rung"].dump() : split);
-    entry["sha256"] = item["digest"];
-    uint64_t bytes = 0;
-    for (const auto& f : item["files"]) bytes += f["bytes"].get<uint64_t>();
-    entry["bytes"] = bytes;
+    entry.folder = "tiles/" + (shard.rung > 0 ? shard.split + "-r" + std::to_string(shard.rung) : shard.split);
+    entry.sha256 = item["digest"].get<std::string>();
+    for (const auto& f : item["files"]) entry.bytes += f["bytes"].get<int64_t>();
   }
   return entry;
 }
 
-// The manifest's shard and map entries, in plan order, and each split's tile and shard counts.
+// The manifest's shard and map entries, in plan order, and each split's and rung's tile and
+// shard counts.
 struct PlannedOutputs {
-  ordered_json shards = ordered_json::array(), maps = ordered_json::array();
-  std::map<std::string, int64_t> split_tiles, split_shards;
-  ordered_json rung_shards = ordered_json::array();  // the ladder's (generate --ladder)
-  std::map<int64_t, int64_t> rung_tiles, rung_shard_count;
+  std::vector<io::ShardEntry> shards;
+  std::vector<io::FileRecord> maps;
+  std::map<std::string, io::TileShardCount> per_split;
+  std::vector<io::ShardEntry> rung_shards;  // the ladder's (generate --ladder)
+  std::map<int, io::TileShardCount> per_rung;
 };
 
 // Every planned item, in plan order, must be recorded and verify on disk; those that do not
 // are added to `problems`.
-PlannedOutputs planned_outputs(const fs::path& out, const ordered_json& plan, const ItemsById& items, bool tar,
-                               std::vector<std::string>& problems) {
+PlannedOutputs planned_outputs(const fs::path& out, const std::vector<io::ManifestLocation>& plan,
+                               const ItemsById& items, bool tar, std::vector<std::string>& problems) {
   PlannedOutputs o;
-  for (const auto& location : plan) {
-    if (const ordered_json* item = verified_item(out, items, "maps/" + location["name"].get<std::string>(), problems))
-      for (const auto& f : (*item)["files"]) o.maps.push_back(f);
-    for (const auto& shard : location["shards"]) {
-      const std::string name = shard["name"].get<std::string>();
-      const ordered_json* item = verified_item(out, items, tar ? "shards/" + name + ".tar" : "tiles/" + name, problems);
+  const auto item_of = [&](const io::PlannedShardEntry& shard) {
+    return verified_item(out, items, tar ? "shards/" + shard.name + ".tar" : "tiles/" + shard.name, problems);
+  };
+  for (const io::ManifestLocation& location : plan) {
+    if (const ordered_json* item = verified_item(out, items, "maps/" + location.name, problems))
+      for (const auto& f : (*item)["files"])
+        o.maps.push_back({f["file"].get<std::string>(), f["sha256"].get<std::string>(), f["bytes"].get<int64_t>()});
+    for (const io::PlannedShardEntry& shard : location.shards) {
+      const ordered_json* item = item_of(shard);
       if (item == nullptr) continue;
-      const std::string split = shard["split"].get<std::string>();
-      o.split_tiles[split] += shard["tiles"].get<int64_t>();
-      ++o.split_shards[split];
+      o.per_split[shard.split].tiles += shard.tiles;
+      ++o.per_split[shard.split].shards;
       o.shards.push_back(shard_entry(location, shard, *item, tar));
     }
-    for (const auto& shard : location.value("rung_shards", ordered_json::array())) {
-      const std::string name = shard["name"].get<std::string>();
-      const ordered_json* item = verified_item(out, items, tar ? "shards/" + name + ".tar" : "tiles/" + name, problems);
+    for (const io::PlannedShardEntry& shard : location.rung_shards) {
+      const ordered_json* item = item_of(shard);
       if (item == nullptr) continue;
-      const int64_t rung = shard["rung"].get<int64_t>();
-      o.rung_tiles[rung] += shard["tiles"].get<int64_t>();
-      ++o.rung_shard_count[rung];
-      ordered_json entry = shard_entry(location, shard, *item, tar);
-      entry["rung"] = rung;
-      o.rung_shards.push_back(entry);
+      o.per_rung[shard.rung].tiles += shard.tiles;
+      ++o.per_rung[shard.rung].shards;
+      o.rung_shards.push_back(shard_entry(location, shard, *item, tar));
     }
   }
   return o;
@@ -362,16 +355,15 @@ PlannedOutputs planned_outputs(const fs::path& out, const ordered_json& plan, co
 
 // The manifest's "ladder": the config's rungs, which splits have them, tiles and shards per
 // built rung and the rung shards (docs/dataset-format.md). Absent without a ladder.
-ordered_json ladder_json(const ordered_json& config, const PlannedOutputs& o) {
+io::Ladder ladder_of(const ordered_json& config, const PlannedOutputs& o) {
   const ordered_json& ladder = config["ladder"];
-  ordered_json counts = ordered_json::object();
-  for (const auto& [rung, tiles] : o.rung_tiles)
-    counts[std::to_string(rung)] = {{"tiles", tiles}, {"shards", o.rung_shard_count.at(rung)}};
-  return {{"rungs", ladder["rungs"]},
-          {"order", ladder["order"]},
-          {"splits", ladder["splits"]},
-          {"counts", counts},
-          {"shards", o.rung_shards}};
+  io::Ladder l;
+  for (const auto& rung : ladder["rungs"]) l.rungs.push_back(rung.is_string() ? io::kRungAll : rung.get<int>());
+  l.order = ladder["order"].get<std::string>();
+  l.splits = ladder["splits"].get<std::vector<std::string>>();
+  l.counts.assign(o.per_rung.begin(), o.per_rung.end());  // ascending rungs
+  l.shards = o.rung_shards;
+  return l;
 }
 
 // Files an older dataset left in `out` (and the records of other runs, `other_runs`):
@@ -389,51 +381,43 @@ void clear_older_dataset(const fs::path& out, const std::map<int, const ShareRec
   remove_leftovers(out, leftovers, ours);
 }
 
-// Tiles and shards per split, in the splits' order, and the total; warns when there are no tiles.
-ordered_json counts_json(const fs::path& out, PlannedOutputs& o) {
-  ordered_json counts = ordered_json::object();
-  int64_t total = 0;
-  for (std::string_view s : tiling::kSplitNames) {
-    const std::string split(s);
-    counts[split] = {{"tiles", o.split_tiles[split]}, {"shards", o.split_shards[split]}};
-    total += o.split_tiles[split];
-  }
-  counts["total_tiles"] = total;
-  if (total == 0) log::warn("merge: " + out.string() + " holds no tiles (a run with --allow-empty)");
+// Tiles and shards per split, and the total; warns when there are no tiles.
+io::ManifestCounts counts_of(const fs::path& out, PlannedOutputs& o) {
+  io::ManifestCounts counts{o.per_split["train"], o.per_split["val"], o.per_split["test"], 0};
+  counts.total_tiles = counts.train.tiles + counts.val.tiles + counts.test.tiles;
+  if (counts.total_tiles == 0) log::warn("merge: " + out.string() + " holds no tiles (a run with --allow-empty)");
   return counts;
 }
 
-ordered_json excluded_scenes_json(const ordered_json& plan) {
-  ordered_json excluded_scenes = ordered_json::array();
-  for (const auto& location : plan)
-    if (location.contains("scenes"))
-      for (const auto& e : location["scenes"]["excluded"])
-        excluded_scenes.push_back({{"name", e["name"]}, {"location", location["name"]}, {"reason", e["reason"]}});
-  return excluded_scenes;
+std::vector<io::ExcludedScene> excluded_scenes_of(const std::vector<io::ManifestLocation>& plan) {
+  std::vector<io::ExcludedScene> excluded;
+  for (const io::ManifestLocation& location : plan)
+    if (location.scenes)
+      for (const io::ExcludedScene& e : location.scenes->excluded)
+        excluded.push_back({e.name, location.name, e.reason});
+  return excluded;
 }
 
-ordered_json manifest_json(const ordered_json& config, const ordered_json& plan, bool tar, const ordered_json& counts,
-                           const ordered_json& excluded_scenes, const PlannedOutputs& o) {
-  ordered_json doc = {{"schema_version", "1"},
-                      {"tool", {{"name", "nsgraph"}, {"version", kVersion}}},
-                      {"licence", data_licence_json()},
-                      {"seed", config["seed"]},
-                      {"config", config},
-                      {"inputs", inputs_json(config, plan)},
-                      {"georeference", georeference_json(plan)},
-                      {"layout", tar ? "tar" : "folder"},
-                      {"tile_format",
-                       {{"resolution_m", config["resolution_m"]},
-                        {"size_px", config["crops"]["size_px"]},
-                        {"key_pattern", "<location>-<split>-<NNNNNN>"},
-                        {"files", tile_file_suffixes()}}},
-                      {"locations", plan},
-                      {"excluded_scenes", excluded_scenes},
-                      {"counts", counts},
-                      {"shards", o.shards},
-                      {"maps", o.maps}};
-  if (config.contains("ladder") && !config["ladder"]["rungs"].empty()) doc["ladder"] = ladder_json(config, o);
-  return doc;
+// The manifest of a merged run, written by its one writer (io::manifest_text).
+io::Manifest manifest_of(const fs::path& out, const ordered_json& config, std::vector<io::ManifestLocation> plan,
+                         bool tar, PlannedOutputs& o) {
+  io::Manifest m;
+  m.tool = {{"name", "nsgraph"}, {"version", kVersion}};
+  m.licence = data_licence_json();
+  m.seed = config["seed"].get<uint64_t>();
+  m.config = config;
+  m.inputs = inputs_of(config, plan);
+  m.georeference = georeference_json(plan);
+  m.layout = tar ? io::Layout::kTar : io::Layout::kFolder;
+  m.tile_format = {config["resolution_m"].get<double>(), config["crops"]["size_px"].get<int>(),
+                   "<location>-<split>-<NNNNNN>", tile_file_suffixes()};
+  m.excluded_scenes = excluded_scenes_of(plan);
+  m.locations = std::move(plan);
+  m.counts = counts_of(out, o);
+  m.shards = o.shards;
+  m.maps = o.maps;
+  if (config.contains("ladder") && !config["ladder"]["rungs"].empty()) m.ladder = ladder_of(config, o);
+  return m;
 }
 
 void merge_records(const fs::path& out, bool overwrite) {
@@ -445,7 +429,10 @@ void merge_records(const fs::path& out, bool overwrite) {
   const std::map<int, const ShareRecord*> shares = finished_shares(out, all, count, overwrite, &other_runs);
 
   const ShareRecord& first = *shares.at(0);
-  const ordered_json& plan = first.doc["plan"];
+  // The plan is the manifest's `locations`: read as the manifest's reader reads
+  // them.
+  std::vector<io::ManifestLocation> plan =
+      io::manifest_locations_from_json(first.doc["plan"], first.path.string(), "/plan");
   const ordered_json& config = first.doc["config"];
   const bool tar = config["output"]["layout"] == "tar";
   std::vector<std::string> problems;
@@ -455,10 +442,7 @@ void merge_records(const fs::path& out, bool overwrite) {
     throw DataError(out.string(), "merge", "every planned output present and intact:\n  " + join(problems, "\n  "));
 
   clear_older_dataset(out, shares, config, overwrite, ours, other_runs);
-  const ordered_json counts = counts_json(out, outputs);
-  const ordered_json excluded_scenes = excluded_scenes_json(plan);
-  write_file_atomic(out / "manifest.json",
-                    manifest_json(config, plan, tar, counts, excluded_scenes, outputs).dump(1) + "\n");
+  write_file_atomic(out / "manifest.json", io::manifest_text(manifest_of(out, config, std::move(plan), tar, outputs)));
 }
 
 }  // namespace

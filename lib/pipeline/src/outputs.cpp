@@ -15,6 +15,7 @@
 #include "nsg/core/version.h"
 #include "nsg/geometry/georef.h"
 #include "nsg/graph/geojson.h"
+#include "nsg/io/manifest.h"
 #include "nsg/io/tar.h"
 #include "nsg/nuscenes/database.h"
 #include "nsg/pipeline/tile_files.h"
@@ -94,14 +95,19 @@ std::set<std::string> dataset_files_listed(const fs::path& out) {
       for (const json& item : record["items"])
         if (item.is_object()) add_listed(item.value("files", json()), "file", listed);
     }
-  const json manifest = parsed_or_null(out / "manifest.json");
-  // Ours: generate's manifest names the tool and the tile format (a frames export's does not).
-  if (manifest.is_object() && manifest.value("tool", json()).value("name", "") == "nsgraph" &&
-      manifest.contains("tile_format")) {
-    listed.insert("manifest.json");
-    add_listed(manifest.value("shards", json()), "file", listed);
-    add_listed(manifest.value("maps", json()), "file", listed);
-  }
+  // Ours: a manifest its one reader accepts (a frames export's, or anything else, is not).
+  if (fs::is_regular_file(fs::symlink_status(out / "manifest.json", ec))) try {
+      const io::Manifest manifest = io::read_manifest(out / "manifest.json");
+      listed.insert("manifest.json");
+      for (const io::ShardEntry& shard : manifest.shards)
+        if (!shard.file.empty()) listed.insert(shard.file);
+      if (manifest.ladder)
+        for (const io::ShardEntry& shard : manifest.ladder->shards)
+          if (!shard.file.empty()) listed.insert(shard.file);
+      for (const io::FileRecord& map : manifest.maps) listed.insert(map.file);
+    } catch (const Error&) {
+      // Unreadable: it lists nothing, so the files are refused, not removed.
+    }
   return listed;
 }
 

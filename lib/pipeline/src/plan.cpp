@@ -15,43 +15,31 @@ size_t LocationPlan::count(const std::string& split) const {
       std::count_if(crops.begin(), crops.end(), [&](const tiling::Crop& c) { return c.split == split; }));
 }
 
+// The location's record as the manifest holds it (io::location_to_json, the manifest's one
+// writer); done-records carry it and merge copies it.
 ordered_json plan_json(const LocationPlan& p) {
-  ordered_json regions = ordered_json::array();
+  io::ManifestLocation loc;
+  loc.name = p.location;
+  loc.map_version = p.map_version;
+  loc.lane_graph = {static_cast<int64_t>(p.graph_nodes), static_cast<int64_t>(p.graph_edges),
+                    static_cast<int64_t>(p.graph_lanes), static_cast<int64_t>(p.map_defects)};
+  io::LocationScenes scenes{static_cast<int64_t>(p.scenes_used), {}};
+  for (const ExcludedScene& e : p.excluded_scenes) scenes.excluded.push_back({e.name, "", e.reason});
+  loc.scenes = std::move(scenes);
   for (const tiling::Region& r : p.regions)
-    regions.push_back(io::region_to_json(
-        {r.name, r.split, {r.bounds.x_west_m, r.bounds.y_south_m, r.bounds.x_east_m, r.bounds.y_north_m}}));
-  ordered_json counts = ordered_json::object();
-  for (std::string_view s : tiling::kSplitNames) counts[std::string(s)] = p.count(std::string(s));
-  ordered_json shards = ordered_json::array();
+    loc.regions.push_back(
+        {r.name, r.split, {r.bounds.x_west_m, r.bounds.y_south_m, r.bounds.x_east_m, r.bounds.y_north_m}});
+  loc.counts = {static_cast<int64_t>(p.count("train")), static_cast<int64_t>(p.count("val")),
+                static_cast<int64_t>(p.count("test"))};
   for (const PlannedShard& s : p.shards)
-    shards.push_back({{"name", s.name},
-                      {"split", s.split},
-                      {"tiles", s.count},
-                      {"first_key", p.keys[s.first]},
-                      {"last_key", p.keys[s.first + s.count - 1]}});
-  ordered_json excluded = ordered_json::array();
-  for (const ExcludedScene& e : p.excluded_scenes) excluded.push_back({{"name", e.name}, {"reason", e.reason}});
-  ordered_json doc = {
-      {"name", p.location},
-      {"map_version", p.map_version},
-      {"lane_graph",
-       {{"nodes", p.graph_nodes}, {"edges", p.graph_edges}, {"lanes", p.graph_lanes}, {"map_defects", p.map_defects}}},
-      {"scenes", {{"used", p.scenes_used}, {"excluded", excluded}}},
-      {"regions", regions},
-      {"counts", counts},
-      {"shards", shards}};
-  if (!p.time_split.is_null()) doc["time_split"] = p.time_split;
-  if (p.rung_shards.empty()) return doc;
-  ordered_json rung_shards = ordered_json::array();
+    loc.shards.push_back(
+        {s.name, s.split, 0, static_cast<int64_t>(s.count), p.keys[s.first], p.keys[s.first + s.count - 1]});
+  loc.time_split = p.time_split;
   for (const RungShard& r : p.rung_shards)
-    rung_shards.push_back({{"name", r.shard.name},
-                           {"split", r.shard.split},
-                           {"rung", r.rung},
-                           {"tiles", r.shard.count},
-                           {"first_key", rung_key(p.keys[r.shard.first], r.rung)},
-                           {"last_key", rung_key(p.keys[r.shard.first + r.shard.count - 1], r.rung)}});
-  doc["rung_shards"] = rung_shards;
-  return doc;
+    loc.rung_shards.push_back({r.shard.name, r.shard.split, r.rung, static_cast<int64_t>(r.shard.count),
+                               rung_key(p.keys[r.shard.first], r.rung),
+                               rung_key(p.keys[r.shard.first + r.shard.count - 1], r.rung)});
+  return io::location_to_json(loc);
 }
 
 // Orders crops by split (train, val, test), names them and cuts shards of `per_shard`.

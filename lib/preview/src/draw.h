@@ -13,17 +13,6 @@
 
 namespace nsg::preview::detail {
 
-// Runs `f`, turning a JSON type error (a field of the wrong type) into a ParseError
-// naming `file` instead of an internal error.
-template <class F>
-auto json_guard(const std::string& file, F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const nlohmann::json::exception& e) {
-    throw ParseError(file, "fields", std::string("fields of the documented types (") + e.what() + ")");
-  }
-}
-
 inline constexpr int kLineHeightPx = 16;  // one caption / legend text line
 inline constexpr double kFontScale = 0.42;
 

@@ -92,11 +92,10 @@ void draw_scale_and_north(cv::Mat& canvas, const Overview& ov) {
 }
 
 // The manifest's entry of `location`; ConfigError when it has none.
-io::ManifestLocation find_location(const nlohmann::json& m, const std::string& manifest, const std::string& location) {
-  const std::vector<io::ManifestLocation> locations = io::manifest_locations(m, manifest);
-  const auto loc = std::find_if(locations.begin(), locations.end(),
-                                [&](const io::ManifestLocation& l) { return l.name == location; });
-  NSG_CHECK(loc != locations.end(), ConfigError, manifest, "locations", "a location named '" + location + "'");
+const io::ManifestLocation& find_location(const io::Manifest& m, const std::string& manifest,
+                                          const std::string& location) {
+  const io::ManifestLocation* loc = m.location(location);
+  NSG_CHECK(loc != nullptr, ConfigError, manifest, "locations", "a location named '" + location + "'");
   return *loc;
 }
 
@@ -124,13 +123,10 @@ Extent location_extent(const io::Dataset& dataset, const std::string& manifest, 
 
 // Sets the overview's scale, origin and map rectangle: the extent padded by 5 %, at the
 // tiles' resolution or coarser so that the map fits options.max_map_px.
-void place_map(Overview& ov, Extent e, const nlohmann::json& m, const std::string& manifest,
-               const OverviewOptions& options) {
+void place_map(Overview& ov, Extent e, const io::Manifest& m, const OverviewOptions& options) {
   const double pad_m = 0.05 * std::max(e.x_e - e.x_w, e.y_n - e.y_s);
   e.x_w -= pad_m, e.y_s -= pad_m, e.x_e += pad_m, e.y_n += pad_m;
-  const nlohmann::json tile_format = m.value("tile_format", nlohmann::json::object());
-  const double tile_res_m = detail::json_guard(
-      manifest, [&] { return tile_format.is_object() ? tile_format.value("resolution_m", 0.2) : 0.2; });
+  const double tile_res_m = m.tile_format.resolution_m;
   ov.m_per_px = std::max(tile_res_m, std::max(e.x_e - e.x_w, e.y_n - e.y_s) / options.max_map_px);
   ov.x_west_m = e.x_w;
   ov.y_north_m = e.y_n;
@@ -217,13 +213,13 @@ Overview render_overview(const io::Dataset& dataset, const std::string& location
                          const OverviewOptions& options) {
   options.validate();
   const std::string manifest = (dataset.root() / "manifest.json").string();
-  const nlohmann::json& m = dataset.manifest();
-  const io::ManifestLocation loc = find_location(m, manifest, location);
+  const io::Manifest& m = dataset.manifest();
+  const io::ManifestLocation& loc = find_location(m, manifest, location);
   const std::vector<Region>& regions = loc.regions;
 
   Overview ov;
   ov.location = location;
-  place_map(ov, location_extent(dataset, manifest, location, split, regions), m, manifest, options);
+  place_map(ov, location_extent(dataset, manifest, location, split, regions), m, options);
   const int map_w = ov.map_rect.width, map_h = ov.map_rect.height, map_top = ov.map_rect.y;
 
   // Legend first: its height may exceed the map's.

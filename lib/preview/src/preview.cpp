@@ -28,12 +28,10 @@ int metric_index(const std::string& name) {
 
 bool lower_is_better(int metric) { return metrics::metric_info(metric).lower_is_better; }
 
-std::vector<nlohmann::json> selected_shards(const io::Dataset& ds, const PreviewOptions& o) {
-  std::vector<nlohmann::json> out;
-  for (const auto& s : ds.shards(o.split)) {
-    const std::string name =
-        detail::json_guard((ds.root() / "manifest.json").string(), [&] { return s.value("name", ""); });
-    if (o.shard && !ends_with(name, strprintf("-%06d", *o.shard))) continue;
+std::vector<io::ShardEntry> selected_shards(const io::Dataset& ds, const PreviewOptions& o) {
+  std::vector<io::ShardEntry> out;
+  for (const io::ShardEntry& s : ds.shards(o.split)) {
+    if (o.shard && !ends_with(s.name, strprintf("-%06d", *o.shard))) continue;
     out.push_back(s);
   }
   NSG_CHECK(!out.empty() || !o.shard, ConfigError, (ds.root() / "manifest.json").string(), "--shard",
@@ -70,10 +68,7 @@ void write_shard_mosaics(const io::Dataset& ds, const fs::path& out, const Previ
     if (static_cast<int>(tiles.size()) > o.max_tiles) tiles.resize(o.max_tiles);
     std::vector<CardInput> cards;
     for (const auto& t : tiles) cards.push_back({&t, false, nullptr, nullptr});
-    const std::string manifest = (ds.root() / "manifest.json").string();
-    const std::string name = detail::json_guard(manifest, [&] { return shard.value("name", std::string("shard")); });
-    // The shard's name from the manifest becomes the mosaic's file name: one plain name only.
-    safe_name(name, manifest, "shard name '" + printable_text(name) + "'");
+    const std::string& name = shard.name;  // <split>-NNNNNN: the manifest's reader checked it
     write_png(OutputFolder(out).prepare(name + ".png"), render_mosaic(name, cards, o.mosaic).image, written);
   }
 }
@@ -169,13 +164,8 @@ std::vector<fs::path> write_previews(const fs::path& dataset, const fs::path& ou
   NSG_CHECK(!ec, IoError, out_dir.string(), "directory", "a creatable output folder: " + ec.message());
   std::vector<fs::path> written;
   if (options.overview) {
-    const nlohmann::json locations = ds.manifest().value("locations", nlohmann::json::array());
-    NSG_CHECK(locations.is_array(), ParseError, (ds.root() / "manifest.json").string(), "locations", "an array");
-    for (const auto& loc : locations) {
-      NSG_CHECK(loc.is_object() && loc.contains("name") && loc["name"].is_string(), ParseError,
-                (ds.root() / "manifest.json").string(), "locations", "objects with a name");
-      const std::string name = loc["name"].get<std::string>();
-      safe_name(name, (ds.root() / "manifest.json").string(), "location '" + printable_text(name) + "'");
+    for (const io::ManifestLocation& loc : ds.manifest().locations) {
+      const std::string& name = loc.name;  // [A-Za-z0-9_-]: the manifest's reader checked it
       write_png(OutputFolder(out_dir).prepare("overview-" + name + ".png"),
                 render_overview(ds, name, options.split, options.overview_options).image, written);
     }

@@ -169,7 +169,7 @@ std::string data_script(const std::string& name, const std::string& json_text) {
 
 nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::string& split,
                                         const metrics::ScoreReport* scores, const metrics::ScoreReport* baseline) {
-  const std::string manifest = (dataset.root() / "manifest.json").string();
+  const std::string manifest = dataset.manifest_file();
   nlohmann::ordered_json doc;
   doc["format"] = "nsgraph-report-1";
   doc["tool"] = std::string("nsgraph ") + kVersion;
@@ -190,15 +190,18 @@ nlohmann::ordered_json summary_document(const io::Dataset& dataset, const std::s
   } else {
     doc["stats"] = io::stats_json(io::compute_stats(dataset.root()));
   }
-  const nlohmann::json& m = dataset.manifest();
+  // The config is kept as written (pipeline reads it); the page shows only its buffer.
+  const nlohmann::ordered_json& config = dataset.manifest().config;
+  const nlohmann::ordered_json::json_pointer buffer_ptr("/splits/buffer_m");
   double buffer_m = 0.0;
-  try {
-    if (m.contains("config") && m["config"].contains("splits")) buffer_m = m["config"]["splits"].value("buffer_m", 0.0);
-  } catch (const nlohmann::json::exception& e) {
-    throw ParseError(manifest, "config.splits.buffer_m", std::string("a number (") + e.what() + ")");
+  if (config.contains(buffer_ptr)) {
+    const nlohmann::ordered_json& b = config.at(buffer_ptr);
+    NSG_CHECK(b.is_number() && std::isfinite(b.get<double>()) && b.get<double>() >= 0, ParseError, manifest,
+              "/config/splits/buffer_m", "a buffer of at least 0 metres");
+    buffer_m = b.get<double>();
   }
   nlohmann::ordered_json locations = nlohmann::ordered_json::array();
-  for (const io::ManifestLocation& loc : io::manifest_locations(m, manifest))
+  for (const io::ManifestLocation& loc : dataset.manifest().locations)
     locations.push_back({{"name", loc.name}, {"regions", regions_json(loc.regions)}, {"buffer_m", buffer_m}});
   doc["locations"] = std::move(locations);
   return doc;

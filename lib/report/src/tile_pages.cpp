@@ -363,13 +363,13 @@ std::map<std::string, nlohmann::ordered_json> write_rung_tiles(const io::Dataset
                                                                const fs::path& dir, int threads, bool progress,
                                                                nlohmann::json& fingerprints, TilePass& pass) {
   std::map<std::string, std::map<int, nlohmann::ordered_json>> by_base;
-  const std::vector<nlohmann::json> shards =
-      io::rung_split(split) ? std::vector<nlohmann::json>{} : dataset.rung_shards(split);
+  const std::vector<io::ShardEntry> shards =
+      io::rung_split(split) ? std::vector<io::ShardEntry>{} : dataset.rung_shards(split);
   if (shards.empty()) return {};
   const RungScores scores = rung_scores_by_key(inputs);
   Progress bar("report rung tiles", io::tile_count(shards), progress);
   const int64_t layers = static_cast<int64_t>(std::size(preview::kTileLayerNames));
-  for (const nlohmann::json& shard : shards) {
+  for (const io::ShardEntry& shard : shards) {
     const std::vector<io::DatasetTile> tiles = dataset.read_shard(shard);
     std::vector<RungOutcome> done(tiles.size());
     parallel_for(tiles.size(), threads, [&](size_t i) {
@@ -473,7 +473,7 @@ TilePass write_tile_pages(const io::Dataset& dataset, const std::string& split, 
   const std::map<std::string, nlohmann::ordered_json> rungs =
       write_rung_tiles(dataset, split, inputs, earlier, dir, threads, progress, fingerprints, pass);
   Progress bar("report tiles", dataset.tile_count(split), progress);
-  for (const nlohmann::json& shard : dataset.shards(split)) {
+  for (const io::ShardEntry& shard : dataset.shards(split)) {
     const std::vector<io::DatasetTile> tiles = dataset.read_shard(shard);
     std::vector<TileOutcome> done(tiles.size());
     parallel_for(tiles.size(), threads, [&](size_t i) {

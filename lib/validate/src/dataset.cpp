@@ -135,15 +135,14 @@ const std::vector<RasterSpec>& raster_specs() {
 
 class DatasetChecker {
  public:
-  DatasetChecker(const DatasetValidateOptions& o, const io::Dataset& ds, const fs::path& schemas)
-      : o_(o), ds_(ds), m_(ds.manifest()), schemas_(schemas) {
-    size_px_ = static_cast<int>(num_or(m_, json::json_pointer("/tile_format/size_px"), 256));
-    res_m_ = num_or(m_, json::json_pointer("/tile_format/resolution_m"), 0.2);
-    max_spacing_m_ = num_or(m_, json::json_pointer("/config/graph/max_spacing_m"), 2.0);
-    if (m_.contains("tile_format") && m_["tile_format"].is_object() && m_["tile_format"].contains("files") &&
-        m_["tile_format"]["files"].is_array())
-      for (const json& f : m_["tile_format"]["files"])
-        if (f.is_string()) files_.insert(f.get<std::string>());
+  // `document`: the manifest as parsed, for the schema check and the config's comparisons;
+  // everything else reads the typed manifest.
+  DatasetChecker(const DatasetValidateOptions& o, const io::Dataset& ds, json document, const fs::path& schemas)
+      : o_(o), ds_(ds), m_(ds.manifest()), document_(std::move(document)), schemas_(schemas) {
+    size_px_ = m_.tile_format.size_px;
+    res_m_ = m_.tile_format.resolution_m;
+    max_spacing_m_ = num_or(document_, json::json_pointer("/config/graph/max_spacing_m"), 2.0);
+    files_.insert(m_.tile_format.files.begin(), m_.tile_format.files.end());
     if (files_.empty())
       for (const io::TileMember& m : io::tile_members()) files_.insert(m.file);
     if (on("meta.schema")) meta_schema_.emplace(schemas / "v1" / "tile-meta.schema.json");
@@ -153,24 +152,24 @@ class DatasetChecker {
   Issues run() {
     check_manifest();
     check_maps();
-    const json shards = m_.value("shards", json::array());
-    const std::vector<json> rung_shards = ds_.rung_shards();
+    const std::vector<io::ShardEntry>& shards = m_.shards;
+    const std::vector<io::ShardEntry> rung_shards = ds_.rung_shards();
     // Hashing and decoding every tile takes a while on a real dataset.
-    Progress bar("validate shards", (shards.is_array() ? shards.size() : 0) + rung_shards.size(), o_.progress);
-    for (const json& shard : shards) {
-      if (shard.is_object()) check_shard(shard);
+    Progress bar("validate shards", shards.size() + rung_shards.size(), o_.progress);
+    for (const io::ShardEntry& shard : shards) {
+      check_shard(shard);
       bar.advance();
     }
-    for (const json& shard : rung_shards) {
+    for (const io::ShardEntry& shard : rung_shards) {
       check_shard(shard);
       bar.advance();
     }
     bar.finish();
     check_split_disjoint();
     check_split_counts();
-    if (on("ladder.rungs") && m_.contains("ladder"))
+    if (on("ladder.rungs") && m_.ladder)
       check_ladder_tiles(
-          m_, ladder_, found_per_shard_,
+          *m_.ladder, ladder_, found_per_shard_,
           [this](const std::string& c, const std::string& s, const std::string& msg) { error(c, s, msg); });
     return std::move(issues_);
   }
@@ -184,23 +183,19 @@ class DatasetChecker {
 
   void check_manifest() {
     if (on("manifest.schema"))
-      issues_.append(
-          SchemaValidator(schemas_ / "v1" / "manifest.schema.json").validate(m_, "manifest.json", "manifest.schema"));
+      issues_.append(SchemaValidator(schemas_ / "v1" / "manifest.schema.json")
+                         .validate(document_, "manifest.json", "manifest.schema"));
     if (!on("determinism.config")) return;
-    const json& config = m_.value("config", json());
-    if (!config.is_object()) {
-      error("determinism.config", "manifest.json:/config", "the resolved generate config (an object)");
-      return;
-    }
+    const json config = json(m_.config);  // an object: the manifest's reader checked it
     issues_.append(SchemaValidator(schemas_ / "v1" / "generate-config.schema.json")
                        .validate(config, "manifest.json:/config", "determinism.config"));
     const auto differs = [&](const char* config_ptr, const char* manifest_ptr) {
       const json::json_pointer a(config_ptr), b(manifest_ptr);
-      if (config.contains(a) && m_.contains(b) && config.at(a) == m_.at(b)) return;
+      if (config.contains(a) && document_.contains(b) && config.at(a) == document_.at(b)) return;
       error("determinism.config", std::string("manifest.json:") + manifest_ptr,
             std::string("equal to config ") + config_ptr + " (" +
                 (config.contains(a) ? config.at(a).dump() : "absent") + " vs " +
-                (m_.contains(b) ? m_.at(b).dump() : "absent") + ")");
+                (document_.contains(b) ? document_.at(b).dump() : "absent") + ")");
     };
     differs("/seed", "/seed");
     differs("/crops/size_px", "/tile_format/size_px");
@@ -208,51 +203,41 @@ class DatasetChecker {
     differs("/output/layout", "/layout");
   }
 
-  void check_file_hash(const std::string& check, const fs::path& path, const json& entry, const std::string& subject) {
-    const std::string want = str_of(entry, "sha256");
+  void check_file_hash(const std::string& check, const fs::path& path, const std::string& want_sha256,
+                       int64_t want_bytes, const std::string& subject) {
     const std::string got = sha256_file(path);
-    if (got != want) error(check, subject, "sha256 " + got + ", manifest says " + want);
+    if (got != want_sha256) error(check, subject, "sha256 " + got + ", manifest says " + want_sha256);
     const auto bytes = static_cast<int64_t>(fs::file_size(path));
-    if (entry.contains("bytes") && entry["bytes"] != bytes)
-      error(check, subject, std::to_string(bytes) + " bytes, manifest says " + entry["bytes"].dump());
+    if (bytes != want_bytes)
+      error(check, subject, std::to_string(bytes) + " bytes, manifest says " + std::to_string(want_bytes));
   }
 
   void check_maps() {
     if (!on("maps.sha256")) return;
-    for (const json& f : m_.value("maps", json::array())) {
-      const std::string rel = str_of(f, "file");
-      const fs::path path = ds_.root() / rel;
-      if (rel.empty() || !fs::is_regular_file(path)) {
-        error("maps.sha256", rel, "missing file listed in manifest maps");
+    for (const io::FileRecord& f : m_.maps) {
+      const fs::path path = ds_.root() / f.file;  // inside the dataset: the manifest's reader checked it
+      if (!fs::is_regular_file(path)) {
+        error("maps.sha256", f.file, "missing file listed in manifest maps");
         continue;
       }
-      check_file_hash("maps.sha256", path, f, rel);
+      check_file_hash("maps.sha256", path, f.sha256, f.bytes, f.file);
     }
   }
 
-  void check_shard(const json& shard) {
-    const std::string name = str_of(shard, "name");
-    const std::string split = str_of(shard, "split");
+  void check_shard(const io::ShardEntry& shard) {
+    const std::string& name = shard.name;
     found_per_shard_[name] += 0;
-    // A path outside the dataset (absolute, '..') is never read; an empty one is "missing" below.
-    if (const std::string rel = str_of(shard, ds_.tar_layout() ? "file" : "folder"); !rel.empty()) {
-      try {
-        io::path_in_dataset(ds_.root(), rel, "shard '" + name + "'");
-      } catch (const Error& e) {
-        error("shard.present", name, e.what());
-        return;
-      }
-    }
+    // The path stays inside the dataset (the manifest's reader checked it).
+    const fs::path path = ds_.root() / shard.path();
     if (ds_.tar_layout()) {
-      const fs::path path = ds_.root() / str_of(shard, "file");
-      if (str_of(shard, "file").empty() || !fs::is_regular_file(path)) {
-        error("shard.present", name, "shard file '" + str_of(shard, "file") + "' is missing");
+      if (!fs::is_regular_file(path)) {
+        error("shard.present", name, "shard file '" + shard.file + "' is missing");
         if (!on("shard.present")) error("shard.readable", name, "shard file is missing");
         return;
       }
-      if (on("shard.sha256")) check_file_hash("shard.sha256", path, shard, name);
-    } else if (!fs::is_directory(ds_.root() / str_of(shard, "folder"))) {
-      error("shard.present", name, "folder '" + str_of(shard, "folder") + "' is missing");
+      if (on("shard.sha256")) check_file_hash("shard.sha256", path, shard.sha256, shard.bytes, name);
+    } else if (!fs::is_directory(path)) {
+      error("shard.present", name, "folder '" + shard.folder + "' is missing");
       return;
     }
     std::vector<io::DatasetTile> tiles;
@@ -266,22 +251,20 @@ class DatasetChecker {
     for (const io::DatasetTile& t : tiles) check_tile(t, shard);
   }
 
-  void check_key(const io::DatasetTile& t, const json& shard) {
+  void check_key(const io::DatasetTile& t, const io::ShardEntry& shard) {
     static const std::regex kKey(R"(([^.]+)-(train|val|test)-(\d{6})(-r([1-9]\d*))?)");
     std::smatch m;
     const std::string subject = t.shard + "/" + t.key;
-    const std::string rung = shard.contains("rung") ? shard["rung"].dump() : "";
+    const std::string rung = shard.rung > 0 ? std::to_string(shard.rung) : "";
     if (!std::regex_match(t.key, m, kKey) || m[5].str() != rung) {
       error("tile.key", subject,
             rung.empty() ? "a key <location>-<split>-<NNNNNN>" : "a key <location>-<split>-<NNNNNN>-r" + rung);
     } else {
-      if (m[2] != str_of(shard, "split")) error("tile.key", subject, "a key of split '" + str_of(shard, "split") + "'");
-      if (m[1] != str_of(shard, "location"))
-        error("tile.key", subject, "a key of location '" + str_of(shard, "location") + "'");
+      if (m[2] != shard.split) error("tile.key", subject, "a key of split '" + shard.split + "'");
+      if (m[1] != shard.location) error("tile.key", subject, "a key of location '" + shard.location + "'");
     }
-    if (t.key < str_of(shard, "first_key") || t.key > str_of(shard, "last_key"))
-      error("tile.key", subject,
-            "a key in the shard's range [" + str_of(shard, "first_key") + ", " + str_of(shard, "last_key") + "]");
+    if (t.key < shard.first_key || t.key > shard.last_key)
+      error("tile.key", subject, "a key in the shard's range [" + shard.first_key + ", " + shard.last_key + "]");
     if (!keys_.insert(t.key).second) error("tile.key", subject, "a unique key (seen in an earlier tile)");
   }
 
@@ -305,7 +288,7 @@ class DatasetChecker {
     }
   }
 
-  void check_tile(const io::DatasetTile& t, const json& shard) {
+  void check_tile(const io::DatasetTile& t, const io::ShardEntry& shard) {
     check_key(t, shard);
     check_members(t);
     const std::string base = t.shard + "/" + t.key;
@@ -315,10 +298,10 @@ class DatasetChecker {
     std::optional<json> graph = parse_member(t, "graph.json", "graph.schema");
     if (graph) check_graph(t, *graph, bounds, meta);
     check_rasters(t, meta, bounds);
-    if (m_.contains("ladder")) ladder_.push_back(ladder_facts(t, shard, meta, graph));
+    if (m_.ladder) ladder_.push_back(ladder_facts(t, shard, meta, graph));
   }
 
-  std::optional<Rect> check_meta(const io::DatasetTile& t, const json& meta, const json& shard) {
+  std::optional<Rect> check_meta(const io::DatasetTile& t, const json& meta, const io::ShardEntry& shard) {
     const std::string subject = t.shard + "/" + t.key + ".meta.json";
     if (meta_schema_) issues_.append(meta_schema_->validate(meta, subject, "meta.schema"));
     if (str_of(meta, "key") != t.key) error("tile.key", subject + ":/key", "the member's key '" + t.key + "'");
@@ -326,8 +309,8 @@ class DatasetChecker {
       if (!meta.contains(field) || meta[field] != want)
         error("meta.schema", subject + ":/" + field, "equal to " + want.dump() + " (shard / tile_format)");
     };
-    expect("split", str_of(shard, "split"));
-    expect("location", str_of(shard, "location"));
+    expect("split", shard.split);
+    expect("location", shard.location);
     expect("size_px", size_px_);
     expect("resolution_m", res_m_);
     const std::optional<Rect> r = rect_of(meta.value("bounds_m", json()));
@@ -337,8 +320,7 @@ class DatasetChecker {
       error("meta.schema", subject + ":/bounds_m",
             "a square of size_px * resolution_m = " + format_double(extent) + " m");
     // A rung tile repeats its split tile's crop: the split checks count split tiles only.
-    if (!shard.contains("rung"))
-      tiles_.push_back({t.key, str_of(meta, "split"), str_of(meta, "location"), t.shard, *r});
+    if (shard.rung == 0) tiles_.push_back({t.key, str_of(meta, "split"), str_of(meta, "location"), t.shard, *r});
     return r;
   }
 
@@ -499,21 +481,17 @@ class DatasetChecker {
 
   void check_split_disjoint() {
     // A time split (splits.preset before-after) puts both splits on the same streets.
-    const json::json_pointer preset("/config/splits/preset");
-    if (!on("split.disjoint") || (m_.contains(preset) && m_[preset] == "before-after")) return;
+    const nlohmann::ordered_json::json_pointer preset("/splits/preset");
+    if (!on("split.disjoint") || (m_.config.contains(preset) && m_.config.at(preset) == "before-after")) return;
     const double tol = o_.length_tolerance_m;
-    for (const json& loc : m_.value("locations", json::array())) {
-      const std::string name = str_of(loc, "name");
-      for (const json& region : loc.value("regions", json::array())) {
-        const std::optional<Rect> r = rect_of(region.value("bounds_m", json()));
-        if (!r) continue;
+    for (const io::ManifestLocation& loc : m_.locations)
+      for (const io::Region& region : loc.regions) {
+        const Rect r{region.bounds_m[0], region.bounds_m[1], region.bounds_m[2], region.bounds_m[3]};
         for (const TileRecord& t : tiles_)
-          if (t.location == name && t.split != str_of(region, "split") && overlaps(t.bounds, *r, tol))
+          if (t.location == loc.name && t.split != region.split && overlaps(t.bounds, r, tol))
             error("split.disjoint", t.shard + "/" + t.key,
-                  "a " + t.split + " tile outside " + str_of(region, "split") + " region '" + str_of(region, "name") +
-                      "'");
+                  "a " + t.split + " tile outside " + region.split + " region '" + region.name + "'");
       }
-    }
     // Tiles of different splits: sweep in x_west order.
     std::vector<const TileRecord*> sorted;
     for (const TileRecord& t : tiles_) sorted.push_back(&t);
@@ -533,47 +511,47 @@ class DatasetChecker {
     if (!on("split.counts")) return;
     std::map<std::string, int64_t> split_tiles, split_shards;
     std::map<std::pair<std::string, std::string>, int64_t> location_tiles;
-    for (const json& shard : m_.value("shards", json::array())) {
-      if (!shard.is_object()) continue;
-      const std::string name = str_of(shard, "name");
-      const int64_t found = found_per_shard_[name];
-      if (shard.value("tiles", json()) != found)
-        error("split.counts", name + ":tiles",
-              strprintf("%lld tiles found, manifest says %s", static_cast<long long>(found),
-                        shard.value("tiles", json()).dump().c_str()));
-      split_tiles[str_of(shard, "split")] += found;
-      ++split_shards[str_of(shard, "split")];
-      location_tiles[{str_of(shard, "location"), str_of(shard, "split")}] += found;
+    for (const io::ShardEntry& shard : m_.shards) {
+      const int64_t found = found_per_shard_[shard.name];
+      if (shard.tiles != found)
+        error("split.counts", shard.name + ":tiles",
+              strprintf("%lld tiles found, manifest says %lld", static_cast<long long>(found),
+                        static_cast<long long>(shard.tiles)));
+      split_tiles[shard.split] += found;
+      ++split_shards[shard.split];
+      location_tiles[{shard.location, shard.split}] += found;
     }
-    const json& counts = m_.value("counts", json::object());
     int64_t total = 0;
     for (const char* split : {"train", "val", "test"}) {
       total += split_tiles[split];
-      const json::json_pointer tp(std::string("/") + split + "/tiles"), sp(std::string("/") + split + "/shards");
-      if (!counts.contains(tp) || counts.at(tp) != split_tiles[split])
+      const io::TileShardCount& listed = *m_.counts.of(split);
+      if (listed.tiles != split_tiles[split])
         error("split.counts", std::string("manifest.json:/counts/") + split + "/tiles",
               strprintf("%lld tiles found", static_cast<long long>(split_tiles[split])));
-      if (!counts.contains(sp) || counts.at(sp) != split_shards[split])
+      if (listed.shards != split_shards[split])
         error("split.counts", std::string("manifest.json:/counts/") + split + "/shards",
               strprintf("%lld shards listed", static_cast<long long>(split_shards[split])));
     }
-    if (counts.value("total_tiles", json()) != total)
+    if (m_.counts.total_tiles != total)
       error("split.counts", "manifest.json:/counts/total_tiles",
             strprintf("%lld tiles found", static_cast<long long>(total)));
-    for (const json& loc : m_.value("locations", json::array()))
-      for (const char* split : {"train", "val", "test"}) {
-        const json::json_pointer p(std::string("/counts/") + split);
-        const int64_t found = location_tiles[{str_of(loc, "name"), split}];
-        if (loc.contains(p) && loc.at(p) != found)
-          error(
-              "split.counts", "manifest.json:/locations/" + str_of(loc, "name") + "/counts/" + split,
-              strprintf("%lld tiles found, manifest says %s", static_cast<long long>(found), loc.at(p).dump().c_str()));
+    for (const io::ManifestLocation& loc : m_.locations) {
+      const std::pair<const char*, int64_t> listed[] = {
+          {"train", loc.counts.train}, {"val", loc.counts.val}, {"test", loc.counts.test}};
+      for (const auto& [split, n] : listed) {
+        const int64_t found = location_tiles[{loc.name, split}];
+        if (n != found)
+          error("split.counts", "manifest.json:/locations/" + loc.name + "/counts/" + split,
+                strprintf("%lld tiles found, manifest says %lld", static_cast<long long>(found),
+                          static_cast<long long>(n)));
       }
+    }
   }
 
   const DatasetValidateOptions& o_;
   const io::Dataset& ds_;
-  const json& m_;
+  const io::Manifest& m_;
+  json document_;
   fs::path schemas_;
   int size_px_ = 256;
   double res_m_ = 0.2;
@@ -592,8 +570,10 @@ class DatasetChecker {
 Issues validate_dataset(const DatasetValidateOptions& options) {
   options.validate();
   const fs::path schemas = find_schemas_dir(options.schemas_dir);
-  const io::Dataset ds = io::Dataset::open(options.root);
-  return DatasetChecker(options, ds, schemas).run();
+  const io::Dataset ds = io::Dataset::open(options.root);  // every field the model holds, checked
+  const std::string manifest = ds.manifest_file();
+  json document = io::parse_manifest_text(io::read_manifest_text(manifest), manifest);
+  return DatasetChecker(options, ds, std::move(document), schemas).run();
 }
 
 }  // namespace nsg::validate

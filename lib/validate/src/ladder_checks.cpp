@@ -16,12 +16,12 @@ std::string graph_digest_without_key(json graph) {
   return sha256_hex(graph.dump());
 }
 
-LadderTileFacts ladder_facts(const io::DatasetTile& t, const json& shard, const std::optional<json>& meta,
+LadderTileFacts ladder_facts(const io::DatasetTile& t, const io::ShardEntry& shard, const std::optional<json>& meta,
                              const std::optional<json>& graph) {
   LadderTileFacts f;
   f.key = t.key;
   f.shard = t.shard;
-  f.shard_rung = shard.contains("rung") && shard["rung"].is_number_unsigned() ? shard["rung"].get<int>() : 0;
+  f.shard_rung = shard.rung;
   if (meta) {
     try {
       f.meta = io::tile_meta_from_json(*meta, t.shard + "/" + t.key + ".meta.json");
@@ -65,35 +65,32 @@ void check_rung_tile(const LadderTileFacts& r, const LadderTileFacts* base, cons
 }
 
 // The manifest's ladder counts against the rung tiles found.
-void check_rung_counts(const json& ladder, const std::map<std::string, int64_t>& found_per_shard,
+void check_rung_counts(const io::Ladder& ladder, const std::map<std::string, int64_t>& found_per_shard,
                        const ReportFinding& report) {
-  std::map<std::string, int64_t> tiles, shards;
-  for (const json& shard : ladder.value("shards", json::array())) {
-    if (!shard.is_object() || !shard.contains("rung")) continue;
-    const std::string name = shard.value("name", "");
-    const auto it = found_per_shard.find(name);
+  std::map<int, io::TileShardCount> found_per_rung;
+  for (const io::ShardEntry& shard : ladder.shards) {
+    const auto it = found_per_shard.find(shard.name);
     const int64_t found = it == found_per_shard.end() ? 0 : it->second;
-    if (shard.value("tiles", json()) != found)
-      report(kCheck, name + ":tiles",
-             strprintf("%lld tiles found, manifest says %s", static_cast<long long>(found),
-                       shard.value("tiles", json()).dump().c_str()));
-    tiles[shard["rung"].dump()] += found;
-    ++shards[shard["rung"].dump()];
+    if (shard.tiles != found)
+      report(kCheck, shard.name + ":tiles",
+             strprintf("%lld tiles found, manifest says %lld", static_cast<long long>(found),
+                       static_cast<long long>(shard.tiles)));
+    found_per_rung[shard.rung].tiles += found;
+    ++found_per_rung[shard.rung].shards;
   }
-  const json counts = ladder.value("counts", json::object());
-  for (const auto& [rung, n] : tiles) {
-    const json want = {{"tiles", n}, {"shards", shards[rung]}};
-    if (!counts.contains(rung) || counts[rung] != want)
-      report(kCheck, "manifest.json:/ladder/counts/" + rung, "equal to " + want.dump() + " (the rung shards found)");
+  for (const auto& [rung, n] : found_per_rung) {
+    const auto listed = std::find_if(ladder.counts.begin(), ladder.counts.end(),
+                                     [rung = rung](const auto& c) { return c.first == rung; });
+    if (listed == ladder.counts.end() || listed->second.tiles != n.tiles || listed->second.shards != n.shards)
+      report(kCheck, "manifest.json:/ladder/counts/" + std::to_string(rung),
+             "equal to " + json({{"shards", n.shards}, {"tiles", n.tiles}}).dump() + " (the rung shards found)");
   }
 }
 
 }  // namespace
 
-void check_ladder_tiles(const json& manifest, const std::vector<LadderTileFacts>& tiles,
+void check_ladder_tiles(const io::Ladder& ladder, const std::vector<LadderTileFacts>& tiles,
                         const std::map<std::string, int64_t>& found_per_shard, const ReportFinding& report) {
-  const auto ladder = manifest.find("ladder");
-  if (ladder == manifest.end() || !ladder->is_object()) return;  // manifest.schema says what is wrong
   std::map<std::string, const LadderTileFacts*> base;
   for (const LadderTileFacts& t : tiles)
     if (t.shard_rung == 0) base[t.key] = &t;
@@ -102,7 +99,7 @@ void check_ladder_tiles(const json& manifest, const std::vector<LadderTileFacts>
     const auto it = t.meta && t.meta->ladder ? base.find(t.meta->ladder->base_key) : base.end();
     check_rung_tile(t, it == base.end() ? nullptr : it->second, report);
   }
-  check_rung_counts(*ladder, found_per_shard, report);
+  check_rung_counts(ladder, found_per_shard, report);
 }
 
 }  // namespace nsg::validate

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "nsg/io/dataset.h"
+#include "nsg/io/manifest.h"
 #include "nsg/io/tile_meta.h"
 #include "raster_values.h"
 
@@ -25,8 +26,8 @@ struct LadderTileFacts {
   std::string graph_digest;          // sha256 of graph.json less its "key"; empty when unread
 };
 
-// The facts of a tile read from `shard` (a manifest shard entry; "rung" in a rung shard's).
-LadderTileFacts ladder_facts(const io::DatasetTile& tile, const nlohmann::json& shard,
+// The facts of a tile read from `shard` (a split shard or a rung shard).
+LadderTileFacts ladder_facts(const io::DatasetTile& tile, const io::ShardEntry& shard,
                              const std::optional<nlohmann::json>& meta, const std::optional<nlohmann::json>& graph);
 
 // sha256 of a tile graph document without its "key" (a rung tile's graph is its split
@@ -35,7 +36,7 @@ std::string graph_digest_without_key(nlohmann::json graph);
 
 // Reports under "ladder.rungs" (subject: "<shard>/<key>" or the manifest path).
 // `found_per_shard`: tiles read per shard name.
-void check_ladder_tiles(const nlohmann::json& manifest, const std::vector<LadderTileFacts>& tiles,
+void check_ladder_tiles(const io::Ladder& ladder, const std::vector<LadderTileFacts>& tiles,
                         const std::map<std::string, int64_t>& found_per_shard, const ReportFinding& report);
 
 }  // namespace nsg::validate

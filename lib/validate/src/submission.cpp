@@ -338,9 +338,9 @@ std::vector<std::string> dataset_split_keys(const std::filesystem::path& dataset
   const io::Dataset ds = io::Dataset::open(dataset);
   ds.require_split(split);
   std::vector<std::string> keys;
-  for (const nlohmann::json& shard : ds.shards(split)) {
-    const std::string first = shard.value("first_key", ""), last = shard.value("last_key", "");
-    const int64_t tiles = shard.value("tiles", int64_t{-1});
+  for (const io::ShardEntry& shard : ds.shards(split)) {
+    const std::string &first = shard.first_key, &last = shard.last_key;
+    const int64_t tiles = shard.tiles;
     // Keys end in 6 digits; a shard whose range holds exactly `tiles` keys needs no reading.
     const auto number = [](const std::string& key) -> int64_t {
       if (key.size() < 7 || key[key.size() - 7] != '-') return -1;

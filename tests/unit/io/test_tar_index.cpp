@@ -11,6 +11,7 @@
 #include "nsg/io/tar.h"
 #include "nsg/io/tar_index.h"
 #include "nsg/io/tile_index.h"
+#include "manifest_fixture.h"
 #include "test_support.h"
 
 namespace nsg::io {
@@ -116,11 +117,15 @@ fs::path small_dataset(const fs::path& root, int tiles_claimed_by_second = 1) {
                                               {"l-test-000001.meta.json", bytes_of(4, 4)}});
   write_tar(root / "shards/test-000001.tar", {{"l-test-000002.lidar.tif", bytes_of(30, 5)}});
   write_tar(root / "shards/train-000000.tar", {{"l-train-000000.lidar.tif", bytes_of(40, 6)}});
-  std::ofstream(root / "manifest.json") << R"({"layout": "tar", "shards": [
-        {"name": "test-000000", "split": "test", "file": "shards/test-000000.tar", "tiles": 2},
-        {"name": "test-000001", "split": "test", "file": "shards/test-000001.tar", "tiles": )"
-                                        << tiles_claimed_by_second << R"(},
-        {"name": "train-000000", "split": "train", "file": "shards/train-000000.tar", "tiles": 1}]})";
+  std::ofstream(root / "manifest.json")
+      << nsg::test::complete_manifest(
+             {{{"name", "test-000000"}, {"split", "test"}, {"file", "shards/test-000000.tar"}, {"tiles", 2}},
+              {{"name", "test-000001"},
+               {"split", "test"},
+               {"file", "shards/test-000001.tar"},
+               {"tiles", tiles_claimed_by_second}},
+              {{"name", "train-000000"}, {"split", "train"}, {"file", "shards/train-000000.tar"}, {"tiles", 1}}})
+             .dump();
   return root;
 }
 

@@ -9,6 +9,7 @@
 #include "nsg/core/sha256.h"
 #include "nsg/io/tile_members.h"
 #include "nsg/metrics/io.h"
+#include "manifest_fixture.h"
 #include "test_support.h"
 
 namespace nsg::metrics {
@@ -69,8 +70,7 @@ nlohmann::json tar_shard(const fs::path& root, const std::string& name, const st
 }
 
 void write_manifest(const fs::path& root, const nlohmann::json& shards, const std::string& layout) {
-  nsg::test::write_text(root / "manifest.json",
-                        nlohmann::json({{"schema_version", "1"}, {"layout", layout}, {"shards", shards}}).dump());
+  nsg::test::write_text(root / "manifest.json", nsg::test::complete_manifest(shards, layout).dump());
 }
 
 // Two test shards and a train shard, all listed.

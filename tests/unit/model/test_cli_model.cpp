@@ -69,9 +69,7 @@ std::vector<std::string> predict_args(const fs::path& model, const fs::path& out
 }
 
 size_t split_tiles(const std::string& split) {
-  size_t n = 0;
-  for (const auto& shard : nsg::io::Dataset::open(nsg::test::e2e_dataset()).shards(split)) n += shard.value("tiles", 0);
-  return n;
+  return static_cast<size_t>(nsg::io::Dataset::open(nsg::test::e2e_dataset()).tile_count(split));
 }
 
 TEST(ModelCli, TrainIsByteIdenticalAcrossThreadCounts) {

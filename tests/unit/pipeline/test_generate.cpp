@@ -410,16 +410,16 @@ TEST(Generate, FolderLayoutHoldsTheSameTilesAsTheShards) {
     b[t.key] = t.files;
     return true;
   });
-  EXPECT_EQ(a.size(), tar.manifest()["counts"]["total_tiles"].get<size_t>());
+  EXPECT_EQ(static_cast<int64_t>(a.size()), tar.manifest().counts.total_tiles);
   EXPECT_EQ(a, b);
   size_t test_tiles = 0;
   folder.for_each_tile("test", [&](const io::DatasetTile& t) {
     EXPECT_EQ(t.json("meta.json")["split"], "test");
-    EXPECT_EQ(t.raster("lidar.tif").width, folder.manifest()["tile_format"]["size_px"].get<int>());
+    EXPECT_EQ(t.raster("lidar.tif").width, folder.manifest().tile_format.size_px);
     ++test_tiles;
     return true;
   });
-  EXPECT_EQ(test_tiles, folder.manifest()["counts"]["test"]["tiles"].get<size_t>());
+  EXPECT_EQ(static_cast<int64_t>(test_tiles), folder.manifest().counts.test.tiles);
 }
 
 }  // namespace

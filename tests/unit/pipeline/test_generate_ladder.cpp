@@ -49,14 +49,15 @@ std::vector<std::string> scenes_by_capture_time(const fs::path& release) {
 TEST(GenerateLadder, TheManifestListsEveryRungOfEveryTestTileAndTheDatasetValidates) {
   const fs::path dataset = e2e_ladder_dataset();
   const io::Dataset ds = io::Dataset::open(dataset);
-  const json& ladder = ds.manifest()["ladder"];
-  EXPECT_EQ(ladder["rungs"], json::parse(R"([1, 2, 4, "all"])"));
-  EXPECT_EQ(ladder["order"], "time");
+  ASSERT_TRUE(ds.manifest().ladder);
+  const io::Ladder& ladder = *ds.manifest().ladder;
+  EXPECT_EQ(ladder.rungs, (std::vector<int>{1, 2, 4, io::kRungAll}));
+  EXPECT_EQ(ladder.order, "time");
   EXPECT_EQ(ds.rungs(), (std::vector<int>{1, 2, 4}));
-  const int64_t test_tiles = ds.manifest()["counts"]["test"]["tiles"].get<int64_t>();
+  const int64_t test_tiles = ds.manifest().counts.test.tiles;
   ASSERT_GT(test_tiles, 2);
-  for (const char* rung : {"1", "2", "4"})
-    EXPECT_EQ(ladder["counts"][rung]["tiles"].get<int64_t>(), test_tiles) << rung;
+  ASSERT_EQ(ladder.counts.size(), 3u);
+  for (const auto& [rung, count] : ladder.counts) EXPECT_EQ(count.tiles, test_tiles) << rung;
   // The split counts are the split tiles' alone.
   int64_t split_tiles = 0;
   ds.for_each_tile("test", [&](const io::DatasetTile&) { return ++split_tiles, true; });
@@ -157,7 +158,7 @@ TEST(GenerateLadder, ASeededOrderDiffersFromTimeAndAFolderLayoutRungTileIsChecke
   EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
   const io::Dataset ds = io::Dataset::open(out.path());
   EXPECT_EQ(ds.rungs(), std::vector<int>{1});
-  EXPECT_EQ(ds.manifest()["ladder"]["rungs"], json::parse("[1]"));
+  EXPECT_EQ(ds.manifest().ladder->rungs, std::vector<int>{1});
   // Rung 1 by a seeded shuffle picks another first scene than capture time on some tile.
   std::map<std::string, std::vector<std::string>> by_time;
   io::Dataset::open(e2e_ladder_dataset()).for_each_rung_tile("test", 1, [&](const io::DatasetTile& t) {
@@ -172,7 +173,7 @@ TEST(GenerateLadder, ASeededOrderDiffersFromTimeAndAFolderLayoutRungTileIsChecke
     a_key = t.key;
     return ++tiles, true;
   });
-  EXPECT_EQ(tiles, ds.manifest()["counts"]["test"]["tiles"].get<int>());
+  EXPECT_EQ(tiles, ds.manifest().counts.test.tiles);
   EXPECT_GT(differ, 0);
   // A rung tile claiming a scene its split tile never saw, and another rung, is named.
   const fs::path meta_file = out / ("tiles/test-r1/" + a_key + "/" + a_key + ".meta.json");

@@ -65,11 +65,11 @@ TEST(GenerateTimeSplit, TrainTilesComeFromBeforeTheDateAndTestTilesFromAfter) {
   EXPECT_NE(r.err.find("before-after split at " + second_day), std::string::npos) << r.err;
 
   const io::Dataset ds = io::Dataset::open(out.path());
-  const json& split = ds.manifest()["locations"][0]["time_split"];
+  const nlohmann::ordered_json& split = ds.manifest().locations.at(0).time_split;
   EXPECT_EQ(split["date"], second_day);
   EXPECT_EQ(split["scenes"]["train"], 3);
   EXPECT_EQ(split["scenes"]["test"], 2);
-  const int64_t train = ds.manifest()["counts"]["train"]["tiles"], test = ds.manifest()["counts"]["test"]["tiles"];
+  const int64_t train = ds.manifest().counts.train.tiles, test = ds.manifest().counts.test.tiles;
   ASSERT_GT(train, 0);
   ASSERT_GT(test, 0);
   EXPECT_EQ(split["test_tiles"], test);

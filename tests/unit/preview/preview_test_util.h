@@ -17,7 +17,7 @@ namespace nsg::test {
 inline std::vector<io::DatasetTile> e2e_shard(const std::string& name) {
   const io::Dataset ds = io::Dataset::open(e2e_dataset());
   for (const auto& s : ds.shards())
-    if (s.value("name", "") == name) return ds.read_shard(s);
+    if (s.name == name) return ds.read_shard(s);
   ADD_FAILURE() << "no shard " << name;
   return {};
 }

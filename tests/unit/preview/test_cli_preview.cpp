@@ -79,7 +79,7 @@ TEST(CliPreview, OverviewAndSubmission) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("split 'test' (the split the submission's keys are tiles of)"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::exists(out / "submission-test.png"));
-  const int test_tiles = d.manifest()["counts"]["test"]["tiles"].get<int>();
+  const int64_t test_tiles = d.manifest().counts.test.tiles;
   EXPECT_NE(r.err.find(std::to_string(test_tiles) + " tile(s) scored"), std::string::npos) << r.err;
   nlohmann::json elsewhere = sub, mixed = sub;
   elsewhere["tiles"] = {{"nowhere-000000", sub["tiles"].begin().value()}};

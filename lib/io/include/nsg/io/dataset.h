@@ -1,8 +1,8 @@
 #pragma once
 // Reading a NuScenesGraph dataset (docs/dataset-format.md) for validate, preview, score, stats,
-// the report, the model and Python: the manifest, and the tiles of a split streamed shard by
-// shard (tar or folder layout) as raw member bytes with typed readers of their documents
-// (io/tile_meta.h, io/tile_graph.h) and layers (io/raster.h).
+// the report, the model and Python: the manifest through its one reader (io/manifest.h), and
+// the tiles of a split streamed shard by shard (tar or folder layout) as raw member bytes with
+// typed readers of their documents (io/tile_meta.h, io/tile_graph.h) and layers (io/raster.h).
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "nsg/graph/clip.h"
+#include "nsg/io/manifest.h"
 #include "nsg/io/raster.h"
 #include "nsg/io/tile_meta.h"
 
@@ -46,9 +47,9 @@ struct SplitVerification {
   bool hashed = false;  // every shard's bytes matched the manifest's sha256 and size
 };
 
-// The tiles the manifest's shard entries `shards` count ("tiles"; entries without a
-// count add nothing): a progress total, read before any shard is.
-uint64_t tile_count(const std::vector<nlohmann::json>& shards);
+// The tiles the manifest's shard entries `shards` count: a progress total, read before any
+// shard is.
+uint64_t tile_count(const std::vector<ShardEntry>& shards);
 
 // A ladder rung as a split name: "test-r1" = rung 1 of split test ({"test", 1}); nullopt
 // for other names. Dataset::shards, require_split, verify_split and for_each_tile take it,
@@ -57,20 +58,23 @@ std::optional<std::pair<std::string, int>> rung_split(const std::string& split);
 
 class Dataset {
  public:
-  // Reads <root>/manifest.json; IoError / ParseError naming it.
+  // Reads <root>/manifest.json through read_manifest (every field checked, the format's
+  // limits applied); IoError / ParseError / DataError naming it and the JSON pointer.
   static Dataset open(const std::filesystem::path& root);
 
   const std::filesystem::path& root() const { return root_; }
-  const nlohmann::json& manifest() const { return manifest_; }
-  bool tar_layout() const { return tar_; }
+  // <root>/manifest.json: what every error about the manifest names.
+  std::string manifest_file() const { return (root_ / "manifest.json").string(); }
+  const Manifest& manifest() const { return manifest_; }
+  bool tar_layout() const { return manifest_.tar_layout(); }
   // Shard entries of the manifest for `split` ("" = all; "<split>-r<k>" = the ladder's rung
   // k of it), in manifest order.
-  std::vector<nlohmann::json> shards(const std::string& split = "") const;
+  std::vector<ShardEntry> shards(const std::string& split = "") const;
   // Calls fn for every tile of `split` ("" = all) in manifest order, one shard in memory
   // at a time. Stops early when fn returns false.
   void for_each_tile(const std::string& split, const std::function<bool(const DatasetTile&)>& fn) const;
   // The tiles of `split` ("" = all) as the manifest's shard entries count them (for a
-  // progress total; entries without a count add nothing).
+  // progress total).
   uint64_t tile_count(const std::string& split = "") const { return io::tile_count(shards(split)); }
   // The split names the manifest's shards carry, sorted.
   std::vector<std::string> splits() const;
@@ -82,7 +86,7 @@ class Dataset {
   std::vector<int> rungs() const;
   // The ladder's shard entries of `split` ("" = all) and `rung` (0 = every rung), in
   // manifest order.
-  std::vector<nlohmann::json> rung_shards(const std::string& split = "", int rung = 0) const;
+  std::vector<ShardEntry> rung_shards(const std::string& split = "", int rung = 0) const;
   // for_each_tile over the rung shards of `split` and `rung`.
   void for_each_rung_tile(const std::string& split, int rung, const std::function<bool(const DatasetTile&)>& fn) const;
   // DataError naming the manifest, the split and the splits it lists when `split` is not
@@ -101,12 +105,11 @@ class Dataset {
   // IoError naming the file, the shard and what the manifest says.
   SplitVerification verify_split(const std::string& split, bool hash) const;
   // Every tile of one shard entry (tar: the members in order, grouped by key).
-  std::vector<DatasetTile> read_shard(const nlohmann::json& shard) const;
+  std::vector<DatasetTile> read_shard(const ShardEntry& shard) const;
 
  private:
   std::filesystem::path root_;
-  nlohmann::json manifest_;
-  bool tar_ = true;
+  Manifest manifest_;
 };
 
 }  // namespace nsg::io

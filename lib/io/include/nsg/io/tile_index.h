@@ -15,7 +15,7 @@ namespace nsg::io {
 
 class SplitIndex {
  public:
-  // Reads <root>/manifest.json (IoError / ParseError naming it) and indexes every shard of
+  // Reads <root>/manifest.json (Dataset::open: IoError / ParseError naming it) and indexes every shard of
   // `split` — a split or a ladder rung of one ("test-r1", Dataset::shards). ConfigError
   // naming the manifest and the names it has (Dataset::split_names) when `split` has no
   // shard; DataError naming the shard when its tile count differs from the manifest's.
@@ -27,7 +27,7 @@ class SplitIndex {
   const std::filesystem::path& root() const { return root_; }
   const std::string& split() const { return split_; }
   bool tar_layout() const { return tar_; }
-  // The manifest's tile_format.size_px (256 when absent): rasters must have this size.
+  // The manifest's tile_format.size_px: rasters must have this size.
   int size_px() const { return size_px_; }
   // Suffixes ("lidar.tif", "graph.json", …) the tile has, in archive / name order.
   std::vector<std::string> suffixes(size_t i) const;
@@ -53,8 +53,8 @@ class SplitIndex {
     std::filesystem::path path;  // the tar file, or the split's tile folder
   };
 
-  void index_tar_shard(const nlohmann::json& entry);
-  void index_folder_shard(const nlohmann::json& entry);
+  void index_tar_shard(const ShardEntry& entry);
+  void index_folder_shard(const ShardEntry& entry);
 
   std::filesystem::path root_;
   std::string split_;

@@ -39,9 +39,11 @@ struct TileMeta {
 // naming `file` and `path` (e.g. "/bounds_m/2").
 std::array<double, 4> bounds_from_json(const nlohmann::json& j, const std::string& file, const std::string& path);
 
-// Largest tile side a reader accepts: the format's crops are 256 px; 8 192 leaves room for
-// any config while bounding every per-pixel loop a reader runs.
-inline constexpr int kMaxTileSizePx = 8192;
+// Largest tile side a reader accepts, in a tile's meta.json and in the manifest's
+// tile_format: the format's crops are 256 px, and 4 096 is the largest a config may ask for
+// (crops.size_px) and the largest GeoTIFF the decoder reads, while bounding every per-pixel
+// loop a reader runs.
+inline constexpr int kMaxTileSizePx = 4096;
 
 // Throws ParseError naming `file` and the JSON path (e.g. "/bounds_m", "/counts/vehicle_px")
 // for a missing field, a wrong type, a non-finite number or a value out of its range.
