@@ -498,8 +498,35 @@ Manifest manifest_from_json(const nlohmann::json& doc, const std::string& file) 
   return manifest_from_json(ordered_json(doc), file);
 }
 
+namespace {
+
+// Why a folder has no manifest.json, from what it holds instead, and what to do.
+std::string missing_manifest(const fs::path& path) {
+  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  std::error_code ec;
+  bool release = false;
+  if (fs::is_directory(dir, ec))
+    for (const auto& e : fs::directory_iterator(dir, ec))
+      release = release || starts_with(e.path().filename().string(), "v1.0-");
+  if (release)
+    return "no manifest.json: this folder looks like a nuScenes release (it holds v1.0-…), not a dataset; make "
+           "one with `nsgraph generate --dataroot " +
+           dir.string() + " --out DATASET` and give DATASET";
+  if (fs::is_directory(dir / "parts", ec))
+    return "no manifest.json: an unfinished generate run (parts/ is there); rerun the same generate command, or "
+           "`nsgraph merge --out " +
+           dir.string() + "` once every share has finished";
+  return "no manifest.json (expected a dataset made by `nsgraph generate`: give the folder that holds manifest.json)";
+}
+
+}  // namespace
+
 std::string read_manifest_text(const fs::path& path) {
   std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  NSG_CHECK(fs::exists(status), IoError, path.string(), "", missing_manifest(path));
+  // A device or FIFO (a link to /dev/zero) has no size to check and would be read forever.
+  NSG_CHECK(fs::is_regular_file(status), ParseError, path.string(), "", "a regular file (the dataset manifest)");
   const uintmax_t bytes = fs::file_size(path, ec);
   NSG_CHECK(ec || bytes <= static_cast<uintmax_t>(kMaxManifestBytes), ParseError, path.string(), "",
             "a manifest of at most " + std::to_string(kMaxManifestBytes >> 20) + " MiB, got " + std::to_string(bytes) +

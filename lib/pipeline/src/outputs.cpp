@@ -149,6 +149,7 @@ std::string older_dataset(const fs::path& out, const std::string& digest) {
 }  // namespace
 
 void prepare_output_folder(const fs::path& out, const GenerateConfig& config, const ShareSpec& share, bool overwrite) {
+  refuse_out_over_input(out, config.dataroot, "--dataroot");  // the release is never the dataset's folder
   if (!fs::is_directory(out)) return;
   if (overwrite) {
     // Concurrent shares would delete each other's work.

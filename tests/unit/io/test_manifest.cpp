@@ -301,5 +301,34 @@ TEST(Manifest, DatasetOpenReadsThroughTheReader) {
   }
 }
 
+// No manifest: the error says what the folder is instead (a nuScenes release, an unfinished
+// generate run) and what to do; a manifest that is a device (a link to /dev/zero) is refused
+// without reading it.
+TEST(Manifest, AMissingOrSpecialManifestIsExplained) {
+  nsg::test::TempDir dir("manifest-missing");
+  fs::create_directories(dir / "release" / "v1.0-mini");
+  fs::create_directories(dir / "unfinished" / "parts");
+  fs::create_directories(dir / "empty");
+  const auto message = [](const fs::path& path) -> std::string {
+    try {
+      read_manifest(path);
+    } catch (const IoError& e) {
+      return e.what();
+    }
+    return "no IoError";
+  };
+  EXPECT_NE(message(dir / "release" / "manifest.json").find("nuScenes release"), std::string::npos);
+  EXPECT_NE(message(dir / "release" / "manifest.json").find("nsgraph generate --dataroot"), std::string::npos);
+  EXPECT_NE(message(dir / "unfinished" / "manifest.json").find("unfinished generate run"), std::string::npos);
+  EXPECT_NE(message(dir / "empty" / "manifest.json").find("nsgraph generate"), std::string::npos);
+  fs::create_symlink("/dev/zero", dir / "empty" / "manifest.json");
+  try {
+    read_manifest(dir / "empty" / "manifest.json");
+    ADD_FAILURE() << "read a device";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("a regular file"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace nsg::io

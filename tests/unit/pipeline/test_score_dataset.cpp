@@ -199,6 +199,17 @@ TEST(GenerateOverwrite, RemovesOnlyWhatOurDocumentsList) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("shards/README.txt"), std::string::npos) << r.err;
   EXPECT_EQ(tree_hashes(out), before) << "nothing removed before the refusal";
+
+  // --out the release itself (a copy of the tiny one): refused, naming --dataroot.
+  const fs::path release = dir / "release";
+  fs::copy(tiny_release(), release, fs::copy_options::recursive);
+  args = e2e_generate_args(release);
+  args[5] = release.string();  // --dataroot
+  r = run_nsgraph(args);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--dataroot"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(release / "manifest.json"));
+  EXPECT_FALSE(fs::exists(release / "parts"));
 }
 
 // merge --overwrite walks the dataset's folders without following links: a maps/ that
