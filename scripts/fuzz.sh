@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 FUZZ_BUILD=${1:-build-fuzz}
 FUZZ_SECONDS=${FUZZ_SECONDS:-60}
-FUZZ_TARGETS=${FUZZ_TARGETS:-"table map pcd detections submission tar_index tile_json manifest images score merge model frames graphify"}
+FUZZ_TARGETS=${FUZZ_TARGETS:-"table map pcd detections submission tar_index tile_json manifest images score receipt merge model frames frames_manifest frames_record graphify"}
 JOBS=${JOBS:-2}
 RELEASE_BUILD=${BUILD:-build}
 
