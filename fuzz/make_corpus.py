@@ -9,6 +9,8 @@ import json
 import os
 import sys
 
+REPO = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+
 TABLES = ["category", "attribute", "visibility", "sensor", "calibrated_sensor", "ego_pose", "log", "map",
           "scene", "sample", "sample_data", "sample_annotation", "instance"]  # fuzz_table.cpp's order
 
@@ -267,7 +269,7 @@ def merge_records(out):
 
 def models(out):
     """The committed golden model, gzip and inflated, and cut short."""
-    with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "golden", "model",
+    with open(os.path.join(REPO, "tests", "data", "golden", "model",
                            "b1-e2e-trees2.yml.gz"), "rb") as f:
         packed = f.read()
     text = gzip.decompress(packed)
@@ -280,7 +282,7 @@ def models(out):
 def frames_results(out):
     """OpenLane-V2 results documents: a golden frame renamed to the target's key, a copy of
     the target's ground truth, and broken ones (topology of the wrong shape, a NaN)."""
-    with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "golden", "frames",
+    with open(os.path.join(REPO, "tests", "data", "golden", "frames",
                            "pred.json")) as f:
         golden = json.load(f)["results"]
     first = next(iter(golden.values()))
@@ -297,22 +299,10 @@ def frames_results(out):
 
 def frame_record():
     """A frame record as `nsgraph frames` writes it (schemas/v1/frame.schema.json): one
-    camera, two centerlines, the first linked to the second."""
-    eye = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-    pose = {"rotation": eye, "translation": [600.0, 1600.0, 0.0]}
-    lanes = [{"id": 1000 * k, "points": [[-20.0 + 4.0 * i, 3.5 * k, 0.0] for i in range(11)],
-              "points_2m": [[-20.0 + 2.0 * i, 3.5 * k, 0.0] for i in range(21)],
-              "is_intersection_or_connector": k == 1, "lane_token": f"lane-{k}",
-              "starts_at_lane_start": k == 1, "ends_at_lane_end": k == 0} for k in range(2)]
-    camera = {"image_path": "samples/CAM_FRONT/x.jpg", "timestamp": 1, "width": 1600, "height": 900,
-              "extrinsic": pose, "intrinsic": {"K": [[1266.4, 0.0, 816.3], [0.0, 1266.4, 491.5], [0.0, 0.0, 1.0]],
-                                               "distortion": []}, "ego_pose": pose}
-    return {"schema_version": "1", "version": "nsgraph-frames-1", "segment_id": "scene-0001",
-            "meta_data": {"source": "nuscenes", "source_id": "s" * 32, "version": "v1.0-mini",
-                          "location": "boston-seaport", "map_version": "1.3", "region": "r0"},
-            "timestamp": 1, "sample_token": "tok", "split": "test", "sensor": {"CAM_FRONT": camera}, "pose": pose,
-            "annotation": {"lane_centerline": lanes, "traffic_element": [], "topology_lclc": [[0, 1], [0, 0]],
-                           "topology_lcte": [[], []]}}
+    camera, two centerlines, the first linked to the second (tests/data/frames/record-two-lanes.json,
+    shared with tests/python/test_frames.py)."""
+    with open(os.path.join(REPO, "tests", "data", "frames", "record-two-lanes.json")) as f:
+        return json.load(f)
 
 
 def frames_documents(out):

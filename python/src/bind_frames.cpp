@@ -117,10 +117,12 @@ class FramesExport {
       manifest_ = metrics::read_frames_manifest(root);
     }
     for (const metrics::FramesListedFile& f : manifest_.files) by_path_.emplace(f.path, &f);
+    release_ = manifest_.release_folder().string();
   }
 
   py::object manifest() const { return json_to_py(manifest_.document); }
-  const std::string& dataroot() const { return manifest_.dataroot; }
+  // source.dataroot resolved against the export's folder.
+  const std::string& dataroot() const { return release_; }
   bool copy_images() const { return manifest_.copy_images; }
 
   std::vector<std::string> records(const std::string& split) const {
@@ -142,6 +144,7 @@ class FramesExport {
 
  private:
   metrics::FramesManifest manifest_;
+  std::string release_;
   std::map<std::string, const metrics::FramesListedFile*> by_path_;  // into manifest_.files
 };
 

@@ -136,22 +136,11 @@ class FramesTest(unittest.TestCase):
 
 def record_doc(split="test"):
     """A record as `nsgraph frames` writes it: one camera, two centerlines, the first linked
-    to the second (as tests/unit/metrics/frames_export_fixture.h)."""
-    eye = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-    pose = {"rotation": eye, "translation": [600.0, 1600.0, 0.0]}
-    lanes = [{"id": 1000 * k, "points": [[-20.0 + 4.0 * i, 3.5 * k, 0.0] for i in range(11)],
-              "points_2m": [[-20.0 + 2.0 * i, 3.5 * k, 0.0] for i in range(21)],
-              "is_intersection_or_connector": k == 1, "lane_token": f"lane-{k}",
-              "starts_at_lane_start": k == 1, "ends_at_lane_end": k == 0} for k in range(2)]
-    camera = {"image_path": "samples/CAM_FRONT/x.jpg", "timestamp": 1, "width": 1600, "height": 900,
-              "extrinsic": pose, "intrinsic": {"K": [[1266.4, 0.0, 816.3], [0.0, 1266.4, 491.5], [0.0, 0.0, 1.0]],
-                                               "distortion": []}, "ego_pose": pose}
-    return {"schema_version": "1", "version": "nsgraph-frames-1", "segment_id": "scene-0001",
-            "meta_data": {"source": "nuscenes", "source_id": "s", "version": "v1.0-mini",
-                          "location": "boston-seaport", "map_version": "1.3", "region": "r0"},
-            "timestamp": 1, "sample_token": "tok", "split": split, "sensor": {"CAM_FRONT": camera}, "pose": pose,
-            "annotation": {"lane_centerline": lanes, "traffic_element": [], "topology_lclc": [[0, 1], [0, 0]],
-                           "topology_lcte": [[], []]}}
+    to the second (tests/data/frames/record-two-lanes.json, also a fuzz seed)."""
+    with open(os.path.join(fixtures.SOURCE_DIR, "tests", "data", "frames", "record-two-lanes.json")) as f:
+        record = json.load(f)
+    record["split"] = split
+    return record
 
 
 RECORD = "test/scene-0001/info/1.json"
@@ -196,15 +185,17 @@ class FramesHostileTest(unittest.TestCase):
         return root
 
     def test_the_crafted_export_reads(self):
-        ds = nsgraph.frames.Dataset(self.export("ok"), "test")
+        root = self.export("ok")
+        ds = nsgraph.frames.Dataset(root, "test")
         self.assertEqual(len(ds), 1)
         item = ds[0]
         self.assertEqual(item["token"], "tok")
         self.assertEqual(item["centerlines"][1].shape, (11, 3))
         np.testing.assert_array_equal(item["topology"], [[0, 1], [0, 0]])
         np.testing.assert_array_equal(item["pose"][:3, 3], [600.0, 1600.0, 0.0])
+        # source.dataroot ("release") is relative to the export's folder.
         self.assertEqual(item["cameras"]["CAM_FRONT"]["image_path"],
-                         os.path.join("release", "samples/CAM_FRONT/x.jpg"))
+                         os.path.join(root, "release", "samples/CAM_FRONT/x.jpg"))
 
     def test_paths_outside_the_export_are_refused_by_name(self):
         outside = os.path.join(self.tmp, "outside", "info")

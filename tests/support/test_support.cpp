@@ -1,6 +1,7 @@
 #include "test_support.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -10,6 +11,9 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+
+#include "nsg/core/files.h"
+#include "nsg/core/sha256.h"
 
 namespace fs = std::filesystem;
 
@@ -94,6 +98,18 @@ fs::path cached_folder(const std::string& name, const std::string& key,
   const fs::path root = fs::path(env_or("NSG_BINARY_DIR", NSG_BINARY_DIR_DEFAULT)) / "test-cache";
   const fs::path done = root / (name + "-" + key);
   if (fs::is_directory(done)) return done;
+  // ctest starts many processes that want the same folder at once: one produces it, the
+  // others wait on the lock instead of producing it again.
+  fs::create_directories(root);
+  const int lock = ::open((root / (name + ".lock")).c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (lock >= 0) ::flock(lock, LOCK_EX);
+  struct Unlock {
+    int fd;
+    ~Unlock() {
+      if (fd >= 0) ::close(fd);  // closing releases the lock
+    }
+  } unlock{lock};
+  if (fs::is_directory(done)) return done;
   const fs::path work = root / (name + "-" + key + ".tmp-" + std::to_string(::getpid()));
   fs::remove_all(work);
   fs::create_directories(work);
@@ -117,6 +133,16 @@ std::string nsgraph_build_key() {
   const fs::path exe = nsgraph_exe();
   const auto stamp = fs::last_write_time(exe).time_since_epoch().count();
   return std::to_string(fs::file_size(exe)) + "-" + std::to_string(stamp);
+}
+
+fs::path tiny_release() {
+  const fs::path config = source_dir() / "samples/synth/tiny.json";
+  const std::string key = nsgraph_build_key() + "-" + sha256_hex(read_file(config)).substr(0, 16);
+  return cached_folder("release_tiny", key, [&](const fs::path& dir) {
+    const CommandResult r = run_nsgraph(
+        {"synth", "--quiet", "--config", config.string(), "--out", dir.string(), "--seed", "7", "--threads", "2"});
+    if (r.exit_code != 0) throw std::runtime_error("synth tiny failed: " + r.err);
+  });
 }
 
 }  // namespace nsg::test

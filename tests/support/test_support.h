@@ -49,6 +49,9 @@ std::filesystem::path cached_folder(const std::string& name, const std::string& 
                                     const std::function<void(const std::filesystem::path&)>& produce);
 // A key naming the nsgraph binary's build (size and modification time).
 std::string nsgraph_build_key();
+// samples/synth/tiny.json synthesized (seed 7, 2 threads) once per build and shared by every
+// test process: read it, never write into it (copy it first).
+std::filesystem::path tiny_release();
 
 void write_text(const std::filesystem::path& path, const std::string& text);
 std::string read_text(const std::filesystem::path& path);

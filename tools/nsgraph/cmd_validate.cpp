@@ -11,6 +11,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
 #include "nsg/core/strings.h"
+#include "nsg/validate/documents.h"
 #include "nsg/validate/dataset.h"
 #include "nsg/validate/submission.h"
 
@@ -25,11 +26,12 @@ struct ValidateCliOptions {
   std::string checks = "*";
   std::string schemas;
   bool list_checks = false;
+  bool list_documents = false;
   bool json = false;
   validate::SubmissionLimits limits;
 
   void validate() const {
-    if (list_checks) return;
+    if (list_checks || list_documents) return;
     if (submission.empty()) {
       NSG_CHECK(!dataset_positional.empty() || !dataset.empty(), ConfigError, "", "DATASET",
                 "a dataset folder, or --submission FILE --dataset DATASET");
@@ -69,6 +71,10 @@ int finish(const Issues& issues, const std::string& what, const ValidateCliOptio
 
 int run_validate(const ValidateCliOptions& o) {
   o.validate();
+  if (o.list_documents) {
+    std::cout << validate::documents_text();
+    return kExitOk;
+  }
   if (o.list_checks) {
     for (const validate::CheckInfo& c : validate::dataset_checks())
       if (validate::check_selected(o.checks, c.name)) std::cout << c.name << "\t" << c.description << "\n";
@@ -116,6 +122,8 @@ void add_validate_command(CLI::App& root, Context& ctx) {
   cmd->add_option("--checks", o->checks, "Comma-separated wildcards of checks to run (e.g. 'graph.*,shard.sha256')")
       ->capture_default_str();
   cmd->add_flag("--list-checks", o->list_checks, "List the dataset checks and exit");
+  cmd->add_flag("--list-documents", o->list_documents,
+                "List the documents nsgraph reads and writes (name, schema, reader, fuzz target, where) and exit");
   cmd->add_flag("--json", o->json, "Print a JSON report instead of lines");
   cmd->add_option("--schemas", o->schemas, "Folder holding v1/*.schema.json (default: installed or source tree)");
   add_submission_limit_flags(cmd, o->limits);

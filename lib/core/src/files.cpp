@@ -36,4 +36,29 @@ bool stays_inside(const std::string& relative) {
   return true;
 }
 
+namespace {
+// Absolute, normal, and without a trailing separator ("a/b/" names the folder b too).
+std::filesystem::path absolute_folder(const std::filesystem::path& p) {
+  std::filesystem::path a = std::filesystem::absolute(p).lexically_normal();
+  if (a.filename().empty() && a.has_parent_path() && a != a.root_path()) a = a.parent_path();
+  return a;
+}
+}  // namespace
+
+std::string path_relative_to(const std::filesystem::path& target, const std::filesystem::path& document_dir) {
+  if (target.empty()) return "";
+  const std::filesystem::path to = absolute_folder(target);
+  const std::filesystem::path rel = to.lexically_relative(absolute_folder(document_dir));
+  return (rel.empty() ? to : rel).generic_string();
+}
+
+std::filesystem::path resolve_document_path(const std::string& stored, const std::filesystem::path& document_dir) {
+  const std::filesystem::path path(stored);
+  if (stored.empty() || path.is_absolute()) return path;
+  const std::filesystem::path beside = (document_dir / path).lexically_normal();
+  std::error_code ec;
+  if (!std::filesystem::is_directory(beside, ec) && std::filesystem::is_directory(path, ec)) return path;
+  return beside;
+}
+
 }  // namespace nsg

@@ -38,6 +38,7 @@ using nlohmann::ordered_json;
 // ratios, excluded scenes) and, per location, its regions and map file digest.
 struct DatasetPlan {
   fs::path manifest_path;
+  fs::path release;  // the release it was generated from (io::release_folder)
   std::string manifest_sha256;
   pipeline::GenerateConfig config;
   std::vector<std::string> locations;  // manifest order
@@ -63,6 +64,7 @@ DatasetPlan read_dataset(const fs::path& root) {
   p.manifest_path = root / "manifest.json";
   p.manifest_sha256 = sha256_file(p.manifest_path);
   p.config = pipeline::config_from_json(json(m.config), p.manifest_path.string() + ":/config");
+  p.release = io::release_folder(m.inputs, root);
   for (const io::ManifestLocation& loc : m.locations) {
     p.locations.push_back(loc.name);
     for (const io::Region& r : loc.regions) p.regions[loc.name].push_back(region_of(r));
@@ -364,9 +366,9 @@ void write_export_manifest(ExportState& es, const fs::path& dataroot) {
       {"kind", "nsgraph-frames"},
       {"tool_version", kVersion},
       {"source",
-       {{"dataset", fs::absolute(es.run.dataset).lexically_normal().string()},
+       {{"dataset", path_relative_to(es.run.dataset, es.run.out)},
         {"dataset_manifest_sha256", es.plan.manifest_sha256},
-        {"dataroot", dataroot.string()},
+        {"dataroot", path_relative_to(dataroot, es.run.out)},
         {"version", es.plan.config.version},
         {"split_buffer_m", es.plan.config.splits.buffer_m}}},
       {"config", frames_option_table().to_json(config)},
@@ -388,7 +390,11 @@ FramesSummary export_frames(const FramesConfig& config, const FramesRun& run) {
   NSG_CHECK(!run.dataset.empty(), ConfigError, "", "--dataset", "a generated dataset folder (manifest.json)");
   NSG_CHECK(run.stats_only || !run.out.empty(), ConfigError, "", "--out", "an output folder");
   const DatasetPlan plan = read_dataset(run.dataset);
-  const fs::path dataroot = config.dataroot.empty() ? fs::path(plan.config.dataroot) : fs::path(config.dataroot);
+  const fs::path dataroot = config.dataroot.empty() ? plan.release : fs::path(config.dataroot);
+  NSG_CHECK(!config.dataroot.empty() || fs::is_directory(dataroot), ConfigError, plan.manifest_path.string(),
+            "/inputs/dataroot",
+            "the release the dataset was generated from at " + dataroot.string() +
+                " (the path is kept relative to the dataset's folder); it is not there: pass --dataroot <release>");
   const nuscenes::Database db = nuscenes::Database::load(dataroot, plan.config.version);
   std::map<std::string, LocationGraph> graphs;
   for (const std::string& location : plan.locations) graphs.emplace(location, location_graph(dataroot, location, plan));

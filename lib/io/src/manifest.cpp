@@ -579,6 +579,10 @@ ordered_json location_to_json(const ManifestLocation& l) {
   return doc;
 }
 
+fs::path release_folder(const ManifestInputs& inputs, const fs::path& dataset_root) {
+  return resolve_document_path(inputs.dataroot, dataset_root);
+}
+
 ordered_json manifest_to_json(const Manifest& m) {
   ordered_json doc = {{"schema_version", m.schema_version}};
   if (!m.tool.is_null()) doc["tool"] = m.tool;

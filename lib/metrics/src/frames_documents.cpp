@@ -438,6 +438,8 @@ class RecordReader {
 
 }  // namespace
 
+std::filesystem::path FramesManifest::release_folder() const { return resolve_document_path(dataroot, export_dir); }
+
 std::vector<const FramesListedFile*> FramesManifest::records(const std::string& split) const {
   std::vector<const FramesListedFile*> out;
   const std::string prefix = split + "/";

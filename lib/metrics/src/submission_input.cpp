@@ -2,6 +2,7 @@
 
 #include "nsg/core/sha256.h"
 #include "nsg/metrics/io.h"
+#include "nsg/validate/documents.h"
 #include "nsg/validate/schema.h"
 
 namespace nsg::metrics {
@@ -12,7 +13,7 @@ CheckedSubmission check_submission_document(const nlohmann::json& doc, const std
   CheckedSubmission out;
   const std::filesystem::path dir = validate::find_schemas_dir(schemas_dir);
   out.issues =
-      validate::validate_against_schema(dir / "v1" / "submission.schema.json", doc, label, "submission.schema");
+      validate::validate_against_schema(validate::schema_path("submission", dir), doc, label, "submission.schema");
   out.issues.append(validate::check_submission_structure(doc, label, limits));
   if (out.issues.empty()) out.graphs = graphs_from_submission(doc, label);
   return out;

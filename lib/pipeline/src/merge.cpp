@@ -189,10 +189,12 @@ io::FileRecord input_file(const fs::path& root, const fs::path& path) {
   return {fs::relative(path, root).generic_string(), sha256_file(path), static_cast<int64_t>(fs::file_size(path))};
 }
 
-io::ManifestInputs inputs_of(const ordered_json& config, const std::vector<io::ManifestLocation>& plan) {
+// `out`: the dataset's folder, which inputs.dataroot is written relative to.
+io::ManifestInputs inputs_of(const fs::path& out, const ordered_json& config,
+                             const std::vector<io::ManifestLocation>& plan) {
   io::ManifestInputs in;
   const fs::path root = config["dataroot"].get<std::string>();
-  in.dataroot = root.string();
+  in.dataroot = path_relative_to(root, out);
   in.version = config["version"].get<std::string>();
   std::vector<fs::path> table_files;
   for (const auto& e : fs::directory_iterator(root / in.version))
@@ -406,7 +408,7 @@ io::Manifest manifest_of(const fs::path& out, const ordered_json& config, std::v
   m.licence = data_licence_json();
   m.seed = config["seed"].get<uint64_t>();
   m.config = config;
-  m.inputs = inputs_of(config, plan);
+  m.inputs = inputs_of(out, config, plan);
   m.georeference = georeference_json(plan);
   m.layout = tar ? io::Layout::kTar : io::Layout::kFolder;
   m.tile_format = {config["resolution_m"].get<double>(), config["crops"]["size_px"].get<int>(),

@@ -6,6 +6,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/files.h"
 #include "nsg/core/json.h"
+#include "nsg/validate/documents.h"
 #include "nsg/validate/schema.h"
 
 namespace nsg::segment {
@@ -76,7 +77,7 @@ SegmentLabels build_labels(const nlohmann::json& doc, const std::string& file_la
 }  // namespace
 
 SegmentLabels labels_from_json(const nlohmann::json& doc, const std::string& file_label, const fs::path& schemas_dir) {
-  const fs::path schema = validate::find_schemas_dir(schemas_dir) / "v1" / "segment-labels.schema.json";
+  const fs::path schema = validate::schema_path("segment-labels", schemas_dir);
   const Issues issues = validate::validate_against_schema(schema, doc, file_label, "segment.labels");
   if (!issues.items().empty()) {
     const Issue& first = issues.items().front();

@@ -17,6 +17,7 @@
 #include "nsg/io/dataset.h"
 #include "nsg/io/raster.h"
 #include "nsg/io/tile_members.h"
+#include "nsg/validate/documents.h"
 #include "nsg/validate/schema.h"
 #include "ladder_checks.h"
 #include "raster_values.h"
@@ -145,8 +146,8 @@ class DatasetChecker {
     files_.insert(m_.tile_format.files.begin(), m_.tile_format.files.end());
     if (files_.empty())
       for (const io::TileMember& m : io::tile_members()) files_.insert(m.file);
-    if (on("meta.schema")) meta_schema_.emplace(schemas / "v1" / "tile-meta.schema.json");
-    if (on("graph.schema")) graph_schema_.emplace(schemas / "v1" / "tile-graph.schema.json");
+    if (on("meta.schema")) meta_schema_.emplace(schema_path("tile-meta", schemas));
+    if (on("graph.schema")) graph_schema_.emplace(schema_path("tile-graph", schemas));
   }
 
   Issues run() {
@@ -183,11 +184,11 @@ class DatasetChecker {
 
   void check_manifest() {
     if (on("manifest.schema"))
-      issues_.append(SchemaValidator(schemas_ / "v1" / "manifest.schema.json")
-                         .validate(document_, "manifest.json", "manifest.schema"));
+      issues_.append(
+          SchemaValidator(schema_path("manifest", schemas_)).validate(document_, "manifest.json", "manifest.schema"));
     if (!on("determinism.config")) return;
     const json config = json(m_.config);  // an object: the manifest's reader checked it
-    issues_.append(SchemaValidator(schemas_ / "v1" / "generate-config.schema.json")
+    issues_.append(SchemaValidator(schema_path("generate-config", schemas_))
                        .validate(config, "manifest.json:/config", "determinism.config"));
     const auto differs = [&](const char* config_ptr, const char* manifest_ptr) {
       const json::json_pointer a(config_ptr), b(manifest_ptr);

@@ -11,6 +11,7 @@
 #include "nsg/core/json.h"
 #include "nsg/core/strings.h"
 #include "nsg/io/dataset.h"
+#include "nsg/validate/documents.h"
 #include "nsg/validate/schema.h"
 
 namespace nsg::validate {
@@ -374,8 +375,7 @@ SubmissionReport validate_submission(const SubmissionValidateOptions& o) {
   if (!doc) return report;
   report.parsed = true;
   const std::string label = o.submission.string();
-  report.issues.append(
-      validate_against_schema(schemas / "v1" / "submission.schema.json", *doc, label, "submission.schema"));
+  report.issues.append(validate_against_schema(schema_path("submission", schemas), *doc, label, "submission.schema"));
   report.issues.append(check_submission_structure(*doc, label, o.limits));
   const bool has_tiles = doc->is_object() && doc->contains("tiles") && (*doc)["tiles"].is_object();
   if (has_tiles) report.tiles = static_cast<int64_t>((*doc)["tiles"].size());

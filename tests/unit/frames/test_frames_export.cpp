@@ -314,7 +314,8 @@ TEST(FramesExport, OverwriteRemovesOnlyTheListedFilesAndOutIsNoInput) {
 
   const fs::path dataset = tmp / "dataset";
   fs::copy(e2e_dataset(), dataset, fs::copy_options::recursive);
-  r = run_nsgraph({"frames", "--quiet", "--dataset", dataset.string(), "--out", dataset.string()});
+  r = run_nsgraph({"frames", "--quiet", "--dataset", dataset.string(), "--out", dataset.string(), "--dataroot",
+                   e2e_release().string()});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("--dataset"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dataset / "data_dict.json"));

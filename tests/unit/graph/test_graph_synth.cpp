@@ -22,10 +22,7 @@ class GraphOnSynth : public ::testing::Test {
     dir_ = new nsg::test::TempDir("graph-synth");
     const auto config = nsg::test::source_dir() / "samples/synth/tiny.json";
     location_ = nlohmann::json::parse(std::ifstream(config))["location"].get<std::string>();
-    const auto r = nsg::test::run_nsgraph(
-        {"synth", "--quiet", "--config", config.string(), "--out", (dir_->path() / "release").string()});
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    map_ = new nuscenes::MapExpansion(nuscenes::load_map_expansion(dir_->path() / "release", location_));
+    map_ = new nuscenes::MapExpansion(nuscenes::load_map_expansion(nsg::test::tiny_release(), location_));
   }
   static void TearDownTestSuite() {
     delete map_;
@@ -86,7 +83,7 @@ namespace nsg::graph {
 namespace {
 
 TEST_F(GraphOnSynth, InspectGraphCommandReportsCountsAndWritesGeoJson) {
-  const auto release = (dir_->path() / "release").string();
+  const auto release = nsg::test::tiny_release().string();
   const auto geojson = (dir_->path() / "lanes.geojson").string();
   const auto r = nsg::test::run_nsgraph(
       {"inspect", "graph", "--dataroot", release, "--location", location_, "--geojson", geojson, "--strict"});
@@ -157,7 +154,7 @@ TEST_F(GraphOnSynth, AttributesFollowTheCitysConstruction) {
 }
 
 TEST_F(GraphOnSynth, InspectGraphBadInputExitsTwo) {
-  const auto release = (dir_->path() / "release").string();
+  const auto release = nsg::test::tiny_release().string();
   auto r = nsg::test::run_nsgraph({"inspect", "graph", "--dataroot", release, "--location", "atlantis"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("atlantis"), std::string::npos);

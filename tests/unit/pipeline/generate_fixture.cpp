@@ -23,15 +23,6 @@ fs::path e2e_release() {
   });
 }
 
-fs::path tiny_release() {
-  const fs::path config = source_dir() / "samples/synth/tiny.json";
-  return cached_folder("release_tiny", nsgraph_build_key() + "-" + content_key(config), [&](const fs::path& dir) {
-    const CommandResult r =
-        run_nsgraph({"synth", "--quiet", "--config", config.string(), "--out", dir.string(), "--seed", "7"});
-    if (r.exit_code != 0) throw std::runtime_error("synth tiny failed: " + r.err);
-  });
-}
-
 fs::path release_with_renamed_scene(const fs::path& release, const std::string& version, const std::string& from,
                                     const std::string& to, const fs::path& dir) {
   fs::create_directories(dir / version);
@@ -114,6 +105,14 @@ std::vector<std::pair<std::string, std::string>> tree_hashes(const fs::path& dir
     if (!e.is_regular_file()) continue;
     const std::string rel = fs::relative(e.path(), dir).generic_string();
     if (rel.rfind("parts/", 0) == 0) continue;
+    if (rel == "manifest.json") {
+      // inputs.dataroot is relative to the dataset's folder: datasets in other folders write
+      // another path to the same release. Compared as the folder it resolves to.
+      nlohmann::ordered_json m = nlohmann::ordered_json::parse(read_file(e.path()));
+      m["inputs"]["dataroot"] = resolve_document_path(m["inputs"]["dataroot"].get<std::string>(), dir).string();
+      out.emplace_back(rel, sha256_hex(m.dump(1)));
+      continue;
+    }
     out.emplace_back(rel, sha256_file(e.path()));
   }
   std::sort(out.begin(), out.end());

@@ -10,9 +10,6 @@
 namespace nsg::test {
 
 std::filesystem::path e2e_release();
-// samples/synth/tiny.json synthesized with seed 7 (one small block: the default config
-// plans no tile on it).
-std::filesystem::path tiny_release();
 // A view of `release` (symlinks to its files) whose scene table has scene `from` renamed
 // to `to`, written under `dir`; returns the view's root.
 std::filesystem::path release_with_renamed_scene(const std::filesystem::path& release, const std::string& version,
@@ -31,7 +28,8 @@ std::vector<std::string> real_keyframe_ladder_args(const std::filesystem::path& 
 // e2e_dataset.
 std::filesystem::path e2e_ladder_dataset();
 nlohmann::json read_json(const std::filesystem::path& path);
-// sha256 of every file under `dir` except parts/ (the run's bookkeeping), by relative path.
+// sha256 of every file under `dir` except parts/ (the run's bookkeeping), by relative path;
+// the manifest's inputs.dataroot counts as the folder it names (it is relative to `dir`).
 std::vector<std::pair<std::string, std::string>> tree_hashes(const std::filesystem::path& dir);
 
 }  // namespace nsg::test

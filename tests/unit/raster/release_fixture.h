@@ -1,9 +1,10 @@
 #pragma once
-// The tiny synthetic release, generated once per test binary, with its synth world (the
-// truth), the loaded database and the location's layers at 1 thread.
+// The tiny synthetic release (shared by the test processes of the build, read-only), with its
+// synth world (the truth), the loaded database and the location's layers at 1 thread.
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <filesystem>
 #include <memory>
 
 #include "nsg/nuscenes/database.h"
@@ -20,14 +21,11 @@ using nuscenes::Database;
 class RasterRelease : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new test::TempDir("raster_release");
+    release_ = test::tiny_release();
     const auto config_path = test::source_dir() / "samples/synth/tiny.json";
-    const test::CommandResult r =
-        test::run_nsgraph({"synth", "--config", config_path.string(), "--out", dir_->path().string()});
-    ASSERT_EQ(r.exit_code, 0) << r.err;
     config_ = new synth::SynthConfig(synth::SynthConfig::from_file(config_path));
     world_ = new synth::World(synth::build_world(*config_, config_->seed));
-    db_ = new Database(Database::load(dir_->path(), config_->version));
+    db_ = new Database(Database::load(release_, config_->version));
     const auto t0 = std::chrono::steady_clock::now();
     layers_ = new LocationLayers(accumulate_location(*db_, config_->location, RasterOptions{}, 1));
     seconds_1_thread_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -41,10 +39,9 @@ class RasterRelease : public ::testing::Test {
     delete db_;
     delete world_;
     delete config_;
-    delete dir_;
   }
 
-  static inline test::TempDir* dir_ = nullptr;
+  static inline std::filesystem::path release_;
   static inline synth::SynthConfig* config_ = nullptr;
   static inline synth::World* world_ = nullptr;
   static inline Database* db_ = nullptr;

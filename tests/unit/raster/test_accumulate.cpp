@@ -200,7 +200,7 @@ TEST_F(RasterRelease, VehicleLayerFromAnnotations) {
 // The same from the synthetic detector's results: vehicle classes above the threshold only.
 TEST_F(RasterRelease, VehicleLayerFromDetections) {
   RasterOptions options;
-  options.detections_file = dir_->path() / "detections" / (config_->detections.name + ".json");
+  options.detections_file = release_ / "detections" / (config_->detections.name + ".json");
   options.detection_score_threshold = 0.5;
   const LocationLayers layers = accumulate_location(*db_, config_->location, options, 2);
   const nuscenes::DetectionResults results = nuscenes::read_detections(options.detections_file);
@@ -297,7 +297,7 @@ TEST_F(RasterRelease, RejectsBadOptionsAndUnknownLocations) {
     EXPECT_NE(std::string(e.what()).find("atlantis"), std::string::npos) << e.what();
   }
   RasterOptions missing;
-  missing.detections_file = dir_->path() / "no-such-results.json";
+  missing.detections_file = release_ / "no-such-results.json";
   EXPECT_THROW(accumulate_location(*db_, config_->location, missing, 1), IoError);
 }
 

@@ -75,7 +75,7 @@ TEST(CameraLayerBytesReal, RealKeyFrameLayerIsUnchanged) {
 TEST_F(CameraLayerBytes, HalfSizeMasksReadAsTheFullSizeMaskTheyStandFor) {
   const test::TempDir full_root("masks_full"), half_root("masks_half");
   size_t masks = 0;
-  for (const auto& channel : fs::directory_iterator(dir_->path() / "semantic")) {
+  for (const auto& channel : fs::directory_iterator(release_ / "semantic")) {
     for (const auto& file : fs::directory_iterator(channel.path())) {
       const nuscenes::GrayImage m = nuscenes::read_semantic_mask(file.path());
       const int hw = (m.width + 1) / 2, hh = (m.height + 1) / 2;
@@ -111,7 +111,7 @@ TEST_F(CameraLayerBytes, HalfSizeMasksReadAsTheFullSizeMaskTheyStandFor) {
 TEST_F(CameraLayerBytes, MaskOfNoIntegerScaleNamesTheFile) {
   const test::TempDir root("masks_odd");
   fs::path named;
-  for (const auto& channel : fs::directory_iterator(dir_->path() / "semantic")) {
+  for (const auto& channel : fs::directory_iterator(release_ / "semantic")) {
     fs::create_directories(root.path() / channel.path().filename());
     for (const auto& file : fs::directory_iterator(channel.path())) {
       const nuscenes::GrayImage m = nuscenes::read_semantic_mask(file.path());

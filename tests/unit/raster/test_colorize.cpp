@@ -349,7 +349,7 @@ TEST_F(RasterRelease, RegionsRestrictTheColouredCells) {
 // "auto" a missing mask folder is no error: the release's lidarseg or no semantic layer.
 TEST_F(RasterRelease, MissingMasksNameTheFileUnlessSemanticsAreOff) {
   CameraOptions options;
-  options.semantic_root = dir_->path() / "no-such-masks";
+  options.semantic_root = release_ / "no-such-masks";
   const ColorLayer automatic = colorize_location(*db_, config_->location, layers_->lidar, {}, options, 1);
   EXPECT_EQ(automatic.semantic_cells(), 0u);  // lidarseg labels come from the LiDAR stage, not from colouring
   EXPECT_GT(automatic.rgb_cells(), 1000u);

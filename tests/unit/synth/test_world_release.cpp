@@ -45,8 +45,9 @@ fs::path generate(const std::string& name, const std::vector<std::string>& extra
   return out;
 }
 
+// Made with --seed 7 --threads 2 (test::tiny_release).
 const fs::path& tiny_release() {
-  static const fs::path root = generate("synth-tiny", {"--threads", "2"});
+  static const fs::path root = test::tiny_release();
   return root;
 }
 const Database& tiny_db() {

@@ -65,7 +65,10 @@ struct MapExpansionRecord {
 
 // inputs: the release the dataset was generated from.
 struct ManifestInputs {
-  std::string dataroot, version;
+  // The release's folder, relative to the dataset's folder when generate wrote it (so a dataset
+  // and its release move together): use release_folder() to find it.
+  std::string dataroot;
+  std::string version;
   std::vector<FileRecord> tables;
   std::vector<MapExpansionRecord> map_expansion;  // manifest (plan) order
   std::optional<FileRecord> detections;           // null: vehicles from annotations
@@ -223,6 +226,10 @@ Region region_from_json(const nlohmann::ordered_json& region, const std::string&
 // The document merge writes: fields in the schema's order, absent optional parts left
 // out; manifest_text is its bytes (1-space indent, a final newline). Reading the text back
 // gives `manifest` again.
+// The release a dataset at `dataset_root` was generated from: inputs.dataroot resolved against
+// the dataset's folder (nsg::resolve_document_path).
+std::filesystem::path release_folder(const ManifestInputs& inputs, const std::filesystem::path& dataset_root);
+
 nlohmann::ordered_json manifest_to_json(const Manifest& manifest);
 std::string manifest_text(const Manifest& manifest);
 

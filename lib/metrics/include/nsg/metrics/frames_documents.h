@@ -90,6 +90,9 @@ struct FramesManifest {
 
   // The records of `split` (paths "<split>/…/info/…"), in the manifest's order.
   std::vector<const FramesListedFile*> records(const std::string& split) const;
+  // The release of referenced images: `dataroot`, which frames writes relative to the export's
+  // folder, resolved against it (nsg::resolve_document_path).
+  std::filesystem::path release_folder() const;
 };
 
 // Reads `<export_dir>/manifest.json`: a regular file within limits.max_manifest_bytes
