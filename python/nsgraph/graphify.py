@@ -18,7 +18,8 @@ def graphify(map_or_path, heading=None, **options):
     clockwise from map north in [0, 1), negative where unknown (the dataset's vehicle
     layer), the map's size.
     options: ``threshold``, ``smooth_sigma_px``, ``min_component_px``, ``min_spur_px``,
-    ``simplify_tolerance_px``, ``anchor_spacing_px``, ``heading_window_px``
+    ``simplify_tolerance_px``, ``anchor_spacing_px``, ``split_crossings``,
+    ``crossing_tolerance_deg``, ``crossing_merge_px``, ``heading_window_px``
     (``nsgraph graphify --list-options``).
 
     Returns {nodes (N, 2) float64 pixel u, v; edges (E, 2) int64; node_scores (N,) the

@@ -11,6 +11,12 @@
 
 namespace nsg::skeleton {
 
+SkeletonOptions graphify_skeleton_defaults() {
+  SkeletonOptions s;
+  s.split_crossings = true;
+  return s;
+}
+
 const options::Table<GraphifyOptions>& graphify_option_table() {
   static const options::Table<GraphifyOptions> table = [] {
     options::Table<GraphifyOptions> t;

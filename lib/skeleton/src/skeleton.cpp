@@ -238,7 +238,11 @@ void prune_spurs(SkeletonGraph& graph, double min_length_px) {
     kept.push_back(std::move(b));
   }
   graph.branches = std::move(kept);
-  // Renumber the vertices still used.
+  drop_unused_vertices(graph);
+}
+
+void drop_unused_vertices(SkeletonGraph& graph) {
+  // Renumber the vertices still used, in the order the branches first use them.
   std::vector<int> remap(graph.vertices.size(), -1);
   std::vector<cv::Point2d> vertices;
   for (auto& b : graph.branches) {
@@ -297,13 +301,30 @@ AnchorGraph skeleton_anchors(const cv::Mat& likelihood, const SkeletonOptions& o
   const cv::Mat mask = drop_small_components(smooth >= options.threshold, options.min_component_px);
   SkeletonGraph skeleton = trace_skeleton(thin(mask));
   prune_spurs(skeleton, options.min_spur_px);
+  if (options.split_crossings) split_crossings(skeleton, {options.crossing_tolerance_deg, options.crossing_merge_px});
   return place_anchors(skeleton, options.anchor_spacing_px, options.simplify_tolerance_px);
+}
+
+void declare_crossing_options(options::Table<SkeletonOptions>& t) {
+  t.boolean("split_crossings", &SkeletonOptions::split_crossings)
+      .help("A skeleton junction whose branches pair into straight lines becomes crossing lines with no shared node");
+  t.number("crossing_tolerance_deg", &SkeletonOptions::crossing_tolerance_deg)
+      .unit("deg")
+      .range(options::between(0, 90))
+      .help("split_crossings: largest bend of a straight-through pair of branches (180 deg minus their angle)");
+  t.number("crossing_merge_px", &SkeletonOptions::crossing_merge_px)
+      .unit("px")
+      .range(options::at_least(0))
+      .help(
+          "split_crossings: two 3-way junctions joined by a shorter branch are judged as one crossing (an X at a "
+          "shallow angle)");
 }
 
 const options::Table<SkeletonOptions>& skeleton_option_table() {
   static const options::Table<SkeletonOptions> table = [] {
     options::Table<SkeletonOptions> t;
     declare_skeleton_options(t, "");
+    declare_crossing_options(t);
     return t;
   }();
   return table;

@@ -24,13 +24,15 @@ void add_polyline(metrics::Graph& g, const std::vector<cv::Point2d>& pts, int64_
   }
 }
 
+}  // namespace
+
 std::vector<cv::Point2d> line(cv::Point2d a, cv::Point2d b, int pieces) {
   std::vector<cv::Point2d> pts;
   for (int s = 0; s <= pieces; ++s) pts.push_back(a + (b - a) * (static_cast<double>(s) / pieces));
   return pts;
 }
 
-}  // namespace
+void add_line(metrics::Graph& g, cv::Point2d a, cv::Point2d b, int pieces) { add_polyline(g, line(a, b, pieces)); }
 
 std::vector<GraphCase> graph_cases() {
   std::vector<GraphCase> cases;
@@ -59,11 +61,11 @@ std::vector<GraphCase> graph_cases() {
   add_polyline(parallel.truth, line({240, 136.75}, {16, 136.75}, 8));
   cases.push_back(parallel);
 
+  // Two lanes crossing share no node (a lane graph's crossing, as a dataset tile's); no node
+  // at the crossing point, where APLS could snap it onto either line.
   GraphCase crossing{"crossing", {}};
-  add_polyline(crossing.truth, line({16, 128}, {240, 128}, 8));
-  const int64_t centre = 4;  // (128, 128) on the first line
-  add_polyline(crossing.truth, line({128, 128}, {128, 16}, 4), centre);
-  add_polyline(crossing.truth, line({128, 128}, {128, 240}, 4), centre);
+  add_polyline(crossing.truth, line({16, 128}, {240, 128}, 7));
+  add_polyline(crossing.truth, line({128, 16}, {128, 240}, 7));
   cases.push_back(crossing);
   return cases;
 }

@@ -15,8 +15,13 @@ struct GraphCase {
   metrics::Graph truth;  // pixel (u, v); each polyline's edges one way
 };
 
-// Straight lane, a curve, a Y split, two parallel lanes 17.5 px (3.5 m) apart, a crossing.
+// Straight lane, a curve, a Y split, two parallel lanes 17.5 px (3.5 m) apart, two lanes
+// crossing at right angles (no shared node).
 std::vector<GraphCase> graph_cases();
+// `pieces` + 1 points evenly from a to b.
+std::vector<cv::Point2d> line(cv::Point2d a, cv::Point2d b, int pieces);
+// Appends the line a → b as pieces + 1 new nodes and one-way edges.
+void add_line(metrics::Graph& g, cv::Point2d a, cv::Point2d b, int pieces);
 // The truth's edges drawn as lines `width_px` wide: CV_8U 0 / 255 of size_px x size_px.
 cv::Mat draw_mask(const metrics::Graph& truth, int width_px, int size_px = 256);
 // A probability map: the mask blurred (σ = blur_sigma_px), scaled by `peak`, then

@@ -88,8 +88,9 @@ TEST(GraphifyCli, HeadingFolderGivesDirectedGraphs) {
 TEST(GraphifyCli, SetAndListOptionsUseTheDeclaredKeys) {
   const auto list = run_nsgraph({"graphify", "--list-options"});
   ASSERT_EQ(list.exit_code, 0) << list.err;
-  for (const char* key : {"threshold", "smooth_sigma_px", "min_component_px", "min_spur_px", "simplify_tolerance_px",
-                          "anchor_spacing_px", "heading_window_px"})
+  for (const char* key :
+       {"threshold", "smooth_sigma_px", "min_component_px", "min_spur_px", "simplify_tolerance_px", "anchor_spacing_px",
+        "split_crossings", "crossing_tolerance_deg", "crossing_merge_px", "heading_window_px"})
     EXPECT_NE(list.out.find(key), std::string::npos) << key;
   const auto bad = run_nsgraph({"graphify", "--input", "x.png", "--out", "y.json", "--set", "treshold=0.4"});
   EXPECT_EQ(bad.exit_code, 2);

@@ -28,6 +28,44 @@ void expect_undirected(const nsg::metrics::Graph& g) {
   for (const auto& e : g.edges) EXPECT_TRUE(edges.count({e[1], e[0]})) << e[0] << " -> " << e[1];
 }
 
+// A graph's shape: its connected pieces and the most distinct neighbours of a node.
+struct Shape {
+  int pieces = 0;
+  size_t max_degree = 0;
+};
+Shape shape_of(const nsg::metrics::Graph& g) {
+  std::vector<std::set<int64_t>> near(g.nodes.size());
+  for (const auto& e : g.edges) {
+    near[static_cast<size_t>(e[0])].insert(e[1]);
+    near[static_cast<size_t>(e[1])].insert(e[0]);
+  }
+  Shape s;
+  std::vector<char> seen(g.nodes.size(), 0);
+  for (size_t i = 0; i < g.nodes.size(); ++i) {
+    s.max_degree = std::max(s.max_degree, near[i].size());
+    if (seen[i]) continue;
+    ++s.pieces;
+    std::vector<int64_t> stack{static_cast<int64_t>(i)};
+    seen[i] = 1;
+    while (!stack.empty()) {
+      const int64_t n = stack.back();
+      stack.pop_back();
+      for (int64_t m : near[static_cast<size_t>(n)]) {
+        if (seen[static_cast<size_t>(m)]) continue;
+        seen[static_cast<size_t>(m)] = 1;
+        stack.push_back(m);
+      }
+    }
+  }
+  return s;
+}
+
+GraphifyOptions without_crossing_rule() {
+  GraphifyOptions o;
+  o.skeleton.split_crossings = false;
+  return o;
+}
+
 TEST(Graphify, CleanMasksOfKnownGraphsScoreAplsAtLeast095) {
   for (const nsg::test::GraphCase& c : nsg::test::graph_cases()) {
     for (int width_px : {5, 7, 9}) {
@@ -38,6 +76,74 @@ TEST(Graphify, CleanMasksOfKnownGraphsScoreAplsAtLeast095) {
       expect_undirected(g);
     }
   }
+}
+
+// Two lanes crossing (at right angles, thinned to one junction; at 45 and 30 degrees,
+// thinned to two junctions a few pixels apart) graphify to two lines with no shared node;
+// without the crossing rule the skeleton joins them into one piece with a 4-way (or two
+// 3-way) junction and turns that no lane makes cost APLS.
+TEST(Graphify, CrossingLanesBecomeTwoLinesWithNoSharedNode) {
+  struct Cross {
+    const char* name;
+    cv::Point2d a0, a1, b0, b1;
+  };
+  const double r = 112.0, c = 128.0;
+  auto at_deg = [&](double deg, double sign) {
+    return cv::Point2d(c + sign * r * std::cos(deg * M_PI / 180), c - sign * r * std::sin(deg * M_PI / 180));
+  };
+  const std::vector<Cross> crosses = {{"90 deg", {16, 128}, {240, 128}, {128, 16}, {128, 240}},
+                                      {"45 deg", at_deg(0, -1), at_deg(0, 1), at_deg(45, -1), at_deg(45, 1)},
+                                      {"30 deg", at_deg(-15, -1), at_deg(-15, 1), at_deg(15, -1), at_deg(15, 1)}};
+  for (const Cross& x : crosses) {
+    nsg::metrics::Graph truth;
+    nsg::test::add_line(truth, x.a0, x.a1, 7);  // 7 pieces: no node at the crossing point
+    nsg::test::add_line(truth, x.b0, x.b1, 7);
+    for (int width_px : {5, 7, 9}) {
+      const cv::Mat mask = nsg::test::draw_mask(truth, width_px);
+      const nsg::metrics::Graph g = graphify(mask, GraphifyOptions{});
+      const nsg::metrics::Graph joined = graphify(mask, without_crossing_rule());
+      const double apls = nsg::test::apls(truth, g), apls_joined = nsg::test::apls(truth, joined);
+      std::printf("cross %-7s width %d px: APLS %.4f (without the rule %.4f)\n", x.name, width_px, apls, apls_joined);
+      EXPECT_EQ(shape_of(g).pieces, 2) << x.name << " at " << width_px << " px";
+      EXPECT_EQ(shape_of(g).max_degree, 2u) << x.name << " at " << width_px << " px";
+      EXPECT_EQ(shape_of(joined).pieces, 1) << x.name << " at " << width_px << " px";
+      EXPECT_GE(apls, 0.95) << x.name << " at " << width_px << " px";
+      EXPECT_GT(apls, apls_joined) << x.name << " at " << width_px << " px";
+      expect_undirected(g);
+    }
+  }
+}
+
+// Junctions whose branches do not pair into straight lines — a Y split, a T, a lane ending
+// on another at 60 degrees — are the same with and without the crossing rule.
+TEST(Graphify, SplitsAndTJunctionsAreKeptByTheCrossingRule) {
+  nsg::metrics::Graph t_junction, side;
+  nsg::test::add_line(t_junction, {16, 128}, {240, 128}, 8);
+  nsg::test::add_line(t_junction, {128, 128}, {128, 16}, 4);
+  nsg::test::add_line(side, {16, 200}, {240, 200}, 8);
+  nsg::test::add_line(side, {128, 200}, {128 + 160 * 0.5, 200 - 160 * 0.866}, 6);
+  const std::vector<std::pair<std::string, nsg::metrics::Graph>> cases = {
+      {"y_split", nsg::test::graph_cases()[2].truth}, {"t_junction", t_junction}, {"side_60deg", side}};
+  for (const auto& [name, truth] : cases) {
+    for (int width_px : {5, 7, 9}) {
+      const cv::Mat mask = nsg::test::draw_mask(truth, width_px);
+      const nsg::metrics::Graph g = graphify(mask, GraphifyOptions{});
+      const nsg::metrics::Graph kept = graphify(mask, without_crossing_rule());
+      EXPECT_EQ(g.edges, kept.edges) << name << " at " << width_px << " px";
+      ASSERT_EQ(g.nodes.size(), kept.nodes.size()) << name << " at " << width_px << " px";
+      for (size_t k = 0; k < g.nodes.size(); ++k) {
+        EXPECT_EQ(g.nodes[k].u, kept.nodes[k].u) << name;
+        EXPECT_EQ(g.nodes[k].v, kept.nodes[k].v) << name;
+      }
+      EXPECT_EQ(shape_of(g).max_degree, 3u) << name << " at " << width_px << " px";
+    }
+  }
+}
+
+// The crossing rule is graphify's default and the skeleton's (so the model's) default off.
+TEST(Graphify, TheCrossingRuleIsOnForGraphifyOnly) {
+  EXPECT_TRUE(GraphifyOptions{}.skeleton.split_crossings);
+  EXPECT_FALSE(nsg::skeleton::SkeletonOptions{}.split_crossings);
 }
 
 TEST(Graphify, AnchorsAreAtMostTwoMetresApart) {
@@ -151,9 +257,10 @@ TEST(Graphify, HeadingMapsAreChecked) {
 TEST(Graphify, OptionsAreTheSkeletonKeysAndAreChecked) {
   std::vector<std::string> keys;
   for (const auto& s : nsg::skeleton::graphify_option_table().specs()) keys.push_back(s.key);
-  EXPECT_EQ(keys, (std::vector<std::string>{"schema_version", "smooth_sigma_px", "threshold", "min_component_px",
-                                            "min_spur_px", "simplify_tolerance_px", "anchor_spacing_px",
-                                            "heading_window_px"}));
+  EXPECT_EQ(keys,
+            (std::vector<std::string>{"schema_version", "smooth_sigma_px", "threshold", "min_component_px",
+                                      "min_spur_px", "simplify_tolerance_px", "anchor_spacing_px", "split_crossings",
+                                      "crossing_tolerance_deg", "crossing_merge_px", "heading_window_px"}));
   GraphifyOptions bad;
   bad.skeleton.threshold = 0.0;
   EXPECT_THROW(bad.validate(), nsg::ConfigError);

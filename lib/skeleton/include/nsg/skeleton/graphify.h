@@ -25,8 +25,11 @@ constexpr int kMaxMapSidePx = 4096;
 // A map file is at most this big: a 4096 x 4096 float32 .npy is 64 MiB plus its header.
 constexpr uintmax_t kMaxMapFileBytes = 80ull << 20;
 
+// The skeleton's defaults, with the crossing rule on: a mask's lanes cross without a node.
+SkeletonOptions graphify_skeleton_defaults();
+
 struct GraphifyOptions {
-  SkeletonOptions skeleton;  // keys without a prefix: threshold, smooth_sigma_px, …
+  SkeletonOptions skeleton = graphify_skeleton_defaults();  // keys without a prefix: threshold, …
   // Directed mode: half the side of the square window of heading pixels averaged at an
   // anchor (3 → 7 x 7 px, 1.4 m: a lane's width at 0.2 m/px).
   int heading_window_px = 3;

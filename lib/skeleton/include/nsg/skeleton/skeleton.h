@@ -25,7 +25,14 @@ struct SkeletonOptions {
   double min_spur_px = 6.0;            // dangling skeleton branches shorter than this are pruned
   double simplify_tolerance_px = 1.0;  // Douglas–Peucker before anchors are placed
   double anchor_spacing_px = 10.0;     // 2 m at 0.2 m/px
-  void validate() const;               // ConfigError naming the key (skeleton_option_table)
+  // The crossing rule (split_crossings): lanes that cross share no node in a lane graph,
+  // but thinning joins them into one junction. Off here, so the reference model's
+  // extraction stays as trained and recorded; graphify turns it on (GraphifyOptions).
+  // Declared by declare_crossing_options, not declare_skeleton_options.
+  bool split_crossings = false;
+  double crossing_tolerance_deg = 30.0;  // how far from 180 deg a straight-through pair may bend
+  double crossing_merge_px = 40.0;       // 3-way junctions closer than this may be one crossing
+  void validate() const;                 // ConfigError naming the key (skeleton_option_table)
 };
 
 // The declarations of SkeletonOptions' keys, `prefix` before each ("extraction." for the
@@ -60,7 +67,13 @@ void declare_skeleton_options(options::Table<Owner>& t, const std::string& prefi
       .help("Spacing of the anchors placed along skeleton branches");
 }
 
-// SkeletonOptions' own table: the bare keys (threshold, smooth_sigma_px, …).
+// The crossing rule's keys (split_crossings, crossing_*), bare: graphify's alone. The
+// model's extraction.* table leaves them out, so its extraction cannot change with them
+// (and its model file, which lists the extraction fields it records, stays as it is).
+void declare_crossing_options(options::Table<SkeletonOptions>& t);
+
+// SkeletonOptions' own table: the bare keys (threshold, smooth_sigma_px, …, then the
+// crossing rule's).
 const options::Table<SkeletonOptions>& skeleton_option_table();
 
 // The skeleton as branches between vertices (ends and junctions). Every branch's polyline
@@ -99,6 +112,23 @@ cv::Mat thin(const cv::Mat& mask);
 SkeletonGraph trace_skeleton(const cv::Mat& skeleton);
 // Removes dangling branches shorter than min_length_px (one pass) and unused vertices.
 void prune_spurs(SkeletonGraph& graph, double min_length_px);
+// Drops the vertices no branch uses; the others are renumbered in order of first use.
+void drop_unused_vertices(SkeletonGraph& graph);
+
+// The crossing rule's parameters (SkeletonOptions' crossing_* keys).
+struct CrossingRule {
+  double tolerance_deg = 30.0;  // a pair's branches leave at least 180 - this apart
+  double merge_px = 40.0;       // 3-way junctions joined by a shorter branch may be one crossing
+};
+// Lanes that cross share no node in a lane graph; a thinned mask joins them. A junction of
+// an even number of branches (4 to 8) that all pair into straight lines (each pair leaving
+// in directions within rule.tolerance_deg of opposite), or two 3-way junctions joined by a
+// branch shorter than rule.merge_px (thinning's X at a shallow angle) whose branches pair
+// across it into straight lines through its middle, is taken apart: each pair becomes one
+// branch, its polyline joined through the junction(s), so the lines cross with no shared
+// vertex (the shared branch of a pair is dropped). Other junctions (T, Y, splits and
+// merges) stay; unused vertices are dropped; a graph without crossings is left as it is.
+void split_crossings(SkeletonGraph& graph, const CrossingRule& rule);
 
 // Undirected anchor graph: anchors ≤ spacing apart along every simplified branch; branch
 // vertices are shared anchors.
