@@ -28,7 +28,8 @@ fi
 # All targets in one build, keeping going past an error (make -k): a library that does not
 # compile with this clang only loses the fuzzers that need it (reported, and the script fails
 # at the end), and both cores stay busy (one target at a time left one idle most of the time:
-# 20 min against about 10 for the whole set on the 2-core machine).
+# `make fuzz FUZZ_SECONDS=10` from an empty build folder took 20 min 20 s that way and 12 min 8 s
+# this way, with -O1 and precompiled headers, on the 2-core machine; 2026-12-07).
 declare -A built
 targets=()
 for t in $FUZZ_TARGETS; do targets+=("fuzz_$t"); done

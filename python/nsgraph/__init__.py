@@ -3,6 +3,15 @@ nsgraph.torch), score submissions (tiles, and per key frame with nsgraph.frames)
 adaptive ground truth. Everything
 runs in the C++ library of the nsgraph toolkit (the _nsgraph extension)."""
 try:
+    import numpy as _numpy  # noqa: F401  (the modules below return and take numpy arrays)
+except ImportError as _error:
+    import sys as _sys
+    raise ImportError(
+        f"nsgraph needs numpy, and this interpreter ({_sys.executable}, Python {_sys.version.split()[0]}) "
+        f"has none: {_error}. Debian's /usr/bin/python3 has it (apt-get install python3-numpy); in a venv, "
+        f"`pip install numpy` from an index or a wheelhouse, or on CPython 3.11 make Debian's packages "
+        f"visible (docs/python.md, 'Other interpreters').") from _error
+try:
     from . import _nsgraph
 except ImportError as _error:  # most often: another interpreter than the extension was built for
     import glob as _glob
