@@ -1,6 +1,8 @@
 #include "nsg/pipeline/generate.h"
 
 #include <algorithm>
+#include <malloc.h>  // malloc_trim (glibc)
+
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -416,12 +418,21 @@ size_t camera_stage(RunState& rs, LocationRun& lr, const std::vector<WorkItem>& 
   for (LayerSource& src : lr.st.sources) {
     const std::vector<raster::CellRect> rects = tile_rects(rs, lr, mine, src);
     tiles += rects.size();
-    if (rs.camera_setup.cameras && !rects.empty() && !src.scenes.empty())
-      log::info(strprintf("generate: %s: colouring %zu tiles from the cameras", lr.location.c_str(), rects.size()));
+    if (rs.camera_setup.cameras && !rects.empty() && !src.scenes.empty()) {
+      if (rs.totals.images.at(lr.location) > 0)
+        log::info(strprintf("generate: %s: colouring %zu tiles from the cameras", lr.location.c_str(), rects.size()));
+      else if (rs.camera_setup.lidarseg)  // a LiDAR-only release with lidarseg: semantics only
+        log::info(strprintf("generate: %s: semantics of %zu tiles from lidarseg (no camera images)",
+                            lr.location.c_str(), rects.size()));
+    }
     src.color = camera_layers(rs.db, rs.config, rs.camera_setup, src.scenes, src.layers.lidar, rects, rs.run.threads,
                               lr.location);
     rs.summary.images += src.color.stats().images_used;
     rs.images_decoded += src.color.stats().images_used;
+    // The point index and the lidarseg layer were freed as many small blocks, which glibc
+    // keeps in the heap: give them back before the tile stage adds its own (city world with
+    // lidarseg, 1 thread: peak RSS 841 -> 729 MB).
+    malloc_trim(0);
     log_memory(lr.location + ": cameras done" +
                strprintf(" (%zu points indexed, colour layer %s over %zu blocks)", src.color.stats().points,
                          human_bytes(static_cast<double>(src.color.cells().memory_bytes())).c_str(),

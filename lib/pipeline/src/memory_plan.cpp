@@ -256,21 +256,25 @@ MemoryEstimate location_estimate(const LocationFootprint& f, const GenerateConfi
                                                       sizeof(raster::LidarCell) + sizeof(raster::VehicleCell) / 4));
   // The camera stage indexes the covered cells inside the tiles (not known before the
   // crops are planned: kTileShare of them) and writes a dense colour layer over their
-  // blocks; the lidarseg layer (packed, key-frame points only) comes after the index is
-  // freed, beside the colour layer.
-  if (cameras && f.images > 0) {
+  // blocks, packed when it is done (the coloured cells only). The lidarseg layer (packed,
+  // key-frame points only) comes after the index is freed and is overlaid block by block
+  // onto the packed colour layer: a LiDAR-only release with lidarseg has it too.
+  if (cameras && (f.images > 0 || lidarseg)) {
     const double tile_blocks = kTileShare * reached;
-    const double colour = blocks_of(tile_blocks, sizeof(raster::ColorCell));
-    const double index = tile_blocks * kCellsPerBlock * fill * kCameraBytesPerPoint +
-                         static_cast<double>(std::min<uint64_t>(threads, f.images)) *
-                             static_cast<double>(image_in_flight_bytes(f, config));
-    double labels = 0;
+    const double key_fill = covered_cell_fraction(f, reached, f.key_sweeps);
+    const double kept_fill = f.images > 0 ? fill : key_fill;  // coloured, or labelled only
+    const double packed = tile_blocks * (kCellsPerBlock * kept_fill * sizeof(raster::ColorCell) + kPackedBlockBytes);
+    double colouring = 0;
+    if (f.images > 0)
+      colouring = blocks_of(tile_blocks, sizeof(raster::ColorCell)) +
+                  tile_blocks * kCellsPerBlock * fill * kCameraBytesPerPoint +
+                  static_cast<double>(std::min<uint64_t>(threads, f.images)) *
+                      static_cast<double>(image_in_flight_bytes(f, config));
+    double labelling = 0;
     if (lidarseg)
-      labels =
-          reached * kCellsPerBlock * covered_cell_fraction(f, reached, f.key_sweeps) * sizeof(raster::LidarsegCell) +
-          kLidarsegScratchBytes;
-    e.colour_bytes = bytes_of(colour);
-    e.camera_bytes = bytes_of(colour + std::max(index, labels));
+      labelling = packed + reached * kCellsPerBlock * key_fill * sizeof(raster::LidarsegCell) + kLidarsegScratchBytes;
+    e.colour_bytes = bytes_of(packed);
+    e.camera_bytes = bytes_of(std::max({colouring, labelling, packed}));
   }
   e.working_bytes =
       tile_stage_bytes(config, threads, planned_crops(config, reached * fill * block_km2), f.map_file_bytes);

@@ -526,6 +526,10 @@ ColorLayer colorize_scenes(const Database& db, const std::vector<Index>& scenes,
     layer.rgb_cells_ += options.rgb;
     layer.semantic_cells_ += masks;
   }
+  // Packed, the layer holds the coloured cells only: a tile's LiDAR covers a fraction of
+  // its cells, and the layer stays until the tiles are cut (city world with lidarseg: the
+  // dense layer was 218 MB of a 990 MB peak).
+  layer.cells_.pack_all();
   return layer;
 }
 

@@ -113,17 +113,31 @@ LidarsegLayer accumulate_lidarseg(const Database& db, const std::vector<Index>& 
   return layer;
 }
 
+// Block by block: each colour block written is packed before the next, so the overlay never
+// holds more than one dense block (the layer over every tile of a city, dense, was 218 MB).
 void overlay_semantics(ColorLayer& color, const LidarsegLayer& lidarseg, const std::vector<CellRect>& regions) {
-  SparseGrid<ColorCell>::Cursor cursor;
-  lidarseg.cells.for_each([&](CellIndex c, const LidarsegCell& cell) {
-    if (!cell.has_data()) return;
-    if (!regions.empty() &&
-        std::none_of(regions.begin(), regions.end(), [&](const CellRect& r) { return r.contains(c); }))
-      return;
-    ColorCell& out = color.cells_.at(c, cursor);
-    if (!(out.flags & kCoverageSemantic)) ++color.semantic_cells_;
-    out.semantic = cell.cls;
-    out.flags |= kCoverageSemantic;
+  std::vector<CellRect> near;  // the regions overlapping the block at hand
+  const auto inside = [&](CellIndex c) {
+    return regions.empty() || std::any_of(near.begin(), near.end(), [&](const CellRect& r) { return r.contains(c); });
+  };
+  lidarseg.cells.for_each_block([&](int64_t bx, int64_t by, const LidarsegCell* cells) {
+    const CellRect block{bx * kBlockCells, by * kBlockCells, (bx + 1) * kBlockCells, (by + 1) * kBlockCells};
+    near.clear();
+    for (const CellRect& r : regions)
+      if (r.col0 < block.col1 && block.col0 < r.col1 && r.row0 < block.row1 && block.row0 < r.row1) near.push_back(r);
+    if (!regions.empty() && near.empty()) return;
+    ColorCell* out = nullptr;
+    for (int r = 0; r < kBlockCells; ++r)
+      for (int c = 0; c < kBlockCells; ++c) {
+        const LidarsegCell& cell = cells[r * kBlockCells + c];
+        if (!cell.has_data() || !inside({bx * kBlockCells + c, by * kBlockCells + r})) continue;
+        if (out == nullptr) out = color.cells_.block_data(bx, by);
+        ColorCell& o = out[r * kBlockCells + c];
+        if (!(o.flags & kCoverageSemantic)) ++color.semantic_cells_;
+        o.semantic = cell.cls;
+        o.flags |= kCoverageSemantic;
+      }
+    if (out != nullptr) color.cells_.pack_block(bx, by);
   });
 }
 

@@ -78,6 +78,23 @@ TEST(SparseGrid, AMergedGridIsPackedAndReadsLikeTheDenseOne) {
   EXPECT_GT(packed.memory_bytes(), truth.size() * sizeof(Cell));
 }
 
+TEST(SparseGrid, PackingInPlaceKeepsEveryCellAndDropsEmptyBlocks) {
+  Grid dense, packed;
+  const Truth truth = random_cells(11, 0.2, dense);
+  random_cells(11, 0.2, packed);
+  packed.at({5000, 5000}) = Cell{};  // a block touched but left without data
+  ASSERT_EQ(packed.block_count(), dense.block_count() + 1);
+  packed.pack_block(SparseGrid<Cell>::floor_div(-130), SparseGrid<Cell>::floor_div(-100));  // one block first
+  packed.pack_all();
+  expect_same_cells(packed, dense);
+  EXPECT_EQ(packed.find({5000, 5000}), nullptr);
+  EXPECT_LT(packed.memory_bytes(), dense.memory_bytes() * 0.35);
+  packed.at({-130, -100}).value = 5;  // a packed block takes writes again
+  packed.pack_block(SparseGrid<Cell>::floor_div(-130), SparseGrid<Cell>::floor_div(-100));
+  EXPECT_EQ(packed.find({-130, -100})->value, 5);
+  ASSERT_FALSE(truth.empty());
+}
+
 TEST(SparseGrid, CountsCellsWithDataInAnyWindowOfABlock) {
   Grid dense;
   random_cells(11, 0.45, dense);

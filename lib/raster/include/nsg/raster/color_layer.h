@@ -34,6 +34,8 @@ struct ColorCell {
   uint8_t semantic = 255;  // 255 = no class
   uint8_t flags = 0;       // kCoverageRgb | kCoverageSemantic (LiDAR = 1 comes from LidarLayer)
   float depth_m = std::numeric_limits<float>::infinity();  // depth of the winning view
+  // Every writer sets a coverage flag with the cell's data; the layer is packed on it.
+  bool has_data() const { return flags != 0; }
 };
 
 // Half-open cell ranges [col0, col1) × [row0, row1).

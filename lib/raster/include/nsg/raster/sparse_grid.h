@@ -161,6 +161,23 @@ class SparseGrid {
     return newly_covered;
   }
 
+  // Packs block (bx, by) if it is dense (a writer done with it); a block left without data
+  // is dropped, as merge() does. Pointers into that block are invalid afterwards.
+  void pack_block(int64_t bx, int64_t by) {
+    auto it = blocks_.find({bx, by});
+    if (it == blocks_.end() || it->second->is_packed()) return;
+    it->second->pack(it->second->dense.data());
+    if (it->second->packed.empty()) blocks_.erase(it);
+  }
+  // Packs every dense block: a finished layer's form (memory follows the cells holding
+  // data). Cursors and block_data pointers are invalid afterwards.
+  void pack_all() {
+    for (auto it = blocks_.begin(); it != blocks_.end();) {
+      if (!it->second->is_packed()) it->second->pack(it->second->dense.data());
+      it = it->second->packed.empty() ? blocks_.erase(it) : std::next(it);
+    }
+  }
+
   // Drops every block but keeps the dense blocks' storage for the next writes (a layer
   // refilled scene after scene then allocates, and faults in, its memory once).
   void clear() {
