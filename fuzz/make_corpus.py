@@ -252,16 +252,22 @@ def receipts(out):
 
 
 def merge_records(out):
-    """Done-records as generate writes them: finished, unfinished, and one naming a file
-    outside the folder (refused by name)."""
+    """Done-records in the layout generate writes (schemas/v1/done-record.schema.json):
+    finished, unfinished, and one naming a file outside the folder (refused by name). The
+    config is a stub, so most mutations stop at its check; the record's own fields come
+    first and are reached."""
     shard = {"name": "boston-seaport-train-000000.tar", "split": "train", "first_key": "a", "last_key": "b",
              "tiles": 1}
-    item = {"id": "boston-seaport/tiles/a", "files": [{"file": "shards/boston-seaport-train-000000.tar",
-                                                        "sha256": "0" * 64, "bytes": 10}]}
-    record = {"complete": True, "config_sha256": "0" * 64, "config": {"seed": 1},
+    item = {"id": "shards/boston-seaport-train-000000.tar", "kind": "shard", "location": "boston-seaport",
+            "split": "train", "shard": "boston-seaport-train-000000", "tiles": 1,
+            "files": [{"file": "shards/boston-seaport-train-000000.tar", "sha256": "0" * 64, "bytes": 10}],
+            "digest": "0" * 64}
+    record = {"schema_version": "1", "tool_version": "0.1.0", "share": {"index": 0, "count": 1},
+              "config_sha256": "0" * 64, "config": {"seed": 1}, "complete": True,
               "plan": [{"name": "boston-seaport", "shards": [shard]}], "items": [item]}
     put(out, "merge", "complete", json.dumps(record))
-    put(out, "merge", "unfinished", json.dumps({"complete": False}))
+    unfinished = dict(record, complete=False, plan=[])
+    put(out, "merge", "unfinished", json.dumps(unfinished))
     outside = json.loads(json.dumps(record))
     outside["items"][0]["files"][0]["file"] = "../../etc/hostname"
     put(out, "merge", "outside", json.dumps(outside))

@@ -4,8 +4,10 @@ manifest and reads each through the library's reader of the export's documents (
 ``nsgraph score --frames`` and ``predict --frames`` use: its size and type checked before it
 is read, its sha256, every field), gives calibration as arrays and decodes camera images on
 demand with the library's JPEG decoder; ``score_frames`` is ``nsgraph score --frames``
-(DET_l, TOP_ll, lane_score)."""
+(DET_l, TOP_ll, lane_score) and takes OpenLane-V2's results dicts as they are
+(``from_openlanev2``, ``to_results_json``)."""
 import json
+import math
 import os
 import tempfile
 
@@ -95,22 +97,146 @@ class Dataset:
 
 def score_frames(ground_truth, results, split="test", verify=True, max_file_mb=None, graph_metrics=False,
                  max_seconds=3600):
-    """``nsgraph score --frames``: the report (dict) of an OpenLane-V2 results document
-    (a path, or the dict itself) against a frames export (its ``split``) or a ground-truth
-    document file; ``graph_metrics`` = ``--graph-metrics``; ``max_seconds`` = ``--max-seconds``
-    (the scoring's wall-clock budget, 0 = none; ConfigError beyond it). Raises SubmissionError
+    """``nsgraph score --frames``: the report (dict) of results against a frames export (its
+    ``split``) or a ground-truth document file. ``results`` is a path to a JSON results file,
+    or a results dict as OpenLane-V2's ``format_results`` returns it — keys sample tokens or
+    identifiers ``(split, segment_id, timestamp)``, points and ``topology_lclc`` as lists or
+    numpy arrays (float32 or float64), taken unchanged (``from_openlanev2``).
+    ``graph_metrics`` = ``--graph-metrics``; ``max_seconds`` = ``--max-seconds`` (the
+    scoring's wall-clock budget, 0 = none; ConfigError beyond it). Raises SubmissionError
     (with .issues) when the results have problems (the CLI's exit 1), nsgraph.errors.* for a
     bad ground truth (exit 2)."""
     max_bytes = int(max_file_mb * 1024 * 1024) if max_file_mb else 0
     if isinstance(results, (str, os.PathLike)):
         return _score(os.fspath(ground_truth), os.fspath(results), split, verify, max_bytes, graph_metrics,
                       max_seconds)
-    with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
-        json.dump(results, f)
+    with tempfile.TemporaryDirectory(prefix="nsgraph-results-") as folder:
+        path = os.path.join(folder, "results.json")
+        to_results_json(results, path)
+        return _score(os.fspath(ground_truth), path, split, verify, max_bytes, graph_metrics, max_seconds)
+
+
+# OpenLane-V2's results nest 7 deep (results / key / predictions / lane_centerline / lane /
+# points / point); a dict nested deeper is not a results dict and is refused, not recursed.
+_MAX_RESULTS_DEPTH = 16
+
+
+def _problem(at, expected, check="frames.results.schema"):
+    """The SubmissionError the CLI's reader would report (its check names, docs/metrics.md)."""
+    return SubmissionError(f"results{at}: expected {expected}",
+                           [{"severity": "error", "check": check, "subject": f"results{at}",
+                             "message": f"expected {expected}"}])
+
+
+def _finite(ok, at):
+    if not ok:
+        raise _problem(at, "finite numbers (JSON holds no NaN or infinity)", "frames.results.finite")
+
+
+def _results_key(key):
+    """A results key as nsgraph's reader takes it: a sample token as it is, OpenLane-V2's
+    identifier (split, segment_id, timestamp) as "split/segment_id/timestamp"."""
+    if isinstance(key, str):
+        return key
+    if isinstance(key, tuple) and len(key) == 3:
+        parts = [str(p.item() if isinstance(p, np.generic) else p) for p in key]
+        if all(parts) and not any("/" in p for p in parts):
+            return "/".join(parts)
+    raise _problem(f"[{key!r}]", "a sample token or an identifier (split, segment_id, timestamp) "
+                   "of names without '/'")
+
+
+def _plain(value, at, depth):
+    """A JSON-ready copy: numpy arrays and scalars as lists and numbers. float32 values widen
+    to float64 exactly, so the file holds the submission's own numbers."""
+    if depth > _MAX_RESULTS_DEPTH:
+        raise _problem(at, f"a results dict nested at most {_MAX_RESULTS_DEPTH} deep")
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind not in "biuf":
+            raise _problem(at, f"a numeric array (not dtype {value.dtype})")
+        _finite(value.dtype.kind != "f" or bool(np.isfinite(value).all()), at)
+        return value.tolist()
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float):
+        _finite(math.isfinite(value), at)
+    if isinstance(value, dict):
+        return {(k if isinstance(k, str) else str(k)): _plain(v, f"{at}/{k}", depth + 1) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v, f"{at}/{i}", depth + 1) for i, v in enumerate(value)]
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value
+    raise _problem(at, f"lists, numbers, strings or numpy arrays (not {type(value).__name__})")
+
+
+# What the scorer reads of a frame's predictions (docs/metrics.md "Frames", rule 1); the rest
+# of an OpenLane-V2 dict — traffic elements, and the keys its evaluator adds to the dict it
+# scored (`lane_centerline_1.0_idx_match_gt`, NaN-filled arrays) — is left out.
+_LANE_KEYS = ("id", "points", "confidence")
+
+
+def _frame(frame, at):
+    if not isinstance(frame, dict) or not isinstance(frame.get("predictions"), dict):
+        raise _problem(at, 'a frame {"predictions": {"lane_centerline": [...], "topology_lclc": n x n}}')
+    predictions = frame["predictions"]
+    out = {}
+    if "lane_centerline" in predictions:
+        lanes = predictions["lane_centerline"]
+        if not isinstance(lanes, (list, tuple)):
+            raise _problem(f"{at}/predictions/lane_centerline", "a list of centerlines")
+        out["lane_centerline"] = []
+        for i, lane in enumerate(lanes):
+            lat = f"{at}/predictions/lane_centerline/{i}"
+            if not isinstance(lane, dict):
+                raise _problem(lat, '{"id", "points", "confidence"}')
+            out["lane_centerline"].append({k: _plain(lane[k], f"{lat}/{k}", 5) for k in _LANE_KEYS if k in lane})
+    if "topology_lclc" in predictions:
+        out["topology_lclc"] = _plain(predictions["topology_lclc"], f"{at}/predictions/topology_lclc", 4)
+    return {"predictions": out}
+
+
+def from_openlanev2(results):
+    """nsgraph's JSON results document (a dict of plain lists and numbers) from an OpenLane-V2
+    results dict as its ``format_results`` returns it (what its evaluator unpickles):
+    ``{"results": {(split, segment_id, timestamp): {"predictions": {"lane_centerline":
+    [{"id", "points": (P, 3) array, "confidence"}], "topology_lclc": (n, n) array, …}}}, …}``.
+    Identifier keys become "split/segment_id/timestamp" (``nsgraph score --frames`` finds the
+    frame by it, as by its sample token); arrays become lists, float32 exactly. Only what the
+    scorer reads is kept (centerlines and their topology; the submission's ``method`` name):
+    traffic elements, and the keys OpenLane-V2's evaluator adds to a dict it has scored, are
+    left out. Nothing is unpickled here: pass the dict, not a pickle file (a pickle is code;
+    docs/hosting.md)."""
+    if not isinstance(results, dict) or not isinstance(results.get("results"), dict):
+        raise _problem("", 'a dict with "results": {identifier or sample token: {"predictions": ...}}')
+    out = {"method": results["method"]} if isinstance(results.get("method"), str) else {}
+    frames = {}
+    for key, frame in results["results"].items():
+        name = _results_key(key)
+        if name in frames:
+            raise _problem(f"[{key!r}]", f"one prediction per frame ({name!r} is named twice)")
+        frames[name] = _frame(frame, f"/results/{name}")
+    out["results"] = frames
+    return out
+
+
+def to_results_json(results, path):
+    """Writes ``results`` (an OpenLane-V2 results dict, or nsgraph's JSON document) as the JSON
+    results file ``nsgraph score --frames --submission`` reads; written to a temporary name
+    beside ``path`` and renamed, so ``path`` is never half-written. Returns ``path``."""
+    doc = from_openlanev2(results)
+    path = os.fspath(path)
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(prefix=".results-", suffix=".json.tmp", dir=folder)
     try:
-        return _score(os.fspath(ground_truth), f.name, split, verify, max_bytes, graph_metrics, max_seconds)
-    finally:
-        os.unlink(f.name)
+        with os.fdopen(fd, "w") as f:
+            json.dump(doc, f, allow_nan=False)
+            f.write("\n")
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
 
 
 def _score(ground_truth, results, split, verify, max_bytes, graph_metrics, max_seconds):

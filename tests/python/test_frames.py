@@ -133,6 +133,56 @@ class FramesTest(unittest.TestCase):
             nsgraph.score_frames(self.root, bad)
         self.assertTrue(any(i["check"] in ("submission.json", "frames.results.finite") for i in e.exception.issues))
 
+    def test_openlanev2_results_dicts_score_as_they_are(self):
+        """A TopoNet-style results dict: identifier tuple keys, float32 point arrays, numpy
+        topology and confidences, OpenLane-V2's extra keys; the same report as the token-keyed
+        JSON, through the Python call, to_results_json and the CLI."""
+        ds = nsgraph.frames.Dataset(self.root, "test")
+        by_token = nsgraph.score_frames(self.root, copy_results(ds), split="test")
+        results, conf = {}, np.float32(0.999)
+        for i in range(len(ds)):
+            item = ds[i]
+            lanes = [{"id": k, "points": c.astype(np.float32), "confidence": np.float32(conf - np.float32(1e-4) * k)}
+                     for k, c in enumerate(item["centerlines"])]
+            n = len(lanes)
+            results[(item["split"], item["scene"], str(item["timestamp"]))] = {"predictions": {
+                "lane_centerline": lanes, "traffic_element": [],
+                "topology_lclc": item["topology"].astype(np.float64), "topology_lcte": np.zeros((n, 0))}}
+        olv2 = {"method": "copy", "e-mail": "-", "institution / company": "-", "country / region": "-",
+                "authors": [], "results": results}
+        report = nsgraph.score_frames(self.root, olv2, split="test")
+        self.assertEqual((report["DET_l"], report["TOP_ll"]), (1.0, 1.0))
+        self.assertEqual(report["counts"], by_token["counts"])
+        doc = nsgraph.frames.from_openlanev2(olv2)
+        key = next(iter(doc["results"]))
+        self.assertEqual(key.count("/"), 2)
+        self.assertTrue(key.startswith("test/"))
+        self.assertIsInstance(doc["results"][key]["predictions"]["lane_centerline"][0]["points"], list)
+        path = nsgraph.frames.to_results_json(olv2, os.path.join(self.tmp, "olv2-results.json"))
+        self.assertEqual([f for f in os.listdir(self.tmp) if f.endswith(".tmp")], [])
+        cli = json.loads(fixtures.run_nsgraph("score", "--quiet", "--frames", "--ground-truth", self.root,
+                                              "--submission", path).stdout)
+        self.assertEqual(cli, report)
+        # float32 confidences reach the file exactly (widened, not rounded to 17 digits' float64)
+        first = next(iter(results.values()))["predictions"]["lane_centerline"][0]
+        self.assertEqual(doc["results"][key]["predictions"]["lane_centerline"][0]["confidence"],
+                         float(first["confidence"]))
+        # A frame named twice, by its token and by its identifier: refused, both keys named.
+        token = ds[0]["token"]
+        twice = dict(doc, results=dict(doc["results"]))
+        twice["results"][token] = copy_results(ds)["results"][token]
+        with self.assertRaises(nsgraph.SubmissionError) as e:
+            nsgraph.score_frames(self.root, twice)
+        self.assertTrue(any(i["check"] == "frames.results.duplicate" for i in e.exception.issues), e.exception.issues)
+        # Keys and values that are no results: named, not crashed on.
+        for bad in ({"results": {("test", "scene-1"): {}}}, {"results": {("test", "a/b", "1"): {}}},
+                    {"results": {key: {"predictions": {"lane_centerline": [{"points": np.array(["x"])}]}}}},
+                    {"results": {key: {"predictions": {"lane_centerline": [{"points": [[0, 0, 0]],
+                                                                             "confidence": np.float32("nan")}]}}}},
+                    {"results": [1, 2]}):
+            with self.assertRaises(nsgraph.SubmissionError, msg=repr(bad)):
+                nsgraph.frames.from_openlanev2(bad)
+
 
 def record_doc(split="test"):
     """A record as `nsgraph frames` writes it: one camera, two centerlines, the first linked

@@ -1,4 +1,5 @@
 #include "nsg/core/files.h"
+#include "nsg/core/bounded_file.h"
 
 #include <cerrno>
 #include <cstdio>
@@ -19,6 +20,23 @@ std::string read_file(const std::filesystem::path& path) {
   std::fclose(f);
   if (failed) throw IoError(path.string(), "", "read error");
   return out;
+}
+
+std::string read_file_within(const std::filesystem::path& path, int64_t max_bytes, const std::string& what) {
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status)) throw IoError(path.string(), "", "cannot open: no such file (" + what + ")");
+  // A device or FIFO has no size to check and could be read forever.
+  if (!std::filesystem::is_regular_file(status)) throw ParseError(path.string(), "", what + " as a regular file");
+  const auto too_big = [&](uintmax_t bytes) {
+    return ParseError(path.string(), "",
+                      what + " of at most " + std::to_string(max_bytes) + " bytes, got " + std::to_string(bytes));
+  };
+  const uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (!ec && bytes > static_cast<uintmax_t>(max_bytes)) throw too_big(bytes);
+  std::string text = read_file(path);
+  if (static_cast<int64_t>(text.size()) > max_bytes) throw too_big(text.size());
+  return text;
 }
 
 void require_file(const std::filesystem::path& path, const std::string& what) {

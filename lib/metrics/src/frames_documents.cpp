@@ -498,6 +498,8 @@ std::string read_listed_file(const FramesManifest& manifest, const FramesListedF
   return bytes;
 }
 
+std::string FrameRecord::identifier() const { return split + "/" + segment_id + "/" + std::to_string(timestamp_us); }
+
 FrameCenterlines FrameRecord::truth() const {
   FrameCenterlines out;
   out.lanes.reserve(centerlines.size());

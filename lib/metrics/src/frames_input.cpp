@@ -83,11 +83,13 @@ simdjson::dom::element parse_truth(simdjson::dom::parser& parser, const std::str
 
 }  // namespace
 
-FrameSet read_frames_ground_truth(const fs::path& export_dir, const std::string& split, bool verify) {
+FrameSet read_frames_ground_truth(const fs::path& export_dir, const std::string& split, bool verify,
+                                  std::map<std::string, std::string>* token_by_identifier) {
   const FramesManifest manifest = read_frames_manifest(export_dir);
   FrameSet out;
   for_each_frame_record(manifest, split, verify, [&](const FrameRecord& record, const FramesListedFile&) {
     out.emplace_back(record.sample_token, record.truth());
+    if (token_by_identifier) (*token_by_identifier)[record.identifier()] = record.sample_token;
   });
   NSG_CHECK(!out.empty(), DataError, manifest.file.string(), split,
             "a split with frames (the manifest lists no record under " + split + "/)");
@@ -139,15 +141,34 @@ void check_frame_work(const FrameSet& truth, const FrameSet& predictions, const 
   }
 }
 
+void key_results_by_token(FrameSet& predictions, const std::map<std::string, std::string>& token_by_identifier,
+                          const std::string& results_label, Issues& issues) {
+  std::map<std::string, std::string> key_of_frame;  // the token → the key that named it first
+  for (auto& [key, frame] : predictions) {
+    const auto it = token_by_identifier.find(key);
+    const std::string token = it == token_by_identifier.end() ? key : it->second;
+    const auto [first, inserted] = key_of_frame.emplace(token, key);
+    if (!inserted)
+      issues.error("frames.results.duplicate", results_label + ":/results/" + validate::json_pointer_token(key),
+                   "one prediction per frame (\"" + first->second + "\" already names the key frame " + token +
+                       ", by sample token or as split/segment_id/timestamp)");
+    key = token;
+  }
+}
+
 ScoredFrames score_frames_submission(const FramesScoreInput& input) {
   NSG_CHECK(std::isfinite(input.max_seconds) && input.max_seconds >= 0, ConfigError, "", "--max-seconds",
             "0 (no limit) or a number of seconds");
-  const FrameSet truth = fs::is_directory(input.ground_truth)
-                             ? read_frames_ground_truth(input.ground_truth, input.split, input.verify)
-                             : read_frames_ground_truth_document(input.ground_truth);
+  std::map<std::string, std::string> token_by_identifier;
+  const FrameSet truth =
+      fs::is_directory(input.ground_truth)
+          ? read_frames_ground_truth(input.ground_truth, input.split, input.verify, &token_by_identifier)
+          : read_frames_ground_truth_document(input.ground_truth);
   ScoredFrames out;
-  const std::optional<FrameSet> predictions = read_frames_results(input.results, input.limits, out.issues);
+  std::optional<FrameSet> predictions = read_frames_results(input.results, input.limits, out.issues);
   if (!predictions) return out;
+  key_results_by_token(*predictions, token_by_identifier, input.results.string(), out.issues);
+  if (!out.issues.empty()) return out;
   check_frame_work(truth, *predictions, input.limits, input.results.string(), out.issues);
   if (!out.issues.empty()) return out;
   try {

@@ -23,7 +23,8 @@ class ResultsReader {
     object top, results;
     element r;
     if (doc.get_object().get(top) || top.at_key("results").get(r) || r.get_object().get(results)) {
-      problem("frames.results.schema", "", "an object with \"results\": {sample token: {\"predictions\": …}}");
+      problem("frames.results.schema", "",
+              "an object with \"results\": {sample token or split/segment_id/timestamp: {\"predictions\": …}}");
       return std::nullopt;
     }
     FrameSet out;

@@ -28,122 +28,50 @@ using nlohmann::ordered_json;
 
 namespace {
 
-struct ShareRecord {
-  fs::path path;
-  int index = 0, count = 0;
-  ordered_json doc;
-};
-
-// A done-record's fields that merge reads, with their types; item files must lie inside
-// the dataset folder. ParseError naming the record and the JSON path.
-void check_record(const ShareRecord& r) {
-  const std::string file = r.path.string();
-  const auto need = [&](bool ok, const std::string& path, const std::string& what) {
-    NSG_CHECK(ok, ParseError, file, path, what);
-  };
-  const ordered_json& d = r.doc;
-  need(d.is_object(), "", "a done-record object");
-  need(d.contains("complete") && d["complete"].is_boolean(), "/complete", "true or false");
-  if (!d["complete"].get<bool>()) return;  // reported as unfinished; nothing else is read
-  need(d.contains("config_sha256") && d["config_sha256"].is_string(), "/config_sha256", "a string");
-  need(d.contains("config") && d["config"].is_object(), "/config", "the run's config object");
-  // The config members merge reads (the rest is copied into the manifest as it is).
-  const auto member = [&](const char* pointer, bool (ordered_json::*is)() const noexcept, const char* what) {
-    const ordered_json::json_pointer at(pointer);
-    need(d["config"].contains(at) && (d["config"].at(at).*is)(), std::string("/config") + pointer, what);
-  };
-  member("/dataroot", &ordered_json::is_string, "a string");
-  member("/version", &ordered_json::is_string, "a string");
-  member("/seed", &ordered_json::is_number_unsigned, "an unsigned integer");
-  member("/resolution_m", &ordered_json::is_number, "a number");
-  member("/crops/size_px", &ordered_json::is_number_unsigned, "a tile size");
-  member("/output/layout", &ordered_json::is_string, "a string");
-  member("/vehicles/detections", &ordered_json::is_string, "a string");
-  need(d.contains("plan") && d["plan"].is_array(), "/plan", "an array of locations");
-  for (size_t i = 0; i < d["plan"].size(); ++i) {
-    const ordered_json& loc = d["plan"][i];
-    const std::string at = "/plan/" + std::to_string(i);
-    need(loc.is_object() && loc.contains("name") && loc["name"].is_string(), at + "/name", "a location name");
-    need(loc.contains("map_version"), at + "/map_version", "the map expansion's version");
-    need(loc.contains("shards") && loc["shards"].is_array(), at + "/shards", "an array");
-    need(!loc.contains("rung_shards") || loc["rung_shards"].is_array(), at + "/rung_shards", "an array");
-    for (const char* list : {"shards", "rung_shards"}) {
-      if (!loc.contains(list)) continue;
-      for (size_t k = 0; k < loc[list].size(); ++k) {
-        const ordered_json& sh = loc[list][k];
-        const std::string sat = at + "/" + list + "/" + std::to_string(k);
-        for (const char* f : {"name", "split", "first_key", "last_key"})
-          need(sh.is_object() && sh.contains(f) && sh[f].is_string(), sat + "/" + f, "a string");
-        need(sh.contains("tiles") && sh["tiles"].is_number_unsigned(), sat + "/tiles", "a tile count");
-        if (std::string(list) == "rung_shards")
-          need(sh.contains("rung") && sh["rung"].is_number_unsigned(), sat + "/rung", "a rung (scene count)");
-      }
-    }
-  }
-  need(d.contains("items") && d["items"].is_array(), "/items", "an array");
-  for (size_t i = 0; i < d["items"].size(); ++i) {
-    const ordered_json& item = d["items"][i];
-    const std::string at = "/items/" + std::to_string(i);
-    need(item.is_object() && item.contains("id") && item["id"].is_string(), at + "/id", "a string");
-    need(item.contains("files") && item["files"].is_array(), at + "/files", "an array");
-    for (size_t k = 0; k < item["files"].size(); ++k) {
-      const ordered_json& f = item["files"][k];
-      const std::string fat = at + "/files/" + std::to_string(k);
-      need(f.is_object() && f.contains("file") && f["file"].is_string(), fat + "/file", "a string");
-      need(f.contains("sha256") && f["sha256"].is_string(), fat + "/sha256", "a string");
-      need(f.contains("bytes") && f["bytes"].is_number_unsigned(), fat + "/bytes", "a byte count");
-      const std::string rel = f["file"].get<std::string>();
-      need(stays_inside(rel), fat + "/file", "a path inside the dataset folder, got '" + printable_text(rel) + "'");
-    }
-  }
-}
-
-std::vector<ShareRecord> read_records(const fs::path& out) {
+// Every done-record in out/parts, each through its one reader (pipeline/done_record.h),
+// ordered by share count then index. A record whose name and `share` disagree is refused.
+std::vector<DoneRecord> read_records(const fs::path& out) {
   const fs::path parts = out / "parts";
   if (!fs::is_directory(parts))
     throw IoError(parts.string(), "", "the done-records of a generate run (no parts/ folder: did generate run here?)");
   static const std::regex kName(R"(share-(\d{6})-of-(\d{6})\.json)");
-  std::vector<ShareRecord> records;
+  std::vector<DoneRecord> records;
   for (const auto& entry : fs::directory_iterator(parts)) {
     std::smatch m;
     const std::string name = entry.path().filename().string();
     if (!std::regex_match(name, m, kName)) continue;
-    ShareRecord r{entry.path(), std::stoi(m[1]), std::stoi(m[2]), {}};
-    const std::string text = read_file(entry.path());
-    // Strict first (nesting depth, repeated keys: a record is an outside file like any
-    // other), then in order (the plan's order is the manifest's).
-    parse_json_strict(text, entry.path().string(), "a done-record");
-    r.doc = ordered_json::parse(text);
-    check_record(r);
+    DoneRecord r = read_done_record(entry.path());
+    NSG_CHECK(r.share_index == std::stoi(m[1]) && r.share_count == std::stoi(m[2]), ParseError, entry.path().string(),
+              "/share", "the share its name says (" + std::string(m[1]) + " of " + std::string(m[2]) + ")");
     records.push_back(std::move(r));
   }
-  std::sort(records.begin(), records.end(), [](const ShareRecord& a, const ShareRecord& b) {
-    return a.count != b.count ? a.count < b.count : a.index < b.index;
+  std::sort(records.begin(), records.end(), [](const DoneRecord& a, const DoneRecord& b) {
+    return a.share_count != b.share_count ? a.share_count < b.share_count : a.share_index < b.share_index;
   });
   return records;
 }
 
 // The share count of the run to merge: that of the newest done-record, so that records a
 // run with another share count left behind are the older dataset.
-int run_share_count(const std::vector<ShareRecord>& records) {
-  const ShareRecord* newest = &records.front();
+int run_share_count(const std::vector<DoneRecord>& records) {
+  const DoneRecord* newest = &records.front();
   auto newest_time = fs::last_write_time(newest->path);
-  for (const ShareRecord& r : records) {
+  for (const DoneRecord& r : records) {
     const auto t = fs::last_write_time(r.path);
     if (t > newest_time) newest = &r, newest_time = t;
   }
-  return newest->count;
+  return newest->share_count;
 }
 
 // Files under the dataset's folders that none of the run's shares recorded, and a
 // manifest.json written for another config: what an older dataset left behind. The
 // folders are walked without following links (a linked maps/ is refused, not entered).
-std::vector<fs::path> older_dataset_files(const fs::path& out, const std::map<int, const ShareRecord*>& shares,
+std::vector<fs::path> older_dataset_files(const fs::path& out, const std::map<int, const DoneRecord*>& shares,
                                           const ordered_json& config) {
   std::set<std::string> recorded;
   for (const auto& [index, record] : shares)
-    for (const auto& item : record->doc["items"])
-      for (const auto& f : item["files"]) recorded.insert(f["file"].get<std::string>());
+    for (const DoneItem& item : record->items)
+      for (const DoneFile& f : item.files) recorded.insert(f.file);
   std::vector<fs::path> leftovers;
   for (const std::string& f : OutputFolder(out, "merge").files_under({"shards", "tiles", "maps"}))
     if (!recorded.count(f)) leftovers.push_back(out / f);
@@ -234,51 +162,50 @@ namespace {
 // The shares of the run to merge (that of the newest record), by index. Records of a run with
 // another share count are an older run's: refused, or removed with --overwrite. DataError
 // naming every share missing or unfinished.
-std::map<int, const ShareRecord*> finished_shares(const fs::path& out, const std::vector<ShareRecord>& all, int count,
-                                                  bool overwrite, std::vector<fs::path>* other_runs) {
+std::map<int, const DoneRecord*> finished_shares(const fs::path& out, const std::vector<DoneRecord>& all, int count,
+                                                 bool overwrite, std::vector<fs::path>* other_runs) {
   std::vector<std::string> problems;
-  std::map<int, const ShareRecord*> shares;
-  for (const ShareRecord& r : all) {
-    if (r.count != count) {
+  std::map<int, const DoneRecord*> shares;
+  for (const DoneRecord& r : all) {
+    if (r.share_count != count) {
       other_runs->push_back(r.path);
-      problems.push_back(r.path.string() + ": a record of a " + std::to_string(r.count) + "-share run next to a " +
-                         std::to_string(count) + "-share run (an older run's; --overwrite removes it)");
+      problems.push_back(r.path.string() + ": a record of a " + std::to_string(r.share_count) +
+                         "-share run next to a " + std::to_string(count) +
+                         "-share run (an older run's; --overwrite removes it)");
       continue;
     }
-    shares[r.index] = &r;
+    shares[r.share_index] = &r;
   }
   if (overwrite) problems.clear();  // their records are removed with the older dataset's files
   for (int i = 0; i < count; ++i) {
     auto it = shares.find(i);
     if (it == shares.end())
       problems.push_back(strprintf("share %d of %d: missing (no parts/share-%06d-of-%06d.json)", i, count, i, count));
-    else if (!it->second->doc.value("complete", false))
-      problems.push_back(strprintf("share %d of %d: not finished (rerun it)", i, count));
+    else if (!it->second->complete) problems.push_back(strprintf("share %d of %d: not finished (rerun it)", i, count));
   }
   if (!problems.empty()) throw DataError(out.string(), "merge", "every share finished:\n  " + join(problems, "\n  "));
   return shares;
 }
 
-using ItemsById = std::map<std::string, std::pair<const ordered_json*, int>>;  // id → item, share
+using ItemsById = std::map<std::string, std::pair<const DoneItem*, int>>;  // id → item, share
 
 // Every share's items by id; a share that ran with another config or plan than share 0 is
 // added to `problems`.
-ItemsById items_by_id(const std::map<int, const ShareRecord*>& shares, int count, std::vector<std::string>& problems) {
-  const ShareRecord& first = *shares.at(0);
-  const ordered_json& plan = first.doc["plan"];
+ItemsById items_by_id(const std::map<int, const DoneRecord*>& shares, int count, std::vector<std::string>& problems) {
+  const DoneRecord& first = *shares.at(0);
   ItemsById items;
   for (const auto& [index, record] : shares) {
-    if (record->doc["config_sha256"] != first.doc["config_sha256"] || record->doc["plan"] != plan)
+    if (record->config_sha256 != first.config_sha256 || record->plan_json != first.plan_json)
       problems.push_back(strprintf("share %d of %d: ran with another config or plan than share 0", index, count));
-    for (const auto& item : record->doc["items"]) items[item["id"].get<std::string>()] = {&item, index};
+    for (const DoneItem& item : record->items) items[item.id] = {&item, index};
   }
   return items;
 }
 
 // The recorded item `id` when it verifies on disk; otherwise nullptr, with the reason added
 // to `problems`.
-const ordered_json* verified_item(const fs::path& out, const ItemsById& items, const std::string& id,
-                                  std::vector<std::string>& problems) {
+const DoneItem* verified_item(const fs::path& out, const ItemsById& items, const std::string& id,
+                              std::vector<std::string>& problems) {
   auto it = items.find(id);
   if (it == items.end()) {
     problems.push_back(id + ": missing from every done-record");
@@ -294,7 +221,7 @@ const ordered_json* verified_item(const fs::path& out, const ItemsById& items, c
 
 // A shard's manifest entry: its plan fields, then the tar's file or the folder's digest and bytes.
 io::ShardEntry shard_entry(const io::ManifestLocation& location, const io::PlannedShardEntry& shard,
-                           const ordered_json& item, bool tar) {
+                           const DoneItem& item, bool tar) {
   io::ShardEntry entry;
   entry.name = shard.name;
   entry.split = shard.split;
@@ -304,13 +231,13 @@ io::ShardEntry shard_entry(const io::ManifestLocation& location, const io::Plann
   entry.last_key = shard.last_key;
   entry.rung = shard.rung;
   if (tar) {
-    entry.file = item["files"][0]["file"].get<std::string>();
-    entry.sha256 = item["files"][0]["sha256"].get<std::string>();
-    entry.bytes = item["files"][0]["bytes"].get<int64_t>();
+    entry.file = item.files.at(0).file;
+    entry.sha256 = item.files.at(0).sha256;
+    entry.bytes = item.files.at(0).bytes;
   } else {
     entry.folder = "tiles/" + (shard.rung > 0 ? shard.split + "-r" + std::to_string(shard.rung) : shard.split);
-    entry.sha256 = item["digest"].get<std::string>();
-    for (const auto& f : item["files"]) entry.bytes += f["bytes"].get<int64_t>();
+    entry.sha256 = item.digest;
+    for (const DoneFile& f : item.files) entry.bytes += f.bytes;
   }
   return entry;
 }
@@ -334,18 +261,17 @@ PlannedOutputs planned_outputs(const fs::path& out, const std::vector<io::Manife
     return verified_item(out, items, tar ? "shards/" + shard.name + ".tar" : "tiles/" + shard.name, problems);
   };
   for (const io::ManifestLocation& location : plan) {
-    if (const ordered_json* item = verified_item(out, items, "maps/" + location.name, problems))
-      for (const auto& f : (*item)["files"])
-        o.maps.push_back({f["file"].get<std::string>(), f["sha256"].get<std::string>(), f["bytes"].get<int64_t>()});
+    if (const DoneItem* item = verified_item(out, items, "maps/" + location.name, problems))
+      for (const DoneFile& f : item->files) o.maps.push_back({f.file, f.sha256, f.bytes});
     for (const io::PlannedShardEntry& shard : location.shards) {
-      const ordered_json* item = item_of(shard);
+      const DoneItem* item = item_of(shard);
       if (item == nullptr) continue;
       o.per_split[shard.split].tiles += shard.tiles;
       ++o.per_split[shard.split].shards;
       o.shards.push_back(shard_entry(location, shard, *item, tar));
     }
     for (const io::PlannedShardEntry& shard : location.rung_shards) {
-      const ordered_json* item = item_of(shard);
+      const DoneItem* item = item_of(shard);
       if (item == nullptr) continue;
       o.per_rung[shard.rung].tiles += shard.tiles;
       ++o.per_rung[shard.rung].shards;
@@ -370,7 +296,7 @@ io::Ladder ladder_of(const ordered_json& config, const PlannedOutputs& o) {
 
 // Files an older dataset left in `out` (and the records of other runs, `other_runs`):
 // refused, or removed with --overwrite — all checked before any is removed.
-void clear_older_dataset(const fs::path& out, const std::map<int, const ShareRecord*>& shares,
+void clear_older_dataset(const fs::path& out, const std::map<int, const DoneRecord*>& shares,
                          const ordered_json& config, bool overwrite, const std::set<std::string>& ours,
                          const std::vector<fs::path>& other_runs) {
   std::vector<fs::path> leftovers = older_dataset_files(out, shares, config);
@@ -423,20 +349,18 @@ io::Manifest manifest_of(const fs::path& out, const ordered_json& config, std::v
 }
 
 void merge_records(const fs::path& out, bool overwrite) {
-  const std::vector<ShareRecord> all = read_records(out);
+  const std::vector<DoneRecord> all = read_records(out);
   if (all.empty()) throw IoError((out / "parts").string(), "", "done-records share-<i>-of-<n>.json");
   const int count = run_share_count(all);
   const std::set<std::string> ours = dataset_files_listed(out);  // before anything is removed
   std::vector<fs::path> other_runs;                              // removed with --overwrite, after every check
-  const std::map<int, const ShareRecord*> shares = finished_shares(out, all, count, overwrite, &other_runs);
+  const std::map<int, const DoneRecord*> shares = finished_shares(out, all, count, overwrite, &other_runs);
 
-  const ShareRecord& first = *shares.at(0);
-  // The plan is the manifest's `locations`: read as the manifest's reader reads
-  // them.
-  std::vector<io::ManifestLocation> plan =
-      io::manifest_locations_from_json(first.doc["plan"], first.path.string(), "/plan");
-  const ordered_json& config = first.doc["config"];
-  const bool tar = config["output"]["layout"] == "tar";
+  const DoneRecord& first = *shares.at(0);
+  // The plan is the manifest's `locations` (read as the manifest's reader reads them).
+  std::vector<io::ManifestLocation> plan = first.plan;
+  const ordered_json& config = first.config_json;
+  const bool tar = first.config.output.layout == Layout::kTar;
   std::vector<std::string> problems;
   const ItemsById items = items_by_id(shares, count, problems);
   PlannedOutputs outputs = planned_outputs(out, plan, items, tar, problems);

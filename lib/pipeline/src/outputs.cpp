@@ -36,10 +36,10 @@ fs::path done_record_path(const fs::path& out, const ShareSpec& share) {
 
 std::string config_digest(const GenerateConfig& config) { return sha256_hex(config_to_json(config).dump()); }
 
-std::string item_digest(const ordered_json& files) {
-  if (files.size() == 1) return files[0]["sha256"].get<std::string>();
+std::string item_digest(const std::vector<DoneFile>& files) {
+  if (files.size() == 1) return files[0].sha256;
   std::string lines;
-  for (const auto& f : files) lines += f["file"].get<std::string>() + '\0' + f["sha256"].get<std::string>() + "\n";
+  for (const DoneFile& f : files) lines += f.file + '\0' + f.sha256 + "\n";
   return sha256_hex(lines);
 }
 
@@ -62,24 +62,6 @@ namespace {
 // only those its manifest or share records list.
 const std::vector<std::string> kDatasetEntries = {"manifest.json", "shards", "tiles", "maps", "parts"};
 
-// A document of ours read leniently: an unreadable one lists nothing (so its files are
-// refused, not removed).
-json parsed_or_null(const fs::path& file) {
-  std::error_code ec;
-  if (!fs::is_regular_file(fs::symlink_status(file, ec))) return nullptr;
-  try {
-    return json::parse(read_file(file));
-  } catch (const std::exception&) {
-    return nullptr;
-  }
-}
-
-void add_listed(const json& entries, const char* member, std::set<std::string>& listed) {
-  if (!entries.is_array()) return;
-  for (const json& e : entries)
-    if (e.is_object() && e.contains(member) && e[member].is_string()) listed.insert(e[member].get<std::string>());
-}
-
 }  // namespace
 
 std::set<std::string> dataset_files_listed(const fs::path& out) {
@@ -89,11 +71,16 @@ std::set<std::string> dataset_files_listed(const fs::path& out) {
     for (const auto& e : fs::directory_iterator(out / "parts", ec)) {
       const std::string name = e.path().filename().string();
       if (!starts_with(name, "share-") || !ends_with(name, ".json")) continue;
-      const json record = parsed_or_null(e.path());
-      if (!record.is_object() || !record.contains("items") || !record["items"].is_array()) continue;
-      listed.insert("parts/" + name);
-      for (const json& item : record["items"])
-        if (item.is_object()) add_listed(item.value("files", json()), "file", listed);
+      // A record of ours is a file we wrote, never a link (which could list anything).
+      if (!fs::is_regular_file(fs::symlink_status(e.path(), ec))) continue;
+      try {
+        const DoneRecord record = read_done_record(e.path());
+        listed.insert("parts/" + name);
+        for (const DoneItem& item : record.items)
+          for (const DoneFile& f : item.files) listed.insert(f.file);
+      } catch (const Error&) {
+        // Unreadable: it lists nothing, so the files are refused, not removed.
+      }
     }
   // Ours: a manifest its one reader accepts (a frames export's, or anything else, is not).
   if (fs::is_regular_file(fs::symlink_status(out / "manifest.json", ec))) try {
@@ -129,8 +116,8 @@ std::string older_dataset(const fs::path& out, const std::string& digest) {
       records = true;
       std::string recorded;
       try {
-        recorded = json::parse(read_file(e.path())).value("config_sha256", "");
-      } catch (const std::exception&) {
+        recorded = read_done_record(e.path()).config_sha256;
+      } catch (const Error&) {
         recorded = "";  // unreadable: of unknown config
       }
       if (recorded != digest)
@@ -167,20 +154,20 @@ void prepare_output_folder(const fs::path& out, const GenerateConfig& config, co
                 "); --overwrite removes it first");
 }
 
-bool verify_item(const fs::path& out, const ordered_json& item, std::string* why) {
-  if (!item.contains("files") || !item["files"].is_array()) {
+bool verify_item(const fs::path& out, const DoneItem& item, std::string* why) {
+  if (item.files.empty()) {
     *why = "the record lists no files";
     return false;
   }
-  for (const auto& f : item["files"]) {
-    const fs::path path = out / f["file"].get<std::string>();
+  for (const DoneFile& f : item.files) {
+    const fs::path path = out / f.file;
     std::error_code ec;
     const auto size = fs::file_size(path, ec);
     if (ec) {
       *why = path.string() + " is missing";
       return false;
     }
-    if (size != f["bytes"].get<uint64_t>() || sha256_file(path) != f["sha256"].get<std::string>()) {
+    if (size != static_cast<uintmax_t>(f.bytes) || sha256_file(path) != f.sha256) {
       *why = path.string() + " does not match its recorded sha256/size (corrupt or changed)";
       return false;
     }
@@ -197,10 +184,10 @@ OutputWriter::OutputWriter(fs::path out, const GenerateConfig& config, ShareSpec
   remove_stale_temps(record);  // a record being rewritten when the last run was killed
   if (!fs::exists(record)) return;
   try {
-    const ordered_json old = ordered_json::parse(read_file(record));
-    if (old.value("config_sha256", "") != config_digest_) return;  // another config: redo everything
-    for (const auto& item : old.at("items")) previous_[item.at("id").get<std::string>()] = item;
-  } catch (const json::exception&) {
+    const DoneRecord old = read_done_record(record);
+    if (old.config_sha256 != config_digest_) return;  // another config: redo everything
+    for (const DoneItem& item : old.items) previous_[item.id] = item;
+  } catch (const Error&) {
     // A damaged record is not trusted: every item is redone.
   }
 }
@@ -214,7 +201,7 @@ bool OutputWriter::verified(const std::string& id) {
   if (it == previous_.end()) return false;
   std::string why;
   if (!verify_item(out_, it->second, &why)) return false;
-  for (const auto& f : it->second["files"]) remove_stale_temps(out_ / f["file"].get<std::string>());
+  for (const DoneFile& f : it->second.files) remove_stale_temps(out_ / f.file);
   items_.push_back(it->second);
   save(false);
   return true;
@@ -235,9 +222,9 @@ void remove_stale_temps(const fs::path& target) {
     if (e.path().filename().string().rfind(prefix, 0) == 0) fs::remove(e.path(), ec);
 }
 
-ordered_json file_entry(const fs::path& out, const std::string& relative) {
+DoneFile file_entry(const fs::path& out, const std::string& relative) {
   const fs::path path = out / relative;
-  return {{"file", relative}, {"sha256", sha256_file(path)}, {"bytes", fs::file_size(path)}};
+  return {relative, sha256_file(path), static_cast<int64_t>(fs::file_size(path))};
 }
 
 ordered_json lonlat_ring(const std::string& location, const tiling::RectM& r) {
@@ -298,8 +285,12 @@ void OutputWriter::write_maps(const std::string& id, const std::string& location
   remove_stale_temps(out_ / regions);
   graph::write_geojson_file(graph, location, folder_.prepare(lanes).string());
   write_file_atomic(folder_.prepare(regions), regions_geojson(plan, config_.resolution_m, config_.crops.size_px));
-  ordered_json files = ordered_json::array({file_entry(out_, lanes), file_entry(out_, regions)});
-  record_item(id, {{"id", id}, {"kind", "maps"}, {"location", location}, {"files", files}});
+  DoneItem item;
+  item.id = id;
+  item.kind = "maps";
+  item.location = location;
+  item.files = {file_entry(out_, lanes), file_entry(out_, regions)};
+  record_item(std::move(item));
 }
 
 size_t OutputWriter::write_shard(const std::string& id, const nuscenes::Database& db, const LocationPlan& plan,
@@ -327,7 +318,7 @@ size_t OutputWriter::write_tiles(const std::string& id, const PlannedShard& shar
     remove_stale_temps(out_ / id);
     writer = std::make_unique<io::TarWriter>(folder_.prepare(id));
   }
-  ordered_json files = ordered_json::array();
+  std::vector<DoneFile> files;
   // Tiles are cut and encoded in parallel batches and written in key order, so memory
   // stays at one batch and the bytes do not depend on the thread count.
   const size_t batch = static_cast<size_t>(std::max(8, 4 * resolve_threads(run.threads)));
@@ -346,10 +337,9 @@ size_t OutputWriter::write_tiles(const std::string& id, const PlannedShard& shar
           remove_stale_temps(out_ / relative);
           write_file_atomic(folder_.prepare(relative),
                             std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size()));
-          files.push_back(
-              {{"file", relative},
-               {"sha256", sha256_hex(std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size()))},
-               {"bytes", f.bytes.size()}});
+          files.push_back({relative,
+                           sha256_hex(std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size())),
+                           static_cast<int64_t>(f.bytes.size())});
         }
       }
       if (progress) {
@@ -360,22 +350,24 @@ size_t OutputWriter::write_tiles(const std::string& id, const PlannedShard& shar
   }
   if (tar) {
     const io::TarWriter::Result r = writer->finish();
-    files.push_back({{"file", id}, {"sha256", r.sha256_hex}, {"bytes", r.bytes}});
+    files.push_back({id, r.sha256_hex, static_cast<int64_t>(r.bytes)});
   }
-  record_item(id, {{"id", id},
-                   {"kind", "shard"},
-                   {"location", location},
-                   {"split", shard.split},
-                   {"shard", shard.name},
-                   {"tiles", shard.count},
-                   {"files", files}});
+  DoneItem item;
+  item.id = id;
+  item.kind = "shard";
+  item.location = location;
+  item.split = shard.split;
+  item.shard = shard.name;
+  item.tiles = static_cast<int64_t>(shard.count);
+  item.files = std::move(files);
+  record_item(std::move(item));
   return shard.count;
 }
 
-void OutputWriter::record_item(const std::string& id, ordered_json item) {
-  item["digest"] = item_digest(item["files"]);
-  for (auto& existing : items_)
-    if (existing["id"] == id) {
+void OutputWriter::record_item(DoneItem item) {
+  item.digest = item_digest(item.files);
+  for (DoneItem& existing : items_)
+    if (existing.id == item.id) {
       existing = std::move(item);
       save(false);
       return;
@@ -385,15 +377,16 @@ void OutputWriter::record_item(const std::string& id, ordered_json item) {
 }
 
 void OutputWriter::save(bool complete) {
-  const ordered_json record = {{"schema_version", "1"},
-                               {"tool_version", kVersion},
-                               {"share", {{"index", share_.index}, {"count", share_.count}}},
-                               {"config_sha256", config_digest_},
-                               {"config", config_to_json(config_)},
-                               {"complete", complete},
-                               {"plan", complete ? plans_ : ordered_json::array()},
-                               {"items", items_}};
-  write_file_atomic(folder_.prepare(done_record_path({}, share_).generic_string()), record.dump(1) + "\n");
+  DoneRecord record;
+  record.tool_version = kVersion;
+  record.share_index = share_.index;
+  record.share_count = share_.count;
+  record.config_sha256 = config_digest_;
+  record.config_json = config_to_json(config_);
+  record.complete = complete;
+  record.plan_json = complete ? plans_ : ordered_json::array();
+  record.items = items_;
+  write_file_atomic(folder_.prepare(done_record_path({}, share_).generic_string()), done_record_text(record));
 }
 
 void OutputWriter::finish() { save(true); }

@@ -12,6 +12,7 @@
 
 #include "nsg/core/output_folder.h"
 #include "nsg/pipeline/config.h"
+#include "nsg/pipeline/done_record.h"
 #include "nsg/pipeline/generate.h"
 #include "nsg/pipeline/tile_files.h"
 #include "nsg/tiling/tile.h"
@@ -34,11 +35,11 @@ std::vector<std::string> scene_names(const nuscenes::Database& db, const std::ve
 
 // parts/share-<i>-of-<n>.json
 std::filesystem::path done_record_path(const std::filesystem::path& out, const ShareSpec& share);
-// Files of an item as recorded: [{file (relative to out), sha256, bytes}].
-// The item digest: a single file's sha256, or the sha256 of "<file>\0<sha256>\n" lines.
-std::string item_digest(const nlohmann::ordered_json& files);
+// The item digest of its files: a single file's sha256, or the sha256 of
+// "<file>\0<sha256>\n" lines.
+std::string item_digest(const std::vector<DoneFile>& files);
 // Re-hashes the recorded files; false (with `why`) when one is missing or differs.
-bool verify_item(const std::filesystem::path& out, const nlohmann::ordered_json& item, std::string* why);
+bool verify_item(const std::filesystem::path& out, const DoneItem& item, std::string* why);
 std::string config_digest(const GenerateConfig& config);
 // The terms a dataset built from a nuScenes release inherits (its sensor data and map
 // expansion are CC BY-NC-SA 4.0): the manifest's `licence`, printed once by generate. A
@@ -92,7 +93,7 @@ class OutputWriter {
   void finish();
 
  private:
-  void record_item(const std::string& id, nlohmann::ordered_json item);
+  void record_item(DoneItem item);
   void save(bool complete);
 
   std::filesystem::path out_;
@@ -100,8 +101,8 @@ class OutputWriter {
   const GenerateConfig& config_;
   ShareSpec share_;
   std::string config_digest_;
-  std::map<std::string, nlohmann::ordered_json> previous_;  // items of an earlier record with this config
-  nlohmann::ordered_json items_ = nlohmann::ordered_json::array();
+  std::map<std::string, DoneItem> previous_;  // items of an earlier record with this config
+  std::vector<DoneItem> items_;
   nlohmann::ordered_json plans_ = nlohmann::ordered_json::array();
   uint64_t bytes_written_ = 0;
 };

@@ -12,6 +12,8 @@ namespace {
 constexpr std::array kDocuments = {
     DocumentKind{"manifest", "<dataset>/manifest.json", "manifest.schema.json",
                  "io::read_manifest", "manifest", "nsgraph generate, merge"},
+    DocumentKind{"done-record", "<dataset>/parts/share-<i>-of-<n>.json", "done-record.schema.json",
+                 "pipeline::read_done_record", "merge", "nsgraph generate (each share)"},
     DocumentKind{"tile-meta", "<key>.meta.json in a shard", "tile-meta.schema.json",
                  "io::tile_meta_from_json", "tile_json", "nsgraph generate"},
     DocumentKind{"tile-graph", "<key>.graph.json in a shard", "tile-graph.schema.json",

@@ -237,7 +237,10 @@ TEST(Generate, MergeRefusesAnOlderDatasetsLeftoversUnlessOverwritten) {
     ASSERT_EQ(run_nsgraph(args).exit_code, 0);
   }
   write_text(dir / "shards/test-000009.tar", "an older run's shard");
-  fs::copy_file(dir / "parts/share-000000-of-000002.json", dir / "parts/share-000000-of-000005.json");
+  // An older 5-share run's record (its name and its `share` agree, as generate writes them).
+  nlohmann::json older = read_json(dir / "parts/share-000000-of-000002.json");
+  older["share"]["count"] = 5;
+  write_text(dir / "parts/share-000000-of-000005.json", older.dump());
   fs::last_write_time(dir / "parts/share-000000-of-000005.json",
                       fs::last_write_time(dir / "parts/share-000000-of-000002.json") - std::chrono::hours(1));
   CommandResult r = run_nsgraph({"merge", "--out", dir.path().string()});
@@ -253,7 +256,8 @@ TEST(Generate, MergeRefusesAnOlderDatasetsLeftoversUnlessOverwritten) {
 
   // The older run's record lists its shard: --overwrite removes what a record of ours
   // lists, and refuses (removing nothing) while a file no record lists is there.
-  nlohmann::json older = read_json(dir / "parts/share-000000-of-000002.json");
+  older = read_json(dir / "parts/share-000000-of-000002.json");
+  older["share"]["count"] = 5;
   older["items"][0]["files"].push_back(
       {{"file", "shards/test-000009.tar"}, {"sha256", std::string(64, '0')}, {"bytes", 1}});
   write_text(dir / "parts/share-000000-of-000005.json", older.dump());
@@ -288,8 +292,16 @@ TEST(Generate, MergeChecksTheDoneRecordsLikeAnyOutsideFile) {
     return r.err;
   };
   merge_err(std::string(200000, '[') + std::string(200000, ']'));
-  EXPECT_NE(merge_err(R"({"complete": "yes"})").find("/complete"), std::string::npos);
   nlohmann::json real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
+  real["complete"] = "yes";
+  EXPECT_NE(merge_err(real.dump()).find("/complete"), std::string::npos);
+  real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
+  real["items"][0]["digest"] = 7;  // read through json::get before the record had a reader
+  EXPECT_NE(merge_err(real.dump()).find("/items/0/digest"), std::string::npos);
+  real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
+  real["share"]["count"] = 2;  // the name says 1 share
+  EXPECT_NE(merge_err(real.dump()).find("/share"), std::string::npos);
+  real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
   real["items"][0]["files"][0]["file"] = "../../etc/hostname";
   EXPECT_NE(merge_err(real.dump()).find("/items/0/files/0/file"), std::string::npos);
   real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
@@ -299,7 +311,10 @@ TEST(Generate, MergeChecksTheDoneRecordsLikeAnyOutsideFile) {
   // (heap-use-after-free, found by fuzz_merge).
   real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
   real["config"].erase("output");
-  EXPECT_NE(merge_err(real.dump()).find("/config/output/layout"), std::string::npos);
+  EXPECT_NE(merge_err(real.dump()).find("/config/output"), std::string::npos);
+  real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
+  real["config"]["crops"]["size_px"] = "big";
+  EXPECT_NE(merge_err(real.dump()).find("/config"), std::string::npos);
   real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
   real["plan"][0].erase("map_version");
   EXPECT_NE(merge_err(real.dump()).find("/plan/0/map_version"), std::string::npos);

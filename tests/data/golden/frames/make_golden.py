@@ -8,6 +8,10 @@ The numbers are computed by the evaluator's code, run from its source tree:
 
   /usr/bin/python3 make_golden.py --openlanev2 <OpenLane-V2 checkout> \
       --frames <frames export A> --frames <frames export B> [--seed 41]
+  /usr/bin/python3 make_golden.py --openlanev2 <OpenLane-V2 checkout> --gt-json gt.json
+
+(the second form reads the committed ground truth instead of the exports, and remakes
+every file byte for byte).
 
 Debian 12 packages used: python3-numpy, python3-scipy (the evaluator's cdist / euclidean),
 python3-shapely and python3-tqdm (imported by the evaluator's package). Not packaged in
@@ -35,6 +39,16 @@ probabilities distinct within a frame, so no order depends on how a sort breaks 
 pred-b.json: the same perturbations drawn with the seed 7 × seed + 3.
 
 pred-copy.json: the ground truth itself (links 1.0, others 0.0), distinct confidences.
+
+pred-ties-all.json, pred-ties-half.json, pred-ties-distinct.json: ranking where confidences
+tie, as OpenLane-V2's evaluator ranks them (numpy's default argsort, not stable beyond 16
+values; docs/metrics.md "Frames", Ties). Every ground-truth lane predicted, moved by a
+seeded distance (all: exactly 2.5 m, the rest 0-2.9 m), a tenth dropped, and in three of
+ten lanes a second prediction near the same ground truth (a conflict: the one ranked first
+takes it); links carried with probabilities from {1.0, 0.8} (ties within a row, rows of up
+to 32) and some flipped. Confidences: all 0.9 (all); 0.7 on every other lane and distinct values
+on the rest (half); distinct (distinct). Made with the evaluator run under Debian 12's numpy
+1.24.2, whose argsort is the introsort of the numpy < 1.24 that OpenLane-V2 pins.
 
 expected.json: per predictions file {"DET_l", "DET_l_per_threshold": {"1.0", "2.0", "3.0"},
 "TOP_ll", "frames"}.
@@ -187,6 +201,43 @@ def copy_of(gt, seed):
     return results
 
 
+def ties(gt, seed, mode):
+    """Predictions whose confidences tie (see the module's docstring)."""
+    rnd = random.Random(seed)
+    results = {}
+    for key, frame in gt.items():
+        lanes, source = [], []
+        for i, c in enumerate(frame["lane_centerline"]):
+            if rnd.random() < 0.1:
+                continue
+            copies = 2 if rnd.random() < 0.3 else 1
+            for _ in range(copies):
+                d = 2.5 if mode == "all" else rnd.uniform(0.0, 2.9)
+                a = rnd.uniform(0, 6.283185307179586)
+                pts = [[round(p[0] + d * np.cos(a), 4), round(p[1] + d * np.sin(a), 4), p[2]] for p in c["points"]]
+                lanes.append({"id": len(lanes), "points": pts})
+                source.append(i)
+        n = len(lanes)
+        gt_topo = frame["topology_lclc"]
+        topo = [[0.0] * n for _ in range(n)]
+        for a in range(n):
+            for b in range(n):
+                linked = gt_topo[source[a]][source[b]] == 1
+                if rnd.random() < 0.05:
+                    linked = not linked
+                topo[a][b] = rnd.choice([1.0, 0.8]) if linked else 0.0
+        for k, lane in enumerate(lanes):
+            lane["confidence"] = {"all": 0.9, "half": 0.7 if k % 2 == 0 else None}.get(mode)
+        results[key] = {"predictions": {"lane_centerline": lanes, "traffic_element": [], "topology_lclc": topo,
+                                        "topology_lcte": [[] for _ in range(n)]}}
+    if mode != "all":
+        all_lanes = [l for r in results.values() for l in r["predictions"]["lane_centerline"]
+                     if l["confidence"] is None]
+        for lane, c in zip(all_lanes, rnd.sample(range(1, 10 ** 6), len(all_lanes))):
+            lane["confidence"] = c / 10 ** 6
+    return results
+
+
 def evaluator_inputs(gt, results):
     """The evaluator's two arguments, as its collect() and a results pickle give them."""
     ground_truth = {}
@@ -232,19 +283,26 @@ def evaluate(ev, gt, results):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--openlanev2", required=True)
-    ap.add_argument("--frames", action="append", required=True)
+    source = ap.add_mutually_exclusive_group(required=True)
+    source.add_argument("--frames", action="append", help="a frames export (give two: A and B)")
+    source.add_argument("--gt-json", help="the committed gt.json instead of the exports")
     ap.add_argument("--seed", type=int, default=41)
     a = ap.parse_args()
     ev = import_evaluator(a.openlanev2)
-    gt = read_exports(a.frames)
+    gt = read_exports(a.frames) if a.frames else json.load(open(a.gt_json))["frames"]
     results = perturb(gt, a.seed)
     results_b = perturb(gt, a.seed * 7 + 3)
     copy = copy_of(gt, a.seed)
+    tied = {mode: ties(gt, a.seed * 11 + k, mode) for k, mode in enumerate(("all", "half", "distinct"))}
     expected = {"pred.json": evaluate(ev, gt, results), "pred-b.json": evaluate(ev, gt, results_b),
                 "pred-copy.json": evaluate(ev, gt, copy),
-                "made_by": "make_golden.py: OpenLane-V2 f085b3d evaluate() on gt.json and each file (seed %d)" % a.seed}
+                "made_by": "make_golden.py: OpenLane-V2 f085b3d evaluate() on gt.json and each file (seed %d), "
+                           "numpy %s" % (a.seed, np.__version__)}
+    for mode, results_t in tied.items():
+        expected["pred-ties-%s.json" % mode] = evaluate(ev, gt, results_t)
     for name, doc in (("gt.json", {"frames": gt}), ("pred.json", {"results": results}),
                       ("pred-b.json", {"results": results_b}), ("pred-copy.json", {"results": copy}),
+                      *(("pred-ties-%s.json" % m, {"results": r}) for m, r in tied.items()),
                       ("expected.json", expected)):
         with open(os.path.join(HERE, name), "w") as f:
             json.dump(doc, f, indent=None if name != "expected.json" else 1, sort_keys=True)

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -22,7 +23,7 @@
 
 namespace nsg::metrics {
 
-inline constexpr const char* kFramesMetricsVersion = "1";
+inline constexpr const char* kFramesMetricsVersion = "2";
 
 struct FramesReport {
   std::string split;
@@ -57,8 +58,18 @@ FramesReport score_frames(const FrameSet& truth, const FrameSet& predictions, bo
 
 // The records of `split` of an `nsgraph frames` export, through its manifest: every record
 // listed for the split must be present with its size and (when `verify`) sha256. Keys are
-// sample tokens. IoError / ParseError / DataError naming the file.
-FrameSet read_frames_ground_truth(const std::filesystem::path& export_dir, const std::string& split, bool verify);
+// sample tokens; `token_by_identifier` (when given) receives each frame's OpenLane-V2
+// identifier → its token (FrameRecord::identifier). IoError / ParseError / DataError naming
+// the file.
+FrameSet read_frames_ground_truth(const std::filesystem::path& export_dir, const std::string& split, bool verify,
+                                  std::map<std::string, std::string>* token_by_identifier = nullptr);
+
+// Renames the predictions keyed by an OpenLane-V2 identifier ("split/segment_id/timestamp")
+// to the frame's sample token; keys that are neither stay (extra frames). Two predictions of
+// one frame — a key twice, or its token and its identifier — are frames.results.duplicate
+// issues naming both keys.
+void key_results_by_token(FrameSet& predictions, const std::map<std::string, std::string>& token_by_identifier,
+                          const std::string& results_label, Issues& issues);
 // A ground-truth document {"frames": {key: {"lane_centerline": [{"points"}], "topology_lclc"}}}
 // (the golden set's gt.json), keys in file order.
 FrameSet read_frames_ground_truth_document(const std::filesystem::path& file);

@@ -157,6 +157,10 @@ struct FrameRecord {
 
   // The scorer's view: the centerlines' points and topology_lclc.
   FrameCenterlines truth() const;
+  // OpenLane-V2's name of the frame, the identifier (split, segment_id, timestamp) its
+  // results dicts are keyed by, written "split/segment_id/timestamp": the record's path
+  // without "info/" and ".json". A results file may key a frame so or by sample_token.
+  std::string identifier() const;
 };
 
 // One record's text (`file` names it in errors): strict JSON within `limits`, every field of
