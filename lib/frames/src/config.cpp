@@ -27,6 +27,11 @@ const Table<WindowM>& window_table() {
     const auto edge = [&t](const char* key, double WindowM::*field, const char* what) {
       t.number(key, field).unit("m").range(options::between(-kWindowLimitM, kWindowLimitM)).help(what);
     };
+    t.choice("window.preset", &WindowM::preset,
+             {{"openlanev2", WindowPreset::kOpenLaneV2}, {"long-range", WindowPreset::kLongRange}})
+        .help(
+            "The window's edges unless set below: OpenLane-V2's perception range (openlanev2: x ±50 m, y ±25 m) or "
+            "the long-range window (long-range: x ±100 m, y ±25 m)");
     edge("window.x_min_m", &WindowM::x_min_m, "Window, ego frame: rearmost x (x forward; OpenLane-V2's range: -50)");
     edge("window.x_max_m", &WindowM::x_max_m, "Window, ego frame: foremost x (OpenLane-V2's range: 50)");
     edge("window.y_min_m", &WindowM::y_min_m, "Window, ego frame: rightmost y (y left; OpenLane-V2's range: -25)");
@@ -45,6 +50,16 @@ const char* to_string(OverlapMode mode) {
     case OverlapMode::kFlag: return "flag";
   }
   return "?";
+}
+
+WindowM window_of(WindowPreset preset) {
+  WindowM w;
+  w.preset = preset;
+  if (preset == WindowPreset::kLongRange) {
+    w.x_min_m = -100.0;
+    w.x_max_m = 100.0;
+  }
+  return w;
 }
 
 const char* to_string(SplitPreset preset) { return preset == SplitPreset::kRegions ? "regions" : "scenes-random"; }
@@ -100,8 +115,16 @@ OrderedJson frames_config_schema() {
 FramesConfig resolve_frames_config(const std::filesystem::path& file, const std::vector<std::string>& settings,
                                    const std::vector<options::FlagValue>& flags) {
   options::Origins origins;
-  const FramesConfig c =
-      options::resolve_config(frames_option_table(), file, settings, flags, "window.x_max_m=60", origins);
+  FramesConfig c = options::resolve_config(frames_option_table(), file, settings, flags, "window.x_max_m=60", origins);
+  // The preset's edges where no source set an edge itself.
+  const WindowM preset = window_of(c.window.preset);
+  const auto from_preset = [&](const char* key, double WindowM::*edge) {
+    if (!origins.count(key)) c.window.*edge = preset.*edge;
+  };
+  from_preset("window.x_min_m", &WindowM::x_min_m);
+  from_preset("window.x_max_m", &WindowM::x_max_m);
+  from_preset("window.y_min_m", &WindowM::y_min_m);
+  from_preset("window.y_max_m", &WindowM::y_max_m);
   check_ordered(c.window.x_min_m, c.window.x_max_m, "window.x_min_m", "window.x_max_m", origins);
   check_ordered(c.window.y_min_m, c.window.y_max_m, "window.y_min_m", "window.y_max_m", origins);
   return c;

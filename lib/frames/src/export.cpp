@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <optional>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <set>
@@ -173,6 +174,18 @@ void place_image(const fs::path& from, const fs::path& to) {
   if (ec) fs::copy_file(from, to, fs::copy_options::overwrite_existing);
 }
 
+ordered_json by_distance_json(const std::vector<LeakageBand>& bands) {
+  ordered_json out = ordered_json::array();
+  for (const LeakageBand& b : bands)
+    out.push_back({{"from_m", b.from_m},
+                   {"to_m", b.to_m},
+                   {"window_cells", b.window_cells},
+                   {"seen_cells", b.seen_cells},
+                   {"share_seen", b.window_cells > 0 ? ordered_json(static_cast<double>(b.seen_cells) / b.window_cells)
+                                                     : ordered_json(nullptr)}});
+  return out;
+}
+
 ordered_json leakage_json(const Leakage& l, double radius_m) {
   const auto maybe = [](const std::optional<double>& v) { return v ? ordered_json(*v) : ordered_json(nullptr); };
   return {{"test_frames", l.test_frames},
@@ -180,7 +193,8 @@ ordered_json leakage_json(const Leakage& l, double radius_m) {
           {"radius_m", radius_m},
           {"test_within_radius", l.test_within_radius},
           {"share_within_radius", maybe(l.share_within)},
-          {"median_distance_m", maybe(l.median_distance_m)}};
+          {"median_distance_m", maybe(l.median_distance_m)},
+          {"by_distance", by_distance_json(l.by_distance)}};
 }
 
 }  // namespace
@@ -309,8 +323,10 @@ std::optional<FrameContext> frame_context(ExportState& es, const Candidate& c) {
   context.flag_overlap = es.config.overlap == OverlapMode::kFlag;
   const nuscenes::Scene& scene = es.db.scene[es.db.sample[c.sample].scene];
   const std::string drawn = random_scene_split(scene.token.str(), es.config.seed, es.plan.config.splits.ratios);
-  es.by_regions.push_back({location, x, y, tiling::split_index(region->split)});
-  es.by_scenes.push_back({location, x, y, tiling::split_index(drawn)});
+  const Eigen::Matrix3d& r = context.global_from_ego.rotation;
+  const double yaw_rad = std::atan2(r(1, 0), r(0, 0));  // the ego x axis in the map
+  es.by_regions.push_back({location, x, y, tiling::split_index(region->split), yaw_rad});
+  es.by_scenes.push_back({location, x, y, tiling::split_index(drawn), yaw_rad});
   if (es.config.split_preset == SplitPreset::kRegions) {
     context.split = region->split;
     context.region = region->name;
@@ -431,8 +447,8 @@ FramesSummary export_frames(const FramesConfig& config, const FramesRun& run) {
     if (!run.stats_only) write_frame(es, c, *context, lanes);
   }
   progress.finish();
-  summary.regions = measure_leakage(es.by_regions, config.leak_radius_m);
-  summary.scenes_random = measure_leakage(es.by_scenes, config.leak_radius_m);
+  summary.regions = measure_leakage(es.by_regions, config.leak_radius_m, config.window);
+  summary.scenes_random = measure_leakage(es.by_scenes, config.leak_radius_m, config.window);
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (run.stats_only) return summary;
   write_export_manifest(es, dataroot);

@@ -14,6 +14,11 @@
 
 namespace nsg::frames {
 
+// Named windows: OpenLane-V2's perception range, or the long-range one of the geo-disjoint
+// long-range evaluations (x ±100 m, y as OpenLane-V2's). A preset gives the edges a config does
+// not set itself.
+enum class WindowPreset { kOpenLaneV2, kLongRange };
+
 // The frame's window in the ego frame (x forward, y left), metres. The default is
 // OpenLane-V2's perception range: x ∈ [−50, 50] m, y ∈ [−25, 25] m (its `openlanev2/utils.py`
 // SD_MAP_RANGE, the range its SD map and ground truth are cut to).
@@ -22,6 +27,7 @@ struct WindowM {
   double x_max_m = 50.0;
   double y_min_m = -25.0;
   double y_max_m = 25.0;
+  WindowPreset preset = WindowPreset::kOpenLaneV2;  // last: WindowM{x_min, x_max, y_min, y_max} stays valid
 };
 
 // A frame whose window comes nearer than the split buffer to a region of another split.
@@ -48,6 +54,8 @@ const options::Table<FramesConfig>& frames_option_table();
 options::OrderedJson frames_config_schema();
 const char* to_string(OverlapMode mode);
 const char* to_string(SplitPreset preset);
+// The edges of a preset.
+WindowM window_of(WindowPreset preset);
 
 // options::resolve_config's precedence: the defaults, the file ("" = none), each --set
 // "key=value", then the flags (--copy-images for "copy_images"); the relations last.

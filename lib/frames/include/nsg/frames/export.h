@@ -17,14 +17,26 @@
 
 namespace nsg::frames {
 
+// Of the test frames' windows, the part a train frame's window covers, by distance from
+// the test frame's ego: labels a model has seen in training, farther out the wider the
+// window (docs/frames.md "The leakage figure").
+struct LeakageBand {
+  double from_m = 0.0;  // distance from the ego in [from_m, to_m)
+  double to_m = 0.0;
+  int64_t window_cells = 0;  // 2.5 m cells of test windows in the band
+  int64_t seen_cells = 0;    // of them, inside a train frame's window (same location)
+};
+
 // The leakage figure of Lilja et al. (CVPR 2024): how close each test frame's ego position
-// comes to a train frame's, within one location.
+// comes to a train frame's, within one location; and by_distance, the window cells a train
+// frame's window covers.
 struct Leakage {
   int64_t test_frames = 0;
   int64_t train_frames = 0;
   int64_t test_within_radius = 0;           // nearer than FramesConfig::leak_radius_m to a train frame
   std::optional<double> share_within;       // test_within_radius / test_frames (none without test frames)
   std::optional<double> median_distance_m;  // over test frames (none without train or test frames)
+  std::vector<LeakageBand> by_distance;     // 25 m bands out to the window's farthest corner
 };
 
 // Why a key frame of the release is not in the export.
