@@ -199,6 +199,14 @@ if [ -x "$exe" ]; then
   ran=$((ran + 1))
 fi
 
+# score --frames at its file-size limit: within the hosting recipe's 2 GB cap.
+if [ -x "$exe" ]; then
+  printf '\n== score --frames at the results file limit (one core)\n'
+  bash "$root/bench/adversarial/frames.sh" "$build" "$out/adversarial-frames" || failed+=("frames at the file limit")
+  cp "$out/adversarial-frames/frames_limit.json" "$out/" 2>/dev/null || true
+  ran=$((ran + 1))
+fi
+
 if [ -x "$exe" ]; then
   printf '\n== score --frames against OpenLane-V2'"'"'s evaluator on 200 frames (optional: OPENLANEV2_ROOT)\n'
   "$py" "$root/bench/python/frames_score_ratio.py" --nsgraph "$exe" --python-package "$root/$build/python" \

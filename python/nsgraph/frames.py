@@ -239,6 +239,18 @@ def to_results_json(results, path):
     return path
 
 
+def render(export, frame, out, split="test", submission=None, overwrite=False, bev_px_per_m=10.0):
+    """``nsgraph frames render``: the frame (sample token or "split/segment_id/timestamp") of
+    ``split`` drawn into each of its camera images (``<out>/<CHANNEL>.jpg``) and from above
+    (``bev.png``), a results file's centerlines (``submission``, a path) beside the ground
+    truth's. Returns {"files": [...], "truth_pieces_in_image": {channel: n}}; errors as the
+    CLI names them (nsgraph.errors.*)."""
+    files, pieces = _nsgraph.render_frame(os.fspath(export), frame, os.fspath(out), split,
+                                          os.fspath(submission) if submission else "", overwrite,
+                                          float(bev_px_per_m))
+    return {"files": list(files), "truth_pieces_in_image": dict(pieces)}
+
+
 def _score(ground_truth, results, split, verify, max_bytes, graph_metrics, max_seconds):
     report, issues, text = _nsgraph.score_frames(ground_truth, results, split, verify, max_bytes, graph_metrics,
                                                  float(max_seconds))

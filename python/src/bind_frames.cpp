@@ -11,6 +11,7 @@
 #include "nsg/core/error.h"
 #include "nsg/core/issues.h"
 #include "nsg/core/strings.h"
+#include "nsg/frames/render.h"
 #include "nsg/metrics/frames.h"
 #include "nsg/nuscenes/camera.h"
 
@@ -182,6 +183,28 @@ py::array_t<uint8_t> decode_jpeg(const std::string& path, int scale) {
   return out;
 }
 
+// `nsgraph frames render`: the files written (relative to out) and the ground-truth pieces in
+// view per camera.
+py::tuple render_frame(const std::string& export_dir, const std::string& frame, const std::string& out,
+                       const std::string& split, const std::string& submission, bool overwrite, double bev_px_per_m) {
+  frames::RenderRequest r;
+  r.export_dir = export_dir;
+  r.frame = frame;
+  r.out = out;
+  r.split = split;
+  r.submission = submission;
+  r.overwrite = overwrite;
+  r.bev_px_per_m = bev_px_per_m;
+  frames::RenderedFrame done;
+  {
+    py::gil_scoped_release release;
+    done = frames::render_frame(r);
+  }
+  py::dict pieces;
+  for (const auto& [channel, n] : done.truth_pieces_per_camera) pieces[py::str(channel)] = n;
+  return py::make_tuple(done.files, pieces);
+}
+
 }  // namespace
 
 void bind_frames(py::module_& m) {
@@ -198,6 +221,8 @@ void bind_frames(py::module_& m) {
       .def("record", &FramesExport::record, py::arg("path"), py::arg("verify") = true,
            "One listed record, checked (size and type before it is read, sha256 when verify, every field)");
   m.def("decode_jpeg", &decode_jpeg, py::arg("path"), py::arg("scale") = 1);
+  m.def("render_frame", &render_frame, py::arg("export_dir"), py::arg("frame"), py::arg("out"), py::arg("split"),
+        py::arg("submission"), py::arg("overwrite"), py::arg("bev_px_per_m"));
 }
 
 }  // namespace nsg::py_bind

@@ -133,6 +133,21 @@ class FramesTest(unittest.TestCase):
             nsgraph.score_frames(self.root, bad)
         self.assertTrue(any(i["check"] in ("submission.json", "frames.results.finite") for i in e.exception.issues))
 
+    def test_render_draws_every_camera_and_the_bev(self):
+        ds = nsgraph.frames.Dataset(self.root, "test")
+        item = ds[0]
+        out = os.path.join(self.tmp, "render")
+        done = nsgraph.frames.render(self.root, item["token"], out)
+        self.assertEqual(sorted(done["truth_pieces_in_image"]), sorted(item["cameras"]))
+        self.assertEqual(set(os.listdir(out)), set(done["files"]))
+        self.assertIn("bev.png", done["files"])
+        self.assertGreater(sum(done["truth_pieces_in_image"].values()), 0)  # the lanes are in view somewhere
+        ident = "/".join(["test", item["scene"], str(item["timestamp"])])
+        with self.assertRaises(nsgraph.ConfigError):  # an earlier render: replaced only when asked
+            nsgraph.frames.render(self.root, ident, out)
+        again = nsgraph.frames.render(self.root, ident, out, overwrite=True)
+        self.assertEqual(again["files"], done["files"])
+
     def test_openlanev2_results_dicts_score_as_they_are(self):
         """A TopoNet-style results dict: identifier tuple keys, float32 point arrays, numpy
         topology and confidences, OpenLane-V2's extra keys; the same report as the token-keyed

@@ -11,6 +11,7 @@
 #include "nsg/core/strings.h"
 #include "nsg/frames/config.h"
 #include "nsg/frames/export.h"
+#include "nsg/frames/render.h"
 #include "nsg/tiling/regions.h"
 
 namespace nsg::cli {
@@ -89,6 +90,36 @@ int run_frames(const FramesCliOptions& o, const Context& ctx) {
   return kExitOk;
 }
 
+int run_render(const frames::RenderRequest& r) {
+  NSG_CHECK(!r.export_dir.empty(), ConfigError, "", "--export", "a frames export folder (manifest.json)");
+  NSG_CHECK(!r.frame.empty(), ConfigError, "", "--frame", "a sample token or split/segment_id/timestamp");
+  const frames::RenderedFrame done = frames::render_frame(r);
+  std::string drawn;
+  for (const auto& [channel, n] : done.truth_pieces_per_camera) drawn += " " + channel + ":" + std::to_string(n);
+  log::info("frames render: " + done.sample_token + ", ground-truth pieces in view per camera:" + drawn + "; " +
+            std::to_string(done.files.size()) + " files written to " + r.out.string());
+  return kExitOk;
+}
+
+// `nsgraph frames render`: one frame drawn into its cameras and from above.
+CLI::App* add_render_command(CLI::App& frames_cmd, Context& ctx) {
+  auto r = std::make_shared<frames::RenderRequest>();
+  CLI::App* cmd = frames_cmd.add_subcommand(
+      "render", "Draw one frame's centerlines (and a submission's) into its camera images and a BEV panel");
+  cmd->add_option("--export", r->export_dir, "A frames export (nsgraph frames --out)");
+  cmd->add_option("--frame", r->frame, "The frame: its sample token or split/segment_id/timestamp");
+  cmd->add_option("--split", r->split, "The split the frame is in (default test)")->capture_default_str();
+  cmd->add_option("--submission", r->submission, "A results file to draw beside the ground truth (magenta)");
+  cmd->add_option("--out", r->out, "Output folder: <CHANNEL>.jpg per camera, bev.png, render.json");
+  cmd->add_option("--bev-px-per-m", r->bev_px_per_m, "Scale of the BEV panel (default 10 px per metre)")
+      ->capture_default_str();
+  cmd->add_flag("--overwrite", r->overwrite, "Replace an earlier render in --out (only the files it listed)");
+  cmd->add_flag(
+      "--no-verify", [r](int64_t) { r->verify = false; }, "Skip the record's sha256 check");
+  cmd->callback([r, &ctx] { ctx.run = [r] { return run_render(*r); }; });
+  return cmd;
+}
+
 }  // namespace
 
 void add_frames_command(CLI::App& root, Context& ctx) {
@@ -112,7 +143,11 @@ void add_frames_command(CLI::App& root, Context& ctx) {
   cmd->add_flag("--stats", o->stats,
                 "Count the frames and print the leakage figures of both split presets as JSON; write nothing");
   cmd->add_flag("--overwrite", o->overwrite, "Replace a frames export already in --out");
-  cmd->callback([o, &ctx] { ctx.run = [o, &ctx] { return run_frames(*o, ctx); }; });
+  CLI::App* render = add_render_command(*cmd, ctx);
+  cmd->callback([o, render, &ctx] {
+    if (render->parsed()) return;  // `frames render` set its own run
+    ctx.run = [o, &ctx] { return run_frames(*o, ctx); };
+  });
 }
 
 }  // namespace nsg::cli

@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""Golden camera projections of the real key frame, from the official devkit.
+
+Made once, committed beside this script (frame-projection.json), read by
+tests/unit/frames/test_frames_render.cpp: `nsgraph frames render` must place a point of the
+frame's ego frame where the devkit's chain places it in each camera image. The devkit and
+its quaternion class, run from their source trees (as make_golden.py beside this file):
+
+  nutonomy/nuscenes-devkit  d9de17a73bdc06ce97a02f77ae7edb9b0406e851
+  KieranWynn/pyquaternion   99025c17bab1c55265d61add13375433b35251af
+
+  /usr/bin/python3 make_projection_golden.py --devkit <nuscenes-devkit>/python-sdk \\
+      --pyquaternion <pyquaternion checkout> --dataroot tests/data/real/scene-0061-keyframe
+
+The points: a ring of ground points around the ego (z = 0 in the ego frame of the LIDAR_TOP
+key frame; radii 4-40 m every 15 degrees) and three at 1.5 m height ahead, so every camera
+sees some. Each is taken through the devkit's chain of `NuScenes.map_pointcloud_to_image`
+(the LIDAR_TOP key frame's ego pose to global, the camera's own ego pose back to its ego
+frame, its calibrated_sensor to the camera) and `view_points(points, K, normalize=True)`;
+the depth is the camera-frame z. Every point is written with every camera's (u, v, depth),
+in front of the camera or not.
+"""
+import argparse
+import json
+import math
+import os
+
+import numpy as np
+
+from make_golden import import_devkit
+
+
+def ego_points():
+    pts = []
+    for r in (4.0, 8.0, 15.0, 25.0, 40.0):
+        for k in range(24):
+            a = math.radians(15 * k)
+            pts.append([r * math.cos(a), r * math.sin(a), 0.0])
+    pts += [[10.0, 0.0, 1.5], [20.0, -3.0, 1.5], [-10.0, 2.0, 1.5]]
+    return pts
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('--devkit', required=True, help='nuscenes-devkit/python-sdk')
+    ap.add_argument('--pyquaternion', required=True, help='a pyquaternion checkout (holds pyquaternion/)')
+    ap.add_argument('--dataroot', required=True)
+    ap.add_argument('--out', default=os.path.dirname(os.path.abspath(__file__)))
+    args = ap.parse_args()
+    NuScenes, _, view_points, Quaternion = import_devkit(args.devkit, args.pyquaternion)
+    nusc = NuScenes('v1.0-mini', dataroot=args.dataroot, verbose=False)
+    sample = nusc.sample[0]
+    lidar = nusc.get('sample_data', sample['data']['LIDAR_TOP'])
+    lidar_pose = nusc.get('ego_pose', lidar['ego_pose_token'])
+    points = np.array(ego_points(), dtype=np.float64).T  # 3 x N
+    # ego (LIDAR_TOP key frame) -> global, as map_pointcloud_to_image's second step
+    glob = Quaternion(lidar_pose['rotation']).rotation_matrix @ points + np.array(lidar_pose['translation'])[:, None]
+    out = {'sample_token': sample['token'], 'ego_points': ego_points(), 'cameras': {}}
+    for channel, token in sorted(sample['data'].items()):
+        sd = nusc.get('sample_data', token)
+        if sd['sensor_modality'] != 'camera':
+            continue
+        pose = nusc.get('ego_pose', sd['ego_pose_token'])
+        cs = nusc.get('calibrated_sensor', sd['calibrated_sensor_token'])
+        p = glob - np.array(pose['translation'])[:, None]
+        p = Quaternion(pose['rotation']).rotation_matrix.T @ p
+        p = p - np.array(cs['translation'])[:, None]
+        p = Quaternion(cs['rotation']).rotation_matrix.T @ p
+        depth = p[2, :].copy()
+        uv = view_points(p, np.array(cs['camera_intrinsic']), normalize=True)
+        out['cameras'][channel] = [[float(uv[0, i]), float(uv[1, i]), float(depth[i])] for i in range(p.shape[1])]
+    with open(os.path.join(args.out, 'frame-projection.json'), 'w') as f:
+        json.dump(out, f, indent=None)
+        f.write('\n')
+    print(f"{len(out['cameras'])} cameras, {len(out['ego_points'])} points")
+
+
+if __name__ == '__main__':
+    main()
