@@ -137,17 +137,25 @@ std::string encode(const cv::Mat& rgb, const char* ext) {
   return std::string(bytes.begin(), bytes.end());
 }
 
-const FrameRecord find_record(const metrics::FramesManifest& manifest, const RenderRequest& request) {
-  std::optional<FrameRecord> found;
-  metrics::for_each_frame_record(manifest, request.split, request.verify,
-                                 [&](const FrameRecord& r, const metrics::FramesListedFile&) {
-                                   if (!found && (r.sample_token == request.frame || r.identifier() == request.frame))
-                                     found = r;
-                                 });
-  NSG_CHECK(found.has_value(), ConfigError, manifest.file.string(), "--frame",
-            "a sample token or split/segment_id/timestamp of a frame of split " + request.split + " (\"" +
-                printable_text(request.frame) + "\" is none)");
-  return *found;
+// The frame's record: by its path when named as an identifier (one record read), else the
+// split's records in turn until its token.
+FrameRecord find_record(const metrics::FramesManifest& manifest, const RenderRequest& request) {
+  const std::vector<const metrics::FramesListedFile*> listed = manifest.records(request.split);
+  const size_t last_slash = request.frame.rfind('/');
+  if (last_slash != std::string::npos) {
+    const std::string path =
+        request.frame.substr(0, last_slash) + "/info/" + request.frame.substr(last_slash + 1) + ".json";
+    for (const metrics::FramesListedFile* f : listed)
+      if (f->path == path) return metrics::read_listed_record(manifest, *f, request.verify);
+  } else {
+    for (const metrics::FramesListedFile* f : listed) {
+      FrameRecord r = metrics::read_listed_record(manifest, *f, request.verify);
+      if (r.sample_token == request.frame) return r;
+    }
+  }
+  throw ConfigError(manifest.file.string(), "--frame",
+                    "a sample token or split/segment_id/timestamp of a frame of split " + request.split + " (\"" +
+                        printable_text(request.frame) + "\" is none)");
 }
 
 // The submission's centerlines of the frame (empty when it has none).

@@ -46,18 +46,25 @@ std::string shortened(const std::string& text, size_t max_chars) {
   return text.size() <= max_chars ? text : text.substr(0, max_chars) + "…";
 }
 
+// A key as one JSON pointer token ("~" → "~0", "/" → "~1"): a stranger's key may hold either.
+std::string pointer_token(const std::string& key) {
+  std::string out;
+  for (const char c : key) out += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+  return out;
+}
+
 // The JSON pointer of the first member where `got` differs from `want` ("" when equal),
 // objects compared member by member whatever their order.
 std::string first_difference(const ordered_json& want, const ordered_json& got, const std::string& at) {
   if (want.is_object() && got.is_object()) {
     for (const auto& [key, value] : want.items()) {
       const auto it = got.find(key);
-      if (it == got.end()) return at + "/" + key;
-      const std::string d = first_difference(value, *it, at + "/" + key);
+      if (it == got.end()) return at + "/" + pointer_token(key);
+      const std::string d = first_difference(value, *it, at + "/" + pointer_token(key));
       if (!d.empty()) return d;
     }
     for (const auto& [key, value] : got.items())
-      if (!want.contains(key)) return at + "/" + key;
+      if (!want.contains(key)) return at + "/" + pointer_token(key);
     return "";
   }
   if (want.is_array() && got.is_array()) {
@@ -181,9 +188,14 @@ DoneRecord done_record_from_text(std::string_view text, const std::filesystem::p
   // Strict first (nesting, repeated keys: a record is an outside file like any other), then
   // in order (the plan's order is the manifest's).
   parse_json_strict(text, file.string(), "a done-record", kMaxDoneRecordDepth);
-  DoneRecord r = RecordReader(file.string()).read(ordered_json::parse(text));
-  r.path = file;
-  return r;
+  try {
+    DoneRecord r = RecordReader(file.string()).read(ordered_json::parse(text));
+    r.path = file;
+    return r;
+  } catch (const nlohmann::json::exception& e) {
+    // Every field is checked before it is read; this is the net under that rule.
+    throw ParseError(file.string(), "", std::string("a done-record as generate writes it (") + e.what() + ")");
+  }
 }
 
 DoneRecord read_done_record(const std::filesystem::path& path) {

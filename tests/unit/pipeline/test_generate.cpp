@@ -316,6 +316,11 @@ TEST(Generate, MergeChecksTheDoneRecordsLikeAnyOutsideFile) {
   real["config"]["crops"]["size_px"] = "big";
   EXPECT_NE(merge_err(real.dump()).find("/config"), std::string::npos);
   real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
+  real["config"]["a~/b"] = 1;  // a key no config has: named, never an internal error
+  const std::string unknown = merge_err(real.dump());
+  EXPECT_NE(unknown.find("/config"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("a~/b"), std::string::npos) << unknown;
+  real = read_json(e2e_dataset() / "parts/share-000000-of-000001.json");
   real["plan"][0].erase("map_version");
   EXPECT_NE(merge_err(real.dump()).find("/plan/0/map_version"), std::string::npos);
 }
