@@ -13,6 +13,7 @@ the same extension ABI (EXT_SUFFIX, e.g. any CPython 3.11 against Debian's); ano
 its own build folder <build>/python-abi/<EXT_SUFFIX> configured for this interpreter, which
 compiles the libraries once more (about 15 minutes on two cores, once per interpreter).
 """
+import ast
 import base64
 import hashlib
 import io
@@ -49,6 +50,37 @@ def _pyproject_field(pattern):
     return match.group(1) if match else None
 
 
+def _table(text, name):
+    """The body of the TOML table `[name]` (up to the next table header), or ""."""
+    match = re.search(r"^\[" + re.escape(name) + r"\][ \t]*$(.*?)(?=^\[|\Z)", text, re.MULTILINE | re.DOTALL)
+    return match.group(1) if match else ""
+
+
+def _string_array(value, where):
+    """A TOML array of plain strings, e.g. ["numpy", "torch>=2"] (the only form these tables use)."""
+    try:
+        items = ast.literal_eval(value)
+    except (ValueError, SyntaxError):
+        items = None
+    if not isinstance(items, list) or not all(isinstance(i, str) for i in items):
+        raise BuildError(f"pyproject.toml: {where}: expected an array of strings, got {value!r}")
+    return items
+
+
+def _dependencies():
+    """[project] dependencies and [project.optional-dependencies], read from pyproject.toml so
+    the wheel's metadata says what the project file says."""
+    with open(os.path.join(ROOT, "pyproject.toml"), encoding="utf-8") as f:
+        text = f.read()
+    match = re.search(r"^dependencies\s*=\s*(\[.*?\])", _table(text, "project"), re.MULTILINE | re.DOTALL)
+    dependencies = _string_array(match.group(1), "project.dependencies") if match else []
+    extras = {}
+    for m in re.finditer(r"^([A-Za-z0-9_.-]+)\s*=\s*(\[.*?\])", _table(text, "project.optional-dependencies"),
+                         re.MULTILINE | re.DOTALL):
+        extras[m.group(1)] = _string_array(m.group(2), "project.optional-dependencies." + m.group(1))
+    return dependencies, extras
+
+
 def _metadata():
     """METADATA (core metadata 2.1) from pyproject.toml's [project] table, read by pattern:
     tomllib is 3.11+, and the table holds only the plain fields below."""
@@ -59,7 +91,11 @@ def _metadata():
     requires_python = _pyproject_field(r'^requires-python\s*=\s*"(.*)"')
     if requires_python:
         lines.append(f"Requires-Python: {requires_python}")
-    lines += ["Requires-Dist: numpy", "Provides-Extra: torch", 'Requires-Dist: torch; extra == "torch"']
+    dependencies, extras = _dependencies()
+    lines += [f"Requires-Dist: {d}" for d in dependencies]
+    for extra, requirements in extras.items():
+        lines.append(f"Provides-Extra: {extra}")
+        lines += [f'Requires-Dist: {d}; extra == "{extra}"' for d in requirements]
     readme = os.path.join(ROOT, "python", "README.md")
     body = ""
     if os.path.exists(readme):
