@@ -67,7 +67,7 @@ int run_share_count(const std::vector<DoneRecord>& records) {
 // manifest.json written for another config: what an older dataset left behind. The
 // folders are walked without following links (a linked maps/ is refused, not entered).
 std::vector<fs::path> older_dataset_files(const fs::path& out, const std::map<int, const DoneRecord*>& shares,
-                                          const ordered_json& config) {
+                                          const GenerateConfig& config) {
   std::set<std::string> recorded;
   for (const auto& [index, record] : shares)
     for (const DoneItem& item : record->items)
@@ -79,7 +79,10 @@ std::vector<fs::path> older_dataset_files(const fs::path& out, const std::map<in
   if (fs::exists(manifest)) {
     bool this_config = false;
     try {
-      this_config = io::read_manifest(manifest).config == config;
+      // One config however its release was spelled (config_digest).
+      const io::Manifest m = io::read_manifest(manifest);
+      this_config =
+          config_digest(config_from_json(json(m.config), manifest.string() + ":/config")) == config_digest(config);
     } catch (const Error&) {
       this_config = false;  // unreadable: not this run's
     }
@@ -297,7 +300,7 @@ io::Ladder ladder_of(const ordered_json& config, const PlannedOutputs& o) {
 // Files an older dataset left in `out` (and the records of other runs, `other_runs`):
 // refused, or removed with --overwrite — all checked before any is removed.
 void clear_older_dataset(const fs::path& out, const std::map<int, const DoneRecord*>& shares,
-                         const ordered_json& config, bool overwrite, const std::set<std::string>& ours,
+                         const GenerateConfig& config, bool overwrite, const std::set<std::string>& ours,
                          const std::vector<fs::path>& other_runs) {
   std::vector<fs::path> leftovers = older_dataset_files(out, shares, config);
   leftovers.insert(leftovers.end(), other_runs.begin(), other_runs.end());
@@ -367,7 +370,7 @@ void merge_records(const fs::path& out, bool overwrite) {
   if (!problems.empty())
     throw DataError(out.string(), "merge", "every planned output present and intact:\n  " + join(problems, "\n  "));
 
-  clear_older_dataset(out, shares, config, overwrite, ours, other_runs);
+  clear_older_dataset(out, shares, first.config, overwrite, ours, other_runs);
   write_file_atomic(out / "manifest.json", io::manifest_text(manifest_of(out, config, std::move(plan), tar, outputs)));
 }
 

@@ -34,7 +34,18 @@ fs::path done_record_path(const fs::path& out, const ShareSpec& share) {
   return out / "parts" / strprintf("share-%06d-of-%06d.json", share.index, share.count);
 }
 
-std::string config_digest(const GenerateConfig& config) { return sha256_hex(config_to_json(config).dump()); }
+// The config's identity: its JSON with the release's folder absolute and resolved, so
+// `--dataroot ../release`, `--dataroot /data/release` and a link to it are one config — a
+// rerun from another folder resumes instead of meeting "another config".
+std::string config_digest(const GenerateConfig& config) {
+  GenerateConfig same = config;
+  std::error_code ec;
+  if (!same.dataroot.empty()) {
+    const fs::path resolved = fs::weakly_canonical(fs::absolute(same.dataroot, ec), ec);
+    if (!ec) same.dataroot = resolved.string();
+  }
+  return sha256_hex(config_to_json(same).dump());
+}
 
 std::string item_digest(const std::vector<DoneFile>& files) {
   if (files.size() == 1) return files[0].sha256;

@@ -40,6 +40,7 @@ std::filesystem::path done_record_path(const std::filesystem::path& out, const S
 std::string item_digest(const std::vector<DoneFile>& files);
 // Re-hashes the recorded files; false (with `why`) when one is missing or differs.
 bool verify_item(const std::filesystem::path& out, const DoneItem& item, std::string* why);
+// sha256 of the config's JSON with `dataroot` absolute and resolved (however it was spelled).
 std::string config_digest(const GenerateConfig& config);
 // The terms a dataset built from a nuScenes release inherits (its sensor data and map
 // expansion are CC BY-NC-SA 4.0): the manifest's `licence`, printed once by generate. A

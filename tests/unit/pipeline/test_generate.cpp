@@ -219,6 +219,27 @@ TEST(Generate, MergeNamesAMissingShareAndACorruptShard) {
   EXPECT_EQ(tree_hashes(dir.path()), tree_hashes(e2e_dataset()));
 }
 
+// The release named another way — relative to the working folder, or through a link — is the
+// same config: the rerun resumes (every shard verified, none rewritten), not "another config".
+TEST(Generate, ARerunNamingTheReleaseAnotherWayResumes) {
+  TempDir dir("gen-resume-spelling");
+  ASSERT_EQ(run_nsgraph(e2e_generate_args(dir / "out")).exit_code, 0);
+  std::map<std::string, fs::file_time_type> written;
+  for (const auto& e : fs::recursive_directory_iterator(dir / "out/shards"))
+    written[e.path().string()] = fs::last_write_time(e.path());
+  ASSERT_FALSE(written.empty());
+  fs::create_directory_symlink(e2e_release(), dir / "link");
+  for (const fs::path& release : {fs::relative(e2e_release(), fs::current_path()), dir.path() / "link"}) {
+    SCOPED_TRACE(release.string());
+    std::vector<std::string> args = e2e_generate_args(dir / "out");
+    for (size_t i = 0; i + 1 < args.size(); ++i)
+      if (args[i] == "--dataroot") args[i + 1] = release.string();
+    const CommandResult r = run_nsgraph(args);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    for (const auto& [file, time] : written) EXPECT_EQ(fs::last_write_time(file), time) << file << " was rewritten";
+  }
+}
+
 // Shares written into a folder an older dataset left a shard and a done-record in: merge
 // names the leftovers and writes no manifest; --overwrite removes them and merges.
 TEST(Generate, MergeRefusesAnOlderDatasetsLeftoversUnlessOverwritten) {
