@@ -37,6 +37,12 @@ double nearest_distance(const std::vector<Point>& sorted_by_x, const Point& p) {
   return std::sqrt(best2);
 }
 
+// The window's farthest corner from the ego.
+double reach_m(const WindowM& w) {
+  return std::max({std::hypot(w.x_min_m, w.y_min_m), std::hypot(w.x_min_m, w.y_max_m), std::hypot(w.x_max_m, w.y_min_m),
+                   std::hypot(w.x_max_m, w.y_max_m)});
+}
+
 // A frame's window as a rectangle in the map: a point is inside when, turned into the
 // frame's ego axes, it lies within the window's edges.
 struct PlacedWindow {
@@ -55,10 +61,7 @@ class TrainWindows {
  public:
   static constexpr double kBucketM = 50.0;
 
-  TrainWindows(const WindowM& window) : window_(window) {
-    for (double u : {window.x_min_m, window.x_max_m})
-      for (double v : {window.y_min_m, window.y_max_m}) reach_m_ = std::max(reach_m_, std::hypot(u, v));
-  }
+  explicit TrainWindows(const WindowM& window) : window_(window), reach_m_(reach_m(window)) {}
 
   void add(const EgoPosition& f) {
     const size_t index = windows_.size();
@@ -80,7 +83,7 @@ class TrainWindows {
   static int64_t bucket(double v) { return static_cast<int64_t>(std::floor(v / kBucketM)); }
 
   WindowM window_;
-  double reach_m_ = 0.0;  // the window's farthest corner from the ego
+  double reach_m_;  // the window's farthest corner from the ego
   std::vector<PlacedWindow> windows_;
   std::map<std::pair<int64_t, int64_t>, std::vector<size_t>> buckets_;
 };
@@ -88,11 +91,9 @@ class TrainWindows {
 }  // namespace
 
 std::vector<LeakageBand> window_leakage(const std::vector<EgoPosition>& frames, const WindowM& window) {
-  double reach_m = 0.0;
-  for (double u : {window.x_min_m, window.x_max_m})
-    for (double v : {window.y_min_m, window.y_max_m}) reach_m = std::max(reach_m, std::hypot(u, v));
   std::vector<LeakageBand> bands;
-  for (double from = 0.0; from < reach_m; from += kLeakageBandM) bands.push_back({from, from + kLeakageBandM, 0, 0});
+  for (double from = 0.0; from < reach_m(window); from += kLeakageBandM)
+    bands.push_back({from, from + kLeakageBandM, 0, 0});
   std::map<std::string, TrainWindows> train;
   for (const EgoPosition& f : frames)
     if (f.split == 0) train.try_emplace(f.location, window).first->second.add(f);

@@ -222,8 +222,8 @@ std::vector<std::vector<ImagePoint>> project_polyline(const FrameRecord& record,
     if (in_front) piece.push_back(to_pixels(camera, c));
     previous = c;
   }
-  if (piece.size() >= 2) pieces.push_back(std::move(piece));
-  std::erase_if(pieces, [](const std::vector<ImagePoint>& q) { return q.size() < 2; });
+  pieces.push_back(std::move(piece));
+  std::erase_if(pieces, [](const std::vector<ImagePoint>& q) { return q.size() < 2; });  // a point is no line
   return pieces;
 }
 

@@ -6,6 +6,7 @@
 #include "nsg/core/files.h"
 #include "nsg/core/json.h"
 #include "nsg/core/strings.h"
+#include "nsg/validate/submission.h"  // json_pointer_token
 
 namespace nsg::pipeline {
 
@@ -46,25 +47,18 @@ std::string shortened(const std::string& text, size_t max_chars) {
   return text.size() <= max_chars ? text : text.substr(0, max_chars) + "…";
 }
 
-// A key as one JSON pointer token ("~" → "~0", "/" → "~1"): a stranger's key may hold either.
-std::string pointer_token(const std::string& key) {
-  std::string out;
-  for (const char c : key) out += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
-  return out;
-}
-
 // The JSON pointer of the first member where `got` differs from `want` ("" when equal),
 // objects compared member by member whatever their order.
 std::string first_difference(const ordered_json& want, const ordered_json& got, const std::string& at) {
   if (want.is_object() && got.is_object()) {
     for (const auto& [key, value] : want.items()) {
       const auto it = got.find(key);
-      if (it == got.end()) return at + "/" + pointer_token(key);
-      const std::string d = first_difference(value, *it, at + "/" + pointer_token(key));
+      if (it == got.end()) return at + "/" + validate::json_pointer_token(key);
+      const std::string d = first_difference(value, *it, at + "/" + validate::json_pointer_token(key));
       if (!d.empty()) return d;
     }
     for (const auto& [key, value] : got.items())
-      if (!want.contains(key)) return at + "/" + pointer_token(key);
+      if (!want.contains(key)) return at + "/" + validate::json_pointer_token(key);
     return "";
   }
   if (want.is_array() && got.is_array()) {

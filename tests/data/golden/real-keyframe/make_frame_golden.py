@@ -17,20 +17,14 @@ For the sample: `pose` = the LIDAR_TOP key frame's ego_pose (`Quaternion(rotatio
 image `filename`, `width`, `height`, the calibrated_sensor's rotation matrix and
 translation (camera -> ego), `camera_intrinsic` and the camera's own ego_pose.
 """
-import argparse
 import json
 import os
 
-from make_golden import import_devkit
+from make_golden import devkit_arguments, import_devkit
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument('--devkit', required=True, help='nuscenes-devkit/python-sdk')
-    ap.add_argument('--pyquaternion', required=True, help='a pyquaternion checkout (holds pyquaternion/)')
-    ap.add_argument('--dataroot', required=True)
-    ap.add_argument('--out', default=os.path.dirname(os.path.abspath(__file__)))
-    args = ap.parse_args()
+    args = devkit_arguments(__doc__)
     NuScenes, _, _, Quaternion = import_devkit(args.devkit, args.pyquaternion)
     nusc = NuScenes('v1.0-mini', dataroot=args.dataroot, verbose=False)
     sample = nusc.sample[0]

@@ -75,13 +75,19 @@ def import_devkit(devkit, pyquaternion):
     return NuScenes, data_classes.LidarPointCloud, view_points, Quaternion
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def devkit_arguments(doc):
+    """The arguments every golden maker of this folder takes: the devkit and pyquaternion
+    source trees, the release (the real key frame) and the output folder (this one)."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('--devkit', required=True, help='nuscenes-devkit/python-sdk')
     ap.add_argument('--pyquaternion', required=True, help='a pyquaternion checkout (holds pyquaternion/)')
     ap.add_argument('--dataroot', required=True)
     ap.add_argument('--out', default=os.path.dirname(os.path.abspath(__file__)))
-    args = ap.parse_args()
+    return ap.parse_args()
+
+
+def main():
+    args = devkit_arguments(__doc__)
 
     NuScenes, LidarPointCloud, view_points, Quaternion = import_devkit(args.devkit, args.pyquaternion)
     from PIL import Image

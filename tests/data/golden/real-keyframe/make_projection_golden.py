@@ -20,14 +20,13 @@ frame, its calibrated_sensor to the camera) and `view_points(points, K, normaliz
 the depth is the camera-frame z. Every point is written with every camera's (u, v, depth),
 in front of the camera or not.
 """
-import argparse
 import json
 import math
 import os
 
 import numpy as np
 
-from make_golden import import_devkit
+from make_golden import devkit_arguments, import_devkit
 
 
 def ego_points():
@@ -41,12 +40,7 @@ def ego_points():
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument('--devkit', required=True, help='nuscenes-devkit/python-sdk')
-    ap.add_argument('--pyquaternion', required=True, help='a pyquaternion checkout (holds pyquaternion/)')
-    ap.add_argument('--dataroot', required=True)
-    ap.add_argument('--out', default=os.path.dirname(os.path.abspath(__file__)))
-    args = ap.parse_args()
+    args = devkit_arguments(__doc__)
     NuScenes, _, view_points, Quaternion = import_devkit(args.devkit, args.pyquaternion)
     nusc = NuScenes('v1.0-mini', dataroot=args.dataroot, verbose=False)
     sample = nusc.sample[0]
