@@ -4,6 +4,7 @@
 #include <unordered_map>
 
 #include "nsg/core/error.h"
+#include "nsg/core/issues.h"
 #include "nsg/graph/lane_attributes.h"
 
 namespace nsg::io {
@@ -61,10 +62,16 @@ bool read_edge_attributes(const nlohmann::json& e, const std::string& file, cons
 
 }  // namespace
 
-graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::string& file) {
+graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::string& file, Issues* problems) {
   NSG_CHECK(doc.is_object() && doc.contains("nodes") && doc["nodes"].is_array() && doc.contains("edges") &&
                 doc["edges"].is_array(),
             DataError, file, "", "a graph object with arrays nodes and edges");
+  // A reference problem (a repeated id, an end that names no node) throws, or is listed
+  // under its check when the caller collects them; the edge or lane change is then left out.
+  const auto reference = [&](const char* check, const DataError& e) {
+    if (problems == nullptr) throw e;
+    problems->error(check, file + ":" + e.record(), e.expected());
+  };
   graph::TileGraph g;
   std::unordered_map<int64_t, int32_t> index_of;
   const nlohmann::json& nodes = doc["nodes"];
@@ -75,7 +82,8 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
     NSG_CHECK(n.is_object() && n.contains("id") && n["id"].is_number_integer(), DataError, file, p + "/id",
               "a node {id (integer), u, v, x, y}");
     const auto id = n["id"].get<int64_t>();
-    NSG_CHECK(index_of.emplace(id, static_cast<int32_t>(k)).second, DataError, file, p + "/id", "a unique node id");
+    if (!index_of.emplace(id, static_cast<int32_t>(k)).second)
+      reference("graph.indices", DataError(file, p + "/id", "a unique node id, got " + std::to_string(id) + " again"));
     g.nodes.push_back({static_cast<int32_t>(id), number(n, "u", file, p), number(n, "v", file, p),
                        number(n, "x", file, p), number(n, "y", file, p), junction(n, file, p)});
   }
@@ -86,8 +94,13 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
     const nlohmann::json& e = edges[k];
     NSG_CHECK(e.is_object(), DataError, file, p, "an edge {source, target, lane_token}");
     graph::TileEdge edge;
-    edge.source = node_index(e, "source", index_of, file, p);
-    edge.target = node_index(e, "target", index_of, file, p);
+    try {
+      edge.source = node_index(e, "source", index_of, file, p);
+      edge.target = node_index(e, "target", index_of, file, p);
+    } catch (const DataError& bad) {
+      reference("graph.indices", bad);
+      continue;
+    }
     edge.lane_token = text(e, "lane_token", file, p);
     if (!read_edge_attributes(e, file, p, edge)) g.has_edge_attributes = false;
     g.edges.push_back(std::move(edge));
@@ -100,8 +113,17 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
     const std::string p = "/lane_changes/" + std::to_string(k);
     const nlohmann::json& c = (*changes)[k];
     NSG_CHECK(c.is_object(), DataError, file, p, "a lane change {source, target, from_lane_token, to_lane_token}");
-    g.lane_changes.push_back({node_index(c, "source", index_of, file, p), node_index(c, "target", index_of, file, p),
-                              text(c, "from_lane_token", file, p), text(c, "to_lane_token", file, p)});
+    graph::TileLaneChange change;
+    try {
+      change.source = node_index(c, "source", index_of, file, p);
+      change.target = node_index(c, "target", index_of, file, p);
+    } catch (const DataError& bad) {
+      reference("graph.lane_changes", bad);
+      continue;
+    }
+    change.from_lane_token = text(c, "from_lane_token", file, p);
+    change.to_lane_token = text(c, "to_lane_token", file, p);
+    g.lane_changes.push_back(std::move(change));
   }
   return g;
 }

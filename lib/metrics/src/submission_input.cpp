@@ -43,17 +43,18 @@ CheckedSubmission check_submission_file(const std::filesystem::path& file, const
 
 Issues check_graph(const Graph& graph, const std::string& key, const std::string& label,
                    const validate::SubmissionLimits& limits) {
-  nlohmann::json nodes = nlohmann::json::array(), edges = nlohmann::json::array();
-  for (const Point& p : graph.nodes) nodes.push_back({p.u, p.v});
-  // A file's index is an unsigned JSON number when it is not negative: stored the same way,
-  // the index and work checks see it as they would in a file.
-  const auto index = [](int64_t i) { return i >= 0 ? nlohmann::json(static_cast<uint64_t>(i)) : nlohmann::json(i); };
-  for (const auto& [i, j] : graph.edges) edges.push_back({index(i), index(j)});
-  nlohmann::json tile = {{"nodes", std::move(nodes)}, {"edges", std::move(edges)}};
-  if (!graph.node_scores.empty()) tile["node_scores"] = graph.node_scores;
-  if (!graph.edge_scores.empty()) tile["edge_scores"] = graph.edge_scores;
-  const nlohmann::json doc = {{"tiles", {{key, std::move(tile)}}}};
-  return validate::check_submission_structure(doc, label, limits);
+  validate::TileValues tile;
+  tile.nodes.reserve(graph.nodes.size());
+  for (const Point& p : graph.nodes) tile.nodes.push_back({p.u, p.v});
+  tile.edges = graph.edges;
+  tile.node_scores = graph.node_scores;
+  tile.edge_scores = graph.edge_scores;
+  tile.has_node_scores = !graph.node_scores.empty();
+  tile.has_edge_scores = !graph.edge_scores.empty();
+  Issues issues;
+  issues.limit_per_check(kMaxListedIssues);  // as a file's
+  validate::check_tile_values(tile, label + ":/tiles/" + validate::json_pointer_token(key), limits, issues);
+  return issues;
 }
 
 }  // namespace nsg::metrics

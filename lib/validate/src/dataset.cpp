@@ -16,7 +16,9 @@
 #include "nsg/graph/lane_attributes.h"
 #include "nsg/io/dataset.h"
 #include "nsg/io/raster.h"
+#include "nsg/io/tile_graph.h"
 #include "nsg/io/tile_members.h"
+#include "nsg/io/tile_meta.h"
 #include "nsg/validate/documents.h"
 #include "nsg/validate/schema.h"
 #include "ladder_checks.h"
@@ -99,13 +101,6 @@ bool overlaps(const Rect& a, const Rect& b, double tol) {
          std::min(a.y_north, b.y_north) - std::max(a.y_south, b.y_south) > tol;
 }
 
-std::optional<Rect> rect_of(const json& bounds) {
-  if (!bounds.is_array() || bounds.size() != 4) return std::nullopt;
-  for (const json& v : bounds)
-    if (!v.is_number() || !std::isfinite(v.get<double>())) return std::nullopt;
-  return Rect{bounds[0].get<double>(), bounds[1].get<double>(), bounds[2].get<double>(), bounds[3].get<double>()};
-}
-
 double num_or(const json& j, const json::json_pointer& ptr, double fallback) {
   return j.contains(ptr) && j.at(ptr).is_number() ? j.at(ptr).get<double>() : fallback;
 }
@@ -118,6 +113,17 @@ struct TileRecord {
   std::string key, split, location, shard;
   Rect bounds;
 };
+
+Rect rect_of(const io::TileMeta& meta) {
+  return Rect{meta.bounds_m[0], meta.bounds_m[1], meta.bounds_m[2], meta.bounds_m[3]};
+}
+
+// Metres between two nodes of `g` (indices the reader checked).
+double distance_m(const graph::TileGraph& g, int32_t a, int32_t b) {
+  const graph::TileNode& p = g.nodes[static_cast<size_t>(a)];
+  const graph::TileNode& q = g.nodes[static_cast<size_t>(b)];
+  return std::hypot(q.x_m - p.x_m, q.y_m - p.y_m);
+}
 
 struct RasterSpec {
   std::string suffix;
@@ -190,18 +196,18 @@ class DatasetChecker {
     const json config = json(m_.config);  // an object: the manifest's reader checked it
     issues_.append(SchemaValidator(schema_path("generate-config", schemas_))
                        .validate(config, "manifest.json:/config", "determinism.config"));
-    const auto differs = [&](const char* config_ptr, const char* manifest_ptr) {
-      const json::json_pointer a(config_ptr), b(manifest_ptr);
-      if (config.contains(a) && document_.contains(b) && config.at(a) == document_.at(b)) return;
+    // The config as written against the typed manifest's value (its reader checked it).
+    const auto differs = [&](const char* config_ptr, const char* manifest_ptr, const json& manifest_value) {
+      const json::json_pointer a(config_ptr);
+      if (config.contains(a) && config.at(a) == manifest_value) return;
       error("determinism.config", std::string("manifest.json:") + manifest_ptr,
             std::string("equal to config ") + config_ptr + " (" +
-                (config.contains(a) ? config.at(a).dump() : "absent") + " vs " +
-                (document_.contains(b) ? document_.at(b).dump() : "absent") + ")");
+                (config.contains(a) ? config.at(a).dump() : "absent") + " vs " + manifest_value.dump() + ")");
     };
-    differs("/seed", "/seed");
-    differs("/crops/size_px", "/tile_format/size_px");
-    differs("/resolution_m", "/tile_format/resolution_m");
-    differs("/output/layout", "/layout");
+    differs("/seed", "/seed", m_.seed);
+    differs("/crops/size_px", "/tile_format/size_px", m_.tile_format.size_px);
+    differs("/resolution_m", "/tile_format/resolution_m", m_.tile_format.resolution_m);
+    differs("/output/layout", "/layout", m_.tar_layout() ? "tar" : "folder");
   }
 
   void check_file_hash(const std::string& check, const fs::path& path, const std::string& want_sha256,
@@ -289,138 +295,163 @@ class DatasetChecker {
     }
   }
 
+  // Schema checks on the documents as written, then the typed models' checks: the meta
+  // and the graph are read by their one reader (io/tile_meta.h, io/tile_graph.h), and
+  // every check below runs over what the reader gives.
   void check_tile(const io::DatasetTile& t, const io::ShardEntry& shard) {
     check_key(t, shard);
     check_members(t);
-    const std::string base = t.shard + "/" + t.key;
-    std::optional<json> meta = parse_member(t, "meta.json", "meta.schema");
-    std::optional<Rect> bounds;
-    if (meta) bounds = check_meta(t, *meta, shard);
-    std::optional<json> graph = parse_member(t, "graph.json", "graph.schema");
-    if (graph) check_graph(t, *graph, bounds, meta);
-    check_rasters(t, meta, bounds);
-    if (m_.ladder) ladder_.push_back(ladder_facts(t, shard, meta, graph));
+    const std::optional<json> meta_doc = parse_member(t, "meta.json", "meta.schema");
+    std::optional<io::TileMeta> meta;
+    if (meta_doc) meta = read_meta(t, *meta_doc);
+    if (meta) check_meta(t, *meta, shard);
+    const std::optional<json> graph_doc = parse_member(t, "graph.json", "graph.schema");
+    if (graph_doc)
+      if (const std::optional<ReadGraph> graph = read_graph(t, *graph_doc)) check_graph(t, *graph, meta);
+    check_rasters(t, meta);
+    if (m_.ladder) ladder_.push_back(ladder_facts(t, shard, meta, graph_doc));
   }
 
-  std::optional<Rect> check_meta(const io::DatasetTile& t, const json& meta, const io::ShardEntry& shard) {
+  // The schema's findings, then the reader's (a range or rule the schema cannot state)
+  // when the schema found nothing: one problem is reported once.
+  std::optional<io::TileMeta> read_meta(const io::DatasetTile& t, const json& doc) {
     const std::string subject = t.shard + "/" + t.key + ".meta.json";
-    if (meta_schema_) issues_.append(meta_schema_->validate(meta, subject, "meta.schema"));
-    if (str_of(meta, "key") != t.key) error("tile.key", subject + ":/key", "the member's key '" + t.key + "'");
-    const auto expect = [&](const char* field, const json& want) {
-      if (!meta.contains(field) || meta[field] != want)
-        error("meta.schema", subject + ":/" + field, "equal to " + want.dump() + " (shard / tile_format)");
+    if (meta_schema_) {
+      const Issues schema = meta_schema_->validate(doc, subject, "meta.schema");
+      issues_.append(schema);
+      if (!schema.empty()) return std::nullopt;
+    }
+    try {
+      return io::tile_meta_from_json(doc, subject);
+    } catch (const Error& e) {
+      error("meta.schema", subject + ":" + e.record(), e.expected());
+      return std::nullopt;
+    }
+  }
+
+  void check_meta(const io::DatasetTile& t, const io::TileMeta& meta, const io::ShardEntry& shard) {
+    const std::string subject = t.shard + "/" + t.key + ".meta.json";
+    if (meta.key != t.key) error("tile.key", subject + ":/key", "the member's key '" + t.key + "'");
+    const auto expect = [&](const char* field, bool same, const std::string& want) {
+      if (!same) error("meta.schema", subject + ":/" + field, "equal to " + want + " (shard / tile_format)");
     };
-    expect("split", shard.split);
-    expect("location", shard.location);
-    expect("size_px", size_px_);
-    expect("resolution_m", res_m_);
-    const std::optional<Rect> r = rect_of(meta.value("bounds_m", json()));
-    if (!r) return std::nullopt;
+    expect("split", meta.split == shard.split, "\"" + shard.split + "\"");
+    expect("location", meta.location == shard.location, "\"" + shard.location + "\"");
+    expect("size_px", meta.size_px == size_px_, std::to_string(size_px_));
+    expect("resolution_m", meta.resolution_m == res_m_, format_double(res_m_));
+    const Rect r = rect_of(meta);
     const double extent = size_px_ * res_m_;
-    if (!near(r->x_east - r->x_west, extent) || !near(r->y_north - r->y_south, extent))
+    if (!near(r.x_east - r.x_west, extent) || !near(r.y_north - r.y_south, extent))
       error("meta.schema", subject + ":/bounds_m",
             "a square of size_px * resolution_m = " + format_double(extent) + " m");
     // A rung tile repeats its split tile's crop: the split checks count split tiles only.
-    if (shard.rung == 0) tiles_.push_back({t.key, str_of(meta, "split"), str_of(meta, "location"), t.shard, *r});
-    return r;
+    if (shard.rung == 0) tiles_.push_back({t.key, meta.split, meta.location, t.shard, r});
   }
 
-  void check_graph(const io::DatasetTile& t, const json& g, const std::optional<Rect>& bounds,
-                   const std::optional<json>& meta) {
+  // As read_meta: the schema first; the reader then lists every reference problem (an id
+  // repeated, an edge or a lane change naming no node) and leaves those edges out.
+  struct ReadGraph {
+    graph::TileGraph graph;
+    size_t edges_in_file = 0;
+    // An edge or lane change the reader left out shifts the later ones' positions: their
+    // own checks would name the wrong element, so they wait for the references' fix.
+    bool all_edges = true, all_lane_changes = true;
+  };
+  std::optional<ReadGraph> read_graph(const io::DatasetTile& t, const json& doc) {
     const std::string subject = t.shard + "/" + t.key + ".graph.json";
     if (graph_schema_) {
-      Issues schema = graph_schema_->validate(g, subject, "graph.schema");
-      const bool bad = !schema.empty();
+      const Issues schema = graph_schema_->validate(doc, subject, "graph.schema");
       issues_.append(schema);
-      if (bad) return;  // the structural checks below assume the schema's shape
-    } else if (!g.is_object() || !g.value("nodes", json()).is_array() || !g.value("edges", json()).is_array()) {
-      return;
+      if (!schema.empty()) return std::nullopt;  // the checks below assume the schema's shape
     }
-    if (str_of(g, "key") != t.key) error("tile.key", subject + ":/key", "the member's key '" + t.key + "'");
-    const json& nodes = g["nodes"];
-    const json& edges = g["edges"];
-    const auto n = static_cast<int64_t>(nodes.size());
+    try {
+      Issues references;
+      ReadGraph out{io::tile_graph_from_json(doc, subject, &references), doc["edges"].size()};
+      for (const Issue& i : references.items()) error(i.check, i.subject, i.message);
+      out.all_edges = out.graph.edges.size() == out.edges_in_file;
+      out.all_lane_changes =
+          !doc.contains("lane_changes") || out.graph.lane_changes.size() == doc["lane_changes"].size();
+      if (str_of(doc, "key") != t.key) error("tile.key", subject + ":/key", "the member's key '" + t.key + "'");
+      return out;
+    } catch (const Error& e) {
+      error("graph.schema", subject + ":" + e.record(), e.expected());
+      return std::nullopt;
+    }
+  }
+
+  void check_graph(const io::DatasetTile& t, const ReadGraph& read, const std::optional<io::TileMeta>& meta) {
+    const std::string subject = t.shard + "/" + t.key + ".graph.json";
+    const graph::TileGraph& g = read.graph;
+    const auto n = static_cast<int64_t>(g.nodes.size());
     for (int64_t i = 0; i < n; ++i) {
-      const json& node = nodes[i];
+      const graph::TileNode& node = g.nodes[static_cast<size_t>(i)];
       const std::string at = subject + ":/nodes/" + std::to_string(i);
-      if (node["id"] != i)
-        error("graph.indices", at + "/id", "id " + std::to_string(i) + " (its position), got " + node["id"].dump());
-      const double x = node["x"].get<double>(), y = node["y"].get<double>();
-      const double u = node["u"].get<double>(), v = node["v"].get<double>();
-      if (!bounds) continue;
-      if (x < bounds->x_west - o_.length_tolerance_m || x > bounds->x_east + o_.length_tolerance_m ||
-          y < bounds->y_south - o_.length_tolerance_m || y > bounds->y_north + o_.length_tolerance_m)
-        error("graph.in_tile", at, "a node inside bounds_m, got x " + format_double(x) + ", y " + format_double(y));
-      const double want_u = (x - bounds->x_west) / res_m_ - 0.5, want_v = (bounds->y_north - y) / res_m_ - 0.5;
-      // Pixel tolerance: the metre tolerance in pixels plus rounding of the division.
-      const double tol_px = o_.length_tolerance_m / res_m_ + 1e-6;
-      if (std::abs(u - want_u) > tol_px || std::abs(v - want_v) > tol_px)
-        error("graph.pixel_coords", at,
-              strprintf("u, v = %s, %s from x, y; got %s, %s", format_double(want_u).c_str(),
-                        format_double(want_v).c_str(), format_double(u).c_str(), format_double(v).c_str()));
+      if (node.id != i)
+        error("graph.indices", at + "/id",
+              "id " + std::to_string(i) + " (its position), got " + std::to_string(node.id));
+      if (meta) check_node_place(node, rect_of(*meta), at);
     }
-    std::set<std::pair<int64_t, int64_t>> seen;
-    for (size_t k = 0; k < edges.size(); ++k) {
-      const json& e = edges[k];
+    std::set<std::pair<int32_t, int32_t>> seen;
+    for (size_t k = 0; read.all_edges && k < g.edges.size(); ++k) {
+      const graph::TileEdge& e = g.edges[k];
       const std::string at = subject + ":/edges/" + std::to_string(k);
-      const int64_t s = e["source"].get<int64_t>(), d = e["target"].get<int64_t>();
-      if (s < 0 || s >= n || d < 0 || d >= n) {
-        error("graph.indices", at,
-              strprintf("source and target in [0, %lld), got %lld -> %lld", static_cast<long long>(n),
-                        static_cast<long long>(s), static_cast<long long>(d)));
-        continue;
-      }
-      if (s == d)
-        error("graph.self_loops", at, "an edge between two nodes, got a self-loop on node " + std::to_string(s));
-      if (!seen.insert({s, d}).second)
-        error("graph.duplicates", at,
-              strprintf("a single edge %lld -> %lld", static_cast<long long>(s), static_cast<long long>(d)));
-      const double len = std::hypot(nodes[d]["x"].get<double>() - nodes[s]["x"].get<double>(),
-                                    nodes[d]["y"].get<double>() - nodes[s]["y"].get<double>());
+      if (e.source == e.target)
+        error("graph.self_loops", at, "an edge between two nodes, got a self-loop on node " + std::to_string(e.source));
+      if (!seen.insert({e.source, e.target}).second)
+        error("graph.duplicates", at, strprintf("a single edge %d -> %d", e.source, e.target));
+      const double len = distance_m(g, e.source, e.target);
       if (len > max_spacing_m_ + o_.length_tolerance_m)
         error(
             "graph.edge_length", at,
             "at most graph.max_spacing_m = " + format_double(max_spacing_m_) + " m, got " + format_double(len) + " m");
     }
-    check_lane_changes(g, subject);
-    if (meta && meta->contains(json::json_pointer("/counts/nodes"))) {
-      if ((*meta)["counts"]["nodes"] != n)
-        error("meta.counts", t.shard + "/" + t.key + ".meta.json:/counts/nodes",
-              strprintf("%lld (graph.json)", static_cast<long long>(n)));
-      if ((*meta)["counts"].value("edges", json()) != edges.size())
-        error("meta.counts", t.shard + "/" + t.key + ".meta.json:/counts/edges",
-              strprintf("%zu (graph.json)", edges.size()));
-    }
+    if (read.all_lane_changes) check_lane_changes(g, subject);
+    if (!meta) return;
+    if (meta->nodes != n)
+      error("meta.counts", t.shard + "/" + t.key + ".meta.json:/counts/nodes",
+            strprintf("%lld (graph.json)", static_cast<long long>(n)));
+    // Edges the reader left out (their ends name no node) still count: the file has them.
+    if (meta->edges != static_cast<int64_t>(read.edges_in_file))
+      error("meta.counts", t.shard + "/" + t.key + ".meta.json:/counts/edges",
+            strprintf("%zu (graph.json)", read.edges_in_file));
   }
 
-  // The optional lane_changes (the schema checked their shape): node ids of this graph, two
-  // different nodes, no farther apart than the rule allows (the offset plus half a node
-  // spacing along the lane, and the length tolerance).
-  void check_lane_changes(const json& g, const std::string& subject) {
-    if (!g.contains("lane_changes")) return;
-    const json& nodes = g["nodes"];
-    const auto n = static_cast<int64_t>(nodes.size());
+  // A node inside the tile's bounds, its pixel coordinates those of its metres.
+  void check_node_place(const graph::TileNode& node, const Rect& bounds, const std::string& at) {
+    const double x = node.x_m, y = node.y_m, tol = o_.length_tolerance_m;
+    if (x < bounds.x_west - tol || x > bounds.x_east + tol || y < bounds.y_south - tol || y > bounds.y_north + tol)
+      error("graph.in_tile", at, "a node inside bounds_m, got x " + format_double(x) + ", y " + format_double(y));
+    const double want_u = (x - bounds.x_west) / res_m_ - 0.5, want_v = (bounds.y_north - y) / res_m_ - 0.5;
+    // Pixel tolerance: the metre tolerance in pixels plus rounding of the division.
+    const double tol_px = tol / res_m_ + 1e-6;
+    if (std::abs(node.u_px - want_u) > tol_px || std::abs(node.v_px - want_v) > tol_px)
+      error(
+          "graph.pixel_coords", at,
+          strprintf("u, v = %s, %s from x, y; got %s, %s", format_double(want_u).c_str(), format_double(want_v).c_str(),
+                    format_double(node.u_px).c_str(), format_double(node.v_px).c_str()));
+  }
+
+  // The optional lane_changes (the reader checked their ends): two different nodes, no
+  // farther apart than the rule allows (the offset plus half a node spacing along the
+  // lane, and the length tolerance).
+  void check_lane_changes(const graph::TileGraph& g, const std::string& subject) {
     const double reach_m = std::hypot(graph::kLaneChangeMaxOffsetM, max_spacing_m_ / 2.0) + o_.length_tolerance_m;
-    const json& changes = g["lane_changes"];
-    for (size_t k = 0; k < changes.size(); ++k) {
+    for (size_t k = 0; k < g.lane_changes.size(); ++k) {
+      const graph::TileLaneChange& c = g.lane_changes[k];
       const std::string at = subject + ":/lane_changes/" + std::to_string(k);
-      const int64_t s = changes[k]["source"].get<int64_t>(), d = changes[k]["target"].get<int64_t>();
-      if (s < 0 || s >= n || d < 0 || d >= n || s == d) {
-        error("graph.lane_changes", at,
-              strprintf("two different node ids in [0, %lld), got %lld -> %lld", static_cast<long long>(n),
-                        static_cast<long long>(s), static_cast<long long>(d)));
+      if (c.source == c.target) {
+        error("graph.lane_changes", at, "two different nodes, got node " + std::to_string(c.source) + " twice");
         continue;
       }
-      const double len = std::hypot(nodes[d]["x"].get<double>() - nodes[s]["x"].get<double>(),
-                                    nodes[d]["y"].get<double>() - nodes[s]["y"].get<double>());
+      const double len = distance_m(g, c.source, c.target);
       if (len > reach_m)
         error("graph.lane_changes", at,
               "at most " + format_double(reach_m) + " m between its nodes, got " + format_double(len) + " m");
     }
   }
 
-  std::optional<io::Raster> decode(const io::DatasetTile& t, const RasterSpec& spec, const std::optional<json>& meta,
-                                   const std::optional<Rect>& bounds) {
+  std::optional<io::Raster> decode(const io::DatasetTile& t, const RasterSpec& spec,
+                                   const std::optional<io::TileMeta>& meta) {
     const std::string subject = t.shard + "/" + t.key + "." + spec.suffix;
     io::GeoRef georef;
     io::Raster r;
@@ -447,13 +478,13 @@ class DatasetChecker {
       error("raster.dtype", subject,
             strprintf("%s x %d, got %s x %d", spec.type == io::SampleType::kUInt8 ? "uint8" : "float32", spec.bands,
                       r.type == io::SampleType::kUInt8 ? "uint8" : "float32", r.bands));
-    if (meta && bounds && !r.data.empty()) {  // decoded: its georeference was read
-      if (georef.location != str_of(*meta, "location"))
+    if (meta && !r.data.empty()) {  // decoded: its georeference was read
+      const Rect bounds = rect_of(*meta);
+      if (georef.location != meta->location)
+        error("raster.georef", subject, "the CRS of location '" + meta->location + "', got '" + georef.location + "'");
+      if (!near(georef.x_west_m, bounds.x_west) || !near(georef.y_north_m, bounds.y_north))
         error("raster.georef", subject,
-              "the CRS of location '" + str_of(*meta, "location") + "', got '" + georef.location + "'");
-      if (!near(georef.x_west_m, bounds->x_west) || !near(georef.y_north_m, bounds->y_north))
-        error("raster.georef", subject,
-              "north-west corner (" + format_double(bounds->x_west) + ", " + format_double(bounds->y_north) +
+              "north-west corner (" + format_double(bounds.x_west) + ", " + format_double(bounds.y_north) +
                   ") from meta bounds_m, got (" + format_double(georef.x_west_m) + ", " +
                   format_double(georef.y_north_m) + ")");
       if (std::abs(georef.resolution_m - res_m_) > 1e-9)
@@ -464,11 +495,11 @@ class DatasetChecker {
     return usable ? std::optional<io::Raster>(std::move(r)) : std::nullopt;
   }
 
-  void check_rasters(const io::DatasetTile& t, const std::optional<json>& meta, const std::optional<Rect>& bounds) {
+  void check_rasters(const io::DatasetTile& t, const std::optional<io::TileMeta>& meta) {
     std::map<std::string, io::Raster> rasters;
     for (const RasterSpec& spec : raster_specs()) {
       if (!t.has(spec.suffix)) continue;
-      if (std::optional<io::Raster> r = decode(t, spec, meta, bounds)) rasters.emplace(spec.suffix, std::move(*r));
+      if (std::optional<io::Raster> r = decode(t, spec, meta)) rasters.emplace(spec.suffix, std::move(*r));
     }
     const std::string base = t.shard + "/" + t.key;
     const size_t pixels = static_cast<size_t>(size_px_) * size_px_;

@@ -16,19 +16,13 @@ std::string graph_digest_without_key(json graph) {
   return sha256_hex(graph.dump());
 }
 
-LadderTileFacts ladder_facts(const io::DatasetTile& t, const io::ShardEntry& shard, const std::optional<json>& meta,
-                             const std::optional<json>& graph) {
+LadderTileFacts ladder_facts(const io::DatasetTile& t, const io::ShardEntry& shard,
+                             const std::optional<io::TileMeta>& meta, const std::optional<json>& graph) {
   LadderTileFacts f;
   f.key = t.key;
   f.shard = t.shard;
   f.shard_rung = shard.rung;
-  if (meta) {
-    try {
-      f.meta = io::tile_meta_from_json(*meta, t.shard + "/" + t.key + ".meta.json");
-    } catch (const Error&) {
-      // meta.schema reports it
-    }
-  }
+  f.meta = meta;  // nullopt when it did not read: meta.schema reports it
   if (graph) f.graph_digest = graph_digest_without_key(*graph);
   return f;
 }

@@ -27,8 +27,9 @@ struct LadderTileFacts {
 };
 
 // The facts of a tile read from `shard` (a split shard or a rung shard).
+// `meta`: the tile's meta as its reader gave it; `graph`: graph.json as parsed.
 LadderTileFacts ladder_facts(const io::DatasetTile& tile, const io::ShardEntry& shard,
-                             const std::optional<nlohmann::json>& meta, const std::optional<nlohmann::json>& graph);
+                             const std::optional<io::TileMeta>& meta, const std::optional<nlohmann::json>& graph);
 
 // sha256 of a tile graph document without its "key" (a rung tile's graph is its split
 // tile's under another key).

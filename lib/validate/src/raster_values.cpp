@@ -6,8 +6,6 @@
 #include "nsg/core/coverage_bits.h"
 #include "nsg/core/strings.h"
 
-using nlohmann::json;
-
 namespace nsg::validate {
 
 int64_t check_vehicle_values(const io::Raster& vehicle, size_t pixels, const std::string& subject,
@@ -33,7 +31,7 @@ int64_t check_vehicle_values(const io::Raster& vehicle, size_t pixels, const std
 }
 
 void check_coverage_values(const std::map<std::string, io::Raster>& rasters, size_t pixels, const std::string& base,
-                           const std::optional<json>& meta, int64_t vehicle_px, const ReportFinding& report) {
+                           const std::optional<io::TileMeta>& meta, int64_t vehicle_px, const ReportFinding& report) {
   auto cov = rasters.find("coverage.tif");
   if (cov == rasters.end()) return;
   const uint8_t* flags = cov->second.data.data();
@@ -65,17 +63,17 @@ void check_coverage_values(const std::map<std::string, io::Raster>& rasters, siz
   if (!meta) return;
   const std::string subject = base + ".meta.json";
   const int64_t counts[3] = {lidar_px, rgb_px, sem_px};
+  const double fractions[3] = {meta->coverage_lidar, meta->coverage_rgb, meta->coverage_semantic};
   for (int k = 0; k < 3; ++k) {
-    const json::json_pointer ptr("/coverage/" + std::string(layers[k]));
     const double want = static_cast<double>(counts[k]) / static_cast<double>(pixels);
-    if (meta->contains(ptr) && (!meta->at(ptr).is_number() || std::abs(meta->at(ptr).get<double>() - want) > 1e-9))
-      report("meta.counts", subject + ":" + ptr.to_string(),
-             "the coverage raster's fraction " + format_double(want) + ", got " + meta->at(ptr).dump());
+    if (std::abs(fractions[k] - want) > 1e-9)
+      report("meta.counts", subject + ":/coverage/" + layers[k],
+             "the coverage raster's fraction " + format_double(want) + ", got " + format_double(fractions[k]));
   }
-  const json::json_pointer vptr("/counts/vehicle_px");
-  if (vehicle_px >= 0 && meta->contains(vptr) && meta->at(vptr) != vehicle_px)
+  if (vehicle_px >= 0 && meta->vehicle_px != vehicle_px)
     report("meta.counts", subject + ":/counts/vehicle_px",
-           strprintf("%lld (vehicle.tif), got %s", static_cast<long long>(vehicle_px), meta->at(vptr).dump().c_str()));
+           strprintf("%lld (vehicle.tif), got %lld", static_cast<long long>(vehicle_px),
+                     static_cast<long long>(meta->vehicle_px)));
 }
 
 }  // namespace nsg::validate

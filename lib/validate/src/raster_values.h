@@ -9,9 +9,8 @@
 #include <optional>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
 #include "nsg/io/raster.h"
+#include "nsg/io/tile_meta.h"
 
 namespace nsg::validate {
 
@@ -28,6 +27,6 @@ int64_t check_vehicle_values(const io::Raster& vehicle, size_t pixels, const std
 // ("raster.nodata"), and meta.json's /coverage fractions and /counts/vehicle_px (when
 // `vehicle_px` ≥ 0) equal to what the rasters hold ("meta.counts"). `base` is "shard/key".
 void check_coverage_values(const std::map<std::string, io::Raster>& rasters, size_t pixels, const std::string& base,
-                           const std::optional<nlohmann::json>& meta, int64_t vehicle_px, const ReportFinding& report);
+                           const std::optional<io::TileMeta>& meta, int64_t vehicle_px, const ReportFinding& report);
 
 }  // namespace nsg::validate

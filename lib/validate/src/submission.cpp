@@ -17,93 +17,138 @@
 namespace nsg::validate {
 namespace {
 
-bool finite_number(const nlohmann::json& j) { return j.is_number() && std::isfinite(j.get<double>()); }
+bool unread(const std::vector<bool>& flags, size_t k) { return k < flags.size() && flags[k]; }
 
-// Sum of the lengths of the edges whose ends are valid [u, v] nodes (others are reported
-// by the schema and index checks).
-double edge_length_px(const nlohmann::json* nodes, const nlohmann::json* edges) {
-  if (nodes == nullptr || edges == nullptr) return 0.0;
-  const auto point = [&](const nlohmann::json& i, double* u, double* v) {
-    if (!i.is_number_unsigned() || i.get<uint64_t>() >= nodes->size()) return false;
-    const nlohmann::json& n = (*nodes)[i.get<size_t>()];
-    if (!n.is_array() || n.size() != 2 || !n[0].is_number() || !n[1].is_number()) return false;
-    *u = n[0].get<double>();
-    *v = n[1].get<double>();
-    return true;
-  };
+// Sum of the lengths of the edges whose ends are read nodes within range (others are
+// reported by the schema and index checks).
+double edge_length_px(const TileValues& tile) {
+  const auto n = static_cast<int64_t>(tile.nodes.size());
+  const auto usable = [&](int64_t i) { return i >= 0 && i < n && !unread(tile.node_unread, static_cast<size_t>(i)); };
   double total = 0.0;
-  for (const nlohmann::json& e : *edges) {
-    double u0, v0, u1, v1;
-    if (e.is_array() && e.size() == 2 && point(e[0], &u0, &v0) && point(e[1], &u1, &v1))
-      total += std::hypot(u1 - u0, v1 - v0);
+  for (size_t k = 0; k < tile.edges.size(); ++k) {
+    const auto [i, j] = tile.edges[k];
+    if (unread(tile.edge_unread, k) || !usable(i) || !usable(j)) continue;
+    const auto& a = tile.nodes[static_cast<size_t>(i)];
+    const auto& b = tile.nodes[static_cast<size_t>(j)];
+    total += std::hypot(b[0] - a[0], b[1] - a[1]);
   }
   return total;
 }
 
+// A file's node as numbers: an array of two numbers, else unread (the schema reports it).
+bool read_node(const nlohmann::json& n, std::array<double, 2>* out) {
+  if (!n.is_array() || n.size() != 2 || !n[0].is_number() || !n[1].is_number()) return false;
+  *out = {n[0].get<double>(), n[1].get<double>()};
+  return true;
+}
+
+// A file's edge as indices: an array of two integers, else unread. An unsigned index above
+// 2^63 − 1 cannot be held: it is reported here, as written, and the edge left unread.
+bool read_edge(const nlohmann::json& e, size_t nodes, const std::string& at, Issues& issues,
+               std::array<int64_t, 2>* out) {
+  if (!e.is_array() || e.size() != 2 || !e[0].is_number_integer() || !e[1].is_number_integer()) return false;
+  bool held = true;
+  for (size_t s = 0; s < 2; ++s) {
+    if (e[s].is_number_unsigned() && e[s].get<uint64_t>() > uint64_t{INT64_MAX}) {
+      held = false;
+      issues.error(
+          "submission.indices", at + "/" + std::to_string(s),
+          "node index " + std::to_string(e[s].get<uint64_t>()) + " out of range [0, " + std::to_string(nodes) + ")");
+    } else {
+      (*out)[s] = e[s].get<int64_t>();
+    }
+  }
+  return held;
+}
+
+std::vector<double> read_scores(const nlohmann::json& tile, const char* name, bool* present) {
+  std::vector<double> out;
+  *present = tile.contains(name) && tile[name].is_array();
+  if (!*present) return out;
+  // A score that is no number is the schema's to report; 0 keeps the positions.
+  for (const nlohmann::json& v : tile[name]) out.push_back(v.is_number() ? v.get<double>() : 0.0);
+  return out;
+}
+
+// A file's tile as numbers, every element in its position.
+TileValues tile_values(const nlohmann::json& tile, const std::string& base, Issues& issues) {
+  TileValues out;
+  if (const auto nodes = tile.find("nodes"); nodes != tile.end() && nodes->is_array()) {
+    out.nodes.resize(nodes->size());
+    out.node_unread.resize(nodes->size());
+    for (size_t k = 0; k < nodes->size(); ++k) out.node_unread[k] = !read_node((*nodes)[k], &out.nodes[k]);
+  }
+  if (const auto edges = tile.find("edges"); edges != tile.end() && edges->is_array()) {
+    out.edges.resize(edges->size());
+    out.edge_unread.resize(edges->size());
+    for (size_t k = 0; k < edges->size(); ++k)
+      out.edge_unread[k] =
+          !read_edge((*edges)[k], out.nodes.size(), base + "/edges/" + std::to_string(k), issues, &out.edges[k]);
+  }
+  out.node_scores = read_scores(tile, "node_scores", &out.has_node_scores);
+  out.edge_scores = read_scores(tile, "edge_scores", &out.has_edge_scores);
+  return out;
+}
+
+void check_coordinates(const TileValues& tile, const std::string& base, const SubmissionLimits& limits,
+                       Issues& issues) {
+  for (size_t k = 0; k < tile.nodes.size(); ++k) {
+    if (unread(tile.node_unread, k)) continue;
+    for (size_t s = 0; s < 2; ++s) {
+      const double c = tile.nodes[k][s];
+      if (!std::isfinite(c))
+        issues.error("submission.finite", base + "/nodes/" + std::to_string(k) + "/" + std::to_string(s),
+                     "a finite coordinate");
+      else if (std::fabs(c) > limits.max_abs_coordinate_px)
+        issues.error("submission.size", base + "/nodes/" + std::to_string(k) + "/" + std::to_string(s),
+                     strprintf("a coordinate within ±%.0f px (the scoring limits: score --help), got %g",
+                               limits.max_abs_coordinate_px, c));
+    }
+  }
+}
+
+void check_indices(const TileValues& tile, const std::string& base, Issues& issues) {
+  const auto n = static_cast<int64_t>(tile.nodes.size());
+  for (size_t k = 0; k < tile.edges.size(); ++k) {
+    if (unread(tile.edge_unread, k)) continue;
+    for (size_t s = 0; s < 2; ++s) {
+      const int64_t idx = tile.edges[k][s];
+      if (idx >= 0 && idx < n) continue;
+      if (!issues.lists("submission.indices")) {  // counted only: no message to build
+        issues.error("submission.indices", base, "");
+        continue;
+      }
+      issues.error("submission.indices", base + "/edges/" + std::to_string(k) + "/" + std::to_string(s),
+                   "node index " + std::to_string(idx) + " out of range [0, " + std::to_string(n) + ")");
+    }
+  }
+}
+
+void check_scores(const TileValues& tile, const std::string& base, Issues& issues) {
+  const struct {
+    const char* name;
+    bool present;
+    const std::vector<double>& scores;
+    size_t want;
+    const char* of;
+  } lists[] = {{"node_scores", tile.has_node_scores, tile.node_scores, tile.nodes.size(), " nodes"},
+               {"edge_scores", tile.has_edge_scores, tile.edge_scores, tile.edges.size(), " edges"}};
+  for (const auto& l : lists) {
+    if (!l.present) continue;
+    if (l.scores.size() != l.want)
+      issues.error("submission.scores", base + "/" + l.name,
+                   std::to_string(l.scores.size()) + " scores for " + std::to_string(l.want) + l.of);
+    for (size_t k = 0; k < l.scores.size(); ++k)
+      if (!std::isfinite(l.scores[k]))
+        issues.error("submission.finite", base + "/" + l.name + "/" + std::to_string(k), "a finite score");
+  }
+}
+
 void check_tile(const std::string& key, const nlohmann::json& tile, const std::string& file,
                 const SubmissionLimits& limits, Issues& issues) {
-  const std::string base = file + ":/tiles/" + json_pointer_token(key);
   if (!tile.is_object()) return;  // the schema reports it
-  const nlohmann::json* nodes = tile.contains("nodes") && tile["nodes"].is_array() ? &tile["nodes"] : nullptr;
-  const nlohmann::json* edges = tile.contains("edges") && tile["edges"].is_array() ? &tile["edges"] : nullptr;
-  const int64_t n_nodes_all = nodes != nullptr ? static_cast<int64_t>(nodes->size()) : 0;
-  std::vector<std::array<int64_t, 2>> pairs;
-  if (edges != nullptr && static_cast<int64_t>(edges->size()) <= limits.max_edges_per_tile)
-    for (const nlohmann::json& e : *edges)
-      if (e.is_array() && e.size() == 2 && e[0].is_number_unsigned() && e[1].is_number_unsigned() &&
-          e[0].get<uint64_t>() < static_cast<uint64_t>(n_nodes_all) &&
-          e[1].get<uint64_t>() < static_cast<uint64_t>(n_nodes_all))
-        pairs.push_back({e[0].get<int64_t>(), e[1].get<int64_t>()});
-  check_tile_limits(n_nodes_all, edges != nullptr ? static_cast<int64_t>(edges->size()) : 0,
-                    edge_length_px(nodes, edges), path_search_work(n_nodes_all, pairs), base, limits, issues);
-  if (nodes != nullptr) {
-    for (size_t k = 0; k < nodes->size(); ++k) {
-      const nlohmann::json& n = (*nodes)[k];
-      if (!n.is_array()) continue;
-      for (size_t s = 0; s < n.size(); ++s)
-        if (n[s].is_number() && !finite_number(n[s]))
-          issues.error("submission.finite", base + "/nodes/" + std::to_string(k) + "/" + std::to_string(s),
-                       "a finite coordinate");
-        else if (n[s].is_number() && std::fabs(n[s].get<double>()) > limits.max_abs_coordinate_px)
-          issues.error("submission.size", base + "/nodes/" + std::to_string(k) + "/" + std::to_string(s),
-                       strprintf("a coordinate within ±%.0f px (the scoring limits: score --help), got %g",
-                                 limits.max_abs_coordinate_px, n[s].get<double>()));
-    }
-  }
-  const auto n_nodes = nodes != nullptr ? static_cast<int64_t>(nodes->size()) : 0;
-  if (edges != nullptr) {
-    for (size_t k = 0; k < edges->size(); ++k) {
-      const nlohmann::json& e = (*edges)[k];
-      if (!e.is_array()) continue;
-      for (size_t s = 0; s < e.size(); ++s) {
-        if (!e[s].is_number_integer()) continue;
-        // Unsigned values above 2^63 stay unsigned: 18446744073709551615 is not "-1".
-        const bool huge = e[s].is_number_unsigned() && e[s].get<uint64_t>() > uint64_t{INT64_MAX};
-        const int64_t idx = huge ? -1 : e[s].get<int64_t>();
-        if (!huge && idx >= 0 && idx < n_nodes) continue;
-        if (!issues.lists("submission.indices")) {  // counted only: no message to build
-          issues.error("submission.indices", base, "");
-          continue;
-        }
-        const std::string shown = huge ? std::to_string(e[s].get<uint64_t>()) : std::to_string(idx);
-        issues.error("submission.indices", base + "/edges/" + std::to_string(k) + "/" + std::to_string(s),
-                     "node index " + shown + " out of range [0, " + std::to_string(n_nodes) + ")");
-      }
-    }
-  }
-  for (const char* name : {"node_scores", "edge_scores"}) {
-    if (!tile.contains(name) || !tile[name].is_array()) continue;
-    const nlohmann::json& scores = tile[name];
-    const nlohmann::json* of = std::string(name) == "node_scores" ? nodes : edges;
-    const size_t want = of != nullptr ? of->size() : 0;
-    if (scores.size() != want)
-      issues.error(
-          "submission.scores", base + "/" + name,
-          std::to_string(scores.size()) + " scores for " + std::to_string(want) + (of == nodes ? " nodes" : " edges"));
-    for (size_t k = 0; k < scores.size(); ++k)
-      if (scores[k].is_number() && !finite_number(scores[k]))
-        issues.error("submission.finite", base + "/" + name + "/" + std::to_string(k), "a finite score");
-  }
+  const std::string base = file + ":/tiles/" + json_pointer_token(key);
+  check_tile_values(tile_values(tile, base, issues), base, limits, issues);
 }
 
 }  // namespace
@@ -115,6 +160,19 @@ Issues check_submission_structure(const nlohmann::json& doc, const std::string& 
   if (!doc.is_object() || !doc.contains("tiles") || !doc["tiles"].is_object()) return issues;
   for (const auto& [key, tile] : doc["tiles"].items()) check_tile(key, tile, file_label, limits, issues);
   return issues;
+}
+
+void check_tile_values(const TileValues& tile, const std::string& base, const SubmissionLimits& limits,
+                       Issues& issues) {
+  const auto nodes = static_cast<int64_t>(tile.nodes.size()), edges = static_cast<int64_t>(tile.edges.size());
+  std::vector<std::array<int64_t, 2>> pairs;  // the path work's edges: read ones, within range
+  if (edges <= limits.max_edges_per_tile)
+    for (size_t k = 0; k < tile.edges.size(); ++k)
+      if (!unread(tile.edge_unread, k)) pairs.push_back(tile.edges[k]);
+  check_tile_limits(nodes, edges, edge_length_px(tile), path_search_work(nodes, pairs), base, limits, issues);
+  check_coordinates(tile, base, limits, issues);
+  check_indices(tile, base, issues);
+  check_scores(tile, base, issues);
 }
 
 int64_t path_search_work(int64_t nodes, const std::vector<std::array<int64_t, 2>>& edges) {

@@ -1,9 +1,12 @@
 // io's one reader and writer of <key>.graph.json: the attributes and lane changes survive a
 // round trip, a graph written before them reads with their defaults, and a bad attribute is
 // refused naming the file and its JSON path.
+#include <set>
+
 #include <gtest/gtest.h>
 
 #include "nsg/core/error.h"
+#include "nsg/core/issues.h"
 #include "nsg/io/tile_graph.h"
 
 namespace nsg::io {
@@ -73,6 +76,38 @@ TEST(TileGraph, BadAttributesAreRefusedByPath) {
   EXPECT_EQ(refused_at("/lane_changes/0/target", 9), "/lane_changes/0/target");
   EXPECT_EQ(refused_at("/lane_changes/1/to_lane_token", nullptr), "/lane_changes/1/to_lane_token");
   EXPECT_EQ(refused_at("/lane_changes", "none"), "/lane_changes");
+}
+
+// validate's way: every reference problem listed in one pass, the elements they spoil
+// left out, the rest read; a shape problem still throws.
+TEST(TileGraph, ReferenceProblemsAreListedWhenCollected) {
+  nlohmann::json doc = nlohmann::json::parse(tile_graph_text("boston-seaport-test-000000", sample_graph()));
+  const size_t nodes = doc["nodes"].size(), edges = doc["edges"].size(), changes = doc["lane_changes"].size();
+  ASSERT_GE(nodes, 2u);
+  ASSERT_GE(changes, 1u);
+  doc["edges"][0]["target"] = 99;
+  doc["edges"].push_back({{"source", 77}, {"target", 0}, {"lane_token", "x"}});
+  doc["lane_changes"][0]["source"] = -4;
+  doc["nodes"].push_back(doc["nodes"][1]);  // its id again
+  Issues problems;
+  const graph::TileGraph g = tile_graph_from_json(doc, "t.graph.json", &problems);
+  EXPECT_EQ(problems.size(), 4u) << problems.format();
+  EXPECT_EQ(problems.count_check("graph.indices"), 3u) << problems.format();
+  EXPECT_EQ(problems.count_check("graph.lane_changes"), 1u) << problems.format();
+  std::set<std::string> subjects;
+  for (const Issue& i : problems.items()) subjects.insert(i.subject);
+  EXPECT_EQ(subjects,
+            (std::set<std::string>{
+                "t.graph.json:/edges/0/target", "t.graph.json:/edges/" + std::to_string(edges) + "/source",
+                "t.graph.json:/lane_changes/0/source", "t.graph.json:/nodes/" + std::to_string(nodes) + "/id"}));
+  EXPECT_EQ(g.nodes.size(), nodes + 1);
+  EXPECT_EQ(g.edges.size(), edges - 1);
+  EXPECT_EQ(g.lane_changes.size(), changes - 1);
+  // Without a list the first of them throws, as before.
+  EXPECT_THROW(tile_graph_from_json(doc, "t.graph.json"), DataError);
+  doc["nodes"][0]["x"] = "east";
+  Issues shape;
+  EXPECT_THROW(tile_graph_from_json(doc, "t.graph.json", &shape), DataError);
 }
 
 }  // namespace

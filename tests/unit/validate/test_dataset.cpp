@@ -293,6 +293,40 @@ TEST(ValidateDataset, EdgeIndexOutOfRange) {
   expect_only(d.validate(), "graph.indices");
 }
 
+// The typed graph reader lists every reference problem of a graph in one pass: two edges
+// and a lane change naming no node, a node id repeated.
+TEST(ValidateDataset, EveryReferenceProblemOfAGraphIsListed) {
+  DatasetCopy d;
+  d.edit_tile(d.shard("test")["name"], "", [&](TileFiles& f) {
+    add_to_graph(f, [&](json& g) {
+      ASSERT_GE(g["nodes"].size(), 2u);
+      g["edges"].push_back({{"source", 0}, {"target", g["nodes"].size() + 5}, {"lane_token", "x"}});
+      g["edges"].push_back({{"source", g["nodes"].size() + 9}, {"target", 1}, {"lane_token", "x"}});
+      g["lane_changes"].push_back({{"source", 0}, {"target", 12345}, {"from_lane_token", "a"}, {"to_lane_token", "b"}});
+      g["nodes"][1]["id"] = 0;
+    });
+  });
+  const Issues found = d.validate();
+  // Node 1's id is 0 (a repeat, and not its position); every edge naming node 1 now names
+  // no node, so the count of graph.indices is at least the four planted.
+  EXPECT_EQ(checks_of(found), (std::set<std::string>{"graph.indices", "graph.lane_changes"})) << found.format();
+  EXPECT_GE(found.count_check("graph.indices"), 4u) << found.format();
+  EXPECT_GE(found.count_check("graph.lane_changes"), 1u) << found.format();
+}
+
+// A rule only the typed reader states (west < east) is reported once, under meta.schema,
+// and the checks that need the tile's bounds wait for it.
+TEST(ValidateDataset, MetaBoundsTheSchemaCannotOrder) {
+  DatasetCopy d;
+  d.edit_tile(d.shard("test")["name"], "", [](TileFiles& f) {
+    edit_json(f, "meta.json", [](json& m) { std::swap(m["bounds_m"][0], m["bounds_m"][2]); });
+  });
+  const Issues found = d.validate();
+  expect_only(found, "meta.schema");
+  EXPECT_EQ(found.size(), 1u) << found.format();
+  EXPECT_NE(found.format().find("meta.json:/bounds_m: x_west < x_east"), std::string::npos) << found.format();
+}
+
 TEST(ValidateDataset, PixelCoordinatesDisagreeWithMetres) {
   DatasetCopy d;
   d.edit_tile(d.shard("test")["name"], "", [&](TileFiles& f) {

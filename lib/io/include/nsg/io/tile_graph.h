@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nsg/core/issues.h"
 #include "nsg/graph/clip.h"
 
 namespace nsg::io {
@@ -15,8 +16,12 @@ namespace nsg::io {
 // before them reads with their defaults).
 // TileNode::id keeps the file's id; TileEdge source/target are node indices. Throws
 // DataError naming `file` and the JSON path on a missing field, a non-finite number, a
-// repeated node id or an edge to an unknown id.
-graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::string& file);
+// repeated node id or an edge to an unknown id. With `problems`, the reference problems
+// are listed there instead ("graph.indices": a repeated id, an edge end naming no node;
+// "graph.lane_changes": a lane change end naming no node; subject "file:/path"), the edge
+// or lane change left out, and every problem of the document is reported in one pass
+// (`validate` reads graphs this way, after the schema has checked their shape).
+graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::string& file, Issues* problems = nullptr);
 
 // The document generate writes for tile `key` (compact, a final newline): edges name their
 // nodes by TileNode::id. Reading it back gives `graph` again.

@@ -49,6 +49,22 @@ std::string json_pointer_token(const std::string& key);
 Issues check_submission_structure(const nlohmann::json& doc, const std::string& file_label,
                                   const SubmissionLimits& limits = {});
 
+// One submission tile as numbers: what check_submission_structure reads of a file's tile,
+// and what a graph in memory is checked as (metrics::check_graph), so both meet one check.
+struct TileValues {
+  std::vector<std::array<double, 2>> nodes;   // [u, v] px
+  std::vector<std::array<int64_t, 2>> edges;  // node indices as given; out of range is reported
+  std::vector<double> node_scores, edge_scores;
+  bool has_node_scores = false, has_edge_scores = false;
+  // Elements a file holds in a shape the schema refuses (it reports them): left out of
+  // every check here. Empty: all read.
+  std::vector<bool> node_unread, edge_unread;
+};
+
+// The checks of one tile (submission.size, .finite, .indices, .scores), subjects under
+// `base` ("file:/tiles/<key>").
+void check_tile_values(const TileValues& tile, const std::string& base, const SubmissionLimits& limits, Issues& issues);
+
 // The scoring limits on one tile's graph (submission.size issues naming `subject`): the
 // one check behind `score`, check_submission, score_tile and the Python score.
 // `edge_length_px` is the sum of the edge lengths (edges with valid indices).
