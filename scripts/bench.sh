@@ -213,6 +213,11 @@ if [ -x "$exe" ]; then
     --out "$out/frames_score_ratio.json" \
     || failed+=("frames score ratio")
   ran=$((ran + 1))
+  printf '\n== score --frames lane segments against OpenLane-V2'"'"'s v2.1 evaluator on 200 frames (optional: OPENLANEV2_ROOT)\n'
+  "$py" "$root/bench/python/frames_ls_score_ratio.py" --python-package "$root/$build/python" \
+    --out "$out/frames_ls_score_ratio.json" \
+    || failed+=("frames lane-segment score ratio")
+  ran=$((ran + 1))
 fi
 
 cat /proc/loadavg >"$out/loadavg-end.txt"

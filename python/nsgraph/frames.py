@@ -173,6 +173,22 @@ def _plain(value, at, depth):
 # of an OpenLane-V2 dict — traffic elements, and the keys its evaluator adds to the dict it
 # scored (`lane_centerline_1.0_idx_match_gt`, NaN-filled arrays) — is left out.
 _LANE_KEYS = ("id", "points", "confidence")
+# The lane-segment track's (OpenLane-V2 v2.1): lane segments and areas.
+_SEGMENT_KEYS = ("id", "centerline", "left_laneline", "right_laneline", "confidence")
+_AREA_KEYS = ("id", "category", "points", "confidence")
+
+
+def _items(predictions, name, keys, at):
+    items = predictions[name]
+    if not isinstance(items, (list, tuple)):
+        raise _problem(f"{at}/predictions/{name}", f"a list of {name}")
+    out = []
+    for i, item in enumerate(items):
+        iat = f"{at}/predictions/{name}/{i}"
+        if not isinstance(item, dict):
+            raise _problem(iat, "{" + ", ".join(f'"{k}"' for k in keys) + "}")
+        out.append({k: _plain(item[k], f"{iat}/{k}", 5) for k in keys if k in item})
+    return out
 
 
 def _frame(frame, at):
@@ -180,18 +196,12 @@ def _frame(frame, at):
         raise _problem(at, 'a frame {"predictions": {"lane_centerline": [...], "topology_lclc": n x n}}')
     predictions = frame["predictions"]
     out = {}
-    if "lane_centerline" in predictions:
-        lanes = predictions["lane_centerline"]
-        if not isinstance(lanes, (list, tuple)):
-            raise _problem(f"{at}/predictions/lane_centerline", "a list of centerlines")
-        out["lane_centerline"] = []
-        for i, lane in enumerate(lanes):
-            lat = f"{at}/predictions/lane_centerline/{i}"
-            if not isinstance(lane, dict):
-                raise _problem(lat, '{"id", "points", "confidence"}')
-            out["lane_centerline"].append({k: _plain(lane[k], f"{lat}/{k}", 5) for k in _LANE_KEYS if k in lane})
-    if "topology_lclc" in predictions:
-        out["topology_lclc"] = _plain(predictions["topology_lclc"], f"{at}/predictions/topology_lclc", 4)
+    for name, keys in (("lane_centerline", _LANE_KEYS), ("lane_segment", _SEGMENT_KEYS), ("area", _AREA_KEYS)):
+        if name in predictions:
+            out[name] = _items(predictions, name, keys, at)
+    for name in ("topology_lclc", "topology_lsls"):
+        if name in predictions:
+            out[name] = _plain(predictions[name], f"{at}/predictions/{name}", 4)
     return {"predictions": out}
 
 
@@ -202,7 +212,8 @@ def from_openlanev2(results):
     [{"id", "points": (P, 3) array, "confidence"}], "topology_lclc": (n, n) array, …}}}, …}``.
     Identifier keys become "split/segment_id/timestamp" (``nsgraph score --frames`` finds the
     frame by it, as by its sample token); arrays become lists, float32 exactly. Only what the
-    scorer reads is kept (centerlines and their topology; the submission's ``method`` name):
+    scorer reads is kept (centerlines and their topology; v2.1's lane segments, areas and
+    topology_lsls; the submission's ``method`` name):
     traffic elements, and the keys OpenLane-V2's evaluator adds to a dict it has scored, are
     left out. Nothing is unpickled here: pass the dict, not a pickle file (a pickle is code;
     docs/hosting.md)."""

@@ -44,8 +44,42 @@ py::array_t<double> points_to_numpy(const std::vector<metrics::Point3>& points) 
   return a;
 }
 
+// Version 2's lane segments (lines as (P, 3) arrays), areas and topology_lsls ((n, n) uint8).
+void add_map_elements(const metrics::FrameRecord& r, py::dict& annotation) {
+  py::list segments;
+  for (const metrics::FrameRecordLaneSegment& s : r.lane_segments) {
+    py::dict segment;
+    segment["id"] = s.id;
+    segment["centerline"] = points_to_numpy(s.centerline);
+    segment["left_laneline"] = points_to_numpy(s.left_laneline);
+    segment["left_laneline_type"] = s.left_type;
+    segment["right_laneline"] = points_to_numpy(s.right_laneline);
+    segment["right_laneline_type"] = s.right_type;
+    segment["is_intersection_or_connector"] = s.is_connector;
+    segments.append(segment);
+  }
+  py::list areas;
+  for (const metrics::FrameRecordArea& a : r.areas) {
+    py::dict area;
+    area["id"] = a.id;
+    area["category"] = a.category;
+    area["points"] = points_to_numpy(a.points);
+    areas.append(area);
+  }
+  const auto n = static_cast<py::ssize_t>(r.lane_segments.size());
+  py::array_t<uint8_t> topology({n, n});
+  if (n > 0) std::memcpy(topology.mutable_data(), r.topology_lsls.data(), r.topology_lsls.size());
+  py::list lste;
+  for (py::ssize_t i = 0; i < n; ++i) lste.append(py::list());
+  annotation["lane_segment"] = segments;
+  annotation["area"] = areas;
+  annotation["topology_lsls"] = topology;
+  annotation["topology_lste"] = lste;
+}
+
 // A checked record in the record's own layout (docs/frames.md "Layout"), points as (P, 3)
-// arrays and topology_lclc as an (n, n) uint8 array: what nsgraph.frames.Dataset.record gives.
+// arrays and topology_lclc as an (n, n) uint8 array (version 2: lane segments and areas too):
+// what nsgraph.frames.Dataset.record gives.
 py::dict record_to_py(const metrics::FrameRecord& r) {
   py::dict meta;
   meta["source"] = r.meta_data.source;
@@ -90,6 +124,7 @@ py::dict record_to_py(const metrics::FrameRecord& r) {
   py::list lcte;
   for (py::ssize_t i = 0; i < n; ++i) lcte.append(py::list());
   annotation["topology_lcte"] = lcte;
+  if (r.version != "nsgraph-frames-1") add_map_elements(r, annotation);
   py::dict d;
   d["schema_version"] = r.schema_version;
   d["version"] = r.version;

@@ -71,6 +71,14 @@ class FramesTest(unittest.TestCase):
         # The pose puts the ego-frame centerlines back on the map plane (z = 0).
         p = np.c_[item["centerlines_2m"][0], np.ones(len(item["centerlines_2m"][0]))] @ item["pose"].T
         np.testing.assert_allclose(p[:, 2], 0.0, atol=1e-3)
+        # Version 2: a lane segment per centerline, lines as (10, 3) arrays, the same topology.
+        ann = record["annotation"]
+        self.assertEqual(record["version"], "nsgraph-frames-2")
+        self.assertEqual([s["id"] for s in ann["lane_segment"]], [c["id"] for c in ann["lane_centerline"]])
+        self.assertEqual(ann["lane_segment"][0]["left_laneline"].shape, (10, 3))
+        self.assertIn(ann["lane_segment"][0]["right_laneline_type"], (0, 1, 2))
+        np.testing.assert_array_equal(ann["topology_lsls"], ann["topology_lclc"])
+        self.assertTrue(all(a["category"] in (1, 2) and a["points"].shape[1] == 3 for a in ann["area"]))
 
     def test_images_decode_on_demand_at_the_records_size(self):
         ds = nsgraph.frames.Dataset(self.root, "train", images=True)
@@ -182,6 +190,22 @@ class FramesTest(unittest.TestCase):
         first = next(iter(results.values()))["predictions"]["lane_centerline"][0]
         self.assertEqual(doc["results"][key]["predictions"]["lane_centerline"][0]["confidence"],
                          float(first["confidence"]))
+        # LaneSegNet-style: lane segments (float32 lines) and topology_lsls only, as a dict.
+        segs = {}
+        for i in range(len(ds)):
+            ann = ds.record(i)["annotation"]
+            n = len(ann["lane_segment"])
+            segs[(ds[i]["split"], ds[i]["scene"], str(ds[i]["timestamp"]))] = {"predictions": {
+                "lane_segment": [dict({k: s[k].astype(np.float32) for k in ("centerline", "left_laneline",
+                                                                             "right_laneline")},
+                                      id=k, confidence=np.float32(0.9 - 1e-4 * k))
+                                 for k, s in enumerate(ann["lane_segment"])],
+                "area": [], "traffic_element": [], "topology_lsls": ann["topology_lsls"].astype(np.float64),
+                "topology_lste": np.zeros((n, 0)), "lane_segment_1.0_idx_match_gt": np.full(n, np.nan)}}
+        ls = nsgraph.score_frames(self.root, {"results": segs}, split="test")
+        self.assertIsNone(ls["DET_l"])  # no centerlines submitted
+        self.assertEqual((ls["lane_segments"]["DET_ls"], ls["lane_segments"]["TOP_lsls"]), (1.0, 1.0))
+        self.assertEqual(ls["lane_segments"]["DET_a"], 0.0)  # no area predicted
         # A frame named twice, by its token and by its identifier: refused, both keys named.
         token = ds[0]["token"]
         twice = dict(doc, results=dict(doc["results"]))

@@ -76,6 +76,11 @@ const Table<FramesConfig>& frames_option_table() {
         .help(
             "Points of each centerline's `points`, evenly spaced along its length (11: OpenLane-V2's evaluated "
             "ground truth); `points_2m` keeps the lane graph's nodes, at most 2 m apart");
+    t.integer("lane_segment_points", &FramesConfig::lane_segment_points)
+        .range(options::between(2, 1000))
+        .help(
+            "Points of each lane segment's centerline, left and right laneline, evenly spaced along each (10: "
+            "OpenLane-V2 v2.1's lane segments)");
     t.choice("overlap", &FramesConfig::overlap,
              {{"drop", OverlapMode::kDrop}, {"keep", OverlapMode::kKeep}, {"flag", OverlapMode::kFlag}})
         .help(

@@ -26,6 +26,7 @@
 #include "nsg/io/dataset.h"
 #include "nsg/metrics/frames_documents.h"
 #include "nsg/nuscenes/map_expansion.h"
+#include "nsg/frames/frame_map.h"
 #include "nsg/pipeline/config.h"
 
 namespace nsg::frames {
@@ -83,6 +84,7 @@ DatasetPlan read_dataset(const fs::path& root) {
 struct LocationGraph {
   std::unique_ptr<graph::LaneGraph> graph;
   std::unique_ptr<graph::SegmentIndex> index;
+  LocationMapElements elements;  // lanelines, crossings, road boundaries (frame_map.h)
 };
 
 LocationGraph location_graph(const fs::path& dataroot, const std::string& location, const DatasetPlan& plan) {
@@ -99,6 +101,7 @@ LocationGraph location_graph(const fs::path& dataroot, const std::string& locati
   Issues issues;
   out.graph = std::make_unique<graph::LaneGraph>(graph::build_lane_graph(map, plan.config.graph, &issues));
   out.index = std::make_unique<graph::SegmentIndex>(*out.graph);
+  out.elements = location_map_elements(map, *out.graph);
   return out;
 }
 
@@ -230,6 +233,8 @@ nlohmann::ordered_json summary_json(const FramesSummary& s, const FramesConfig& 
           {"flagged_overlap", s.flagged_overlap},
           {"centerlines", s.centerlines},
           {"links", s.links},
+          {"lanelines_from_offset", s.lanelines_from_offset},
+          {"areas", {{"pedestrian_crossing", s.pedestrian_crossings}, {"road_boundary", s.road_boundaries}}},
           {"leakage",
            {{"regions", leakage_json(s.regions, config.leak_radius_m)},
             {"scenes_random", leakage_json(s.scenes_random, config.leak_radius_m)}}}};
@@ -337,8 +342,16 @@ std::optional<FrameContext> frame_context(ExportState& es, const Candidate& c) {
   return context;
 }
 
+void count_map_elements(const FrameMapElements& elements, FramesSummary& summary) {
+  for (const FrameLaneSegment& s : elements.lane_segments)
+    summary.lanelines_from_offset += int64_t{s.left_from_offset} + int64_t{s.right_from_offset};
+  for (const FrameArea& a : elements.areas)
+    ++(a.category == AreaCategory::kPedestrianCrossing ? summary.pedestrian_crossings : summary.road_boundaries);
+}
+
 // Writes the frame's record (and its camera images with copy_images).
-void write_frame(ExportState& es, const Candidate& c, FrameContext& context, const FrameLanes& lanes) {
+void write_frame(ExportState& es, const Candidate& c, FrameContext& context, const FrameLanes& lanes,
+                 const FrameMapElements& elements) {
   const nuscenes::Scene& scene = es.db.scene[es.db.sample[c.sample].scene];
   // The scene name becomes the record's folder (OpenLane-V2's segment_id): checked first.
   const std::string& scene_name = safe_name(
@@ -346,7 +359,7 @@ void write_frame(ExportState& es, const Candidate& c, FrameContext& context, con
   const std::string folder = context.split + "/" + scene_name;
   if (es.config.copy_images) context.image_root = folder + "/image";
   const std::string name = std::to_string(c.timestamp) + ".json";
-  const std::string text = frame_record(es.db, context, lanes).dump() + "\n";
+  const std::string text = frame_record(es.db, context, lanes, elements).dump() + "\n";
   const std::string relative = folder + "/info/" + name;
   es.out.write(relative, text);
   es.files.push_back({relative, text.size(), sha256_hex(text)});
@@ -442,9 +455,12 @@ FramesSummary export_frames(const FramesConfig& config, const FramesRun& run) {
     const LocationGraph& g = graphs.at(context->location);
     const FrameLanes lanes =
         cut_frame_lanes(*g.graph, *g.index, context->global_from_ego, config.window, config.centerline_points);
+    const FrameMapElements elements =
+        cut_frame_map(lanes, g.elements, context->global_from_ego, config.window, config.lane_segment_points);
     summary.centerlines += static_cast<int64_t>(lanes.centerlines.size());
     summary.links += static_cast<int64_t>(lanes.successors.size());
-    if (!run.stats_only) write_frame(es, c, *context, lanes);
+    count_map_elements(elements, summary);
+    if (!run.stats_only) write_frame(es, c, *context, lanes, elements);
   }
   progress.finish();
   summary.regions = measure_leakage(es.by_regions, config.leak_radius_m, config.window);

@@ -1,5 +1,6 @@
 // One key frame as OpenLane-V2's per-frame record: its cameras (image, intrinsic, camera →
-// ego extrinsic), the ego pose and the annotation (lane centerlines and their topology).
+// ego extrinsic), the ego pose and the annotation (lane centerlines and their topology;
+// lane segments, areas and their topology).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -69,7 +70,17 @@ ordered_json camera_json(const nuscenes::Database& db, nuscenes::Index sd_index,
           {"ego_pose", transform_json(rigid(pose.translation, pose.rotation))}};
 }
 
-ordered_json annotation_json(const FrameLanes& lanes) {
+ordered_json lane_segment_json(const FrameLaneSegment& s) {
+  return {{"id", s.id},
+          {"centerline", points_json(s.centerline)},
+          {"left_laneline", points_json(s.left_laneline)},
+          {"left_laneline_type", static_cast<int>(s.left_type)},
+          {"right_laneline", points_json(s.right_laneline)},
+          {"right_laneline_type", static_cast<int>(s.right_type)},
+          {"is_intersection_or_connector", s.is_intersection_or_connector}};
+}
+
+ordered_json annotation_json(const FrameLanes& lanes, const FrameMapElements& elements) {
   ordered_json centerlines = ordered_json::array();
   for (const FrameCenterline& c : lanes.centerlines)
     centerlines.push_back({{"id", c.id},
@@ -88,10 +99,16 @@ ordered_json annotation_json(const FrameLanes& lanes) {
     topology.push_back(row);
     lcte.push_back(ordered_json::array());  // n × 0: nuScenes has no traffic elements
   }
-  return {{"lane_centerline", centerlines},
-          {"traffic_element", ordered_json::array()},
-          {"topology_lclc", topology},
-          {"topology_lcte", lcte}};
+  ordered_json segments = ordered_json::array();
+  for (const FrameLaneSegment& s : elements.lane_segments) segments.push_back(lane_segment_json(s));
+  ordered_json areas = ordered_json::array();
+  for (const FrameArea& a : elements.areas)
+    areas.push_back({{"id", a.id}, {"category", static_cast<int>(a.category)}, {"points", points_json(a.points)}});
+  // Lane segments are the centerlines with their lanelines: one topology for both.
+  return {{"lane_centerline", centerlines}, {"traffic_element", ordered_json::array()},
+          {"topology_lclc", topology},      {"topology_lcte", lcte},
+          {"lane_segment", segments},       {"area", areas},
+          {"topology_lsls", topology},      {"topology_lste", lcte}};
 }
 
 }  // namespace
@@ -113,15 +130,15 @@ std::vector<nuscenes::Index> camera_key_frames(const nuscenes::Database& db, nus
   return out;
 }
 
-nlohmann::ordered_json frame_record(const nuscenes::Database& db, const FrameContext& context,
-                                    const FrameLanes& lanes) {
+nlohmann::ordered_json frame_record(const nuscenes::Database& db, const FrameContext& context, const FrameLanes& lanes,
+                                    const FrameMapElements& elements) {
   const nuscenes::Sample& sample = db.sample[context.sample];
   const nuscenes::Scene& scene = db.scene[sample.scene];
   ordered_json sensors = ordered_json::object();
   for (const nuscenes::Index sd : camera_key_frames(db, context.sample))
     sensors[db.channel(db.sample_data[sd])] = camera_json(db, sd, context);
   ordered_json record = {{"schema_version", "1"},
-                         {"version", "nsgraph-frames-1"},
+                         {"version", "nsgraph-frames-2"},
                          {"segment_id", scene.name},
                          {"meta_data",
                           {{"source", "nuscenes"},
@@ -136,7 +153,7 @@ nlohmann::ordered_json frame_record(const nuscenes::Database& db, const FrameCon
                          {"sensor", sensors},
                          // The ego at the LIDAR_TOP key frame (the sample's time): ego → global.
                          {"pose", transform_json(context.global_from_ego)},
-                         {"annotation", annotation_json(lanes)}};
+                         {"annotation", annotation_json(lanes, elements)}};
   if (context.flag_overlap) record["overlap"] = context.overlap;
   return record;
 }

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "nsg/frames/frame_lanes.h"
+#include "nsg/frames/frame_map.h"
 #include "nsg/geometry/transform.h"
 #include "nsg/nuscenes/database.h"
 #include "nsg/tiling/regions.h"
@@ -31,7 +32,9 @@ struct FrameContext {
 std::vector<nuscenes::Index> camera_key_frames(const nuscenes::Database& db, nuscenes::Index sample);
 
 // The record as OpenLane-V2's info/<timestamp>.json lays it out (docs/frames.md).
-nlohmann::ordered_json frame_record(const nuscenes::Database& db, const FrameContext& context, const FrameLanes& lanes);
+// Version 2: the annotation also holds the lane segments and areas (frame_map.h).
+nlohmann::ordered_json frame_record(const nuscenes::Database& db, const FrameContext& context, const FrameLanes& lanes,
+                                    const FrameMapElements& elements);
 
 // A pose of the release as a rigid transform (target ← source).
 geometry::Rigid3 rigid(const nuscenes::Vec3& translation, const geometry::Quaternion& rotation);

@@ -28,9 +28,10 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr const char* kManifestKind = "nsgraph-frames";
-constexpr const char* kRecordVersion = "nsgraph-frames-1";
-constexpr double kWindowLimitM = 200.0;     // frames' config range of a window edge
-constexpr int kMaxCenterlinePoints = 1000;  // frames' config range of centerline_points
+constexpr const char* kRecordVersion = "nsgraph-frames-2";
+constexpr const char* kRecordVersion1 = "nsgraph-frames-1";  // before lane segments and areas
+constexpr double kWindowLimitM = 200.0;                      // frames' config range of a window edge
+constexpr int kMaxCenterlinePoints = 1000;                   // frames' config range of centerline_points
 // A rotation matrix's entries lie in [-1, 1]; the records write them unrounded.
 constexpr double kMaxRotationEntry = 1.0 + 1e-6;
 constexpr int64_t kMaxImageSidePx = 1'000'000;
@@ -205,8 +206,9 @@ class RecordReader {
     FrameRecord r;
     r.schema_version = text(member(top, "", "schema_version", "\"1\""), "/schema_version", "\"1\"");
     if (r.schema_version != "1") fail("/schema_version", "\"1\" (a version-1 frame record)");
-    r.version = text(member(top, "", "version", kRecordVersion), "/version", kRecordVersion);
-    if (r.version != kRecordVersion) fail("/version", std::string("\"") + kRecordVersion + "\"");
+    const std::string versions = std::string("\"") + kRecordVersion + "\" or \"" + kRecordVersion1 + "\"";
+    r.version = text(member(top, "", "version", versions), "/version", versions);
+    if (r.version != kRecordVersion && r.version != kRecordVersion1) fail("/version", versions);
     r.segment_id = text(member(top, "", "segment_id", "the scene's name"), "/segment_id", "the scene's name", true);
     r.sample_token =
         text(member(top, "", "sample_token", "the sample's token"), "/sample_token", "the sample's token", true);
@@ -402,34 +404,97 @@ class RecordReader {
     for (const element lane : lanes)
       r.centerlines.push_back(centerline(lane, at + "/lane_centerline/" + std::to_string(r.centerlines.size())));
     const size_t n = r.centerlines.size();
-    const std::string shape = std::to_string(n) + " x " + std::to_string(n) + " of 0 or 1 (one row per centerline)";
-    const array rows = as_array(member(o, at, "topology_lclc", shape), at + "/topology_lclc", shape);
-    if (rows.size() != n) fail(at + "/topology_lclc", shape);
-    r.topology_lclc.reserve(n * n);
+    r.topology_lclc = adjacency(o, at, "topology_lclc", n, "centerline");
+    // No traffic elements (nuScenes has none): [] and n × 0.
+    if (as_array(member(o, at, "traffic_element", "[]"), at + "/traffic_element", "[] (no traffic elements)").size() !=
+        0)
+      fail(at + "/traffic_element", "[] (no traffic elements)");
+    no_traffic_elements(o, at, "topology_lcte", n);
+    if (r.version == kRecordVersion1) return;
+    const std::string segments_shape = std::to_string(n) + " lane segments (one per centerline, in their order)";
+    const array segments =
+        as_array(member(o, at, "lane_segment", segments_shape), at + "/lane_segment", segments_shape);
+    if (segments.size() != n) fail(at + "/lane_segment", segments_shape);
+    for (const element e : segments) {
+      const std::string here = at + "/lane_segment/" + std::to_string(r.lane_segments.size());
+      r.lane_segments.push_back(lane_segment(e, here));
+      if (r.lane_segments.back().id != r.centerlines[r.lane_segments.size() - 1].id)
+        fail(here + "/id", "the id of the centerline at its position");
+    }
+    const array areas = as_array(member(o, at, "area", "the areas"), at + "/area", "an array of areas");
+    if (static_cast<int64_t>(areas.size()) > limits_.max_centerlines)
+      fail(at + "/area", strprintf("at most %lld areas", static_cast<long long>(limits_.max_centerlines)));
+    for (const element e : areas) r.areas.push_back(area(e, at + "/area/" + std::to_string(r.areas.size())));
+    r.topology_lsls = adjacency(o, at, "topology_lsls", n, "lane segment");
+    no_traffic_elements(o, at, "topology_lste", n);
+  }
+
+  // An n × n matrix of 0 or 1, row-major.
+  std::vector<uint8_t> adjacency(const object& o, const std::string& at, const char* name, size_t n,
+                                 const char* row_of) const {
+    const std::string shape = std::to_string(n) + " x " + std::to_string(n) + " of 0 or 1 (one row per " + row_of + ")";
+    const std::string here = at + "/" + name;
+    const array rows = as_array(member(o, at, name, shape), here, shape);
+    if (rows.size() != n) fail(here, shape);
+    std::vector<uint8_t> out;
+    out.reserve(n * n);
     size_t i = 0;
     for (const element row_e : rows) {
-      const std::string row_at = at + "/topology_lclc/" + std::to_string(i++);
+      const std::string row_at = here + "/" + std::to_string(i++);
       const array row = as_array(row_e, row_at, shape);
       if (row.size() != n) fail(row_at, shape);
       size_t j = 0;
       for (const element v : row) {
         const std::optional<double> x = detail::number(v);
         if (!x || (*x != 0.0 && *x != 1.0)) fail(row_at + "/" + std::to_string(j), "0 or 1");
-        r.topology_lclc.push_back(*x == 1.0 ? 1 : 0);
+        out.push_back(*x == 1.0 ? 1 : 0);
         ++j;
       }
     }
-    // No traffic elements (nuScenes has none): [] and n × 0.
-    if (as_array(member(o, at, "traffic_element", "[]"), at + "/traffic_element", "[] (no traffic elements)").size() !=
-        0)
-      fail(at + "/traffic_element", "[] (no traffic elements)");
-    const std::string lcte = std::to_string(n) + " x 0 (no traffic elements)";
-    const array lcte_rows = as_array(member(o, at, "topology_lcte", lcte), at + "/topology_lcte", lcte);
-    if (lcte_rows.size() != n) fail(at + "/topology_lcte", lcte);
+    return out;
+  }
+
+  // n × 0: a row per centerline, no traffic element.
+  void no_traffic_elements(const object& o, const std::string& at, const char* name, size_t n) const {
+    const std::string shape = std::to_string(n) + " x 0 (no traffic elements)";
+    const std::string here = at + "/" + name;
+    const array rows = as_array(member(o, at, name, shape), here, shape);
+    if (rows.size() != n) fail(here, shape);
     size_t k = 0;
-    for (const element row : lcte_rows)
-      if (as_array(row, at + "/topology_lcte/" + std::to_string(k++), lcte).size() != 0)
-        fail(at + "/topology_lcte/" + std::to_string(k - 1), lcte);
+    for (const element row : rows)
+      if (as_array(row, here + "/" + std::to_string(k++), shape).size() != 0)
+        fail(here + "/" + std::to_string(k - 1), shape);
+  }
+
+  int line_type(const object& o, const std::string& at, const char* name) const {
+    return static_cast<int>(integer(member(o, at, name, "0 (none), 1 (solid) or 2 (dash)"), at + "/" + name, 0, 2,
+                                    "0 (none), 1 (solid) or 2 (dash)"));
+  }
+
+  FrameRecordLaneSegment lane_segment(element e, const std::string& at) const {
+    const object o = as_object(e, at, "a lane segment {id, centerline, left_laneline, right_laneline, …}");
+    FrameRecordLaneSegment s;
+    s.id = integer(member(o, at, "id", "the lane segment's id"), at + "/id", 0, std::numeric_limits<int64_t>::max(),
+                   "the lane segment's id, an integer ≥ 0");
+    s.centerline = points(member(o, at, "centerline", "its centerline"), at + "/centerline");
+    s.left_laneline = points(member(o, at, "left_laneline", "its left laneline"), at + "/left_laneline");
+    s.left_type = line_type(o, at, "left_laneline_type");
+    s.right_laneline = points(member(o, at, "right_laneline", "its right laneline"), at + "/right_laneline");
+    s.right_type = line_type(o, at, "right_laneline_type");
+    s.is_connector =
+        boolean(member(o, at, "is_intersection_or_connector", "true or false"), at + "/is_intersection_or_connector");
+    return s;
+  }
+
+  FrameRecordArea area(element e, const std::string& at) const {
+    const object o = as_object(e, at, "an area {id, category, points}");
+    FrameRecordArea a;
+    a.id = integer(member(o, at, "id", "the area's id"), at + "/id", 0, std::numeric_limits<int64_t>::max(),
+                   "the area's id, an integer ≥ 0");
+    a.category = static_cast<int>(integer(member(o, at, "category", "1 (pedestrian crossing) or 2 (road boundary)"),
+                                          at + "/category", 1, 2, "1 (pedestrian crossing) or 2 (road boundary)"));
+    a.points = points(member(o, at, "points", "its points"), at + "/points");
+    return a;
   }
 
   const std::string& file_;
@@ -499,14 +564,6 @@ std::string read_listed_file(const FramesManifest& manifest, const FramesListedF
 }
 
 std::string FrameRecord::identifier() const { return split + "/" + segment_id + "/" + std::to_string(timestamp_us); }
-
-FrameCenterlines FrameRecord::truth() const {
-  FrameCenterlines out;
-  out.lanes.reserve(centerlines.size());
-  for (const FrameRecordCenterline& c : centerlines) out.lanes.push_back(c.points);
-  out.topology.assign(topology_lclc.begin(), topology_lclc.end());
-  return out;
-}
 
 namespace {
 

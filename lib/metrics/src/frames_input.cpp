@@ -30,6 +30,76 @@ simdjson::dom::element member(simdjson::dom::element e, const char* key, const s
 
 // One ground-truth annotation: lane_centerline[].points and topology_lclc, checked as our
 // own writer writes them (a damaged export is named, not scored).
+std::vector<Point3> truth_points(simdjson::dom::element e, const std::string& file, const std::string& at) {
+  simdjson::dom::array points;
+  NSG_CHECK(!e.get_array().get(points) && points.size() >= 2, ParseError, file, at, "at least 2 points");
+  std::vector<Point3> curve;
+  for (const simdjson::dom::element p : points) {
+    simdjson::dom::array xyz;
+    NSG_CHECK(!p.get_array().get(xyz) && xyz.size() == 3, ParseError, file, at, "[x, y, z] numbers");
+    Point3 v{};
+    size_t c = 0;
+    for (const simdjson::dom::element x : xyz) {
+      const std::optional<double> n = detail::number(x);
+      NSG_CHECK(n.has_value(), ParseError, file, at, "[x, y, z] numbers");
+      v[c++] = *n;
+    }
+    curve.push_back(v);
+  }
+  return curve;
+}
+
+// An n × n matrix of 0 or 1, appended to `out` row by row.
+void truth_topology(simdjson::dom::element annotation, const char* name, size_t n, const std::string& file,
+                    const std::string& at, std::vector<double>& out) {
+  simdjson::dom::array topo;
+  NSG_CHECK(!member(annotation, name, file, at, "the topology").get_array().get(topo) && topo.size() == n, ParseError,
+            file, at + "/" + name, std::to_string(n) + " rows (one per lane)");
+  for (const simdjson::dom::element row_e : topo) {
+    simdjson::dom::array row;
+    NSG_CHECK(!row_e.get_array().get(row) && row.size() == n, ParseError, file, at + "/" + name,
+              std::to_string(n) + " columns of 0 or 1");
+    for (const simdjson::dom::element v : row) {
+      const std::optional<double> x = detail::number(v);
+      NSG_CHECK(x && (*x == 0.0 || *x == 1.0), ParseError, file, at + "/" + name, "0 or 1");
+      out.push_back(*x);
+    }
+  }
+}
+
+// A golden document's lane segments and areas, as a record's (resampled as collect() does).
+void map_elements_of(simdjson::dom::element annotation, const std::string& file, const std::string& at,
+                     FrameCenterlines& out) {
+  simdjson::dom::array segments, areas;
+  NSG_CHECK(!member(annotation, "lane_segment", file, at, "the lane segments").get_array().get(segments), ParseError,
+            file, at + "/lane_segment", "an array of lane segments");
+  size_t i = 0;
+  for (const simdjson::dom::element s : segments) {
+    const std::string where = at + "/lane_segment/" + std::to_string(i++);
+    const auto line = [&](const char* name) {
+      return interpolate_like_collect(truth_points(member(s, name, file, where, name), file, where + "/" + name),
+                                      kLaneSegmentLinePoints);
+    };
+    out.segments.push_back({line("centerline"), line("left_laneline"), line("right_laneline")});
+  }
+  truth_topology(annotation, "topology_lsls", out.segments.size(), file, at, out.topology_lsls);
+  NSG_CHECK(!member(annotation, "area", file, at, "the areas").get_array().get(areas), ParseError, file, at + "/area",
+            "an array of areas");
+  i = 0;
+  for (const simdjson::dom::element a : areas) {
+    const std::string where = at + "/area/" + std::to_string(i++);
+    int64_t category = 0;
+    NSG_CHECK(
+        !member(a, "category", file, where, "1 or 2").get_int64().get(category) && (category == 1 || category == 2),
+        ParseError, file, where + "/category", "1 (pedestrian crossing) or 2 (road boundary)");
+    out.areas.push_back(
+        {static_cast<int>(category),
+         interpolate_like_collect(truth_points(member(a, "points", file, where, "its points"), file, where + "/points"),
+                                  kAreaPoints)});
+  }
+  out.has_map_elements = true;
+}
+
 FrameCenterlines truth_of(simdjson::dom::element annotation, const std::string& file, const std::string& at) {
   FrameCenterlines out;
   simdjson::dom::array lanes;
@@ -38,39 +108,11 @@ FrameCenterlines truth_of(simdjson::dom::element annotation, const std::string& 
   size_t i = 0;
   for (const simdjson::dom::element lane : lanes) {
     const std::string where = at + "/lane_centerline/" + std::to_string(i++);
-    simdjson::dom::array points;
-    NSG_CHECK(!member(lane, "points", file, where, "its points").get_array().get(points) && points.size() >= 2,
-              ParseError, file, where + "/points", "at least 2 points");
-    std::vector<Point3> curve;
-    for (const simdjson::dom::element p : points) {
-      simdjson::dom::array xyz;
-      NSG_CHECK(!p.get_array().get(xyz) && xyz.size() == 3, ParseError, file, where + "/points", "[x, y, z] numbers");
-      Point3 v{};
-      size_t c = 0;
-      for (const simdjson::dom::element x : xyz) {
-        const std::optional<double> n = detail::number(x);
-        NSG_CHECK(n.has_value(), ParseError, file, where + "/points", "[x, y, z] numbers");
-        v[c++] = *n;
-      }
-      curve.push_back(v);
-    }
-    out.lanes.push_back(std::move(curve));
+    out.lanes.push_back(truth_points(member(lane, "points", file, where, "its points"), file, where + "/points"));
   }
-  const size_t n = out.lanes.size();
-  simdjson::dom::array topo;
-  NSG_CHECK(!member(annotation, "topology_lclc", file, at, "the lane-lane topology").get_array().get(topo) &&
-                topo.size() == n,
-            ParseError, file, at + "/topology_lclc", std::to_string(n) + " rows (one per centerline)");
-  for (const simdjson::dom::element row_e : topo) {
-    simdjson::dom::array row;
-    NSG_CHECK(!row_e.get_array().get(row) && row.size() == n, ParseError, file, at + "/topology_lclc",
-              std::to_string(n) + " columns of 0 or 1");
-    for (const simdjson::dom::element v : row) {
-      const std::optional<double> x = detail::number(v);
-      NSG_CHECK(x && (*x == 0.0 || *x == 1.0), ParseError, file, at + "/topology_lclc", "0 or 1");
-      out.topology.push_back(*x);
-    }
-  }
+  truth_topology(annotation, "topology_lclc", out.lanes.size(), file, at, out.topology);
+  simdjson::dom::element segments;
+  if (annotation.at_key("lane_segment").get(segments) == simdjson::SUCCESS) map_elements_of(annotation, file, at, out);
   return out;
 }
 
@@ -110,17 +152,28 @@ FrameSet read_frames_ground_truth_document(const fs::path& file) {
   return out;
 }
 
+// Points of a frame's lane segments (three lines each) and areas: what DET_ls and DET_a
+// compare pairwise.
+int64_t map_element_points(const FrameCenterlines& f) {
+  int64_t n = 0;
+  for (const SegmentLines& s : f.segments)
+    n += static_cast<int64_t>(s.centerline.size() + s.left.size() + s.right.size());
+  for (const AreaPoints& a : f.areas) n += static_cast<int64_t>(a.points.size());
+  return n;
+}
+
 void check_frame_work(const FrameSet& truth, const FrameSet& predictions, const FrameResultsLimits& limits,
                       const std::string& results_label, Issues& issues) {
-  std::map<std::string, int64_t> truth_points;
+  std::map<std::string, std::pair<int64_t, int64_t>> truth_points;  // centerlines, map elements
   for (const auto& [key, f] : truth) {
     int64_t n = 0;
     for (const auto& lane : f.lanes) n += static_cast<int64_t>(lane.size());
-    truth_points[key] = n;
+    truth_points[key] = {n, map_element_points(f)};
   }
   for (const auto& [key, f] : predictions) {
     const auto it = truth_points.find(key);
     if (it == truth_points.end()) continue;  // an extra frame is not measured
+    const std::string at = results_label + ":/results/" + validate::json_pointer_token(key);
     // Its graph (rule 9) within the tile limits, as a tile's prediction would be.
     const Graph g = frame_graph(f, false);
     double length_px = 0.0;
@@ -128,16 +181,19 @@ void check_frame_work(const FrameSet& truth, const FrameSet& predictions, const 
       length_px += std::hypot(g.nodes[static_cast<size_t>(a)].u - g.nodes[static_cast<size_t>(b)].u,
                               g.nodes[static_cast<size_t>(a)].v - g.nodes[static_cast<size_t>(b)].v);
     validate::check_tile_limits(static_cast<int64_t>(g.nodes.size()), static_cast<int64_t>(g.edges.size()), length_px,
-                                validate::path_search_work(static_cast<int64_t>(g.nodes.size()), g.edges),
-                                results_label + ":/results/" + validate::json_pointer_token(key),
+                                validate::path_search_work(static_cast<int64_t>(g.nodes.size()), g.edges), at,
                                 validate::SubmissionLimits{}, issues);
     int64_t n = 0;
     for (const auto& lane : f.lanes) n += static_cast<int64_t>(lane.size());
-    if (n > 0 && it->second > limits.max_point_pairs_per_frame / n)
-      issues.error("frames.results.size", results_label + ":/results/" + validate::json_pointer_token(key),
-                   "expected at most " + std::to_string(limits.max_point_pairs_per_frame) +
-                       " ground-truth x predicted point pairs in a frame (got " + std::to_string(it->second) + " x " +
-                       std::to_string(n) + ")");
+    const auto bound = [&](int64_t gt, int64_t pred) {
+      if (pred > 0 && gt > limits.max_point_pairs_per_frame / pred)
+        issues.error("frames.results.size", at,
+                     "expected at most " + std::to_string(limits.max_point_pairs_per_frame) +
+                         " ground-truth x predicted point pairs in a frame (got " + std::to_string(gt) + " x " +
+                         std::to_string(pred) + ")");
+    };
+    bound(it->second.first, n);
+    bound(it->second.second, map_element_points(f));
   }
 }
 

@@ -51,18 +51,25 @@ class ResultsReader {
       problem("frames.results.schema", at, "{\"predictions\": {\"lane_centerline\": […], \"topology_lclc\": […]}}");
       return false;
     }
+    element segments_e;
+    const bool has_segments = p.at_key("lane_segment").get(segments_e) == simdjson::SUCCESS;
+    element lanes_e;
+    if (has_segments && p.at_key("lane_centerline").get(lanes_e) != simdjson::SUCCESS) {
+      f.has_centerlines = false;  // a lane-segment submission (LaneSegNet's)
+    } else if (!centerlines(p, at, f)) {
+      return false;
+    }
+    return !has_segments || map_elements(p, segments_e, at, f);
+  }
+
+  bool centerlines(const object& p, const std::string& at, FrameCenterlines& f) {
     array lanes;
     element lanes_e;
     if (p.at_key("lane_centerline").get(lanes_e) || lanes_e.get_array().get(lanes)) {
       problem("frames.results.schema", at + "/predictions/lane_centerline", "an array of centerlines");
       return false;
     }
-    if (static_cast<int64_t>(lanes.size()) > limits_.max_centerlines_per_frame) {
-      problem("frames.results.size", at + "/predictions/lane_centerline",
-              "at most " + std::to_string(limits_.max_centerlines_per_frame) + " centerlines (got " +
-                  std::to_string(lanes.size()) + ")");
-      return false;
-    }
+    if (!within_count(lanes.size(), at + "/predictions/lane_centerline", "centerlines")) return false;
     int64_t points = 0;
     size_t i = 0;
     for (const element lane : lanes)
@@ -79,7 +86,7 @@ class ResultsReader {
               std::to_string(f.lanes.size()) + " × " + std::to_string(f.lanes.size()) + " probabilities in [0, 1]");
       return false;
     }
-    if (!topology(topology_e, at + "/predictions/topology_lclc", f)) return false;
+    if (!topology(topology_e, at + "/predictions/topology_lclc", f.lanes.size(), f.topology)) return false;
     const int64_t links = std::count_if(f.topology.begin(), f.topology.end(), [](double v) { return v > 0.5; });
     if (links > limits_.max_links_per_frame) {
       problem("frames.results.size", at + "/predictions/topology_lclc",
@@ -88,6 +95,95 @@ class ResultsReader {
       return false;
     }
     return true;
+  }
+
+  bool within_count(size_t n, const std::string& at, const char* what) {
+    if (static_cast<int64_t>(n) <= limits_.max_centerlines_per_frame) return true;
+    problem("frames.results.size", at,
+            "at most " + std::to_string(limits_.max_centerlines_per_frame) + " " + what + " (got " + std::to_string(n) +
+                ")");
+    return false;
+  }
+
+  // OpenLane-V2 v2.1's lane segments ({centerline, left_laneline, right_laneline,
+  // confidence}, topology_lsls) and areas ({category, points, confidence}; optional).
+  bool map_elements(const object& p, element segments_e, const std::string& at, FrameCenterlines& f) {
+    f.has_map_elements = true;
+    array segments;
+    const std::string seg_at = at + "/predictions/lane_segment";
+    if (segments_e.get_array().get(segments)) {
+      problem("frames.results.schema", seg_at, "an array of lane segments");
+      return false;
+    }
+    if (!within_count(segments.size(), seg_at, "lane segments")) return false;
+    size_t i = 0;
+    for (const element s : segments) {
+      const std::string here = seg_at + "/" + std::to_string(i++);
+      SegmentLines lines;
+      std::optional<double> conf;
+      if (!s.is_object()) {
+        problem("frames.results.schema", here,
+                "a lane segment {centerline, left_laneline, right_laneline, confidence}");
+        return false;
+      }
+      if (!line(s, here, "centerline", &lines.centerline) || !line(s, here, "left_laneline", &lines.left) ||
+          !line(s, here, "right_laneline", &lines.right) || !confidence(s, here, &conf))
+        return false;
+      f.segments.push_back(std::move(lines));
+      f.segment_confidence.push_back(*conf);
+    }
+    element topology_e;
+    if (p.at_key("topology_lsls").get(topology_e)) {
+      problem(
+          "frames.results.schema", at + "/predictions/topology_lsls",
+          std::to_string(f.segments.size()) + " × " + std::to_string(f.segments.size()) + " probabilities in [0, 1]");
+      return false;
+    }
+    if (!topology(topology_e, at + "/predictions/topology_lsls", f.segments.size(), f.topology_lsls)) return false;
+    element areas_e;
+    if (p.at_key("area").get(areas_e) != simdjson::SUCCESS) return true;
+    array areas;
+    if (areas_e.get_array().get(areas)) {
+      problem("frames.results.schema", at + "/predictions/area", "an array of areas");
+      return false;
+    }
+    if (!within_count(areas.size(), at + "/predictions/area", "areas")) return false;
+    i = 0;
+    for (const element a : areas) {
+      const std::string here = at + "/predictions/area/" + std::to_string(i++);
+      element category_e;
+      int64_t category = 0;
+      if (!a.is_object() || a.at_key("category").get(category_e) || category_e.get_int64().get(category) ||
+          (category != 1 && category != 2)) {
+        problem("frames.results.schema", here + "/category", "1 (pedestrian crossing) or 2 (road boundary)");
+        return false;
+      }
+      AreaPoints area{static_cast<int>(category), {}};
+      std::optional<double> conf;
+      if (!line(a, here, "points", &area.points) || !confidence(a, here, &conf)) return false;
+      f.areas.push_back(std::move(area));
+      f.area_confidence.push_back(*conf);
+    }
+    return true;
+  }
+
+  bool confidence(element e, const std::string& at, std::optional<double>* conf) {
+    element conf_e;
+    if (!e.at_key("confidence").get(conf_e)) *conf = detail::number(conf_e);
+    if (*conf && std::isfinite(**conf)) return true;
+    problem("frames.results.finite", at + "/confidence", "a finite number");
+    return false;
+  }
+
+  // A line `name` of `e`: 2 to max_points_per_centerline finite [x, y, z].
+  bool line(element e, const std::string& at, const char* name, std::vector<Point3>* out) {
+    element pts_e;
+    array pts;
+    if (e.at_key(name).get(pts_e) || pts_e.get_array().get(pts)) {
+      problem("frames.results.schema", at + "/" + name, "[[x, y, z], …]");
+      return false;
+    }
+    return curve(pts, at + "/" + name, out);
   }
 
   bool centerline(element lane, const std::string& at, FrameCenterlines& f, int64_t* points) {
@@ -103,14 +199,22 @@ class ResultsReader {
       problem("frames.results.finite", at + "/confidence", "a finite number");
       return false;
     }
+    std::vector<Point3> curve_points;
+    if (!curve(pts, at + "/points", &curve_points)) return false;
+    *points += static_cast<int64_t>(curve_points.size());
+    f.lanes.push_back(std::move(curve_points));
+    f.confidence.push_back(*conf);
+    return true;
+  }
+
+  bool curve(const array& pts, const std::string& at, std::vector<Point3>* out) {
     if (pts.size() < 2 || static_cast<int64_t>(pts.size()) > limits_.max_points_per_centerline) {
-      problem("frames.results.size", at + "/points",
+      problem("frames.results.size", at,
               "2 to " + std::to_string(limits_.max_points_per_centerline) + " points (got " +
                   std::to_string(pts.size()) + ")");
       return false;
     }
-    std::vector<Point3> curve;
-    curve.reserve(pts.size());
+    out->reserve(pts.size());
     size_t k = 0;
     for (const element q : pts) {
       array xyz;
@@ -128,33 +232,29 @@ class ResultsReader {
         }
       }
       if (!ok) {
-        problem("frames.results.schema", at + "/points/" + std::to_string(k), "[x, y, z] numbers");
+        problem("frames.results.schema", at + "/" + std::to_string(k), "[x, y, z] numbers");
         return false;
       }
       for (const double x : v)
         if (!std::isfinite(x) || std::abs(x) > limits_.max_abs_coordinate_m) {
-          problem("frames.results.finite", at + "/points/" + std::to_string(k),
+          problem("frames.results.finite", at + "/" + std::to_string(k),
                   "coordinates within ±" + std::to_string(static_cast<int64_t>(limits_.max_abs_coordinate_m)) + " m");
           return false;
         }
-      curve.push_back(v);
+      out->push_back(v);
       ++k;
     }
-    *points += static_cast<int64_t>(curve.size());
-    f.lanes.push_back(std::move(curve));
-    f.confidence.push_back(*conf);
     return true;
   }
 
-  bool topology(element t, const std::string& at, FrameCenterlines& f) {
-    const size_t n = f.lanes.size();
+  bool topology(element t, const std::string& at, size_t n, std::vector<double>& out) {
     const std::string shape = std::to_string(n) + " × " + std::to_string(n) + " probabilities in [0, 1]";
     array rows;
     if (t.get_array().get(rows) || rows.size() != n) {
       problem("frames.results.schema", at, shape);
       return false;
     }
-    f.topology.reserve(n * n);
+    out.reserve(n * n);
     size_t i = 0;
     for (const element row_e : rows) {
       array row;
@@ -170,7 +270,7 @@ class ResultsReader {
                   "a probability in [0, 1]");
           return false;
         }
-        f.topology.push_back(*p);
+        out.push_back(*p);
         ++j;
       }
       ++i;

@@ -21,7 +21,8 @@
 namespace nsg::metrics {
 namespace {
 
-constexpr std::array<double, 3> kThresholdsM = {1.0, 2.0, 3.0};
+constexpr std::array<double, 3> kThresholdsM = {1.0, 2.0, 3.0};      // centerlines, lane segments
+constexpr std::array<double, 3> kAreaThresholdsM = {0.5, 1.0, 1.5};  // areas (THRESHOLDS_AREA)
 constexpr double kRelationshipThreshold = 0.5;  // a link is predicted when its probability is above
 constexpr double kUnset = 1024.0;               // the distance of a pair the Chamfer mask skips
 const float kEps32 = std::numeric_limits<float>::epsilon();
@@ -164,20 +165,27 @@ float eleven_point_ap(const std::vector<float>& recalls, const std::vector<float
   return ap / 11.0f;
 }
 
-// _AP at one threshold over every frame; fills each frame's matches for TOP_ll.
-float average_precision(const FrameSet& truth, const std::vector<const FrameCenterlines*>& preds,
-                        const std::vector<std::vector<double>>& dists, double threshold,
+// One frame's detections at one kind (centerlines, lane segments, areas of a category):
+// its ground-truth count, the predictions' confidences and the n_gt × n_pred distances.
+struct FrameDetections {
+  size_t n_gt = 0;
+  std::vector<double> confidence;
+  std::vector<double> dist;
+};
+
+// _AP at one threshold over every frame; fills each frame's matches for the topology.
+float average_precision(const std::vector<FrameDetections>& frames, double threshold,
                         std::vector<FrameMatch>* matches) {
   std::vector<double> confidence;
   std::vector<uint8_t> tp;
   int64_t n_gt = 0;
-  for (size_t f = 0; f < truth.size(); ++f) {
-    const FrameCenterlines& p = *preds[f];
-    FrameMatch m = match_frame(truth[f].second.lanes.size(), p.confidence, dists[f], threshold);
-    confidence.insert(confidence.end(), p.confidence.begin(), p.confidence.end());
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const FrameDetections& d = frames[f];
+    FrameMatch m = match_frame(d.n_gt, d.confidence, d.dist, threshold);
+    confidence.insert(confidence.end(), d.confidence.begin(), d.confidence.end());
     tp.insert(tp.end(), m.tp.begin(), m.tp.end());
-    n_gt += static_cast<int64_t>(truth[f].second.lanes.size());
-    (*matches)[f] = std::move(m);
+    n_gt += static_cast<int64_t>(d.n_gt);
+    if (matches) (*matches)[f] = std::move(m);
   }
   if (tp.empty() && n_gt == 0) return 1.0f;
   std::vector<float> recalls, precisions;
@@ -227,24 +235,22 @@ void directed_aps(const std::vector<double>& gt, const std::vector<double>& pred
 // matched centerlines carried onto the ground truth's; every other pair predicted as "no
 // link" where the truth has one and as a link of probability 0.5 + float32 ε where it has
 // none (the evaluator's v1.1 rule: an unmatched pair costs).
-void frame_topology_aps(const FrameCenterlines& gt, const FrameCenterlines& pred, const FrameMatch& m,
-                        std::vector<double>* out) {
-  const size_t n = gt.lanes.size();
+void frame_topology_aps(const std::vector<double>& gt_topology, size_t n, const std::vector<double>& pred_topology,
+                        size_t n_pred, const FrameMatch& m, std::vector<double>* out) {
   if (n == 0) return;
-  const size_t n_pred = pred.lanes.size();
   std::vector<double> carried(n * n, std::numeric_limits<double>::quiet_NaN());
   for (size_t a = 0; a < n_pred; ++a) {
     if (m.matched_gt[a] < 0) continue;
     for (size_t b = 0; b < n_pred; ++b) {
       if (m.matched_gt[b] < 0) continue;
       carried[static_cast<size_t>(m.matched_gt[a]) * n + static_cast<size_t>(m.matched_gt[b])] =
-          pred.topology[a * n_pred + b];
+          pred_topology[a * n_pred + b];
     }
   }
   const double unmatched_link = 0.5 + static_cast<double>(kEps32);
   for (size_t i = 0; i < n * n; ++i)
-    if (std::isnan(carried[i])) carried[i] = (1.0 - gt.topology[i]) * unmatched_link;
-  directed_aps(gt.topology, carried, n, out);
+    if (std::isnan(carried[i])) carried[i] = (1.0 - gt_topology[i]) * unmatched_link;
+  directed_aps(gt_topology, carried, n, out);
 }
 
 // A coordinate rounded to float32. Not inlined on purpose: GCC 12.2 at -O3 vectorizes the
@@ -296,6 +302,99 @@ nlohmann::ordered_json graph_json(const FramesReport& r) {
   nlohmann::ordered_json out = nlohmann::ordered_json::object();
   for (const auto& [name, value] : r.graph_means) out[name] = value ? nlohmann::ordered_json(*value) : nullptr;
   return out;
+}
+
+// lanesegment/evaluation/distance.py lane_segment_distance: half the sum of the
+// centerlines' Fréchet distance and the lanelines' Chamfer distances.
+double lane_segment_distance(const SegmentLines& gt, const SegmentLines& pred) {
+  return 0.5 * (frechet(gt.centerline, pred.centerline) + chamfer(gt.left, pred.left) + chamfer(gt.right, pred.right));
+}
+
+// Its pairwise(..., relax=True) masked where the relaxed centerline Chamfer is not below the
+// largest threshold (kUnset there), as for centerlines.
+std::vector<double> segment_distances(const std::vector<SegmentLines>& gt, const std::vector<SegmentLines>& pred) {
+  std::vector<double> out(gt.size() * pred.size(), kUnset);
+  for (size_t g = 0; g < gt.size(); ++g) {
+    const double factor = relaxation(gt[g].centerline);
+    for (size_t p = 0; p < pred.size(); ++p)
+      if (chamfer(gt[g].centerline, pred[p].centerline) * factor < kThresholdsM.back())
+        out[g * pred.size() + p] = lane_segment_distance(gt[g], pred[p]) * factor;
+  }
+  return out;
+}
+
+// DET_a's detections of one category in a frame: the areas of that category, Chamfer
+// distances unrelaxed and unmasked (area_distance).
+FrameDetections area_detections(const FrameCenterlines& gt, const FrameCenterlines& pred, int category) {
+  std::vector<const AreaPoints*> g, p;
+  FrameDetections d;
+  for (const AreaPoints& a : gt.areas)
+    if (a.category == category) g.push_back(&a);
+  for (size_t k = 0; k < pred.areas.size(); ++k)
+    if (pred.areas[k].category == category) {
+      p.push_back(&pred.areas[k]);
+      d.confidence.push_back(pred.area_confidence[k]);
+    }
+  d.n_gt = g.size();
+  d.dist.reserve(g.size() * p.size());
+  for (const AreaPoints* a : g)
+    for (const AreaPoints* b : p) d.dist.push_back(chamfer(a->points, b->points));
+  return d;
+}
+
+// DET_ls, DET_a, TOP_lsls and the score as lanesegment/evaluation/evaluate.py computes them.
+void score_map_elements(const FrameSet& truth, const std::vector<const FrameCenterlines*>& preds, const Budget& budget,
+                        FramesReport& r) {
+  r.has_lane_segments = true;
+  std::vector<FrameDetections> segments;
+  for (size_t f = 0; f < truth.size(); ++f) {
+    budget.check(f);
+    const FrameCenterlines& gt = truth[f].second;
+    segments.push_back(
+        {gt.segments.size(), preds[f]->segment_confidence, segment_distances(gt.segments, preds[f]->segments)});
+    r.gt_lane_segments += static_cast<int64_t>(gt.segments.size());
+    r.pred_lane_segments += static_cast<int64_t>(preds[f]->segments.size());
+    r.gt_areas += static_cast<int64_t>(gt.areas.size());
+    r.pred_areas += static_cast<int64_t>(preds[f]->areas.size());
+  }
+  std::vector<double> vertex_aps;
+  float det_sum = 0.0f;
+  for (size_t t = 0; t < kThresholdsM.size(); ++t) {
+    std::vector<FrameMatch> matches(truth.size());
+    const float ap = average_precision(segments, kThresholdsM[t], &matches);
+    r.det_ls_per_threshold[t] = ap;
+    det_sum += ap;
+    for (size_t f = 0; f < truth.size(); ++f) {
+      const FrameCenterlines& gt = truth[f].second;
+      frame_topology_aps(gt.topology_lsls, gt.segments.size(), preds[f]->topology_lsls, preds[f]->segments.size(),
+                         matches[f], &vertex_aps);
+    }
+  }
+  r.det_ls = det_sum / 3.0f;
+  double top_sum = 0.0;
+  for (const double v : vertex_aps) top_sum += v;
+  r.top_lsls = vertex_aps.empty() ? 0.0 : top_sum / static_cast<double>(vertex_aps.size());
+  // DET_a: per category (AREA_CATEGOTY: pedestrian crossing, road boundary) the APs at
+  // 0.5, 1, 1.5 m, all six averaged in float32 as np.hstack(...).mean() does.
+  float area_sum = 0.0f;
+  for (size_t c = 0; c < 2; ++c) {
+    std::vector<FrameDetections> areas;
+    for (size_t f = 0; f < truth.size(); ++f)
+      areas.push_back(area_detections(truth[f].second, *preds[f], static_cast<int>(c) + 1));
+    float category_sum = 0.0f;
+    for (size_t t = 0; t < kAreaThresholdsM.size(); ++t) {
+      const float ap = average_precision(areas, kAreaThresholdsM[t], nullptr);
+      area_sum += ap;
+      category_sum += ap;
+    }
+    r.det_a_per_category[c] = category_sum / 3.0f;
+  }
+  r.det_a = area_sum / 6.0f;
+  // The evaluator's 'score': the mean of DET_l (its lane segments), DET_a, DET_t,
+  // sqrt(TOP_ll) and sqrt(TOP_lt). Without traffic elements its DET_t is 1 (an AP with no
+  // ground truth and no prediction) and its TOP_lt 0 (no frame has a lane–element matrix).
+  constexpr double kDetT = 1.0, kTopLt = 0.0;
+  r.ls_score = (r.det_ls + r.det_a + kDetT + std::sqrt(r.top_lsls) + std::sqrt(kTopLt)) / 5.0;
 }
 
 }  // namespace
@@ -378,21 +477,24 @@ FramesReport score_frames(const FrameSet& truth_in, const FrameSet& predictions,
   for (const auto& [key, f] : predictions) r.extra_frames += seen.count(key) ? 0 : 1;
   r.frames = static_cast<int64_t>(truth.size());
 
-  std::vector<std::vector<double>> dists;
+  std::vector<FrameDetections> detections;
   for (size_t f = 0; f < truth.size(); ++f) {
     budget.check(f);
-    dists.push_back(distance_matrix(truth[f].second.lanes, preds[f]->lanes));
+    detections.push_back(
+        {truth[f].second.lanes.size(), preds[f]->confidence, distance_matrix(truth[f].second.lanes, preds[f]->lanes)});
   }
   std::vector<double> vertex_aps;
   float det_sum = 0.0f;
   for (size_t t = 0; t < kThresholdsM.size(); ++t) {
     std::vector<FrameMatch> matches(truth.size());
-    const float ap = average_precision(truth, preds, dists, kThresholdsM[t], &matches);
+    const float ap = average_precision(detections, kThresholdsM[t], &matches);
     r.det_l_per_threshold[t] = ap;
     det_sum += ap;
     for (size_t f = 0; f < truth.size(); ++f) {
       budget.check(f);
-      frame_topology_aps(truth[f].second, *preds[f], matches[f], &vertex_aps);
+      const FrameCenterlines& gt = truth[f].second;
+      frame_topology_aps(gt.topology, gt.lanes.size(), preds[f]->topology, preds[f]->lanes.size(), matches[f],
+                         &vertex_aps);
     }
   }
   r.det_l = det_sum / 3.0f;
@@ -400,6 +502,14 @@ FramesReport score_frames(const FrameSet& truth_in, const FrameSet& predictions,
   for (const double v : vertex_aps) top_sum += v;
   r.top_ll = vertex_aps.empty() ? 0.0 : top_sum / static_cast<double>(vertex_aps.size());
   r.lane_score = (r.det_l + std::sqrt(r.top_ll)) / 2.0;
+  r.has_centerlines =
+      std::any_of(predictions.begin(), predictions.end(), [](const auto& p) { return p.second.has_centerlines; }) ||
+      predictions.empty();
+  const bool truth_has =
+      std::all_of(truth.begin(), truth.end(), [](const auto& f) { return f.second.has_map_elements; });
+  const bool preds_have =
+      std::any_of(predictions.begin(), predictions.end(), [](const auto& p) { return p.second.has_map_elements; });
+  if (truth_has && preds_have && !truth.empty()) score_map_elements(truth, preds, budget, r);
   if (graph_metrics) r.graph_means = graph_means(truth, preds, budget);
   return r;
 }
@@ -408,25 +518,48 @@ nlohmann::ordered_json frames_report_to_json(const FramesReport& r) {
   nlohmann::ordered_json per = nlohmann::ordered_json::object();
   for (size_t t = 0; t < kThresholdsM.size(); ++t)
     per[std::to_string(kThresholdsM[t]).substr(0, 3)] = r.det_l_per_threshold[t];
-  return {
-      {"schema_version", "1"},
-      {"frames_metrics_version", kFramesMetricsVersion},
-      {"split", r.split},
-      {"DET_l", r.det_l},
-      {"DET_l_per_threshold", per},
-      {"TOP_ll", r.top_ll},
-      {"lane_score", r.lane_score},
-      {"counts",
-       {{"frames", r.frames},
-        {"missing_frames", r.missing_frames},
-        {"extra_frames", r.extra_frames},
-        {"gt_centerlines", r.gt_centerlines},
-        {"pred_centerlines", r.pred_centerlines}}},
-      {"nsgraph_metrics", r.graph_means.empty() ? nlohmann::ordered_json(nullptr) : graph_json(r)},
-      {"missing_examples", r.missing_examples},
-      {"note",
-       "DET_l and TOP_ll as OpenLane-V2's evaluator computes them; lane_score = (DET_l + sqrt(TOP_ll)) / 2, the lane "
-       "terms of OLS, not OLS (no traffic elements)"}};
+  nlohmann::ordered_json out = {
+      {"schema_version", "1"}, {"frames_metrics_version", kFramesMetricsVersion}, {"split", r.split}};
+  const auto or_null = [](bool has, const nlohmann::ordered_json& v) {
+    return has ? v : nlohmann::ordered_json(nullptr);
+  };
+  out["DET_l"] = or_null(r.has_centerlines, r.det_l);
+  out["DET_l_per_threshold"] = or_null(r.has_centerlines, per);
+  out["TOP_ll"] = or_null(r.has_centerlines, r.top_ll);
+  out["lane_score"] = or_null(r.has_centerlines, r.lane_score);
+  nlohmann::ordered_json segments = nullptr;
+  if (r.has_lane_segments) {
+    nlohmann::ordered_json per_ls = nlohmann::ordered_json::object();
+    for (size_t t = 0; t < kThresholdsM.size(); ++t)
+      per_ls[std::to_string(kThresholdsM[t]).substr(0, 3)] = r.det_ls_per_threshold[t];
+    segments = {{"DET_ls", r.det_ls},
+                {"DET_ls_per_threshold", per_ls},
+                {"DET_a", r.det_a},
+                {"DET_a_per_category",
+                 {{"pedestrian_crossing", r.det_a_per_category[0]}, {"road_boundary", r.det_a_per_category[1]}}},
+                {"TOP_lsls", r.top_lsls},
+                {"score", r.ls_score}};
+  }
+  out["lane_segments"] = segments;
+  nlohmann::ordered_json counts = {{"frames", r.frames},
+                                   {"missing_frames", r.missing_frames},
+                                   {"extra_frames", r.extra_frames},
+                                   {"gt_centerlines", r.gt_centerlines},
+                                   {"pred_centerlines", r.pred_centerlines}};
+  if (r.has_lane_segments) {
+    counts["gt_lane_segments"] = r.gt_lane_segments;
+    counts["pred_lane_segments"] = r.pred_lane_segments;
+    counts["gt_areas"] = r.gt_areas;
+    counts["pred_areas"] = r.pred_areas;
+  }
+  out["counts"] = counts;
+  out["nsgraph_metrics"] = r.graph_means.empty() ? nlohmann::ordered_json(nullptr) : graph_json(r);
+  out["missing_examples"] = r.missing_examples;
+  out["note"] =
+      "DET_l and TOP_ll as OpenLane-V2's evaluator computes them; lane_score = (DET_l + sqrt(TOP_ll)) / 2, the lane "
+      "terms of OLS, not OLS (no traffic elements). lane_segments: DET_ls, DET_a, TOP_lsls and score as its v2.1 "
+      "lanesegment evaluation computes them (score includes its DET_t = 1 and TOP_lt = 0: no traffic elements)";
+  return out;
 }
 
 }  // namespace nsg::metrics

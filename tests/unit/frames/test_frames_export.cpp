@@ -17,6 +17,7 @@
 #include "nsg/graph/from_map.h"
 #include "nsg/graph/segment_index.h"
 #include "nsg/nuscenes/database.h"
+#include "nsg/metrics/frames_documents.h"
 #include "nsg/nuscenes/map_expansion.h"
 #include "nsg/validate/schema.h"
 #include "test_support.h"
@@ -225,6 +226,72 @@ TEST(FramesExport, CenterlinesLieOnTheMapsLaneGraphInsideTheWindowAndLinkWhereLa
   EXPECT_GT(links, 0);
 }
 
+// Distance from `p` to the polyline `line` (x, y).
+double distance_to(const json& line, const Eigen::Vector3d& p) {
+  double best = 1e9;
+  for (size_t k = 1; k < line.size(); ++k) {
+    const Eigen::Vector3d a = vec(line[k - 1]), b = vec(line[k]);
+    best = std::min(best, graph::closest_on_segment(a.x(), a.y(), b.x(), b.y(), p.x(), p.y()).distance_m);
+  }
+  return best;
+}
+
+// Version 2: a lane segment per centerline (same id, same topology), its lanelines half the
+// e2e world's 3.5 m lane width to either side (left of the driving direction first), and
+// areas inside the window, crossings closed; the manifest counts what the records hold.
+TEST(FramesExport, LaneSegmentsAreTheCenterlinesWithTheirLanelinesAndAreasLieInTheWindow) {
+  int64_t crossings = 0, boundaries = 0, segments = 0;
+  for (const json& r : records(kept_export())) {
+    ASSERT_EQ(r["version"], "nsgraph-frames-2");
+    const json& a = r["annotation"];
+    const json& lanes = a["lane_centerline"];
+    ASSERT_EQ(a["lane_segment"].size(), lanes.size());
+    EXPECT_EQ(a["topology_lsls"], a["topology_lclc"]);
+    EXPECT_EQ(a["topology_lste"], a["topology_lcte"]);
+    for (size_t i = 0; i < lanes.size(); ++i) {
+      const json& s = a["lane_segment"][i];
+      ++segments;
+      EXPECT_EQ(s["id"], lanes[i]["id"]);
+      EXPECT_EQ(s["is_intersection_or_connector"], lanes[i]["is_intersection_or_connector"]);
+      const json& center = s["centerline"];
+      ASSERT_EQ(center.size(), 10u);
+      EXPECT_LT((vec(center[0]) - vec(lanes[i]["points"][0])).norm(), 2e-4);
+      EXPECT_LT((vec(center[9]) - vec(lanes[i]["points"][10])).norm(), 2e-4);
+      for (const char* side : {"left_laneline", "right_laneline"}) {
+        ASSERT_EQ(s[side].size(), 10u) << side;
+        const double sign = std::string(side) == "left_laneline" ? 1.0 : -1.0;
+        for (size_t k = 0; k < 10; ++k) {
+          const Eigen::Vector3d p = vec(s[side][k]);
+          // Lanes of a curve are cut where the piece's ends project: 0.3 m of slack there.
+          EXPECT_NEAR(distance_to(center, p), 1.75, 0.3) << side << " of " << s["id"];
+          const size_t j = std::min<size_t>(k, 8);
+          const Eigen::Vector3d d = vec(center[j + 1]) - vec(center[j]);
+          const Eigen::Vector3d off = p - vec(center[k]);
+          EXPECT_GT(sign * (d.x() * off.y() - d.y() * off.x()), 0.0) << side << " of " << s["id"];
+        }
+      }
+    }
+    for (const json& area : a["area"]) {
+      const int category = area["category"];
+      ASSERT_TRUE(category == 1 || category == 2);
+      ++(category == 1 ? crossings : boundaries);
+      for (const json& p : area["points"]) {
+        EXPECT_LE(std::abs(p[0].get<double>()), 50.0 + 1e-4);
+        EXPECT_LE(std::abs(p[1].get<double>()), 25.0 + 1e-4);
+      }
+      if (category == 1) EXPECT_EQ(area["points"].front(), area["points"].back());
+    }
+  }
+  const json counts = read_json(kept_export() / "manifest.json")["counts"];
+  EXPECT_EQ(counts["centerlines"], segments);
+  EXPECT_EQ(counts["areas"]["pedestrian_crossing"], crossings);
+  EXPECT_EQ(counts["areas"]["road_boundary"], boundaries);
+  EXPECT_GT(crossings, 0);
+  EXPECT_GT(boundaries, 0);
+  EXPECT_GT(counts["lanelines_from_offset"].get<int64_t>(), 0);  // the connectors
+  EXPECT_LT(counts["lanelines_from_offset"].get<int64_t>(), 2 * segments);
+}
+
 TEST(FramesExport, LeakageIsZeroOnTheRegionsAndMeasuredForAScenesRandomSplit) {
   const CommandResult r =
       run_nsgraph({"frames", "--quiet", "--dataset", e2e_dataset().string(), "--stats", "--overlap", "keep"});
@@ -403,20 +470,78 @@ TEST(FramesExport, BadInputIsRefusedByName) {
 }
 
 // The records of `split` as an OpenLane-V2 results document: a perfect submission.
-json copy_as_results(const fs::path& dir, const std::string& split) {
+// A record's area as the scorer resamples the ground truth's (20 points, collect()'s rule).
+json resampled(const json& points) {
+  std::vector<metrics::Point3> line;
+  for (const json& p : points) line.push_back({p[0].get<double>(), p[1].get<double>(), p[2].get<double>()});
+  json out = json::array();
+  for (const metrics::Point3& p : metrics::interpolate_like_collect(line, metrics::kAreaPoints))
+    out.push_back({p[0], p[1], p[2]});
+  return out;
+}
+
+// The export's own annotation as OpenLane-V2 results: centerlines, and with
+// `map_elements` also its lane segments and areas (the lane-segment track).
+json copy_as_results(const fs::path& dir, const std::string& split, bool map_elements = false) {
   json results = json::object();
   double confidence = 0.999;
   for (const json& r : records(dir)) {
     if (r["split"] != split) continue;
+    const json& a = r["annotation"];
     json lanes = json::array();
-    for (const json& c : r["annotation"]["lane_centerline"]) {
+    for (const json& c : a["lane_centerline"]) {
       lanes.push_back({{"id", c["id"]}, {"points", c["points"]}, {"confidence", confidence}});
       confidence -= 1e-4;
     }
-    results[r["sample_token"].get<std::string>()] = {
-        {"predictions", {{"lane_centerline", lanes}, {"topology_lclc", r["annotation"]["topology_lclc"]}}}};
+    json predictions = {{"lane_centerline", lanes}, {"topology_lclc", a["topology_lclc"]}};
+    if (map_elements) {
+      json segments = json::array(), areas = json::array();
+      for (json s : a["lane_segment"]) {
+        s["confidence"] = confidence;
+        confidence -= 1e-4;
+        segments.push_back(s);
+      }
+      for (const json& area : a["area"]) {
+        areas.push_back({{"id", area["id"]},
+                         {"category", area["category"]},
+                         {"points", resampled(area["points"])},
+                         {"confidence", confidence}});
+        confidence -= 1e-4;
+      }
+      predictions["lane_segment"] = segments;
+      predictions["area"] = areas;
+      predictions["topology_lsls"] = a["topology_lsls"];
+    }
+    results[r["sample_token"].get<std::string>()] = {{"predictions", predictions}};
   }
   return {{"method", "copy"}, {"results", results}};
+}
+
+// The lane-segment track through the CLI: the export's own lane segments and areas score 1
+// on DET_ls, DET_a and TOP_lsls; the evaluator's score is then (1 + 1 + 1 + 1 + 0) / 5, its
+// DET_t being 1 and its TOP_lt 0 without traffic elements.
+TEST(ScoreFrames, TheExportsOwnLaneSegmentsAndAreasScoreOne) {
+  TempDir tmp("score-frames-ls");
+  const fs::path& dir = kept_export();
+  write_text(tmp / "copy.json", copy_as_results(dir, "test", true).dump());
+  const CommandResult r = run_nsgraph({"score", "--quiet", "--frames", "--ground-truth", dir.string(), "--submission",
+                                       (tmp / "copy.json").string(), "--split", "test"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json report = json::parse(r.out);
+  EXPECT_EQ(report["DET_l"], 1.0);
+  const json& ls = report["lane_segments"];
+  EXPECT_EQ(ls["DET_ls"], 1.0);
+  EXPECT_EQ(ls["DET_a"], 1.0);
+  EXPECT_EQ(ls["TOP_lsls"], 1.0);
+  EXPECT_NEAR(ls["score"].get<double>(), 0.8, 1e-12);
+  EXPECT_EQ(report["counts"]["gt_lane_segments"], report["counts"]["gt_centerlines"]);
+  EXPECT_GT(report["counts"]["gt_areas"].get<int64_t>(), 0);
+  // Without them, the centerline report has no lane-segment part.
+  write_text(tmp / "lanes.json", copy_as_results(dir, "test").dump());
+  const CommandResult lanes = run_nsgraph({"score", "--quiet", "--frames", "--ground-truth", dir.string(),
+                                           "--submission", (tmp / "lanes.json").string(), "--split", "test"});
+  ASSERT_EQ(lanes.exit_code, 0) << lanes.err;
+  EXPECT_TRUE(json::parse(lanes.out)["lane_segments"].is_null());
 }
 
 TEST(ScoreFrames, APerfectSubmissionScoresOneThroughTheExportsManifest) {

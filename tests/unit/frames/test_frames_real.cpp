@@ -82,6 +82,18 @@ TEST(FramesReal, TheRecordCarriesTheDevkitsPoseAndCalibration) {
     off_plane = off_plane || std::abs(p[2].get<double>()) > 1e-3;
   }
   EXPECT_TRUE(off_plane);
+  // Its lane segment: the stand-in lane lists no dividers, so both lanelines are the
+  // centerline moved by half the default lane width, on the map plane too.
+  const json& segment = record["annotation"]["lane_segment"].at(0);
+  for (const char* side : {"centerline", "left_laneline", "right_laneline"})
+    for (const json& p : segment[side]) {
+      double z = t[2].get<double>();
+      for (int k = 0; k < 3; ++k) z += r[2][k].get<double>() * p[k].get<double>();
+      EXPECT_NEAR(z, 0.0, 2e-4) << side;
+    }
+  EXPECT_EQ(segment["left_laneline_type"], 0);
+  const json counts = read_json(tmp / "frames/manifest.json")["counts"];
+  EXPECT_EQ(counts["lanelines_from_offset"], 2);
 }
 
 }  // namespace

@@ -63,6 +63,38 @@ inline nlohmann::json frame_record_json(const std::string& token = "tok", const 
             {"topology_lcte", {json::array(), json::array()}}}}};
 }
 
+// The same frame as a version-2 record: each centerline's lane segment (lanelines 1.75 m to
+// either side, the first solid on its left), a crossing and a road boundary.
+inline nlohmann::json frame_record_v2_json(const std::string& token = "tok", const std::string& split = "test") {
+  using nlohmann::json;
+  json record = frame_record_json(token, split);
+  record["version"] = "nsgraph-frames-2";
+  json segments = json::array();
+  for (const json& c : record["annotation"]["lane_centerline"]) {
+    json left = json::array(), right = json::array();
+    for (const json& p : c["points"]) {
+      left.push_back({p[0], p[1].get<double>() + 1.75, p[2]});
+      right.push_back({p[0], p[1].get<double>() - 1.75, p[2]});
+    }
+    segments.push_back({{"id", c["id"]},
+                        {"centerline", c["points"]},
+                        {"left_laneline", left},
+                        {"left_laneline_type", c["id"] == 0 ? 1 : 0},
+                        {"right_laneline", right},
+                        {"right_laneline_type", 0},
+                        {"is_intersection_or_connector", c["is_intersection_or_connector"]}});
+  }
+  json& a = record["annotation"];
+  a["lane_segment"] = segments;
+  a["area"] = {{{"id", 0},
+                {"category", 1},
+                {"points", {{5.0, -2.0, 0.0}, {9.0, -2.0, 0.0}, {9.0, 6.0, 0.0}, {5.0, 6.0, 0.0}, {5.0, -2.0, 0.0}}}},
+               {{"id", 1000000000}, {"category", 2}, {"points", {{-50.0, 7.0, 0.0}, {50.0, 7.0, 0.0}}}}};
+  a["topology_lsls"] = a["topology_lclc"];
+  a["topology_lste"] = a["topology_lcte"];
+  return record;
+}
+
 inline nlohmann::json frames_manifest_json() {
   using nlohmann::json;
   return {{"schema_version", "1"},

@@ -44,6 +44,81 @@ TEST(FramesGolden, EveryResultsFileScoresAsOpenLaneV2sEvaluator) {
   }
 }
 
+// The lane-segment track (tests/data/golden/frames-ls, made by OpenLane-V2's v2.1
+// lanesegment evaluate() from the mirror): DET_ls, DET_a, TOP_lsls and its score to 1e-6,
+// the ground truth read from the records' lines and resampled as its collect() does.
+TEST(FramesGolden, LaneSegmentsAndAreasScoreAsOpenLaneV2sLaneSegmentEvaluator) {
+  const fs::path golden = test::source_dir() / "tests/data/golden/frames-ls";
+  const json expected = json::parse(read_file(golden / "expected.json"));
+  const FrameSet truth = read_frames_ground_truth_document(golden / "gt.json");
+  ASSERT_GE(truth.size(), 30u);
+  for (const char* file : {"pred.json", "pred-ties.json", "pred-copy.json"}) {
+    SCOPED_TRACE(file);
+    Issues issues;
+    const std::optional<FrameSet> pred = read_frames_results(golden / file, FrameResultsLimits{}, issues);
+    ASSERT_TRUE(pred) << issues.format();
+    const FramesReport r = score_frames(truth, *pred);
+    const json& want = expected[file];
+    ASSERT_TRUE(r.has_lane_segments);
+    EXPECT_FALSE(r.has_centerlines);  // lane segments only, as LaneSegNet submits
+    EXPECT_EQ(r.frames, want["frames"].get<int64_t>());
+    EXPECT_NEAR(r.det_ls, want["DET_ls"].get<double>(), 1e-6);
+    EXPECT_NEAR(r.det_a, want["DET_a"].get<double>(), 1e-6);
+    EXPECT_NEAR(r.top_lsls, want["TOP_lsls"].get<double>(), 1e-6);
+    EXPECT_NEAR(r.ls_score, want["score"].get<double>(), 1e-6);
+    for (size_t t = 0; t < 3; ++t)
+      EXPECT_NEAR(r.det_ls_per_threshold[t], want["DET_ls_per_threshold"][std::to_string(t + 1) + ".0"].get<double>(),
+                  1e-6);
+    EXPECT_NEAR(r.det_a_per_category[0], want["DET_a_per_category"]["pedestrian_crossing"].get<double>(), 1e-6);
+    EXPECT_NEAR(r.det_a_per_category[1], want["DET_a_per_category"]["road_boundary"].get<double>(), 1e-6);
+  }
+}
+
+// collect()'s _fix_pts_interpolate as shapely places the points: length and walk in x, y,
+// z interpolated, a zero-length (x, y) step skipped, float32.
+TEST(Frames, LinesAreResampledAsShapelyInterpolates) {
+  // Values from shapely 1.8.5: LineString([(0,0,0),(3,4,10),(6,8,0)]).interpolate(2.5) =
+  // (1.5, 2, 5); LineString([(0,0,0),(0,0,5),(3,4,0)]) at 0 and 1: (0,0,0), (0.6,0.8,4).
+  const std::vector<Point3> a = interpolate_like_collect({{0, 0, 0}, {3, 4, 10}, {6, 8, 0}}, 5);
+  ASSERT_EQ(a.size(), 5u);
+  EXPECT_EQ(a[1], (Point3{1.5, 2.0, 5.0}));
+  EXPECT_EQ(a[3], (Point3{4.5, 6.0, 5.0}));
+  EXPECT_EQ(a[4], (Point3{6.0, 8.0, 0.0}));
+  const std::vector<Point3> b = interpolate_like_collect({{0, 0, 0}, {0, 0, 5}, {3, 4, 0}}, 6);
+  EXPECT_EQ(b[0], (Point3{0, 0, 0}));
+  EXPECT_EQ(b[1][2], static_cast<double>(4.0f));
+  EXPECT_EQ(b[1][0], static_cast<double>(0.6f));
+}
+
+// docs/metrics.md's lane-segment worked example.
+TEST(Frames, TheLaneSegmentWorkedExample) {
+  const auto line = [](double y, int n, double x0, double x1) {
+    std::vector<Point3> out;
+    for (int i = 0; i < n; ++i) out.push_back({x0 + (x1 - x0) * i / (n - 1), y, 0.0});
+    return out;
+  };
+  FrameCenterlines gt;
+  gt.has_map_elements = true;
+  gt.segments = {{line(0, 10, 10, 28), line(1.75, 10, 10, 28), line(-1.75, 10, 10, 28)}};
+  gt.topology_lsls = {0};
+  gt.areas = {{2, line(-8, 20, -20, 18)}};
+  FrameCenterlines pred;
+  pred.has_centerlines = false;
+  pred.has_map_elements = true;
+  pred.segments = {{line(1.2, 10, 10, 28), line(2.95, 10, 10, 28), line(-0.55, 10, 10, 28)}};
+  pred.segment_confidence = {0.9};
+  pred.topology_lsls = {0};
+  pred.areas = {{2, line(-7.3, 20, -20, 18)}};
+  pred.area_confidence = {0.8};
+  const FramesReport r = score_frames({{"f", gt}}, {{"f", pred}});
+  ASSERT_TRUE(r.has_lane_segments);
+  EXPECT_EQ(r.det_ls_per_threshold, (std::array<double, 3>{0.0, 1.0, 1.0}));
+  EXPECT_NEAR(r.det_ls, 2.0 / 3.0, 1e-7);
+  EXPECT_EQ(r.det_a_per_category[0], 1.0);  // no crossing on either side
+  EXPECT_NEAR(r.det_a_per_category[1], 2.0 / 3.0, 1e-7);
+  EXPECT_NEAR(r.det_a, 5.0 / 6.0, 1e-7);
+}
+
 // A frame of straight lanes along x at y = 0, 10, 20 (11 points each), 0 → 1 linked.
 FrameCenterlines three_lanes() {
   FrameCenterlines f;
@@ -115,6 +190,19 @@ std::string one_frame(const std::string& lanes, const std::string& topology) {
          "}}}}";
 }
 
+// A lane segment whose confidence is `confidence` (JSON text).
+std::string segment(const std::string& confidence) {
+  const std::string line = "[[0, 0, 0], [1, 0, 0]]";
+  return R"({"centerline": )" + line + R"(, "left_laneline": )" + line + R"(, "right_laneline": )" + line +
+         R"(, "confidence": )" + confidence + "}";
+}
+
+// A results file of one frame "tok" with lane segments, their topology and areas only.
+std::string segment_frame(const std::string& segments, const std::string& topology, const std::string& areas) {
+  return R"({"results": {"tok": {"predictions": {"lane_segment": )" + segments + R"(, "topology_lsls": )" + topology +
+         R"(, "area": )" + areas + "}}}}";
+}
+
 TEST(FramesResults, HostileFilesAreRefusedByName) {
   test::TempDir dir("frames-results");
   const std::string lane = R"({"id": 0, "points": [[0, 0, 0], [1, 0, 0]], "confidence": 0.5})";
@@ -136,6 +224,19 @@ TEST(FramesResults, HostileFilesAreRefusedByName) {
       {"probability", one_frame("[" + lane + "]", "[[1.5]]"), "frames.results.scores",
        "/predictions/topology_lclc/0/0"},
       {"duplicate-key", R"({"results": {"tok": {}, "tok": {}}})", "submission.json", ""},
+      // The lane-segment track's predictions.
+      {"segments-object", segment_frame(R"({})", "[]", "[]"), "frames.results.schema", "/predictions/lane_segment"},
+      {"segment-no-left", segment_frame(R"([{"centerline": [[0, 0, 0], [1, 0, 0]], "confidence": 1}])", "[[0]]", "[]"),
+       "frames.results.schema", "/predictions/lane_segment/0/left_laneline"},
+      {"segment-confidence", segment_frame("[" + segment("\"x\"") + "]", "[[0]]", "[]"), "frames.results.finite",
+       "/predictions/lane_segment/0/confidence"},
+      {"lsls-shape", segment_frame("[" + segment("1") + "]", "[[0, 0]]", "[]"), "frames.results.schema",
+       "/predictions/topology_lsls/0"},
+      {"area-category",
+       segment_frame("[]", "[]", R"([{"category": 3, "points": [[0, 0, 0], [1, 0, 0]], "confidence": 1}])"),
+       "frames.results.schema", "/predictions/area/0/category"},
+      {"area-point", segment_frame("[]", "[]", R"([{"category": 1, "points": [[0, 0, 0], [1, 0]], "confidence": 1}])"),
+       "frames.results.schema", "/predictions/area/0/points/1"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);

@@ -134,7 +134,7 @@ TEST(FramesRecord, AMissingOrMistypedFieldIsAParseErrorNamingTheFilePointerAndEx
       {"token-empty", [](json& r) { r["sample_token"] = ""; }, "/sample_token"},
       {"split-other", [](json& r) { r["split"] = "dev"; }, "/split"},
       {"timestamp-string", [](json& r) { r["timestamp"] = "1"; }, "/timestamp"},
-      {"version-other", [](json& r) { r["version"] = "nsgraph-frames-2"; }, "/version"},
+      {"version-other", [](json& r) { r["version"] = "nsgraph-frames-3"; }, "/version"},
       {"location-missing", [](json& r) { r["meta_data"].erase("location"); }, "/meta_data/location"},
       {"region-number", [](json& r) { r["meta_data"]["region"] = 3; }, "/meta_data/region"},
       {"camera-number", [](json& r) { r["sensor"]["CAM_FRONT"] = 1; }, "/sensor/CAM_FRONT"},
@@ -192,6 +192,53 @@ TEST(FramesRecord, AMissingOrMistypedFieldIsAParseErrorNamingTheFilePointerAndEx
   EXPECT_EQ(r.cameras.at(0).channel, "CAM_FRONT");
   EXPECT_EQ(r.truth().topology, (std::vector<double>{0, 1, 0, 0}));
   EXPECT_EQ(r.centerlines.at(1).points_2m.size(), 21u);
+}
+
+// Version 2: the lane segments and areas are read with every field typed, one lane segment
+// per centerline with its id; a version-1 record (above) still reads without them.
+TEST(FramesRecord, AVersion2RecordCarriesLaneSegmentsAndAreasEachChecked) {
+  const FrameRecord r = read_frame_record(test::frame_record_v2_json().dump(), "r.json");
+  ASSERT_EQ(r.lane_segments.size(), 2u);
+  EXPECT_EQ(r.lane_segments[1].id, 1000);
+  EXPECT_EQ(r.lane_segments[0].left_type, 1);
+  EXPECT_EQ(r.lane_segments[0].left_laneline.at(0)[1], 1.75);
+  EXPECT_TRUE(r.lane_segments[1].is_connector);
+  ASSERT_EQ(r.areas.size(), 2u);
+  EXPECT_EQ(r.areas[0].category, 1);
+  EXPECT_EQ(r.areas[1].points.size(), 2u);
+  EXPECT_EQ(r.topology_lsls, (std::vector<uint8_t>{0, 1, 0, 0}));
+  EXPECT_TRUE(read_frame_record(test::frame_record_json().dump(), "r.json").lane_segments.empty());
+
+  struct Mutation {
+    const char* name;
+    std::function<void(json&)> change;
+    const char* pointer;
+  };
+  const std::vector<Mutation> cases = {
+      {"segments-missing", [](json& r) { r["annotation"].erase("lane_segment"); }, "/annotation/lane_segment"},
+      {"segments-fewer", [](json& r) { r["annotation"]["lane_segment"].erase(1); }, "/annotation/lane_segment"},
+      {"segment-id", [](json& r) { r["annotation"]["lane_segment"][1]["id"] = 7; }, "/annotation/lane_segment/1/id"},
+      {"type-3", [](json& r) { r["annotation"]["lane_segment"][0]["right_laneline_type"] = 3; },
+       "/annotation/lane_segment/0/right_laneline_type"},
+      {"laneline-one-point",
+       [](json& r) {
+         json& l = r["annotation"]["lane_segment"][0]["left_laneline"];
+         l = json::array({l[0]});
+       },
+       "/annotation/lane_segment/0/left_laneline"},
+      {"area-category", [](json& r) { r["annotation"]["area"][0]["category"] = 0; }, "/annotation/area/0/category"},
+      {"area-points", [](json& r) { r["annotation"]["area"][1]["points"][0] = {1.0}; }, "/annotation/area/1/points/0"},
+      {"lsls-value", [](json& r) { r["annotation"]["topology_lsls"][1][0] = 0.5; }, "/annotation/topology_lsls/1/0"},
+      {"lste-missing", [](json& r) { r["annotation"].erase("topology_lste"); }, "/annotation/topology_lste"},
+  };
+  for (const Mutation& c : cases) {
+    SCOPED_TRACE(c.name);
+    json record = test::frame_record_v2_json();
+    c.change(record);
+    const std::optional<ParseError> e = thrown<ParseError>([&] { read_frame_record(record.dump(), "r.json"); });
+    ASSERT_TRUE(e);
+    EXPECT_EQ(e->record(), c.pointer) << e->what();
+  }
 }
 
 TEST(FramesRecord, ADefectiveListedRecordExitsTwoNamingItsFileAndPointer) {

@@ -40,6 +40,7 @@ struct FramesConfig {
   std::string dataroot;  // "" = the dataset manifest's inputs.dataroot
   WindowM window;
   int centerline_points = 11;
+  int lane_segment_points = 10;  // each line of a lane segment (OpenLane-V2 v2.1's 10)
   OverlapMode overlap = OverlapMode::kDrop;
   SplitPreset split_preset = SplitPreset::kRegions;
   double leak_radius_m = 5.0;

@@ -53,10 +53,12 @@ struct FramesSummary {
   std::map<std::string, std::array<int64_t, 3>> frames;  // location → per split (kSplitNames order)
   DropCounts dropped;
   int64_t flagged_overlap = 0;  // overlap: flag
-  int64_t centerlines = 0;
+  int64_t centerlines = 0;      // = lane segments, one per centerline
   int64_t links = 0;
-  Leakage regions;        // the dataset's regions
-  Leakage scenes_random;  // the same frames, split by a seeded draw per scene
+  int64_t lanelines_from_offset = 0;  // lane-segment sides without a divider in the map (frame_map.h)
+  int64_t pedestrian_crossings = 0, road_boundaries = 0;  // areas
+  Leakage regions;                                        // the dataset's regions
+  Leakage scenes_random;                                  // the same frames, split by a seeded draw per scene
   int64_t files = 0;
   int64_t bytes = 0;
   double seconds = 0.0;  // building and writing the records (not loading the release)

@@ -23,7 +23,7 @@
 
 namespace nsg::metrics {
 
-inline constexpr const char* kFramesMetricsVersion = "2";
+inline constexpr const char* kFramesMetricsVersion = "3";
 
 struct FramesReport {
   std::string split;
@@ -37,6 +37,19 @@ struct FramesReport {
   double det_l = 0.0;
   double top_ll = 0.0;
   double lane_score = 0.0;
+  bool has_centerlines = true;  // false: the submission had lane segments only (DET_l etc. not reported)
+  // OpenLane-V2 v2.1's lane-segment track (lanesegment/evaluation), when both the ground
+  // truth (a version-2 export) and the predictions carry lane segments: DET_ls (mean AP over
+  // 1, 2, 3 m of the relaxed lane-segment distance), DET_a (areas: mean AP over both
+  // categories at 0.5, 1, 1.5 m Chamfer), TOP_lsls, and its 'score' (see docs/metrics.md).
+  bool has_lane_segments = false;
+  std::array<double, 3> det_ls_per_threshold{};
+  double det_ls = 0.0;
+  std::array<double, 2> det_a_per_category{};  // pedestrian crossing, road boundary
+  double det_a = 0.0;
+  double top_lsls = 0.0;
+  double ls_score = 0.0;
+  int64_t gt_lane_segments = 0, pred_lane_segments = 0, gt_areas = 0, pred_areas = 0;
   // nsgraph's own metrics (docs/metrics.md) on each frame's graph — centerline points as
   // nodes, consecutive points and links as edges, ego metres at 0.2 m a pixel — as macro
   // means over the frames where defined: apls, apls_directed, direction_accuracy, geo_f1,

@@ -33,13 +33,41 @@ namespace nsg::metrics {
 
 using Point3 = std::array<double, 3>;
 
+// A lane segment's lines (OpenLane-V2 v2.1's map element bucket), ego frame, m.
+struct SegmentLines {
+  std::vector<Point3> centerline, left, right;
+};
+// An area: category 1 pedestrian crossing, 2 road boundary.
+struct AreaPoints {
+  int category = 1;
+  std::vector<Point3> points;
+};
+
 // One frame's centerlines: the ground truth's (confidence unused, topology 0/1) or a
 // prediction's. topology is n × n, row-major: [i · n + j] = the link i → j.
+// With `has_map_elements`, also its lane segments (topology_lsls, as topology) and areas.
 struct FrameCenterlines {
   std::vector<std::vector<Point3>> lanes;
   std::vector<double> confidence;
   std::vector<double> topology;
+  bool has_centerlines = true;  // false: a results frame of lane segments only
+  bool has_map_elements = false;
+  std::vector<SegmentLines> segments;
+  std::vector<double> segment_confidence;
+  std::vector<double> topology_lsls;
+  std::vector<AreaPoints> areas;
+  std::vector<double> area_confidence;
 };
+
+// Points OpenLane-V2's lane-segment collect() gives the ground truth's lines (its
+// data/OpenLane-V2/preprocess-ls.py): 10 per centerline and laneline, 20 per area.
+inline constexpr int kLaneSegmentLinePoints = 10;
+inline constexpr int kAreaPoints = 20;
+
+// `n` points of `line` as collect()'s _fix_pts_interpolate places them: shapely's
+// LineString.interpolate at np.linspace(0, length, n), the length and the walk in x, y (z
+// interpolated on the way), rounded to float32 as it stores them.
+std::vector<Point3> interpolate_like_collect(const std::vector<Point3>& line, int n);
 
 // Ordered frames (the order of the ground truth: an export's records by path).
 using FrameSet = std::vector<std::pair<std::string, FrameCenterlines>>;
@@ -137,10 +165,27 @@ struct FrameRecordCenterline {
   bool ends_at_lane_end = false;
 };
 
+// A lane segment of a version-2 record (OpenLane-V2 v2.1's map element bucket): a
+// centerline with its left and right lanelines, ego frame, m.
+struct FrameRecordLaneSegment {
+  int64_t id = 0;  // its centerline's
+  std::vector<Point3> centerline, left_laneline, right_laneline;
+  int left_type = 0, right_type = 0;  // 0 none, 1 solid, 2 dash
+  bool is_connector = false;          // is_intersection_or_connector
+};
+
+// An area of a version-2 record: category 1 pedestrian crossing (its outline, closed), 2 road
+// boundary (a polyline).
+struct FrameRecordArea {
+  int64_t id = 0;
+  int category = 1;
+  std::vector<Point3> points;
+};
+
 // A frame record (schemas/v1/frame.schema.json), every field typed and checked.
 struct FrameRecord {
   std::string schema_version;
-  std::string version;  // "nsgraph-frames-1"
+  std::string version;  // "nsgraph-frames-1", or "nsgraph-frames-2" with lane segments and areas
   std::string segment_id;
   std::string sample_token;
   std::string split;
@@ -153,6 +198,10 @@ struct FrameRecord {
   FrameTransform pose;  // ego → global at the LIDAR_TOP key frame
   std::vector<FrameRecordCenterline> centerlines;
   std::vector<uint8_t> topology_lclc;  // n × n of 0/1, row-major
+  // Version 2 (empty in a version-1 record): one lane segment per centerline, same order.
+  std::vector<FrameRecordLaneSegment> lane_segments;
+  std::vector<FrameRecordArea> areas;
+  std::vector<uint8_t> topology_lsls;  // n × n of 0/1, row-major
   std::optional<bool> overlap;         // only with overlap: flag
 
   // The scorer's view: the centerlines' points and topology_lclc.
