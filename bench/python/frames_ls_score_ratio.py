@@ -22,19 +22,10 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 GOLDEN = os.path.join(HERE, "..", "..", "tests", "data", "golden", "frames-ls")
+sys.path.insert(0, HERE)
+from frames_score_ratio import replicate  # noqa: E402  (the same replication of a golden set)
 TARGET_RATIO = 20.0
 METRICS = ("DET_ls", "DET_a", "TOP_lsls")
-
-
-def replicate(copies):
-    gt = json.load(open(os.path.join(GOLDEN, "gt.json")))["frames"]
-    pred = json.load(open(os.path.join(GOLDEN, "pred.json")))["results"]
-    g, p = {}, {}
-    for c in range(copies):
-        for k in gt:
-            g[f"{k}~{c}"] = gt[k]
-            p[f"{k}~{c}"] = pred[k]
-    return g, p
 
 
 def evaluator():
@@ -59,7 +50,7 @@ def main():
     ap.add_argument("--copies", type=int, default=4)
     ap.add_argument("--python-package", required=True, help="the folder holding the nsgraph package (build/python)")
     a = ap.parse_args()
-    gt, pred = replicate(a.copies)
+    gt, pred = replicate(a.copies, GOLDEN)
     r = {"frames": len(gt), "target_ratio": TARGET_RATIO}
     sys.path.insert(0, a.python_package)
     import nsgraph

@@ -26,9 +26,10 @@ GOLDEN = os.path.join(HERE, "..", "..", "tests", "data", "golden", "frames")
 TARGET_RATIO = 20.0
 
 
-def replicate(copies):
-    gt = json.load(open(os.path.join(GOLDEN, "gt.json")))["frames"]
-    pred = json.load(open(os.path.join(GOLDEN, "pred.json")))["results"]
+def replicate(copies, golden=GOLDEN):
+    """The golden ground truth and pred.json `copies` times over, keys made distinct."""
+    gt = json.load(open(os.path.join(golden, "gt.json")))["frames"]
+    pred = json.load(open(os.path.join(golden, "pred.json")))["results"]
     g, p = {}, {}
     for c in range(copies):
         for k in gt:

@@ -30,7 +30,8 @@ fs::path temp_path_for(const fs::path& target) {
   return fs::path(target.string() + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(g_temp_counter++));
 }
 
-AtomicFileWriter::AtomicFileWriter(fs::path target) : target_(std::move(target)) {
+AtomicFileWriter::AtomicFileWriter(fs::path target, Durability durability)
+    : target_(std::move(target)), durability_(durability) {
   std::error_code ec;
   if (target_.has_parent_path()) fs::create_directories(target_.parent_path(), ec);
   if (ec) throw IoError(target_.parent_path().string(), "", "cannot create folder: " + ec.message());
@@ -61,7 +62,8 @@ void AtomicFileWriter::write(const void* data, size_t size) {
 
 void AtomicFileWriter::commit() {
   if (file_ == nullptr) throw InternalError(target_.string(), "", "commit twice");
-  const bool flushed = std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
+  const bool flushed =
+      std::fflush(file_) == 0 && (durability_ == Durability::kDeferred || ::fsync(::fileno(file_)) == 0);
   const std::string why = errno_text();
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
@@ -75,13 +77,21 @@ void AtomicFileWriter::commit() {
     throw IoError(target_.string(), "", "cannot rename temp file into place: " + rename_why);
   }
   committed_ = true;
-  if (target_.has_parent_path()) fsync_path(target_.parent_path());
+  if (durability_ == Durability::kAtCommit && target_.has_parent_path()) fsync_path(target_.parent_path());
 }
 
-void write_file_atomic(const fs::path& target, std::string_view data) {
-  AtomicFileWriter w(target);
+void write_file_atomic(const fs::path& target, std::string_view data, Durability durability) {
+  AtomicFileWriter w(target, durability);
   w.write(data);
   w.commit();
+}
+
+void flush_file_system(const fs::path& folder) {
+  const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY);
+  const bool ok = fd >= 0 && ::syncfs(fd) == 0;
+  const std::string why = errno_text();
+  if (fd >= 0) ::close(fd);
+  if (!ok) throw IoError(folder.string(), "", "cannot flush the written files to disk: " + why);
 }
 
 void commit_rename(const fs::path& from, const fs::path& to) {

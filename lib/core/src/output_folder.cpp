@@ -117,8 +117,8 @@ fs::path OutputFolder::prepare(const std::string& relative) const {
   return target;
 }
 
-void OutputFolder::write(const std::string& relative, std::string_view bytes) const {
-  write_file_atomic(prepare(relative), bytes);
+void OutputFolder::write(const std::string& relative, std::string_view bytes, Durability durability) const {
+  write_file_atomic(prepare(relative), bytes, durability);
 }
 
 std::vector<std::string> OutputFolder::files_under(const std::vector<std::string>& owned) const {

@@ -359,9 +359,10 @@ void write_frame(ExportState& es, const Candidate& c, FrameContext& context, con
   const std::string folder = context.split + "/" + scene_name;
   if (es.config.copy_images) context.image_root = folder + "/image";
   const std::string name = std::to_string(c.timestamp) + ".json";
-  const std::string text = frame_record(es.db, context, lanes, elements).dump() + "\n";
+  const std::string text = frame_record_text(es.db, context, lanes, elements);
   const std::string relative = folder + "/info/" + name;
-  es.out.write(relative, text);
+  // Durable at the flush before data_dict.json and the manifest (write_export_manifest).
+  es.out.write(relative, text, Durability::kDeferred);
   es.files.push_back({relative, text.size(), sha256_hex(text)});
   es.data_dict[context.split][scene_name].push_back(name);
   if (!es.config.copy_images) return;
@@ -378,6 +379,7 @@ void write_frame(ExportState& es, const Candidate& c, FrameContext& context, con
 
 // data_dict.json and manifest.json, which lists every file written with its sha256.
 void write_export_manifest(ExportState& es, const fs::path& dataroot) {
+  flush_file_system(es.out.root());  // every record on disk before the documents that list them
   const std::string dict_text = es.data_dict.dump(1) + "\n";
   es.out.write("data_dict.json", dict_text);
   es.files.push_back({"data_dict.json", dict_text.size(), sha256_hex(dict_text)});

@@ -3,9 +3,11 @@
 // lane segments, areas and their topology).
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <string_view>
+#include <type_traits>
 
 #include "internal.h"
 
@@ -32,12 +34,6 @@ ordered_json vector_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()
 
 ordered_json transform_json(const geometry::Rigid3& t) {
   return {{"rotation", matrix_json(t.rotation)}, {"translation", vector_json(t.translation)}};
-}
-
-ordered_json points_json(const std::vector<Eigen::Vector3d>& points) {
-  ordered_json out = ordered_json::array();
-  for (const Eigen::Vector3d& p : points) out.push_back({rounded_m(p.x()), rounded_m(p.y()), rounded_m(p.z())});
-  return out;
 }
 
 int camera_rank(std::string_view channel) {
@@ -70,45 +66,150 @@ ordered_json camera_json(const nuscenes::Database& db, nuscenes::Index sd_index,
           {"ego_pose", transform_json(rigid(pose.translation, pose.rotation))}};
 }
 
-ordered_json lane_segment_json(const FrameLaneSegment& s) {
-  return {{"id", s.id},
-          {"centerline", points_json(s.centerline)},
-          {"left_laneline", points_json(s.left_laneline)},
-          {"left_laneline_type", static_cast<int>(s.left_type)},
-          {"right_laneline", points_json(s.right_laneline)},
-          {"right_laneline_type", static_cast<int>(s.right_type)},
-          {"is_intersection_or_connector", s.is_intersection_or_connector}};
+// The annotation's text, written directly: it is most of a record (tens of thousands of
+// numbers), and a JSON tree of it cost more than everything else the export does. The
+// output is what nlohmann's dump gives for the same values (numbers in the shortest form
+// that reads back, integral ones with ".0").
+class AnnotationWriter {
+ public:
+  std::string take() { return std::move(out_); }
+
+  void key(std::string_view name) {
+    out_ += '"';
+    out_ += name;
+    out_ += "\":";
+  }
+  void number(double v) {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed);
+    out_.append(buf, r.ptr);
+    if (std::string_view(buf, static_cast<size_t>(r.ptr - buf)).find('.') == std::string_view::npos) out_ += ".0";
+  }
+  void integer(int64_t v) { out_ += std::to_string(v); }
+  void boolean(bool v) { out_ += v ? "true" : "false"; }
+  void text(const std::string& v) { out_ += ordered_json(v).dump(); }
+  // Coordinates to 0.1 mm: shorter records, and what a reader gets back is what it would get
+  // from any re-export (the value, not the last bits of a transform).
+  void points(const std::vector<Eigen::Vector3d>& points) {
+    out_ += '[';
+    for (size_t k = 0; k < points.size(); ++k) {
+      if (k > 0) out_ += ',';
+      out_ += '[';
+      for (int c = 0; c < 3; ++c) {
+        if (c > 0) out_ += ',';
+        number(rounded_m(points[k][c]));
+      }
+      out_ += ']';
+    }
+    out_ += ']';
+  }
+  // n × n of 0/1 from the (from, to) pairs.
+  void matrix(size_t n, const std::vector<std::pair<int32_t, int32_t>>& ones) {
+    std::vector<uint8_t> m(n * n, 0);
+    for (const auto& [from, to] : ones) m[static_cast<size_t>(from) * n + static_cast<size_t>(to)] = 1;
+    out_ += '[';
+    for (size_t i = 0; i < n; ++i) {
+      if (i > 0) out_ += ',';
+      out_ += '[';
+      for (size_t j = 0; j < n; ++j) {
+        if (j > 0) out_ += ',';
+        out_ += m[i * n + j] ? '1' : '0';
+      }
+      out_ += ']';
+    }
+    out_ += ']';
+  }
+  // n × 0: a row per lane, no traffic element.
+  void empty_rows(size_t n) {
+    out_ += '[';
+    for (size_t i = 0; i < n; ++i) out_ += i > 0 ? ",[]" : "[]";
+    out_ += ']';
+  }
+  void raw(std::string_view s) { out_ += s; }
+  // `"name":value` inside an object, after a comma unless it is the object's first member.
+  template <typename T>
+  void member(std::string_view name, const T& value) {
+    if (out_.back() != '{') out_ += ',';
+    key(name);
+    if constexpr (std::is_same_v<T, bool>) boolean(value);
+    else if constexpr (std::is_same_v<T, int64_t>) integer(value);
+    else if constexpr (std::is_same_v<T, std::string>) text(value);
+    else points(value);
+  }
+
+ private:
+  std::string out_;
+};
+
+void write_centerline(AnnotationWriter& w, const FrameCenterline& c) {
+  w.raw("{");
+  w.member("id", c.id);
+  w.member("points", c.points);
+  w.member("points_2m", c.points_2m);
+  w.member("is_intersection_or_connector", c.is_connector);
+  w.member("lane_token", c.lane_token);
+  w.member("starts_at_lane_start", c.starts_at_lane_start);
+  w.member("ends_at_lane_end", c.ends_at_lane_end);
+  w.raw("}");
 }
 
-ordered_json annotation_json(const FrameLanes& lanes, const FrameMapElements& elements) {
-  ordered_json centerlines = ordered_json::array();
-  for (const FrameCenterline& c : lanes.centerlines)
-    centerlines.push_back({{"id", c.id},
-                           {"points", points_json(c.points)},
-                           {"points_2m", points_json(c.points_2m)},
-                           {"is_intersection_or_connector", c.is_connector},
-                           {"lane_token", c.lane_token},
-                           {"starts_at_lane_start", c.starts_at_lane_start},
-                           {"ends_at_lane_end", c.ends_at_lane_end}});
-  const size_t n = lanes.centerlines.size();
-  std::vector<std::vector<int>> matrix(n, std::vector<int>(n, 0));
-  for (const auto& [from, to] : lanes.successors) matrix[static_cast<size_t>(from)][static_cast<size_t>(to)] = 1;
-  ordered_json topology = ordered_json::array();
-  ordered_json lcte = ordered_json::array();
-  for (const std::vector<int>& row : matrix) {
-    topology.push_back(row);
-    lcte.push_back(ordered_json::array());  // n × 0: nuScenes has no traffic elements
+void write_lane_segment(AnnotationWriter& w, const FrameLaneSegment& s) {
+  w.raw("{");
+  w.member("id", s.id);
+  w.member("centerline", s.centerline);
+  w.member("left_laneline", s.left_laneline);
+  w.member("left_laneline_type", static_cast<int64_t>(s.left_type));
+  w.member("right_laneline", s.right_laneline);
+  w.member("right_laneline_type", static_cast<int64_t>(s.right_type));
+  w.member("is_intersection_or_connector", s.is_intersection_or_connector);
+  w.raw("}");
+}
+
+void write_area(AnnotationWriter& w, const FrameArea& a) {
+  w.raw("{");
+  w.member("id", a.id);
+  w.member("category", static_cast<int64_t>(a.category));
+  w.member("points", a.points);
+  w.raw("}");
+}
+
+template <typename T, typename Write>
+void write_list(AnnotationWriter& w, std::string_view name, const std::vector<T>& items, Write write) {
+  w.key(name);
+  w.raw("[");
+  for (size_t k = 0; k < items.size(); ++k) {
+    if (k > 0) w.raw(",");
+    write(w, items[k]);
   }
-  ordered_json segments = ordered_json::array();
-  for (const FrameLaneSegment& s : elements.lane_segments) segments.push_back(lane_segment_json(s));
-  ordered_json areas = ordered_json::array();
-  for (const FrameArea& a : elements.areas)
-    areas.push_back({{"id", a.id}, {"category", static_cast<int>(a.category)}, {"points", points_json(a.points)}});
-  // Lane segments are the centerlines with their lanelines: one topology for both.
-  return {{"lane_centerline", centerlines}, {"traffic_element", ordered_json::array()},
-          {"topology_lclc", topology},      {"topology_lcte", lcte},
-          {"lane_segment", segments},       {"area", areas},
-          {"topology_lsls", topology},      {"topology_lste", lcte}};
+  w.raw("]");
+}
+
+// Lane segments are the centerlines with their lanelines: one topology for both.
+std::string annotation_text(const FrameLanes& lanes, const FrameMapElements& elements) {
+  const size_t n = lanes.centerlines.size();
+  AnnotationWriter w;
+  w.raw("{");
+  write_list(w, "lane_centerline", lanes.centerlines, write_centerline);
+  w.raw(",");
+  w.key("traffic_element");
+  w.raw("[],");  // nuScenes has no traffic elements
+  w.key("topology_lclc");
+  w.matrix(n, lanes.successors);
+  w.raw(",");
+  w.key("topology_lcte");
+  w.empty_rows(n);
+  w.raw(",");
+  write_list(w, "lane_segment", elements.lane_segments, write_lane_segment);
+  w.raw(",");
+  write_list(w, "area", elements.areas, write_area);
+  w.raw(",");
+  w.key("topology_lsls");
+  w.matrix(n, lanes.successors);
+  w.raw(",");
+  w.key("topology_lste");
+  w.empty_rows(n);
+  w.raw("}");
+  return w.take();
 }
 
 }  // namespace
@@ -130,8 +231,8 @@ std::vector<nuscenes::Index> camera_key_frames(const nuscenes::Database& db, nus
   return out;
 }
 
-nlohmann::ordered_json frame_record(const nuscenes::Database& db, const FrameContext& context, const FrameLanes& lanes,
-                                    const FrameMapElements& elements) {
+std::string frame_record_text(const nuscenes::Database& db, const FrameContext& context, const FrameLanes& lanes,
+                              const FrameMapElements& elements) {
   const nuscenes::Sample& sample = db.sample[context.sample];
   const nuscenes::Scene& scene = db.scene[sample.scene];
   ordered_json sensors = ordered_json::object();
@@ -153,9 +254,17 @@ nlohmann::ordered_json frame_record(const nuscenes::Database& db, const FrameCon
                          {"sensor", sensors},
                          // The ego at the LIDAR_TOP key frame (the sample's time): ego → global.
                          {"pose", transform_json(context.global_from_ego)},
-                         {"annotation", annotation_json(lanes, elements)}};
-  if (context.flag_overlap) record["overlap"] = context.overlap;
-  return record;
+                         {"annotation", nullptr}};
+  // The annotation is written by AnnotationWriter and set in place of the null.
+  std::string text = record.dump();
+  const std::string slot = "\"annotation\":null";
+  const size_t at = text.rfind(slot);
+  text.replace(at, slot.size(), "\"annotation\":" + annotation_text(lanes, elements));
+  if (context.flag_overlap) {
+    text.pop_back();  // the closing brace
+    text += std::string(",\"overlap\":") + (context.overlap ? "true" : "false") + "}";
+  }
+  return text + "\n";
 }
 
 double polygon_rect_distance(const std::vector<Eigen::Vector2d>& polygon, const tiling::RectM& rect) {

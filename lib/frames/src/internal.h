@@ -32,9 +32,10 @@ struct FrameContext {
 std::vector<nuscenes::Index> camera_key_frames(const nuscenes::Database& db, nuscenes::Index sample);
 
 // The record as OpenLane-V2's info/<timestamp>.json lays it out (docs/frames.md).
-// Version 2: the annotation also holds the lane segments and areas (frame_map.h).
-nlohmann::ordered_json frame_record(const nuscenes::Database& db, const FrameContext& context, const FrameLanes& lanes,
-                                    const FrameMapElements& elements);
+// Version 2: the annotation also holds the lane segments and areas (frame_map.h). The
+// record's text (compact JSON, a final newline), as nlohmann's dump writes it.
+std::string frame_record_text(const nuscenes::Database& db, const FrameContext& context, const FrameLanes& lanes,
+                              const FrameMapElements& elements);
 
 // A pose of the release as a rigid transform (target ← source).
 geometry::Rigid3 rigid(const nuscenes::Vec3& translation, const geometry::Quaternion& rotation);

@@ -171,6 +171,9 @@ struct FrameDetections {
   size_t n_gt = 0;
   std::vector<double> confidence;
   std::vector<double> dist;
+  // For the topology (rule 7): n_gt × n_gt and n_pred × n_pred, row-major; unset for areas.
+  const std::vector<double>* gt_topology = nullptr;
+  const std::vector<double>* pred_topology = nullptr;
 };
 
 // _AP at one threshold over every frame; fills each frame's matches for the topology.
@@ -251,6 +254,36 @@ void frame_topology_aps(const std::vector<double>& gt_topology, size_t n, const 
   for (size_t i = 0; i < n * n; ++i)
     if (std::isnan(carried[i])) carried[i] = (1.0 - gt_topology[i]) * unmatched_link;
   directed_aps(gt_topology, carried, n, out);
+}
+
+struct LaneScores {
+  std::array<double, 3> det_per_threshold{};
+  double det = 0.0;
+  double top = 0.0;
+};
+
+// DET (rule 6 at 1, 2 and 3 m, averaged in float32) and TOP (rule 7 on each threshold's
+// matches, averaged over every vertex AP; 0 when there is none) of centerlines or lane segments.
+LaneScores lane_scores(const std::vector<FrameDetections>& frames, const Budget& budget) {
+  LaneScores s;
+  std::vector<double> vertex_aps;
+  float det_sum = 0.0f;
+  for (size_t t = 0; t < kThresholdsM.size(); ++t) {
+    std::vector<FrameMatch> matches(frames.size());
+    const float ap = average_precision(frames, kThresholdsM[t], &matches);
+    s.det_per_threshold[t] = ap;
+    det_sum += ap;
+    for (size_t f = 0; f < frames.size(); ++f) {
+      budget.check(f);
+      const FrameDetections& d = frames[f];
+      frame_topology_aps(*d.gt_topology, d.n_gt, *d.pred_topology, d.confidence.size(), matches[f], &vertex_aps);
+    }
+  }
+  s.det = det_sum / 3.0f;
+  double top_sum = 0.0;
+  for (const double v : vertex_aps) top_sum += v;
+  s.top = vertex_aps.empty() ? 0.0 : top_sum / static_cast<double>(vertex_aps.size());
+  return s;
 }
 
 // A coordinate rounded to float32. Not inlined on purpose: GCC 12.2 at -O3 vectorizes the
@@ -350,30 +383,18 @@ void score_map_elements(const FrameSet& truth, const std::vector<const FrameCent
   for (size_t f = 0; f < truth.size(); ++f) {
     budget.check(f);
     const FrameCenterlines& gt = truth[f].second;
-    segments.push_back(
-        {gt.segments.size(), preds[f]->segment_confidence, segment_distances(gt.segments, preds[f]->segments)});
+    segments.push_back({gt.segments.size(), preds[f]->segment_confidence,
+                        segment_distances(gt.segments, preds[f]->segments), &gt.topology_lsls,
+                        &preds[f]->topology_lsls});
     r.gt_lane_segments += static_cast<int64_t>(gt.segments.size());
     r.pred_lane_segments += static_cast<int64_t>(preds[f]->segments.size());
     r.gt_areas += static_cast<int64_t>(gt.areas.size());
     r.pred_areas += static_cast<int64_t>(preds[f]->areas.size());
   }
-  std::vector<double> vertex_aps;
-  float det_sum = 0.0f;
-  for (size_t t = 0; t < kThresholdsM.size(); ++t) {
-    std::vector<FrameMatch> matches(truth.size());
-    const float ap = average_precision(segments, kThresholdsM[t], &matches);
-    r.det_ls_per_threshold[t] = ap;
-    det_sum += ap;
-    for (size_t f = 0; f < truth.size(); ++f) {
-      const FrameCenterlines& gt = truth[f].second;
-      frame_topology_aps(gt.topology_lsls, gt.segments.size(), preds[f]->topology_lsls, preds[f]->segments.size(),
-                         matches[f], &vertex_aps);
-    }
-  }
-  r.det_ls = det_sum / 3.0f;
-  double top_sum = 0.0;
-  for (const double v : vertex_aps) top_sum += v;
-  r.top_lsls = vertex_aps.empty() ? 0.0 : top_sum / static_cast<double>(vertex_aps.size());
+  const LaneScores ls = lane_scores(segments, budget);
+  r.det_ls_per_threshold = ls.det_per_threshold;
+  r.det_ls = ls.det;
+  r.top_lsls = ls.top;
   // DET_a: per category (AREA_CATEGOTY: pedestrian crossing, road boundary) the APs at
   // 0.5, 1, 1.5 m, all six averaged in float32 as np.hstack(...).mean() does.
   float area_sum = 0.0f;
@@ -480,27 +501,14 @@ FramesReport score_frames(const FrameSet& truth_in, const FrameSet& predictions,
   std::vector<FrameDetections> detections;
   for (size_t f = 0; f < truth.size(); ++f) {
     budget.check(f);
-    detections.push_back(
-        {truth[f].second.lanes.size(), preds[f]->confidence, distance_matrix(truth[f].second.lanes, preds[f]->lanes)});
+    const FrameCenterlines& gt = truth[f].second;
+    detections.push_back({gt.lanes.size(), preds[f]->confidence, distance_matrix(gt.lanes, preds[f]->lanes),
+                          &gt.topology, &preds[f]->topology});
   }
-  std::vector<double> vertex_aps;
-  float det_sum = 0.0f;
-  for (size_t t = 0; t < kThresholdsM.size(); ++t) {
-    std::vector<FrameMatch> matches(truth.size());
-    const float ap = average_precision(detections, kThresholdsM[t], &matches);
-    r.det_l_per_threshold[t] = ap;
-    det_sum += ap;
-    for (size_t f = 0; f < truth.size(); ++f) {
-      budget.check(f);
-      const FrameCenterlines& gt = truth[f].second;
-      frame_topology_aps(gt.topology, gt.lanes.size(), preds[f]->topology, preds[f]->lanes.size(), matches[f],
-                         &vertex_aps);
-    }
-  }
-  r.det_l = det_sum / 3.0f;
-  double top_sum = 0.0;
-  for (const double v : vertex_aps) top_sum += v;
-  r.top_ll = vertex_aps.empty() ? 0.0 : top_sum / static_cast<double>(vertex_aps.size());
+  const LaneScores lanes = lane_scores(detections, budget);
+  r.det_l_per_threshold = lanes.det_per_threshold;
+  r.det_l = lanes.det;
+  r.top_ll = lanes.top;
   r.lane_score = (r.det_l + std::sqrt(r.top_ll)) / 2.0;
   r.has_centerlines =
       std::any_of(predictions.begin(), predictions.end(), [](const auto& p) { return p.second.has_centerlines; }) ||

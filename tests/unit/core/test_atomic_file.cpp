@@ -37,6 +37,27 @@ TEST(AtomicFile, AbandonedWriterLeavesNothing) {
   EXPECT_EQ(count_files(dir.path()), 0u);
 }
 
+// A deferred file is whole and in place at commit, as an immediate one; its durability
+// comes from the folder's flush (a frames export's thousands of records: one syncfs, not
+// two fsyncs each). Flushing a folder that is not there is an IoError naming it.
+TEST(AtomicFile, DeferredDurabilityIsWholeAtCommitAndFlushedOnce) {
+  test::TempDir dir("atomic");
+  write_file_atomic(dir / "a/r1.json", "one", Durability::kDeferred);
+  AtomicFileWriter w(dir / "a/r2.json", Durability::kDeferred);
+  w.write("two");
+  w.commit();
+  EXPECT_EQ(read_file(dir / "a/r1.json"), "one");
+  EXPECT_EQ(read_file(dir / "a/r2.json"), "two");
+  EXPECT_EQ(count_files(dir / "a"), 2u);
+  EXPECT_NO_THROW(flush_file_system(dir / "a"));
+  try {
+    flush_file_system(dir / "missing");
+    ADD_FAILURE() << "no error";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("missing"), std::string::npos) << e.what();
+  }
+}
+
 TEST(AtomicFile, UnwritableFolderIsAnIoErrorNamingThePath) {
   try {
     write_file_atomic("/proc/nsg-cannot-write/x.txt", "x");

@@ -9,10 +9,15 @@
 
 namespace nsg {
 
+// When a committed file reaches the disk: at commit (the file and its folder fsynced), or
+// deferred to one flush_file_system() before the document that declares the files whole
+// (a manifest) is written — thousands of small records otherwise cost two fsyncs each.
+enum class Durability { kAtCommit, kDeferred };
+
 class AtomicFileWriter {
  public:
   // Creates the parent folder if needed; throws IoError naming the path on failure.
-  explicit AtomicFileWriter(std::filesystem::path target);
+  explicit AtomicFileWriter(std::filesystem::path target, Durability durability = Durability::kAtCommit);
   ~AtomicFileWriter();
   AtomicFileWriter(const AtomicFileWriter&) = delete;
   AtomicFileWriter& operator=(const AtomicFileWriter&) = delete;
@@ -23,7 +28,8 @@ class AtomicFileWriter {
   std::FILE* file() { return file_; }
   const std::filesystem::path& temp_path() const { return temp_; }
   const std::filesystem::path& target() const { return target_; }
-  // Flush, fsync, close, rename. Throws IoError (e.g. disk full) and removes the temp.
+  // Flush, fsync (unless deferred), close, rename. Throws IoError (e.g. disk full) and
+  // removes the temp.
   void commit();
 
  private:
@@ -32,12 +38,17 @@ class AtomicFileWriter {
   std::filesystem::path temp_;
   std::FILE* file_ = nullptr;
   bool committed_ = false;
+  Durability durability_ = Durability::kAtCommit;
 };
 
 // Temp name used for `target` by this process: "<target>.tmp-<pid>-<n>".
 std::filesystem::path temp_path_for(const std::filesystem::path& target);
 // Writes `data` to `target` atomically.
-void write_file_atomic(const std::filesystem::path& target, std::string_view data);
+void write_file_atomic(const std::filesystem::path& target, std::string_view data,
+                       Durability durability = Durability::kAtCommit);
+// Every write to the file system holding `folder` reaches the disk (syncfs): what makes
+// Durability::kDeferred files durable. IoError naming the folder when it fails.
+void flush_file_system(const std::filesystem::path& folder);
 // Renames `from` over `to` after fsync of `from`; throws IoError.
 void commit_rename(const std::filesystem::path& from, const std::filesystem::path& to);
 

@@ -17,6 +17,8 @@
 #include <string_view>
 #include <vector>
 
+#include "nsg/core/atomic_file.h"
+
 namespace nsg {
 
 // Longest file-name component most file systems take (ext4, XFS, APFS: 255 bytes).
@@ -50,8 +52,9 @@ class OutputFolder {
   std::filesystem::path path(const std::string& relative) const;
   // As path(), after creating the folders that lead to it (none of them through a link).
   std::filesystem::path prepare(const std::string& relative) const;
-  // Writes `bytes` to `relative` atomically (temp name + rename).
-  void write(const std::string& relative, std::string_view bytes) const;
+  // Writes `bytes` to `relative` atomically (temp name + rename); kDeferred: durable at the
+  // caller's flush_file_system(root()), before its manifest.
+  void write(const std::string& relative, std::string_view bytes, Durability durability = Durability::kAtCommit) const;
 
   // The files (relative, '/'-separated, sorted) under the folders `owned` ("." = all of it),
   // walked without following links; a symlink or other non-regular entry is listed too.
