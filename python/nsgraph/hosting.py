@@ -42,6 +42,9 @@ def evaluate(test_annotation_file, user_submission_file, phase_codename, **kwarg
 def _evaluate_frames(test_annotation_file, user_submission_file, split, codename, max_seconds):
     report = score_frames(test_annotation_file, user_submission_file, split=split, max_seconds=max_seconds)
     values = {name: report[name] for name in ("DET_l", "TOP_ll", "lane_score")}
+    if report.get("lane_segments"):  # the lane-segment track's, when the results carry lane segments
+        values.update({name: report["lane_segments"][name] for name in ("DET_ls", "DET_a", "TOP_lsls")})
+        values["ls_score"] = report["lane_segments"]["score"]
     values["n_frames"] = report["counts"]["frames"]
     values["n_missing_frames"] = report["counts"]["missing_frames"]
     return {"result": [{codename: values}], "submission_result": values}

@@ -15,6 +15,7 @@ import numpy as np
 import fixtures
 import nsgraph
 import nsgraph.frames
+import nsgraph.hosting
 
 import nsgraph.torch  # python3-torch is a test dependency (cmake/debian-packages.txt)
 
@@ -206,6 +207,12 @@ class FramesTest(unittest.TestCase):
         self.assertIsNone(ls["DET_l"])  # no centerlines submitted
         self.assertEqual((ls["lane_segments"]["DET_ls"], ls["lane_segments"]["TOP_lsls"]), (1.0, 1.0))
         self.assertEqual(ls["lane_segments"]["DET_a"], 0.0)  # no area predicted
+        # A leaderboard's evaluate (EvalAI form) shows the lane-segment track's columns.
+        seg_file = nsgraph.frames.to_results_json({"results": segs}, os.path.join(self.tmp, "segments.json"))
+        board = nsgraph.hosting.evaluate(self.root, seg_file, "frames-test")["submission_result"]
+        self.assertIsNone(board["DET_l"])
+        self.assertEqual((board["DET_ls"], board["TOP_lsls"], board["DET_a"]), (1.0, 1.0, 0.0))
+        self.assertAlmostEqual(board["ls_score"], ls["lane_segments"]["score"])
         # A frame named twice, by its token and by its identifier: refused, both keys named.
         token = ds[0]["token"]
         twice = dict(doc, results=dict(doc["results"]))

@@ -80,7 +80,8 @@ int run_verify_receipt(const ScoreCliOptions& o) {
   return c.same() ? kExitOk : kExitProblems;
 }
 
-// --frames: DET_l, TOP_ll and lane_score of per-key-frame predictions (docs/metrics.md "Frames").
+// --frames: DET_l, TOP_ll and lane_score of per-key-frame predictions, and the lane-segment
+// track's DET_ls, DET_a, TOP_lsls and score when they carry lane segments (docs/metrics.md "Frames").
 int run_score_frames(const ScoreCliOptions& o) {
   NSG_CHECK(o.verify_receipt.empty(), ConfigError, "", "--verify-receipt", "tile scoring (not with --frames)");
   NSG_CHECK(o.format != "csv", ConfigError, "", "--format", "json or md with --frames (no per-tile table)");
@@ -101,18 +102,31 @@ int run_score_frames(const ScoreCliOptions& o) {
   const metrics::FramesReport& r = *scored.report;
   const nlohmann::ordered_json json = metrics::frames_report_to_json(r);
   if (!o.out.empty()) write_file_atomic(o.out, json.dump(1) + "\n");
-  if (o.format == "md")
-    std::printf(
-        "| frames | DET_l | DET_l@1m | DET_l@2m | DET_l@3m | TOP_ll | lane_score |\n| --- | --- | --- | --- | --- | "
-        "--- | --- |\n| %lld | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f |\n",
-        static_cast<long long>(r.frames), r.det_l, r.det_l_per_threshold[0], r.det_l_per_threshold[1],
-        r.det_l_per_threshold[2], r.top_ll, r.lane_score);
-  else std::fputs((json.dump(1) + "\n").c_str(), stdout);
-  log::info(
-      strprintf("scored %lld frames (%lld without a prediction, %lld extra): DET_l %.4f, TOP_ll %.4f, lane_score "
-                "%.4f",
-                static_cast<long long>(r.frames), static_cast<long long>(r.missing_frames),
-                static_cast<long long>(r.extra_frames), r.det_l, r.top_ll, r.lane_score));
+  if (o.format == "md") {
+    if (r.has_centerlines)
+      std::printf(
+          "| frames | DET_l | DET_l@1m | DET_l@2m | DET_l@3m | TOP_ll | lane_score |\n| --- | --- | --- | --- | --- | "
+          "--- | --- |\n| %lld | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f |\n",
+          static_cast<long long>(r.frames), r.det_l, r.det_l_per_threshold[0], r.det_l_per_threshold[1],
+          r.det_l_per_threshold[2], r.top_ll, r.lane_score);
+    if (r.has_lane_segments)
+      std::printf(
+          "%s| frames | DET_ls | DET_a | DET_a crossing | DET_a boundary | TOP_lsls | score |\n| --- | --- | --- | --- "
+          "| --- | --- | --- |\n| %lld | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f |\n",
+          r.has_centerlines ? "\n" : "", static_cast<long long>(r.frames), r.det_ls, r.det_a, r.det_a_per_category[0],
+          r.det_a_per_category[1], r.top_lsls, r.ls_score);
+  } else {
+    std::fputs((json.dump(1) + "\n").c_str(), stdout);
+  }
+  std::string said =
+      strprintf("scored %lld frames (%lld without a prediction, %lld extra)", static_cast<long long>(r.frames),
+                static_cast<long long>(r.missing_frames), static_cast<long long>(r.extra_frames));
+  if (r.has_centerlines)
+    said += strprintf(": DET_l %.4f, TOP_ll %.4f, lane_score %.4f", r.det_l, r.top_ll, r.lane_score);
+  if (r.has_lane_segments)
+    said += strprintf("%s DET_ls %.4f, DET_a %.4f, TOP_lsls %.4f, score %.4f", r.has_centerlines ? ";" : ":", r.det_ls,
+                      r.det_a, r.top_lsls, r.ls_score);
+  log::info(said);
   return kExitOk;
 }
 

@@ -536,6 +536,12 @@ TEST(ScoreFrames, TheExportsOwnLaneSegmentsAndAreasScoreOne) {
   EXPECT_NEAR(ls["score"].get<double>(), 0.8, 1e-12);
   EXPECT_EQ(report["counts"]["gt_lane_segments"], report["counts"]["gt_centerlines"]);
   EXPECT_GT(report["counts"]["gt_areas"].get<int64_t>(), 0);
+  const CommandResult md = run_nsgraph({"score", "--quiet", "--frames", "--ground-truth", dir.string(), "--submission",
+                                        (tmp / "copy.json").string(), "--split", "test", "--format", "md"});
+  ASSERT_EQ(md.exit_code, 0) << md.err;
+  EXPECT_NE(md.out.find("| DET_l |"), std::string::npos) << md.out;
+  EXPECT_NE(md.out.find("| DET_ls | DET_a |"), std::string::npos) << md.out;
+  EXPECT_NE(md.out.find("| 1.0000 | 1.0000 | 1.0000 | 1.0000 | 1.0000 | 0.8000 |"), std::string::npos) << md.out;
   // Without them, the centerline report has no lane-segment part.
   write_text(tmp / "lanes.json", copy_as_results(dir, "test").dump());
   const CommandResult lanes = run_nsgraph({"score", "--quiet", "--frames", "--ground-truth", dir.string(),
