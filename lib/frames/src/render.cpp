@@ -55,25 +55,31 @@ ImagePoint to_pixels(const FrameCamera& camera, const Point3& c) {
   return {x / w, y / w, c[2]};
 }
 
-// RGB colours: the ground truth green, a submission magenta.
+// RGB colours: the ground truth green, a submission magenta; a version-2 record's lanelines
+// pale green, its pedestrian crossings cyan and road boundaries orange.
 const cv::Scalar kTruthRgb(40, 220, 60);
 const cv::Scalar kPredictionRgb(235, 40, 220);
+const cv::Scalar kLanelineRgb(170, 235, 170);
+const cv::Scalar kCrossingRgb(40, 210, 230);
+const cv::Scalar kBoundaryRgb(245, 150, 30);
 
 struct Layer {
   const std::vector<std::vector<Point3>>* lanes;
   cv::Scalar rgb;
   int thickness;
+  bool arrow = true;  // an arrowhead on the last segment: a lane's direction
 };
 
-// A polyline with an arrowhead on its last segment (the lane's direction).
-void draw_polyline(cv::Mat& image, const std::vector<cv::Point2d>& points, const cv::Scalar& rgb, int thickness) {
+// A polyline, with an arrowhead on its last segment when `arrow` (the lane's direction).
+void draw_polyline(cv::Mat& image, const std::vector<cv::Point2d>& points, const cv::Scalar& rgb, int thickness,
+                   bool arrow = true) {
   constexpr int kShift = 4;  // sub-pixel coordinates: 1/16 px
   const auto fixed = [](const cv::Point2d& p) {
     return cv::Point(static_cast<int>(std::lround(p.x * (1 << kShift))),
                      static_cast<int>(std::lround(p.y * (1 << kShift))));
   };
   for (size_t i = 1; i < points.size(); ++i) {
-    if (i + 1 == points.size())
+    if (arrow && i + 1 == points.size())
       cv::arrowedLine(image, fixed(points[i - 1]), fixed(points[i]), rgb, thickness, cv::LINE_AA, kShift, 0.3);
     else cv::line(image, fixed(points[i - 1]), fixed(points[i]), rgb, thickness, cv::LINE_AA, kShift);
   }
@@ -97,7 +103,7 @@ int draw_camera(cv::Mat& rgb, const FrameRecord& record, const FrameCamera& came
           seen = seen || inside(p, camera);
         }
         if (l == 0 && seen) ++truth_pieces;
-        draw_polyline(rgb, pts, layers[l].rgb, layers[l].thickness);
+        draw_polyline(rgb, pts, layers[l].rgb, layers[l].thickness, layers[l].arrow);
       }
   return truth_pieces;
 }
@@ -120,7 +126,7 @@ cv::Mat draw_bev(const metrics::FramesWindowM& w, double px_per_m, const std::ve
     for (const auto& lane : *layer.lanes) {
       std::vector<cv::Point2d> pts;
       for (const Point3& p : lane) pts.push_back(at(p[0], p[1]));
-      draw_polyline(bev, pts, layer.rgb, layer.thickness);
+      draw_polyline(bev, pts, layer.rgb, layer.thickness, layer.arrow);
     }
   const std::vector<cv::Point> ego = {at(2.0, 0.0), at(-1.5, 1.0), at(-1.5, -1.0)};
   cv::fillConvexPoly(bev, ego, cv::Scalar(255, 255, 255), cv::LINE_AA);
@@ -234,11 +240,22 @@ RenderedFrame render_frame(const RenderRequest& request) {
   const metrics::FramesManifest manifest = metrics::read_frames_manifest(request.export_dir);
   refuse_out_over_input(request.out, request.export_dir, "--export");
   const FrameRecord record = find_record(manifest, request);
-  std::vector<std::vector<Point3>> truth;
+  std::vector<std::vector<Point3>> truth, lanelines, crossings, boundaries;
   for (const auto& c : record.centerlines) truth.push_back(c.points);
+  for (const auto& s : record.lane_segments) {  // version 2
+    lanelines.push_back(s.left_laneline);
+    lanelines.push_back(s.right_laneline);
+  }
+  for (const auto& a : record.areas) (a.category == 1 ? crossings : boundaries).push_back(a.points);
   const std::vector<std::vector<Point3>> predicted =
       request.submission.empty() ? std::vector<std::vector<Point3>>{} : predicted_lanes(request.submission, record);
-  const std::vector<Layer> layers = {{&truth, kTruthRgb, 3}, {&predicted, kPredictionRgb, 2}};
+  // The ground truth's centerlines first (their pieces in view are counted), the submission's
+  // last (drawn over everything).
+  const std::vector<Layer> layers = {{&truth, kTruthRgb, 3},
+                                     {&boundaries, kBoundaryRgb, 2, false},
+                                     {&crossings, kCrossingRgb, 2, false},
+                                     {&lanelines, kLanelineRgb, 1, false},
+                                     {&predicted, kPredictionRgb, 2}};
 
   const OutputFolder folder(request.out);
   prepare_out(folder, request.overwrite);
@@ -269,6 +286,8 @@ RenderedFrame render_frame(const RenderRequest& request) {
                                       {"identifier", record.identifier()},
                                       {"ground_truth_centerlines", truth.size()},
                                       {"predicted_centerlines", predicted.size()},
+                                      {"ground_truth_lanelines", lanelines.size()},
+                                      {"ground_truth_areas", crossings.size() + boundaries.size()},
                                       {"truth_pieces_in_image", drawn},
                                       {"files", out.files}};
   folder.write("render.json", doc.dump(1) + "\n");

@@ -110,6 +110,27 @@ TEST_F(FramesRender, TheLaneIsDrawnWhereItProjectsAndASubmissionBesideIt) {
   ASSERT_GT(tried, 0);
   EXPECT_EQ(green, tried);
 
+  // Version 2: the lane segment's two lanelines (pale green, no arrowhead) in the BEV panel,
+  // 10 px a metre, x forward up, y left left.
+  EXPECT_EQ(done["ground_truth_lanelines"], 2);
+  const cv::Mat bev = cv::imread((out / "gt/bev.png").string(), cv::IMREAD_COLOR);  // BGR
+  ASSERT_EQ(bev.rows, 1000);
+  ASSERT_EQ(bev.cols, 500);
+  for (const auto* line : {&r.lane_segments.at(0).left_laneline, &r.lane_segments.at(0).right_laneline}) {
+    const metrics::Point3& mid = (*line)[line->size() / 2];
+    const int col = static_cast<int>(std::lround((25.0 - mid[1]) * 10)),
+              row = static_cast<int>(std::lround((50.0 - mid[0]) * 10));
+    bool pale = false;
+    for (int dr = -2; dr <= 2; ++dr)
+      for (int dc = -2; dc <= 2; ++dc) {
+        const int y = row + dr, x = col + dc;
+        if (y < 0 || x < 0 || y >= bev.rows || x >= bev.cols) continue;
+        const cv::Vec3b px = bev.at<cv::Vec3b>(y, x);
+        pale = pale || (px[1] > 180 && px[2] > 110 && px[0] > 110);
+      }
+    EXPECT_TRUE(pale) << "laneline at row " << row << ", col " << col;
+  }
+
   // A submission: the lane moved 1.5 m to the left, keyed by OpenLane-V2's identifier.
   json lane = json::array();
   for (const auto& p : r.centerlines[0].points) lane.push_back({p[0], p[1] + 1.5, p[2]});
