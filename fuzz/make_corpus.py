@@ -311,6 +311,24 @@ def frame_record():
         return json.load(f)
 
 
+def frame_record_v2(record):
+    """The same frame as a version-2 record: each centerline's lane segment (lanelines 1.75 m
+    to either side), a pedestrian crossing and a road boundary."""
+    v2 = json.loads(json.dumps(record))
+    v2["version"] = "nsgraph-frames-2"
+    a = v2["annotation"]
+    side = lambda pts, dy: [[p[0], p[1] + dy, p[2]] for p in pts]  # noqa: E731
+    a["lane_segment"] = [{"id": c["id"], "centerline": c["points"], "left_laneline": side(c["points"], 1.75),
+                          "left_laneline_type": 1, "right_laneline": side(c["points"], -1.75),
+                          "right_laneline_type": 0, "is_intersection_or_connector": c["is_intersection_or_connector"]}
+                         for c in a["lane_centerline"]]
+    a["area"] = [{"id": 0, "category": 1, "points": [[5, -2, 0], [9, -2, 0], [9, 6, 0], [5, 6, 0], [5, -2, 0]]},
+                 {"id": 1000000000, "category": 2, "points": [[-50, 7, 0], [50, 7, 0]]}]
+    a["topology_lsls"] = a["topology_lclc"]
+    a["topology_lste"] = a["topology_lcte"]
+    return v2
+
+
 def frames_documents(out):
     """Frame records and frames manifests (fuzz_frames_record, fuzz_frames_manifest): as
     written, and broken the ways a hostile-input review found (mistyped fields, a missing
@@ -322,6 +340,9 @@ def frames_documents(out):
     put(out, "frames_record", "no-pose", json.dumps(no_pose))
     put(out, "frames_record", "bad-topology", json.dumps(record).replace("[[0, 1], [0, 0]]", "[[0, 2], [0]]"))
     put(out, "frames_record", "deep", "[" * 40 + "]" * 40)
+    v2 = frame_record_v2(record)
+    put(out, "frames_record", "record-v2", json.dumps(v2))
+    put(out, "frames_record", "v2-bad-type", json.dumps(v2).replace('"left_laneline_type": 1', '"left_laneline_type": 3'))
     files = [{"path": "test/scene-0001/info/1.json", "bytes": 100, "sha256": "0" * 64},
              {"path": "data_dict.json", "bytes": 2, "sha256": "1" * 64}]
     manifest = {"schema_version": "1", "kind": "nsgraph-frames", "tool_version": "0",
