@@ -8,7 +8,10 @@ dataset's frames export:
   topology as nsgraph's reader gives them;
 - its evaluator's `evaluate()` on a TopoNet-style results dict (identifier tuple keys, float32
   arrays, tied confidences: every lane 0.9, more than 16 per frame in places) against
-  `nsgraph.score_frames` of the same dict: DET_l and TOP_ll to 1e-6.
+  `nsgraph.score_frames` of the same dict: DET_l and TOP_ll to 1e-6;
+- its lane-segment `collect()` (v2.1) on the export's version-2 records, each given the
+  `<timestamp>-ls.json` name that collect reads: the lane segments and areas it resamples are
+  the ones nsgraph's scorer takes as ground truth (the points to float32 rounding).
 The evaluator is imported as tests/data/golden/frames/make_golden.py imports it (the same
 stand-ins for the packages Debian lacks). Without NSG_OPENLANEV2 every test skips as
 optional; the committed goldens hold the same rules in every run."""
@@ -103,6 +106,40 @@ class OpenLaneV2Test(unittest.TestCase):
         ours = nsgraph.score_frames(self.root, olv2, split="test")
         self.assertAlmostEqual(ours["DET_l"], float(theirs["DET_l"]), delta=1e-6)
         self.assertAlmostEqual(ours["TOP_ll"], float(theirs["TOP_ll"]), delta=1e-6)
+
+    def test_lane_segment_collect_reads_the_version_2_records(self):
+        collect = importlib.import_module("openlanev2.lanesegment.preprocessing").collect
+        copy = os.path.join(self.tmp, "copy-ls")
+        shutil.copytree(self.root, copy)
+        with open(os.path.join(copy, "data_dict.json")) as f:
+            data_dict = json.load(f)
+        for split, scenes in data_dict.items():
+            for scene, names in scenes.items():
+                for name in names:
+                    info = os.path.join(copy, split, scene, "info")
+                    shutil.copyfile(os.path.join(info, name), os.path.join(info, name[:-5] + "-ls.json"))
+        collect(copy, {"test": data_dict["test"]}, "nsg_ls",
+                n_points={"area": 20, "centerline": 10, "left_laneline": 10, "right_laneline": 10})
+        import pickle  # their collection; our own file, read back in this test only
+        with open(os.path.join(copy, "nsg_ls.pkl"), "rb") as f:
+            meta = pickle.load(f)
+        ds = nsgraph.frames.Dataset(self.root, "test")
+        self.assertEqual(len(meta), len(ds))
+        segments = 0
+        for i in range(len(ds)):
+            record = ds.record(i)
+            theirs = meta[("test", record["segment_id"], str(record["timestamp"]))]["annotation"]
+            ours = record["annotation"]
+            self.assertEqual(len(theirs["lane_segment"]), len(ours["lane_segment"]))
+            for t, o in zip(theirs["lane_segment"], ours["lane_segment"]):
+                for line in ("centerline", "left_laneline", "right_laneline"):
+                    self.assertEqual(t[line].shape, (10, 3))
+                    # Our 10 points resampled again: the same points within the chords' shortening.
+                    np.testing.assert_allclose(t[line], o[line], atol=0.05)
+                segments += 1
+            self.assertEqual([a["category"] for a in theirs["area"]], [a["category"] for a in ours["area"]])
+            np.testing.assert_array_equal(theirs["topology_lsls"], ours["topology_lsls"])
+        self.assertGreater(segments, 0)
 
 
 if __name__ == "__main__":
