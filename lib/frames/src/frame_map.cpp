@@ -278,6 +278,9 @@ LocationMapElements location_map_elements(const nuscenes::MapExpansion& map, con
   for (const nuscenes::DrivableArea& area : map.drivable_areas())
     for (const nuscenes::MapIndex p : area.polygons) {
       const nuscenes::MapPolygon& polygon = map.polygons()[static_cast<size_t>(p)];
+      // The null-token polygon some real maps carry is the map-sized stand-in every null
+      // link resolves to (the devkit's), not a road's outline: its ring is the canvas edge.
+      if (polygon.token.empty()) continue;
       if (BoundaryRing r = ring_of(map, polygon.exterior_nodes); !r.points.empty())
         out.road_boundaries.push_back(std::move(r));
       for (const nuscenes::MapHole& hole : polygon.holes)

@@ -5,7 +5,10 @@
 
 #include <cmath>
 
+#include "../nuscenes/real_defects_fixture.h"
+#include "../nuscenes/test_map_fixture.h"
 #include "nsg/frames/frame_map.h"
+#include "nsg/graph/from_map.h"
 
 namespace nsg::frames {
 namespace {
@@ -135,6 +138,26 @@ TEST(FrameMap, RoadBoundaryRingsAreCutIntoTheStretchesInsideTheWindow) {
   const auto south = got.areas[0].points.front().y() < 0 ? got.areas[0] : got.areas[1];
   EXPECT_EQ(south.points.front().x(), -50.0);
   EXPECT_EQ(south.points.size(), 101u);  // every 1 m node from −50 to 50
+}
+
+// The defects real maps hold (tests/unit/nuscenes/real_defects_fixture.h): lanes without
+// dividers, null polygon links resolving to the map-sized null-token polygon, a hole with no
+// nodes, 300 drivable areas of only that polygon. Every lane gets its lines' sources; the
+// canvas edge never becomes a road boundary.
+TEST(FrameMap, RealMapDefectsGiveNoCanvasEdgeBoundary) {
+  test::OJson m = test::OJson::parse(test::small_map_text());
+  test::add_real_map_defects(m);
+  const double w = m["canvas_edge"][0].get<double>(), h = m["canvas_edge"][1].get<double>();
+  test::TempDir root("frame-map-defects");
+  const nuscenes::MapExpansion map = nuscenes::load_map_expansion_file(test::write_map(root, m.dump(1)));
+  Issues issues;
+  const graph::LaneGraph g = graph::build_lane_graph(map, graph::LaneGraphOptions{}, &issues);
+  const LocationMapElements e = location_map_elements(map, g);
+  EXPECT_EQ(e.left.size(), g.lanes.size());
+  EXPECT_EQ(e.half_width_m.size(), g.lanes.size());
+  ASSERT_FALSE(e.road_boundaries.empty());  // the small map's own drivable area
+  for (const BoundaryRing& ring : e.road_boundaries)
+    for (const Vector2d& p : ring.points) EXPECT_FALSE(p.x() == w && p.y() == h) << "the canvas corner";
 }
 
 }  // namespace
