@@ -13,7 +13,6 @@ usage: frames_ls_score_ratio.py --python-package build/python --out OUT.json [--
 """
 import argparse
 import importlib
-import importlib.util
 import json
 import os
 import sys
@@ -23,21 +22,16 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 GOLDEN = os.path.join(HERE, "..", "..", "tests", "data", "golden", "frames-ls")
 sys.path.insert(0, HERE)
-from frames_score_ratio import replicate  # noqa: E402  (the same replication of a golden set)
+from frames_score_ratio import golden_maker, replicate  # noqa: E402  (the same golden-set handling)
 TARGET_RATIO = 20.0
 METRICS = ("DET_ls", "DET_a", "TOP_lsls")
 
 
 def evaluator():
-    root = os.environ.get("OPENLANEV2_ROOT")
-    if not root or not os.path.isdir(os.path.join(root, "openlanev2")):
-        return None, "OPENLANEV2_ROOT is not set to an OpenLane-V2 checkout"
-    for module in ("numpy", "scipy", "shapely", "tqdm"):
-        if importlib.util.find_spec(module) is None:
-            return None, f"python3-{module} is not installed"
-    spec = importlib.util.spec_from_file_location("make_golden_ls", os.path.join(GOLDEN, "make_golden.py"))
-    make_golden = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(make_golden)
+    loaded, why = golden_maker(GOLDEN)
+    if loaded is None:
+        return None, why
+    root, make_golden = loaded
     make_golden.import_evaluator(root)
     ev = importlib.import_module("openlanev2.lanesegment.evaluation.evaluate")
     fix = importlib.import_module("openlanev2.lanesegment.preprocessing.collect")._fix_pts_interpolate

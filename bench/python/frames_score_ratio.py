@@ -38,16 +38,27 @@ def replicate(copies, golden=GOLDEN):
     return g, p
 
 
-def evaluator():
+def golden_maker(golden=GOLDEN):
+    """(OpenLane-V2's root, the golden set's make_golden module), or (None, why not): the
+    peer is optional."""
     root = os.environ.get("OPENLANEV2_ROOT")
     if not root or not os.path.isdir(os.path.join(root, "openlanev2")):
         return None, "OPENLANEV2_ROOT is not set to an OpenLane-V2 checkout"
     for module in ("numpy", "scipy", "shapely", "tqdm"):
         if importlib.util.find_spec(module) is None:
             return None, f"python3-{module} is not installed"
-    spec = importlib.util.spec_from_file_location("make_golden", os.path.join(GOLDEN, "make_golden.py"))
+    spec = importlib.util.spec_from_file_location("make_golden_" + os.path.basename(golden),
+                                                  os.path.join(golden, "make_golden.py"))
     make_golden = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(make_golden)
+    return (root, make_golden), None
+
+
+def evaluator():
+    loaded, why = golden_maker()
+    if loaded is None:
+        return None, why
+    root, make_golden = loaded
     return (make_golden, make_golden.import_evaluator(root)), None
 
 

@@ -124,7 +124,7 @@ py::dict record_to_py(const metrics::FrameRecord& r) {
   py::list lcte;
   for (py::ssize_t i = 0; i < n; ++i) lcte.append(py::list());
   annotation["topology_lcte"] = lcte;
-  if (r.version != "nsgraph-frames-1") add_map_elements(r, annotation);
+  if (r.has_map_elements()) add_map_elements(r, annotation);
   py::dict d;
   d["schema_version"] = r.schema_version;
   d["version"] = r.version;

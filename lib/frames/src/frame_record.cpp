@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "internal.h"
+#include "nsg/metrics/frames_documents.h"
 
 namespace nsg::frames {
 namespace {
@@ -239,7 +240,7 @@ std::string frame_record_text(const nuscenes::Database& db, const FrameContext& 
   for (const nuscenes::Index sd : camera_key_frames(db, context.sample))
     sensors[db.channel(db.sample_data[sd])] = camera_json(db, sd, context);
   ordered_json record = {{"schema_version", "1"},
-                         {"version", "nsgraph-frames-2"},
+                         {"version", metrics::kFrameRecordVersion},
                          {"segment_id", scene.name},
                          {"meta_data",
                           {{"source", "nuscenes"},

@@ -87,6 +87,18 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
     g.nodes.push_back({static_cast<int32_t>(id), number(n, "u", file, p), number(n, "v", file, p),
                        number(n, "x", file, p), number(n, "y", file, p), junction(n, file, p)});
   }
+  // An edge's or a lane change's two node indices; false when one names no node (listed).
+  const auto ends = [&](const nlohmann::json& r, const std::string& p, const char* check, int32_t* source,
+                        int32_t* target) {
+    try {
+      *source = node_index(r, "source", index_of, file, p);
+      *target = node_index(r, "target", index_of, file, p);
+      return true;
+    } catch (const DataError& bad) {
+      reference(check, bad);
+      return false;
+    }
+  };
   const nlohmann::json& edges = doc["edges"];
   g.edges.reserve(edges.size());
   for (size_t k = 0; k < edges.size(); ++k) {
@@ -94,13 +106,7 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
     const nlohmann::json& e = edges[k];
     NSG_CHECK(e.is_object(), DataError, file, p, "an edge {source, target, lane_token}");
     graph::TileEdge edge;
-    try {
-      edge.source = node_index(e, "source", index_of, file, p);
-      edge.target = node_index(e, "target", index_of, file, p);
-    } catch (const DataError& bad) {
-      reference("graph.indices", bad);
-      continue;
-    }
+    if (!ends(e, p, "graph.indices", &edge.source, &edge.target)) continue;
     edge.lane_token = text(e, "lane_token", file, p);
     if (!read_edge_attributes(e, file, p, edge)) g.has_edge_attributes = false;
     g.edges.push_back(std::move(edge));
@@ -114,13 +120,7 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
     const nlohmann::json& c = (*changes)[k];
     NSG_CHECK(c.is_object(), DataError, file, p, "a lane change {source, target, from_lane_token, to_lane_token}");
     graph::TileLaneChange change;
-    try {
-      change.source = node_index(c, "source", index_of, file, p);
-      change.target = node_index(c, "target", index_of, file, p);
-    } catch (const DataError& bad) {
-      reference("graph.lane_changes", bad);
-      continue;
-    }
+    if (!ends(c, p, "graph.lane_changes", &change.source, &change.target)) continue;
     change.from_lane_token = text(c, "from_lane_token", file, p);
     change.to_lane_token = text(c, "to_lane_token", file, p);
     g.lane_changes.push_back(std::move(change));

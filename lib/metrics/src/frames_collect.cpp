@@ -55,7 +55,7 @@ FrameCenterlines FrameRecord::truth() const {
   out.lanes.reserve(centerlines.size());
   for (const FrameRecordCenterline& c : centerlines) out.lanes.push_back(c.points);
   out.topology.assign(topology_lclc.begin(), topology_lclc.end());
-  if (version == "nsgraph-frames-1") return out;  // before lane segments and areas
+  if (!has_map_elements()) return out;
   out.has_map_elements = true;
   for (const FrameRecordLaneSegment& s : lane_segments)
     out.segments.push_back({interpolate_like_collect(s.centerline, kLaneSegmentLinePoints),

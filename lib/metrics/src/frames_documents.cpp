@@ -28,10 +28,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr const char* kManifestKind = "nsgraph-frames";
-constexpr const char* kRecordVersion = "nsgraph-frames-2";
-constexpr const char* kRecordVersion1 = "nsgraph-frames-1";  // before lane segments and areas
-constexpr double kWindowLimitM = 200.0;                      // frames' config range of a window edge
-constexpr int kMaxCenterlinePoints = 1000;                   // frames' config range of centerline_points
+constexpr double kWindowLimitM = 200.0;     // frames' config range of a window edge
+constexpr int kMaxCenterlinePoints = 1000;  // frames' config range of centerline_points
 // A rotation matrix's entries lie in [-1, 1]; the records write them unrounded.
 constexpr double kMaxRotationEntry = 1.0 + 1e-6;
 constexpr int64_t kMaxImageSidePx = 1'000'000;
@@ -206,9 +204,9 @@ class RecordReader {
     FrameRecord r;
     r.schema_version = text(member(top, "", "schema_version", "\"1\""), "/schema_version", "\"1\"");
     if (r.schema_version != "1") fail("/schema_version", "\"1\" (a version-1 frame record)");
-    const std::string versions = std::string("\"") + kRecordVersion + "\" or \"" + kRecordVersion1 + "\"";
+    const std::string versions = std::string("\"") + kFrameRecordVersion + "\" or \"" + kFrameRecordVersion1 + "\"";
     r.version = text(member(top, "", "version", versions), "/version", versions);
-    if (r.version != kRecordVersion && r.version != kRecordVersion1) fail("/version", versions);
+    if (r.version != kFrameRecordVersion && r.version != kFrameRecordVersion1) fail("/version", versions);
     r.segment_id = text(member(top, "", "segment_id", "the scene's name"), "/segment_id", "the scene's name", true);
     r.sample_token =
         text(member(top, "", "sample_token", "the sample's token"), "/sample_token", "the sample's token", true);
@@ -410,7 +408,7 @@ class RecordReader {
         0)
       fail(at + "/traffic_element", "[] (no traffic elements)");
     no_traffic_elements(o, at, "topology_lcte", n);
-    if (r.version == kRecordVersion1) return;
+    if (!r.has_map_elements()) return;
     const std::string segments_shape = std::to_string(n) + " lane segments (one per centerline, in their order)";
     const array segments =
         as_array(member(o, at, "lane_segment", segments_shape), at + "/lane_segment", segments_shape);

@@ -182,6 +182,11 @@ struct FrameRecordArea {
   std::vector<Point3> points;
 };
 
+// A frame record's versions (its "version"): 2 adds the lane segments and areas; a reader
+// takes both, `nsgraph frames` writes version 2.
+inline constexpr const char* kFrameRecordVersion = "nsgraph-frames-2";
+inline constexpr const char* kFrameRecordVersion1 = "nsgraph-frames-1";
+
 // A frame record (schemas/v1/frame.schema.json), every field typed and checked.
 struct FrameRecord {
   std::string schema_version;
@@ -203,6 +208,9 @@ struct FrameRecord {
   std::vector<FrameRecordArea> areas;
   std::vector<uint8_t> topology_lsls;  // n × n of 0/1, row-major
   std::optional<bool> overlap;         // only with overlap: flag
+
+  // Version 2: lane_segments, areas and topology_lsls were read (empty in version 1).
+  bool has_map_elements() const { return version != kFrameRecordVersion1; }
 
   // The scorer's view: the centerlines' points and topology_lclc.
   FrameCenterlines truth() const;
