@@ -43,9 +43,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (const auto& cam : r.cameras) require(!cam.image_path.empty() && cam.image_path[0] != '/');
     const nsg::metrics::FrameSet truth = {{r.sample_token, r.truth()}};
     nsg::metrics::FrameSet self = truth;
-    for (auto& [key, f] : self) f.confidence.assign(f.lanes.size(), 1.0);
+    for (auto& [key, f] : self) {
+      f.confidence.assign(f.lanes.size(), 1.0);
+      f.segment_confidence.assign(f.segments.size(), 1.0);
+      f.area_confidence.assign(f.areas.size(), 1.0);
+    }
     const nsg::metrics::FramesReport s = nsg::metrics::score_frames(truth, self);
     require(s.det_l >= 0.0 && s.det_l <= 1.0 && s.top_ll >= 0.0 && s.top_ll <= 1.0);
+    require(!r.has_map_elements() || (s.has_lane_segments && s.det_ls >= 0.0 && s.det_ls <= 1.0 && s.det_a >= 0.0 &&
+                                      s.det_a <= 1.0 && s.top_lsls >= 0.0 && s.top_lsls <= 1.0));
   });
   return 0;
 }

@@ -473,8 +473,22 @@ Graph frame_graph(const FrameCenterlines& frame, bool truth) {
   return g;
 }
 
+// A frame's parallel arrays agree (one confidence per element, n × n topologies): the readers
+// guarantee it, so a mismatch is a caller's bug, named instead of read past an array's end.
+void require_frame_shapes(const std::string& key, const FrameCenterlines& f) {
+  const auto square = [](size_t n) { return n * n; };
+  const bool lanes_ok = f.confidence.size() == f.lanes.size() && f.topology.size() == square(f.lanes.size());
+  const bool map_ok = !f.has_map_elements || (f.segment_confidence.size() == f.segments.size() &&
+                                              f.topology_lsls.size() == square(f.segments.size()) &&
+                                              f.area_confidence.size() == f.areas.size());
+  if (!lanes_ok || !map_ok)
+    throw InternalError("score_frames", "frame " + key,
+                        "one confidence per lane, lane segment and area and n x n topologies");
+}
+
 FramesReport score_frames(const FrameSet& truth_in, const FrameSet& predictions, bool graph_metrics,
                           double max_seconds) {
+  for (const auto& [key, f] : predictions) require_frame_shapes(key, f);
   const Budget budget(max_seconds, truth_in.size());
   FramesReport r;
   FrameSet truth;
