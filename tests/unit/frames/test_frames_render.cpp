@@ -2,8 +2,12 @@
 // ego frame where the official devkit's chain places it (golden:
 // tests/data/golden/real-keyframe/frame-projection.json, made by make_projection_golden.py
 // beside it), the stand-in map's lane is drawn where it projects, a submission beside it, and
-// the output folder is ours alone.
+// the output folder is ours alone; with a second stand-in map (a lane along the road ahead),
+// the lane lands on the road in the real front image where the devkit projects it.
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -164,6 +168,87 @@ TEST_F(FramesRender, TheOutputFolderIsOursAlone) {
   EXPECT_EQ(c.exit_code, 2);
   EXPECT_NE(c.err.find("--frame"), std::string::npos) << c.err;
   EXPECT_FALSE(fs::exists(out / "x/render.json"));
+}
+
+// The real key frame with a second stand-in map (tests/data/real/road-ahead, made by make_map.py
+// there): one lane along the road the ego drives, from 10 m behind it to 60 m ahead. In the
+// real CAM_FRONT image the lane is drawn where the devkit places the same map points
+// (golden: tests/data/golden/real-keyframe/road-ahead-projection.json, make_road_ahead_golden.py
+// beside it), and those pixels of the unrendered image are road: grey, below the horizon.
+TEST(FramesRenderRoadAhead, ALaneAheadLandsOnTheRoadInTheFrontCamera) {
+  TempDir tmp("frames-render-road-ahead");
+  const fs::path release = tmp / "release";
+  fs::copy(source_dir() / "tests/data/real/scene-0061-keyframe", release, fs::copy_options::recursive);
+  fs::copy_file(source_dir() / "tests/data/real/road-ahead/singapore-onenorth.json",
+                release / "maps/expansion/singapore-onenorth.json", fs::copy_options::overwrite_existing);
+  const CommandResult g = run_nsgraph({"generate", "--quiet", "--config",
+                                       (source_dir() / "tests/data/frames/real-keyframe-generate.json").string(),
+                                       "--dataroot", release.string(), "--version", "v1.0-mini", "--no-semantic",
+                                       "--allow-empty", "--out", (tmp / "dataset").string()});
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  const CommandResult f =
+      run_nsgraph({"frames", "--quiet", "--dataset", (tmp / "dataset").string(), "--out", (tmp / "frames").string()});
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  const CommandResult c = run_nsgraph({"frames", "render", "--quiet", "--export", (tmp / "frames").string(), "--frame",
+                                       "ca9a282c9e77460f8360f564131a8af5", "--out", (tmp / "render").string()});
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  const json done = read_json(tmp / "render/render.json");
+  EXPECT_EQ(done["ground_truth_centerlines"], 1);
+  EXPECT_EQ(done["truth_pieces_in_image"]["CAM_FRONT"], 1);
+  EXPECT_EQ(done["truth_pieces_in_image"]["CAM_FRONT_LEFT"], 0);
+  EXPECT_EQ(done["truth_pieces_in_image"]["CAM_FRONT_RIGHT"], 0);
+
+  const fs::path record_file = tmp / "frames/test/scene-0061/info/1532402927647951.json";
+  const metrics::FrameRecord r = metrics::read_frame_record(read_text(record_file), record_file.string());
+  ASSERT_EQ(r.centerlines.size(), 1u);
+  const metrics::FrameCamera* front = nullptr;
+  for (const auto& cam : r.cameras)
+    if (cam.channel == "CAM_FRONT") front = &cam;
+  ASSERT_NE(front, nullptr);
+  const auto pieces = frames::project_polyline(r, *front, r.centerlines[0].points);
+  ASSERT_EQ(pieces.size(), 1u);
+  // Distance in pixels from an image point to the drawn piece (straight in the image: the lane
+  // is straight on the map plane, and a pinhole camera keeps lines straight).
+  const auto distance_px = [&](double u, double v) {
+    double best = 1e300;
+    for (size_t i = 1; i < pieces[0].size(); ++i) {
+      const double ax = pieces[0][i - 1].u, ay = pieces[0][i - 1].v, bx = pieces[0][i].u, by = pieces[0][i].v;
+      const double len2 = (bx - ax) * (bx - ax) + (by - ay) * (by - ay);
+      const double t = len2 > 0 ? std::clamp(((u - ax) * (bx - ax) + (v - ay) * (by - ay)) / len2, 0.0, 1.0) : 0.0;
+      best = std::min(best, std::hypot(u - (ax + t * (bx - ax)), v - (ay + t * (by - ay))));
+    }
+    return best;
+  };
+
+  const json golden = read_json(source_dir() / "tests/data/golden/real-keyframe/road-ahead-projection.json");
+  EXPECT_EQ(golden["sample_token"], r.sample_token);
+  const json& map_points = golden["map_points"];
+  const json& want = golden["cameras"]["CAM_FRONT"];
+  ASSERT_EQ(want.size(), map_points.size());
+  const cv::Mat drawn = cv::imread((tmp / "render/CAM_FRONT.jpg").string(), cv::IMREAD_COLOR);  // BGR
+  const cv::Mat photo = cv::imread((release / front->image_path).string(), cv::IMREAD_COLOR);
+  ASSERT_EQ(drawn.cols, 1600);
+  ASSERT_EQ(photo.rows, 900);
+  // The record's window ends 50 m ahead of the LIDAR_TOP ego; the lane's points up to 45 m
+  // ahead (camera depth; the camera sits ~1.7 m ahead of the ego origin) are inside it.
+  constexpr double kCheckedDepthM = 45.0;
+  int checked = 0, green = 0;
+  for (size_t i = 0; i < want.size(); ++i) {
+    const double u = want[i][0].get<double>(), v = want[i][1].get<double>(), depth = want[i][2].get<double>();
+    if (depth < 2.0 * frames::kRenderNearM || depth > kCheckedDepthM) continue;
+    if (u < 2 || v < 2 || u > 1597 || v > 897) continue;
+    SCOPED_TRACE("map point " + std::to_string(i));
+    ++checked;
+    EXPECT_LT(distance_px(u, v), 0.5);  // drawn where the devkit projects it
+    EXPECT_GT(v, 500.0);                // below the horizon (row ~490 in this image)
+    const cv::Vec3b road = photo.at<cv::Vec3b>(static_cast<int>(v), static_cast<int>(u));
+    const int chroma = std::max({road[0], road[1], road[2]}) - std::min({road[0], road[1], road[2]});
+    EXPECT_LT(chroma, 30) << "asphalt or its paint: grey";
+    const cv::Vec3b px = drawn.at<cv::Vec3b>(static_cast<int>(v), static_cast<int>(u));
+    green += px[1] > 150 && px[1] > px[2] + 80 && px[1] > px[0] + 80 ? 1 : 0;
+  }
+  EXPECT_GT(checked, 35);
+  EXPECT_EQ(green, checked);
 }
 
 }  // namespace
