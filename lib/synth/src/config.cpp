@@ -278,6 +278,30 @@ const Table<DetectionsConfig>& detections_table() {
   return table;
 }
 
+const Table<ChangesConfig>& changes_table() {
+  static const Table<ChangesConfig> table = [] {
+    Table<ChangesConfig> t;
+    t.integer("changes.from_day", &ChangesConfig::from_day)
+        .range(options::between(1, 364))
+        .help(
+            "Capture day of the first scene in the changed world (1 .. scenes.capture_days - 1; scene i is on day "
+            "floor(i * days / count))");
+    t.integer("changes.crossings_added", &ChangesConfig::crossings_added)
+        .range(options::between(0, 100))
+        .help("Mid-block pedestrian crossings added from changes.from_day on (painted and mapped)");
+    t.integer("changes.turns_removed", &ChangesConfig::turns_removed)
+        .range(options::between(0, 100))
+        .help("Turning lane connectors removed from changes.from_day on (traffic no longer turns there)");
+    t.integer("changes.lanes_closed", &ChangesConfig::lanes_closed)
+        .range(options::between(0, 100))
+        .help(
+            "Lanes closed from changes.from_day on: removed from the map with their connectors, barriers along "
+            "them");
+    return t;
+  }();
+  return table;
+}
+
 // The checks across keys; ConfigError("", key, expected).
 void check_geometry(const SynthConfig& c) {
   const CityConfig& city = c.city;
@@ -306,6 +330,8 @@ void check_geometry(const SynthConfig& c) {
     NSG_CHECK(w >= 700.0 && h >= 400.0, ConfigError, "", "city.local_streets",
               "false, or a rectangle of at least 700 × 400 m (blocks · block_size_m) to hold the local streets");
   }
+  NSG_CHECK(!c.changes.any() || c.changes.from_day < c.scenes.capture_days, ConfigError, "", "changes.from_day",
+            "a capture day before scenes.capture_days (scenes on earlier days see the map before the changes)");
   NSG_CHECK(c.lidar.roof_points < c.lidar.points_per_sweep, ConfigError, "", "lidar.roof_points",
             "an integer in [0, points_per_sweep)");
   const double margin = city.sidewalk_width_m + 20.0;
@@ -346,6 +372,7 @@ const Table<SynthConfig>& synth_option_table() {
     t.include(&SynthConfig::lidar, lidar_table());
     t.include(&SynthConfig::camera, camera_table());
     t.include(&SynthConfig::detections, detections_table());
+    t.include(&SynthConfig::changes, changes_table());
     return t;
   }();
   return table;

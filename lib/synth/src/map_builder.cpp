@@ -173,6 +173,23 @@ void MapBuilder::drivable_area(const std::vector<std::string>& polygon_tokens) {
   drivable_area_.push_back(Json{{"token", drivable_area_token_}, {"polygon_tokens", polygon_tokens}});
 }
 
+bool MapBuilder::remove_lane_record(const std::string& token) {
+  const auto take = [](Json& records, const std::string& t) -> Json {
+    for (auto it = records.begin(); it != records.end(); ++it)
+      if ((*it)["token"] == t) {
+        Json r = *it;
+        records.erase(it);
+        return r;
+      }
+    return nullptr;
+  };
+  Json record = take(lane_, token);
+  if (record.is_null()) record = take(lane_connector_, token);
+  if (record.is_null()) return false;
+  take(polygon_, record["polygon_token"].get<std::string>());
+  return true;
+}
+
 std::string MapBuilder::to_json(const std::array<double, 2>& canvas_edge_m,
                                 const std::vector<LaneTopology>& lanes) const {
   Json arcline = Json::object(), connectivity = Json::object();

@@ -40,6 +40,10 @@ class MapBuilder {
   std::string traffic_light(const Points& pts, const std::string& from_road_block,
                             const std::vector<std::string>& to_road_blocks, double yaw_rad);
   void drivable_area(const std::vector<std::string>& polygon_tokens);
+  // A map change (changes.h): takes the lane or lane_connector record `token` and its polygon
+  // out of the map; its arcline paths and connectivity leave with the lanes given to to_json.
+  // False when there is no such record.
+  bool remove_lane_record(const std::string& token);
 
   struct LaneTopology {
     std::string token;

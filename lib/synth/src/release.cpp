@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <nlohmann/json.hpp>
+
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
@@ -117,10 +119,25 @@ const SensorSpec& spec(const std::string& channel) {
 
 SynthSummary ReleaseWriter::run() {
   log::info("synth: building the world (" + cfg_.location + ")");
-  world_ = build_world(cfg_, seed_);
-  for (const LaneInfo& l : world_.lanes) (l.is_connector ? summary_.lane_connectors : summary_.lanes)++;
+  if (cfg_.changes.any()) {
+    ChangedWorld worlds = build_changed_world(cfg_, seed_);
+    world_ = std::move(worlds.prior);
+    current_ = std::move(worlds.current);
+    edits_ = std::move(worlds.edits);
+    changes_date_ = changes_date(cfg_);
+    log::info(strprintf("synth: %zu map changes from %s on", edits_.size(), changes_date_.c_str()));
+  } else {
+    world_ = build_world(cfg_, seed_);
+  }
+  // The counts of the map the release's maps/expansion/ holds (the latest).
+  for (const LaneInfo& l : (cfg_.changes.any() ? current_ : world_).lanes)
+    (l.is_connector ? summary_.lane_connectors : summary_.lanes)++;
   write_maps();
-  for (int i = 0; i < cfg_.scenes.count; ++i) scenes_.push_back(plan_scene_run(world_, i, seed_));
+  for (int i = 0; i < cfg_.scenes.count; ++i) {
+    const bool changed = cfg_.changes.any() && scene_date(cfg_, i) >= changes_date_;
+    scenes_.push_back(plan_scene_run(changed ? current_ : world_, i, seed_));
+    scenes_.back().changed_world = changed;
+  }
   render_frames();
   write_tables();
   write_detections();
@@ -145,9 +162,33 @@ void ReleaseWriter::count_file(const fs::path& p) {
 
 // ---- maps -------------------------------------------------------------------------------
 
+// changes.json: the map changes of a release made with config `changes` — their date, the
+// maps before and after, every edit with its map tokens (docs/synthetic-release.md).
+std::string ReleaseWriter::changes_json() const {
+  nlohmann::ordered_json edits = nlohmann::ordered_json::array();
+  for (const MapEdit& e : edits_)
+    edits.push_back({{"kind", e.kind}, {"removed", e.removed}, {"added", e.added}, {"at_m", e.at_m}});
+  const nlohmann::ordered_json doc = {{"schema_version", "1"},
+                                      {"kind", "nsgraph-synth-changes"},
+                                      {"location", cfg_.location},
+                                      {"from_day", cfg_.changes.from_day},
+                                      {"date", changes_date_},
+                                      {"prior_map", "maps/prior/expansion/" + cfg_.location + ".json"},
+                                      {"current_map", "maps/expansion/" + cfg_.location + ".json"},
+                                      {"edits", edits}};
+  return doc.dump(1) + "\n";
+}
+
 void ReleaseWriter::write_maps() {
-  put("maps/expansion/" + cfg_.location + ".json", world_.map_json);
-  const GroundRaster& g = *world_.ground;
+  // maps/expansion/ holds the latest map, as a map release published after the changes does;
+  // the map before them goes to maps/prior/expansion/.
+  const World& latest = cfg_.changes.any() ? current_ : world_;
+  put("maps/expansion/" + cfg_.location + ".json", latest.map_json);
+  if (cfg_.changes.any()) {
+    put("maps/prior/expansion/" + cfg_.location + ".json", world_.map_json);
+    put("changes.json", changes_json());
+  }
+  const GroundRaster& g = *latest.ground;
   const double w_m = cfg_.map_size_m[0], h_m = cfg_.map_size_m[1];
   // Semantic prior: 10 px/m, pixel (c, r) samples x = c/10, y = H − r/10 (devkit MapMask).
   const int w = static_cast<int>(std::ceil(w_m * 10.0)), h = static_cast<int>(std::ceil(h_m * 10.0));

@@ -81,7 +81,7 @@ void ReleaseWriter::render_task(const Task& task, size_t task_index) {
   Rng rng(seed_, mix64(0x6672616d65ULL ^ (static_cast<uint64_t>(task.scene) << 40) ^
                        hash_string(f.token.data(), f.token.size())));
   (void)task_index;
-  const SceneSnapshot snap = world_.snapshot(boxes_at(s.plan, t));
+  const SceneSnapshot snap = world_of(s).snapshot(boxes_at(s.plan, t));
   const Rigid3 global_from_sensor = ego_transform(s.plan.ego_pose_at(t)) * sensor_transform(sp);
   if (sp.modality == "lidar") {
     LidarSimOptions lo;

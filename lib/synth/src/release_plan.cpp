@@ -138,7 +138,33 @@ void plan_annotations(SceneRun& s, const SynthConfig& cfg, uint64_t seed) {
   }
 }
 
+// Scenes a minute apart, each shifted by whole days to its capture day (0 for every scene
+// with capture_days = 1, so one-day releases keep their timestamps).
+int64_t scene_start_us(const SynthConfig& cfg, int index) {
+  const double duration_s = (cfg.scenes.samples_per_scene - 1) * 0.5;
+  return cfg.scenes.first_timestamp_us + static_cast<int64_t>(index) * static_cast<int64_t>((duration_s + 60.0) * 1e6) +
+         capture_day(cfg, index) * kMicrosecondsPerDay;
+}
+
 }  // namespace
+
+int64_t capture_day(const SynthConfig& cfg, int index) {
+  return static_cast<int64_t>(index) * cfg.scenes.capture_days / cfg.scenes.count;
+}
+
+std::string scene_date(const SynthConfig& cfg, int index) {
+  std::string date;
+  log_name(cfg, scene_start_us(cfg, index), &date);
+  return date;
+}
+
+std::string changes_date(const SynthConfig& cfg) {
+  for (int i = 0; i < cfg.scenes.count; ++i)
+    if (capture_day(cfg, i) >= cfg.changes.from_day) return scene_date(cfg, i);
+  std::string date;
+  log_name(cfg, cfg.scenes.first_timestamp_us + cfg.changes.from_day * kMicrosecondsPerDay, &date);
+  return date;
+}
 
 // Plans timestamps, frames and annotated agents of one scene (serial, deterministic).
 SceneRun plan_scene_run(const World& world, int index, uint64_t seed) {
@@ -148,11 +174,7 @@ SceneRun plan_scene_run(const World& world, int index, uint64_t seed) {
   Rng rng(seed, 0x1000 + static_cast<uint64_t>(index));
   const int n_samples = cfg.scenes.samples_per_scene;
   const double duration_s = (n_samples - 1) * 0.5;
-  // Scenes a minute apart, each shifted by whole days to its capture day (0 for every scene
-  // with capture_days = 1, so one-day releases keep their timestamps).
-  const int64_t day = static_cast<int64_t>(index) * cfg.scenes.capture_days / cfg.scenes.count;
-  s.t0 = cfg.scenes.first_timestamp_us + static_cast<int64_t>(index) * static_cast<int64_t>((duration_s + 60.0) * 1e6) +
-         day * kMicrosecondsPerDay;
+  s.t0 = scene_start_us(cfg, index);
   s.token = table_token(seed, "scene", static_cast<uint64_t>(index));
   s.log_token = table_token(seed, "log", static_cast<uint64_t>(index));
   s.logfile = log_name(cfg, s.t0, &s.date);

@@ -19,6 +19,7 @@
 #include "nsg/synth/config.h"
 #include "nsg/synth/release.h"
 #include "nsg/synth/traffic.h"
+#include "nsg/synth/changes.h"
 #include "nsg/synth/world.h"
 #include "py_json.h"
 
@@ -63,6 +64,7 @@ struct SceneRun {
   std::vector<SampleRec> samples;
   std::map<std::string, std::vector<Frame>> frames;  // per channel, in time order
   std::map<std::string, std::string> calib_tokens;
+  bool changed_world = false;  // captured on or after the map changes' date (config changes)
 };
 
 inline double seconds_since(const SceneRun& s, int64_t ts) { return static_cast<double>(ts - s.t0) * 1e-6; }
@@ -75,6 +77,16 @@ Eigen::Matrix3d intrinsic_for(const SensorSpec& sp, const CameraConfig& cam);
 
 // Plans timestamps, frames and annotated agents of one scene (serial, deterministic).
 SceneRun plan_scene_run(const World& world, int index, uint64_t seed);
+
+// The capture day of scene `index` (floor(index · capture_days / count)) and its log's
+// date_captured, YYYY-MM-DD, as plan_scene_run gives them.
+int64_t capture_day(const SynthConfig& cfg, int index);
+std::string scene_date(const SynthConfig& cfg, int index);
+// The date from which the world is changed (config changes): the date of the first scene
+// captured on changes.from_day or later (of that day's start when no scene is). A scene is
+// rendered in the changed world when its date is this or later, so a split by date
+// (generate's before-after preset) splits the release where the world changed.
+std::string changes_date(const SynthConfig& cfg);
 
 struct ReleaseTables;  // release_tables.cpp
 
@@ -93,6 +105,8 @@ class ReleaseWriter {
 
   // ---- maps (release.cpp) -------------------------------------------------------------------
   void write_maps();
+  std::string changes_json() const;
+  const World& world_of(const SceneRun& s) const { return s.changed_world ? current_ : world_; }
 
   // ---- frames (release_frames.cpp) ----------------------------------------------------------
   struct Task {
@@ -125,7 +139,10 @@ class ReleaseWriter {
   const SynthConfig& cfg_;
   const SynthRunOptions& opt_;
   uint64_t seed_;
-  World world_;
+  World world_;    // the world as built: every scene's, or with changes the prior
+  World current_;  // with changes: the world from changes_date_ on
+  std::vector<MapEdit> edits_;
+  std::string changes_date_;
   std::vector<SceneRun> scenes_;
   SynthSummary summary_;
   std::atomic<uint64_t> files_{0};

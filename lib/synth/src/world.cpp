@@ -190,6 +190,7 @@ std::vector<Eigen::Vector2d> piece_curve(const Piece& piece, double s0, double s
 
 WorldBuilder::WorldBuilder(const SynthConfig& config, uint64_t seed)
     : cfg_(config),
+      seed_(seed),
       city_(config.city),
       rht_(config.right_hand_traffic()),
       rng_(seed, 0x77'6f'72'6c'64),

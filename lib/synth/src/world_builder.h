@@ -13,6 +13,7 @@
 
 #include "map_builder.h"
 #include "nsg/core/rng.h"
+#include "nsg/synth/changes.h"
 #include "nsg/synth/world.h"
 #include "road_geometry.h"
 
@@ -120,6 +121,8 @@ class WorldBuilder {
   WorldBuilder(const SynthConfig& config, uint64_t seed);
 
   World build();
+  // build()'s world and the same world after config.changes (world_changes.cpp).
+  ChangedWorld build_changed();
 
  private:
   // ---- layout: streets, nodes, pieces (world_layout_grid.cpp, world_layout_organic.cpp) --
@@ -166,10 +169,19 @@ class WorldBuilder {
   void add_building(double cx, double cy, double hx, double hy, double height);
   void make_parking_and_sidewalks();
 
+  // ---- map changes (world_changes.cpp): each picks its places with `rng` away from `taken`
+  // (edit points), records them in `edits` and returns the lanes to remove (indices) --------
+  std::vector<int> close_lanes(Rng& rng, std::vector<MapEdit>& edits, std::vector<bool>& removed);
+  void remove_turns(Rng& rng, std::vector<MapEdit>& edits, std::vector<bool>& removed);
+  void add_crossings(Rng& rng, std::vector<MapEdit>& edits, GroundRaster& ground);
+  void paint_mid_block_crossing(GroundRaster& r, const Prim& prim, double s0, double s1, const StreetLayout& lay);
+  bool far_from_edits(const std::vector<MapEdit>& edits, const Eigen::Vector2d& p) const;
+
   // ---- map JSON (world.cpp) --------------------------------------------------------------
   std::vector<MapBuilder::LaneTopology> world_lanes_json_order() const;
 
   const SynthConfig& cfg_;
+  uint64_t seed_;
   const CityConfig& city_;
   bool rht_;
   Rng rng_;
@@ -181,6 +193,7 @@ class WorldBuilder {
   std::vector<Intersection> nodes_;
   std::vector<Piece> pieces_;
   std::map<size_t, std::array<std::string, 2>> piece_block_;
+  std::vector<std::string> piece_segment_;  // each piece's road_segment token
   std::vector<LaneBuild> builds_;
   std::vector<bool> park_blocks_;
   std::vector<std::pair<Eigen::Vector2d, double>> parks_;  // organic: centre and radius of each park

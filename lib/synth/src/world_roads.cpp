@@ -76,6 +76,7 @@ void WorldBuilder::make_lanes() {
     const std::vector<Eigen::Vector2d> left = piece_curve(piece, 0.0, L, lay.left_edge, 4.0);
     const std::vector<Eigen::Vector2d> right = piece_curve(piece, 0.0, L, lay.right_edge, 4.0);
     const std::string seg = map_.road_segment(band_ring(left, right), false);
+    piece_segment_.push_back(seg);
     for (int dir = 0; dir < 2; ++dir) {
       const bool forward = dir == 0;
       const std::vector<double>& offs = forward ? lay.fwd_offsets : lay.bwd_offsets;

@@ -205,6 +205,14 @@ void WorldBuilder::paint_markings(GroundRaster& r, const Piece& piece, const Str
   }
 }
 
+// A crossing between two blocks (a map change): the stripes of an arm's crosswalk, across
+// the whole road between its curbs, over [s0, s1] of `prim`.
+void WorldBuilder::paint_mid_block_crossing(GroundRaster& r, const Prim& prim, double s0, double s1,
+                                            const StreetLayout& lay) {
+  paint_band(r, prim, s0, s1, lay.right_edge, lay.left_edge, GroundMaterial::kCrosswalkPaint,
+             [&lay](double, double d) { return std::fmod(d - lay.right_edge, 1.0) < 0.5; });
+}
+
 // ---- buildings, poles ----------------------------------------------------------------
 
 bool WorldBuilder::footprint_free(double cx, double cy, double hx, double hy) const {

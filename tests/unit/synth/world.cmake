@@ -6,6 +6,7 @@ nsg_add_test(synth PART world
     ${CMAKE_CURRENT_LIST_DIR}/test_world_organic.cpp
     ${CMAKE_CURRENT_LIST_DIR}/test_world_organic_features.cpp
     ${CMAKE_CURRENT_LIST_DIR}/test_world_release.cpp
+    ${CMAKE_CURRENT_LIST_DIR}/test_world_changes.cpp
     ${CMAKE_CURRENT_LIST_DIR}/test_world_py_json.cpp
     ${CMAKE_CURRENT_LIST_DIR}/test_synth_config.cpp
   DEPS nsg::synth nsg::nuscenes nsg::validate nsg::dep::json)

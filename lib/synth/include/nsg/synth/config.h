@@ -92,6 +92,19 @@ struct DetectionsConfig {
   double score_false_mean = 0.3;  // scores of false positives
 };
 
+// Seeded atomic edits of the map from a capture day on (docs/synthetic-release.md "Map
+// changes"): the scenes captured on or after `from_day` are rendered in the changed world,
+// the release carries the map before (maps/prior/expansion/) and after (maps/expansion/),
+// and changes.json lists every edit with its tokens. No edit (every count 0) = no change:
+// the release is byte-identical to one without the key.
+struct ChangesConfig {
+  int from_day = 1;         // capture day (scenes.capture_days' index) of the first changed scene
+  int crossings_added = 0;  // mid-block pedestrian crossings painted and mapped
+  int turns_removed = 0;    // turning connectors taken out of the map; traffic no longer turns there
+  int lanes_closed = 0;     // lanes removed from the map, barriers along them
+  bool any() const { return crossings_added + turns_removed + lanes_closed > 0; }
+};
+
 struct SynthConfig {
   std::string location = "boston-seaport";
   std::string version = "v1.0-mini";
@@ -103,6 +116,7 @@ struct SynthConfig {
   LidarConfig lidar;
   CameraConfig camera;
   DetectionsConfig detections;
+  ChangesConfig changes;
 
   bool right_hand_traffic() const { return location == "boston-seaport"; }
   // Every value through its declaration, then the checks across keys; ConfigError naming

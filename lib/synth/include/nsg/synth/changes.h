@@ -1,0 +1,42 @@
+#pragma once
+// Map changes of a synthetic world (config `changes`, docs/synthetic-release.md "Map changes"):
+// the world as built (the prior) and the same world after seeded atomic edits (the current),
+// for the scenes captured from `changes.from_day` on. Every record of the prior map keeps its
+// token in the current one unless an edit removed it; an edit's new records draw their tokens
+// after every prior record's, so the prior map is byte-identical to the world without changes.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "nsg/synth/config.h"
+#include "nsg/synth/world.h"
+
+namespace nsg::synth {
+
+// One atomic edit: what it is, the map tokens it takes out of the current map and the ones it
+// puts in, and a point of it (map frame, m).
+struct MapEdit {
+  std::string kind;  // "lane_closed", "turn_removed" or "crossing_added"
+  std::vector<std::string> removed;
+  std::vector<std::string> added;
+  std::array<double, 2> at_m{};
+};
+
+// The names of MapEdit::kind, in the order the edits are drawn.
+inline constexpr std::array<const char*, 3> kMapEditKinds = {"lane_closed", "turn_removed", "crossing_added"};
+
+struct ChangedWorld {
+  World prior;    // build_world(config, seed), exactly
+  World current;  // the prior with `edits` applied: lanes, map JSON, ground paint, barriers
+  std::vector<MapEdit> edits;
+};
+
+// Edits are kept ≥ this far apart (their points), so each stays atomic in a tile's view.
+inline constexpr double kMinEditSpacingM = 40.0;
+
+// Builds the prior world and applies config.changes to a copy (deterministic in the seed).
+// ConfigError naming the key when the world has fewer places for an edit kind than asked.
+ChangedWorld build_changed_world(const SynthConfig& config, uint64_t seed);
+
+}  // namespace nsg::synth
