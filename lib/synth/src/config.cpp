@@ -297,6 +297,14 @@ const Table<ChangesConfig>& changes_table() {
         .help(
             "Lanes closed from changes.from_day on: removed from the map with their connectors, barriers along "
             "them");
+    t.integer("changes.turns_added", &ChangesConfig::turns_added)
+        .range(options::between(0, 100))
+        .help("Turning lane connectors a junction did not have, added from changes.from_day on (mapped, driven)");
+    t.integer("changes.dividers_retyped", &ChangesConfig::dividers_retyped)
+        .range(options::between(0, 100))
+        .help(
+            "Dashed lane dividers between the two lanes of a direction made solid from changes.from_day on (paint "
+            "and map)");
     return t;
   }();
   return table;

@@ -1,5 +1,7 @@
 #include "map_builder.h"
 
+#include <algorithm>
+
 #include "nsg/core/strings.h"
 #include "py_json.h"
 
@@ -188,6 +190,26 @@ bool MapBuilder::remove_lane_record(const std::string& token) {
   if (record.is_null()) return false;
   take(polygon_, record["polygon_token"].get<std::string>());
   return true;
+}
+
+bool MapBuilder::retype_lane_divider(const std::string& divider, const std::vector<std::string>& lanes,
+                                     const std::string& from, const std::string& to) {
+  const auto retype = [&](Json& segments) {
+    for (Json& seg : segments)
+      if (seg["segment_type"] == from) seg["segment_type"] = to;
+  };
+  bool found = false;
+  for (Json& d : lane_divider_)
+    if (d["token"] == divider) {
+      retype(d["lane_divider_segments"]);
+      found = true;
+    }
+  for (Json& lane : lane_)
+    if (std::find(lanes.begin(), lanes.end(), lane["token"].get<std::string>()) != lanes.end()) {
+      retype(lane["left_lane_divider_segments"]);
+      retype(lane["right_lane_divider_segments"]);
+    }
+  return found;
 }
 
 std::string MapBuilder::to_json(const std::array<double, 2>& canvas_edge_m,

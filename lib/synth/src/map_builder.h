@@ -44,6 +44,10 @@ class MapBuilder {
   // out of the map; its arcline paths and connectivity leave with the lanes given to to_json.
   // False when there is no such record.
   bool remove_lane_record(const std::string& token);
+  // A map change: the lane_divider `divider` and, in the lanes `lanes`, every divider segment
+  // of type `from`, given type `to`. False when there is no such divider.
+  bool retype_lane_divider(const std::string& divider, const std::vector<std::string>& lanes, const std::string& from,
+                           const std::string& to);
 
   struct LaneTopology {
     std::string token;

@@ -167,7 +167,8 @@ void ReleaseWriter::count_file(const fs::path& p) {
 std::string ReleaseWriter::changes_json() const {
   nlohmann::ordered_json edits = nlohmann::ordered_json::array();
   for (const MapEdit& e : edits_)
-    edits.push_back({{"kind", e.kind}, {"removed", e.removed}, {"added", e.added}, {"at_m", e.at_m}});
+    edits.push_back(
+        {{"kind", e.kind}, {"removed", e.removed}, {"added", e.added}, {"retyped", e.retyped}, {"at_m", e.at_m}});
   const nlohmann::ordered_json doc = {{"schema_version", "1"},
                                       {"kind", "nsgraph-synth-changes"},
                                       {"location", cfg_.location},

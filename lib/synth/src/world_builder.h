@@ -115,6 +115,15 @@ struct DrawPrim {
   double s_offset;  // piece-level s at prim s = 0
 };
 
+// A lane divider between two lanes of one direction, as built (a map change may retype it).
+struct DividerBuild {
+  std::string token;
+  int piece = 0;
+  bool forward = true;
+  int group_size = 2;
+  double offset_ref = 0.0;  // in the piece's reference frame
+};
+
 // Builds the World of build_world(): call build() once. Members in the order build() calls them.
 class WorldBuilder {
  public:
@@ -173,6 +182,9 @@ class WorldBuilder {
   // (edit points), records them in `edits` and returns the lanes to remove (indices) --------
   std::vector<int> close_lanes(Rng& rng, std::vector<MapEdit>& edits, std::vector<bool>& removed);
   void remove_turns(Rng& rng, std::vector<MapEdit>& edits, std::vector<bool>& removed);
+  void add_turns(Rng& rng, std::vector<MapEdit>& edits, std::vector<bool>& removed);
+  void retype_dividers(Rng& rng, std::vector<MapEdit>& edits, const std::vector<bool>& removed, GroundRaster& ground);
+  void paint_solid_divider(GroundRaster& r, const Piece& piece, double offset_ref);
   void add_crossings(Rng& rng, std::vector<MapEdit>& edits, GroundRaster& ground);
   void paint_mid_block_crossing(GroundRaster& r, const Prim& prim, double s0, double s1, const StreetLayout& lay);
   bool far_from_edits(const std::vector<MapEdit>& edits, const Eigen::Vector2d& p) const;
@@ -195,6 +207,7 @@ class WorldBuilder {
   std::map<size_t, std::array<std::string, 2>> piece_block_;
   std::vector<std::string> piece_segment_;  // each piece's road_segment token
   std::vector<LaneBuild> builds_;
+  std::vector<DividerBuild> dividers_;
   std::vector<bool> park_blocks_;
   std::vector<std::pair<Eigen::Vector2d, double>> parks_;  // organic: centre and radius of each park
 };

@@ -2,7 +2,8 @@
 // atomic edits. The prior is what build() returns; the edits run after every record of it
 // was made, on a random stream of their own, so the prior's records and tokens never depend
 // on them. Each edit kind picks its places among the world's own (lanes of a group, turning
-// connectors, mid-block stretches), each ≥ kMinEditSpacingM from the earlier edits.
+// connectors, junctions' lane pairs, dividers, mid-block stretches), each ≥ kMinEditSpacingM
+// from the earlier edits, in the order of kMapEditKinds.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -91,7 +92,7 @@ std::vector<int> WorldBuilder::close_lanes(Rng& rng, std::vector<MapEdit>& edits
     const LaneInfo& lane = world_.lanes[static_cast<size_t>(i)];
     const Eigen::Vector2d at = mid_point(lane);
     if (!far_from_edits(edits, at)) return false;
-    MapEdit e{"lane_closed", {lane.token}, {}, {at.x(), at.y()}};
+    MapEdit e{"lane_closed", {lane.token}, {}, {}, {at.x(), at.y()}};
     removed[static_cast<size_t>(i)] = true;
     for (const std::vector<int>* links : {&lane.incoming, &lane.outgoing})
       for (const int c : *links)
@@ -122,7 +123,79 @@ void WorldBuilder::remove_turns(Rng& rng, std::vector<MapEdit>& edits, std::vect
     const Eigen::Vector2d at = mid_point(turn);
     if (other_ways == 0 || !far_from_edits(edits, at)) return false;
     removed[static_cast<size_t>(i)] = true;
-    edits.push_back(MapEdit{"turn_removed", {turn.token}, {}, {at.x(), at.y()}});
+    edits.push_back(MapEdit{"turn_removed", {turn.token}, {}, {}, {at.x(), at.y()}});
+    return true;
+  });
+}
+
+// A turning connector a junction did not have, from a lane to an arm it did not reach
+// (another piece, turning by 30° to 150°): mapped, and the traffic of the changed world may
+// take it.
+void WorldBuilder::add_turns(Rng& rng, std::vector<MapEdit>& edits, std::vector<bool>& removed) {
+  std::vector<std::pair<int, int>> pairs;
+  for (size_t a = 0; a < builds_.size(); ++a)
+    for (size_t b = 0; b < builds_.size(); ++b) {
+      const int node = builds_[a].end_node;
+      if (removed[a] || removed[b] || node < 0 || builds_[b].start_node != node ||
+          nodes_[static_cast<size_t>(node)].kind != NodeKind::kJunction || builds_[a].piece == builds_[b].piece)
+        continue;
+      const ArclinePath& last = world_.lanes[a].paths.back();
+      const double from_yaw = geometry::arcline_pose_at(last, last.length_m()).yaw;
+      const double turn =
+          std::fabs(std::remainder(world_.lanes[b].paths.front().start_pose.yaw - from_yaw, 2.0 * kPi)) * 180.0 / kPi;
+      const bool linked = std::any_of(world_.lanes[a].outgoing.begin(), world_.lanes[a].outgoing.end(), [&](int c) {
+        const std::vector<int>& next = world_.lanes[static_cast<size_t>(c)].outgoing;
+        return c == static_cast<int>(b) || std::find(next.begin(), next.end(), static_cast<int>(b)) != next.end();
+      });
+      if (turn > kTurnDeg && turn < 150.0 && !linked) pairs.emplace_back(static_cast<int>(a), static_cast<int>(b));
+    }
+  std::vector<int> candidates(pairs.size());
+  for (size_t i = 0; i < pairs.size(); ++i) candidates[i] = static_cast<int>(i);
+  pick(rng, candidates, cfg_.changes.turns_added, "changes.turns_added", [&](int i) {
+    const auto [a, b] = pairs[static_cast<size_t>(i)];
+    // Far from the other edits: a junction gets one new turn at most.
+    const ArclinePath& last = world_.lanes[static_cast<size_t>(a)].paths.back();
+    const Pose2 end = geometry::arcline_pose_at(last, last.length_m());
+    if (!far_from_edits(edits, {end.x, end.y})) return false;
+    add_connector(a, b);
+    removed.push_back(false);
+    const LaneInfo& turn = world_.lanes.back();
+    const Eigen::Vector2d at = mid_point(turn);
+    edits.push_back(MapEdit{"turn_added", {}, {turn.token}, {}, {at.x(), at.y()}});
+    return true;
+  });
+}
+
+// A dashed divider between the two lanes of one direction made solid (no more lane
+// changes there): the gaps painted, the divider's and both lanes' segments retyped.
+void WorldBuilder::retype_dividers(Rng& rng, std::vector<MapEdit>& edits, const std::vector<bool>& removed,
+                                   GroundRaster& ground) {
+  std::vector<int> candidates;
+  // Two-way streets only: on a one-way street of two lanes the lanes' records type their
+  // shared side NIL (the dividers' own records and paint say dashed), so there is no dashed
+  // segment of theirs to retype.
+  for (size_t i = 0; i < dividers_.size(); ++i) {
+    const Piece& piece = pieces_[static_cast<size_t>(dividers_[i].piece)];
+    if (dividers_[i].group_size == 2 && streets_[static_cast<size_t>(piece.street)].two_way() &&
+        piece.length() >= kMinClosedLaneM)
+      candidates.push_back(static_cast<int>(i));
+  }
+  pick(rng, candidates, cfg_.changes.dividers_retyped, "changes.dividers_retyped", [&](int i) {
+    const DividerBuild& d = dividers_[static_cast<size_t>(i)];
+    const Piece& piece = pieces_[static_cast<size_t>(d.piece)];
+    std::vector<std::string> lanes;
+    for (size_t l = 0; l < builds_.size(); ++l)
+      if (builds_[l].piece == d.piece && builds_[l].forward == d.forward) {
+        if (removed[l]) return false;  // a closed lane's group keeps its paint
+        lanes.push_back(world_.lanes[l].token);
+      }
+    const Eigen::Vector2d at = piece_point(piece, piece.length() / 2.0, d.offset_ref);
+    if (!far_from_edits(edits, at)) return false;
+    map_.retype_lane_divider(d.token, lanes, "SINGLE_DASHED_WHITE", "SINGLE_SOLID_WHITE");
+    paint_solid_divider(ground, piece, d.offset_ref);
+    std::vector<std::string> retyped = {d.token};
+    retyped.insert(retyped.end(), lanes.begin(), lanes.end());
+    edits.push_back(MapEdit{"divider_retyped", {}, {}, retyped, {at.x(), at.y()}});
     return true;
   });
 }
@@ -150,7 +223,7 @@ void WorldBuilder::add_crossings(Rng& rng, std::vector<MapEdit>& edits, GroundRa
         map_.ped_crossing({prim_point(prim, s0, lay.right_edge), prim_point(prim, s1, lay.right_edge),
                            prim_point(prim, s1, lay.left_edge), prim_point(prim, s0, lay.left_edge)},
                           piece_segment_[static_cast<size_t>(pi)]);
-    edits.push_back(MapEdit{"crossing_added", {}, {token}, {at.x(), at.y()}});
+    edits.push_back(MapEdit{"crossing_added", {}, {token}, {}, {at.x(), at.y()}});
     return true;
   });
 }
@@ -163,7 +236,9 @@ ChangedWorld WorldBuilder::build_changed() {
   std::vector<bool> removed(world_.lanes.size(), false);
   const std::vector<int> closed = close_lanes(rng, out.edits, removed);
   remove_turns(rng, out.edits, removed);
+  add_turns(rng, out.edits, removed);
   auto ground = std::make_shared<GroundRaster>(*world_.ground);
+  retype_dividers(rng, out.edits, removed, *ground);
   add_crossings(rng, out.edits, *ground);
   world_.ground = ground;
   for (const int i : closed) {

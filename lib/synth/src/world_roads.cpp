@@ -123,7 +123,9 @@ void WorldBuilder::make_lanes() {
     for (int dir = 0; dir < 2; ++dir) {
       const std::vector<double>& offs = dir == 0 ? lay.fwd_offsets : lay.bwd_offsets;
       for (size_t k = 1; k < offs.size(); ++k) {
-        map_.lane_divider(piece_curve(piece, 0.0, L, (offs[k] + offs[k - 1]) / 2.0, 4.0), "SINGLE_DASHED_WHITE");
+        const double d = (offs[k] + offs[k - 1]) / 2.0;
+        dividers_.push_back({map_.lane_divider(piece_curve(piece, 0.0, L, d, 4.0), "SINGLE_DASHED_WHITE"),
+                             static_cast<int>(pi), dir == 0, static_cast<int>(offs.size()), d});
       }
     }
   }

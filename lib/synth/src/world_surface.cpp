@@ -213,6 +213,15 @@ void WorldBuilder::paint_mid_block_crossing(GroundRaster& r, const Prim& prim, d
              [&lay](double, double d) { return std::fmod(d - lay.right_edge, 1.0) < 0.5; });
 }
 
+// A divider made solid (a map change): the dashes' line at `offset_ref` of the piece painted
+// without gaps over the stretch paint_markings draws it.
+void WorldBuilder::paint_solid_divider(GroundRaster& r, const Piece& piece, double offset_ref) {
+  for (const DrawPrim& dp : draw_prims(piece)) {
+    const double s0 = std::max(0.0, dp.s0), s1 = std::min(dp.prim.length, dp.s1);
+    paint_band(r, dp.prim, s0, s1, offset_ref - 0.075, offset_ref + 0.075, GroundMaterial::kPaintWhite);
+  }
+}
+
 // ---- buildings, poles ----------------------------------------------------------------
 
 bool WorldBuilder::footprint_free(double cx, double cy, double hx, double hy) const {

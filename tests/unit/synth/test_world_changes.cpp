@@ -38,8 +38,9 @@ const fs::path& tiny_config_path() {
 // tiny.json over two capture days, one edit of each kind from day 1 on.
 const std::vector<std::string>& change_settings() {
   static const std::vector<std::string> s = {
-      "scenes.count=4",          "scenes.capture_days=2",     "changes.from_day=1",        "changes.lanes_closed=1",
-      "changes.turns_removed=1", "changes.crossings_added=1", "scenes.samples_per_scene=3"};
+      "scenes.count=4",         "scenes.capture_days=2",      "changes.from_day=1",
+      "changes.lanes_closed=1", "changes.turns_removed=1",    "changes.crossings_added=1",
+      "changes.turns_added=1",  "changes.dividers_retyped=1", "scenes.samples_per_scene=3"};
   return s;
 }
 SynthConfig changed_config() { return resolve_synth_config(tiny_config_path(), change_settings()); }
@@ -89,7 +90,7 @@ TEST(WorldChanges, ThePriorIsTheWorldAsBuilt) {
 
 TEST(WorldChanges, EachEditIsInTheCurrentMapAndOnlyThere) {
   const json prior = json::parse(changed().prior.map_json), current = json::parse(changed().current.map_json);
-  ASSERT_EQ(changed().edits.size(), 3u);
+  ASSERT_EQ(changed().edits.size(), kMapEditKinds.size());
   for (size_t k = 0; k < kMapEditKinds.size(); ++k) EXPECT_EQ(changed().edits[k].kind, kMapEditKinds[k]);
 
   std::vector<std::string> removed, added;
@@ -103,14 +104,41 @@ TEST(WorldChanges, EachEditIsInTheCurrentMapAndOnlyThere) {
   EXPECT_EQ(edit_of("turn_removed").removed.size(), 1u);
   EXPECT_TRUE(tokens(prior, "lane_connector").count(edit_of("turn_removed").removed.front()));
   ASSERT_EQ(edit_of("crossing_added").added.size(), 1u);
+  ASSERT_EQ(edit_of("turn_added").added.size(), 1u);
+  EXPECT_FALSE(tokens(prior, "lane_connector").count(edit_of("turn_added").added.front()));
+  // The retyped divider and its two lanes: dashed in the prior, solid in the current map.
+  const std::vector<std::string>& retyped = edit_of("divider_retyped").retyped;
+  ASSERT_EQ(retyped.size(), 3u);
+  const auto segment_types = [&](const json& map, const char* layer, const std::string& token) {
+    std::multiset<std::string> types;
+    for (const json& r : map[layer])
+      if (r["token"] == token)
+        for (const char* side : {"lane_divider_segments", "left_lane_divider_segments", "right_lane_divider_segments"})
+          if (r.contains(side))
+            for (const json& seg : r[side]) types.insert(seg["segment_type"].get<std::string>());
+    return types;
+  };
+  const auto dashed = segment_types(prior, "lane_divider", retyped[0]);
+  ASSERT_FALSE(dashed.empty());
+  EXPECT_EQ(dashed.count("SINGLE_DASHED_WHITE"), dashed.size());
+  EXPECT_EQ(segment_types(current, "lane_divider", retyped[0]).count("SINGLE_SOLID_WHITE"), dashed.size());
+  for (size_t k = 1; k < 3; ++k) {
+    EXPECT_GE(segment_types(prior, "lane", retyped[k]).count("SINGLE_DASHED_WHITE"), 1u);
+    EXPECT_EQ(segment_types(current, "lane", retyped[k]).count("SINGLE_DASHED_WHITE"), 0u);
+    EXPECT_EQ(segment_types(current, "lane", retyped[k]).size(), segment_types(prior, "lane", retyped[k]).size());
+  }
 
   // Lanes and connectors: the prior's less the removed; crossings: the prior's plus the added.
   EXPECT_EQ(tokens(current, "lane"), minus(tokens(prior, "lane"), removed));
-  EXPECT_EQ(tokens(current, "lane_connector"), minus(tokens(prior, "lane_connector"), removed));
-  EXPECT_EQ(keys(current["arcline_path_3"]), minus(keys(prior["arcline_path_3"]), removed));
+  std::set<std::string> connectors = minus(tokens(prior, "lane_connector"), removed);
+  connectors.insert(added.begin(), added.end());
+  EXPECT_EQ(tokens(current, "lane_connector"), minus(connectors, edit_of("crossing_added").added));
+  std::set<std::string> arclines = minus(keys(prior["arcline_path_3"]), removed);
+  arclines.insert(edit_of("turn_added").added.front());
+  EXPECT_EQ(keys(current["arcline_path_3"]), arclines);
   EXPECT_EQ(keys(current["connectivity"]), keys(current["arcline_path_3"]));
   std::set<std::string> crossings = tokens(prior, "ped_crossing");
-  crossings.insert(added.begin(), added.end());
+  crossings.insert(edit_of("crossing_added").added.front());
   EXPECT_EQ(tokens(current, "ped_crossing"), crossings);
   // No connectivity list names a removed token.
   const std::set<std::string> gone(removed.begin(), removed.end());
@@ -118,8 +146,9 @@ TEST(WorldChanges, EachEditIsInTheCurrentMapAndOnlyThere) {
     for (const char* way : {"incoming", "outgoing"})
       for (const json& t : links[way]) EXPECT_FALSE(gone.count(t.get<std::string>())) << token;
   // Every other layer is the prior's, record for record.
-  for (const char* layer : {"road_segment", "road_block", "lane_divider", "road_divider", "stop_line", "walkway",
-                            "traffic_light", "drivable_area", "carpark_area"})
+  EXPECT_EQ(tokens(current, "lane_divider"), tokens(prior, "lane_divider"));
+  for (const char* layer : {"road_segment", "road_block", "road_divider", "stop_line", "walkway", "traffic_light",
+                            "drivable_area", "carpark_area"})
     EXPECT_EQ(current[layer], prior[layer]) << layer;
   // The changed world's lanes are the current map's, their links in range.
   std::set<std::string> lane_tokens;
@@ -165,6 +194,17 @@ TEST(WorldChanges, TheSensorsSeeTheChangedWorld) {
   };
   EXPECT_GT(bright_returns(changed().current), 2 * bright_returns(changed().prior) + 20);
 
+  // The retyped divider: its gaps painted, so more of its line is paint in the current world.
+  const std::array<double, 2> divider_at = edit_of("divider_retyped").at_m;
+  const auto paint_near = [&](const World& w) {
+    int n = 0;
+    for (double dx = -6.0; dx <= 6.0; dx += 0.05)
+      for (double dy = -6.0; dy <= 6.0; dy += 0.05)
+        n += w.ground->material(divider_at[0] + dx, divider_at[1] + dy) == GroundMaterial::kPaintWhite ? 1 : 0;
+    return n;
+  };
+  EXPECT_GT(paint_near(changed().current), paint_near(changed().prior) * 5 / 4);
+
   // The closed lane: barriers along it in the current world only.
   const std::array<double, 2> lane_at = edit_of("lane_closed").at_m;
   const auto barriers_near = [&](const World& w) {
@@ -178,11 +218,16 @@ TEST(WorldChanges, TheSensorsSeeTheChangedWorld) {
   std::set<std::string> gone;
   for (const MapEdit& e : changed().edits) gone.insert(e.removed.begin(), e.removed.end());
   const World& w = changed().current;
+  // ... and do drive the added turn.
   Rng rng(7, 2);
+  int added_turn_driven = 0;
   for (size_t start = 0; start < w.lanes.size(); ++start)
     for (int k = 0; k < 5; ++k)
-      for (const int lane : random_route(w, static_cast<int>(start), 300.0, rng).lanes)
+      for (const int lane : random_route(w, static_cast<int>(start), 300.0, rng).lanes) {
         EXPECT_FALSE(gone.count(w.lanes[static_cast<size_t>(lane)].token));
+        added_turn_driven += w.lanes[static_cast<size_t>(lane)].token == edit_of("turn_added").added.front() ? 1 : 0;
+      }
+  EXPECT_GT(added_turn_driven, 0);
 }
 
 // Every file of a folder with its sha256.
@@ -207,7 +252,8 @@ TEST(WorldChanges, AReleaseCarriesBothMapsAndTheEditsAndScenesFromTheDateSeeTheC
   const fs::path root = synth(dir, "changed", change_settings());
   const json doc = json::parse(read_file(root / "changes.json"));
   EXPECT_EQ(doc["kind"], "nsgraph-synth-changes");
-  ASSERT_EQ(doc["edits"].size(), 3u);
+  ASSERT_EQ(doc["edits"].size(), kMapEditKinds.size());
+  EXPECT_EQ(doc["edits"][3]["retyped"], json(edit_of("divider_retyped").retyped));
   EXPECT_EQ(doc["edits"][0]["removed"], json(edit_of("lane_closed").removed));
   EXPECT_EQ(read_file(root / doc["prior_map"].get<std::string>()), changed().prior.map_json);
   EXPECT_EQ(read_file(root / doc["current_map"].get<std::string>()), changed().current.map_json);

@@ -17,14 +17,16 @@ namespace nsg::synth {
 // One atomic edit: what it is, the map tokens it takes out of the current map and the ones it
 // puts in, and a point of it (map frame, m).
 struct MapEdit {
-  std::string kind;  // "lane_closed", "turn_removed" or "crossing_added"
+  std::string kind;  // one of kMapEditKinds
   std::vector<std::string> removed;
   std::vector<std::string> added;
+  std::vector<std::string> retyped;  // records kept with another type (a divider and its two lanes)
   std::array<double, 2> at_m{};
 };
 
 // The names of MapEdit::kind, in the order the edits are drawn.
-inline constexpr std::array<const char*, 3> kMapEditKinds = {"lane_closed", "turn_removed", "crossing_added"};
+inline constexpr std::array<const char*, 5> kMapEditKinds = {"lane_closed", "turn_removed", "turn_added",
+                                                             "divider_retyped", "crossing_added"};
 
 struct ChangedWorld {
   World prior;    // build_world(config, seed), exactly

@@ -98,11 +98,13 @@ struct DetectionsConfig {
 // and changes.json lists every edit with its tokens. No edit (every count 0) = no change:
 // the release is byte-identical to one without the key.
 struct ChangesConfig {
-  int from_day = 1;         // capture day (scenes.capture_days' index) of the first changed scene
-  int crossings_added = 0;  // mid-block pedestrian crossings painted and mapped
-  int turns_removed = 0;    // turning connectors taken out of the map; traffic no longer turns there
-  int lanes_closed = 0;     // lanes removed from the map, barriers along them
-  bool any() const { return crossings_added + turns_removed + lanes_closed > 0; }
+  int from_day = 1;          // capture day (scenes.capture_days' index) of the first changed scene
+  int crossings_added = 0;   // mid-block pedestrian crossings painted and mapped
+  int turns_removed = 0;     // turning connectors taken out of the map; traffic no longer turns there
+  int lanes_closed = 0;      // lanes removed from the map, barriers along them
+  int turns_added = 0;       // turning connectors a junction did not have, mapped and driven
+  int dividers_retyped = 0;  // dashed dividers between two lanes a way made solid, paint and map
+  bool any() const { return crossings_added + turns_removed + lanes_closed + turns_added + dividers_retyped > 0; }
 };
 
 struct SynthConfig {
