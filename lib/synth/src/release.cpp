@@ -8,8 +8,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <nlohmann/json.hpp>
-
 #include "nsg/core/atomic_file.h"
 #include "nsg/core/error.h"
 #include "nsg/core/log.h"
@@ -162,22 +160,14 @@ void ReleaseWriter::count_file(const fs::path& p) {
 
 // ---- maps -------------------------------------------------------------------------------
 
-// changes.json: the map changes of a release made with config `changes` — their date, the
-// maps before and after, every edit with its map tokens (docs/synthetic-release.md).
+// changes.json: the map changes of a release made with config `changes` (changes.h).
 std::string ReleaseWriter::changes_json() const {
-  nlohmann::ordered_json edits = nlohmann::ordered_json::array();
-  for (const MapEdit& e : edits_)
-    edits.push_back(
-        {{"kind", e.kind}, {"removed", e.removed}, {"added", e.added}, {"retyped", e.retyped}, {"at_m", e.at_m}});
-  const nlohmann::ordered_json doc = {{"schema_version", "1"},
-                                      {"kind", "nsgraph-synth-changes"},
-                                      {"location", cfg_.location},
-                                      {"from_day", cfg_.changes.from_day},
-                                      {"date", changes_date_},
-                                      {"prior_map", "maps/prior/expansion/" + cfg_.location + ".json"},
-                                      {"current_map", "maps/expansion/" + cfg_.location + ".json"},
-                                      {"edits", edits}};
-  return doc.dump(1) + "\n";
+  MapChanges c;
+  c.location = cfg_.location;
+  c.from_day = cfg_.changes.from_day;
+  c.date = changes_date_;
+  c.edits = edits_;
+  return map_changes_text(c);
 }
 
 void ReleaseWriter::write_maps() {

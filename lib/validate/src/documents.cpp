@@ -28,6 +28,8 @@ constexpr std::array kDocuments = {
                  "metrics::read_frame_record", "frames_record", "nsgraph frames"},
     DocumentKind{"frames-results", "a frames submission (OpenLane-V2's results)", "",
                  "metrics::read_frames_results", "frames", "you (nsgraph predict --frames)"},
+    DocumentKind{"synth-changes", "<release>/changes.json", "synth-changes.schema.json",
+                 "synth::read_map_changes", "", "nsgraph synth (config changes)"},
     DocumentKind{"generate-config", "a generate config", "generate-config.schema.json",
                  "pipeline::resolve_generate_config", "", "you (samples/generate-*.json)"},
     DocumentKind{"synth-config", "a synth config", "synth-config.schema.json",

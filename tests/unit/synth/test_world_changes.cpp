@@ -22,6 +22,8 @@
 #include "nsg/synth/config.h"
 #include "nsg/synth/lidar_sim.h"
 #include "nsg/synth/traffic.h"
+#include "nsg/validate/documents.h"
+#include "nsg/validate/schema.h"
 #include "test_support.h"
 
 namespace nsg::synth {
@@ -251,6 +253,8 @@ TEST(WorldChanges, AReleaseCarriesBothMapsAndTheEditsAndScenesFromTheDateSeeTheC
   test::TempDir dir("synth-changes");
   const fs::path root = synth(dir, "changed", change_settings());
   const json doc = json::parse(read_file(root / "changes.json"));
+  const MapChanges typed = read_map_changes(root / "changes.json");  // the one reader takes what synth wrote
+  EXPECT_EQ(typed.edits.size(), kMapEditKinds.size());
   EXPECT_EQ(doc["kind"], "nsgraph-synth-changes");
   ASSERT_EQ(doc["edits"].size(), kMapEditKinds.size());
   EXPECT_EQ(doc["edits"][3]["retyped"], json(edit_of("divider_retyped").retyped));
@@ -290,6 +294,45 @@ TEST(WorldChanges, AReleaseCarriesBothMapsAndTheEditsAndScenesFromTheDateSeeTheC
       dir, "none", {"scenes.count=4", "scenes.capture_days=2", "scenes.samples_per_scene=3", "changes.from_day=1"});
   EXPECT_EQ(tree_digests(none), a);
   EXPECT_FALSE(fs::exists(none / "changes.json"));
+}
+
+TEST(WorldChanges, ChangesJsonRoundTripsItsSchemaAndRefusesWhatTheFormatDoesNot) {
+  test::TempDir dir("synth-changes-doc");
+  MapChanges c;
+  c.location = "boston-seaport";
+  c.from_day = 9;
+  c.date = "2018-08-01";
+  c.prior_map = "maps/prior/expansion/boston-seaport.json";
+  c.current_map = "maps/expansion/boston-seaport.json";
+  c.edits = changed().edits;
+  const std::string text = map_changes_text(c);
+  test::write_text(dir / "changes.json", text);
+  const MapChanges back = read_map_changes(dir / "changes.json");
+  EXPECT_EQ(map_changes_text(back), text);
+  ASSERT_EQ(back.edits.size(), c.edits.size());
+  EXPECT_EQ(back.edits[3].retyped, c.edits[3].retyped);
+  const Issues issues = validate::validate_against_schema(validate::schema_path("synth-changes"), json::parse(text),
+                                                          "changes.json", "synth-changes.schema");
+  EXPECT_TRUE(issues.empty()) << issues.size();
+  // Hostile files: each refused by name (ParseError, the JSON pointer), never read past its bound.
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"\"prior_map\": \"maps/prior/expansion/boston-seaport.json\"", "\"prior_map\": \"../../etc/passwd\""},
+      {"\"from_day\": 9", "\"from_day\": \"9\""},
+      {"\"kind\": \"lane_closed\"", "\"kind\": \"lane_teleported\""},
+      {"\"schema_version\": \"1\"", "\"schema_version\": \"1\", \"extra\": 1"},
+      {"\"date\": \"2018-08-01\"", "\"date\": \"yesterday\""}};
+  for (const auto& [from, to] : bad) {
+    std::string t = text;
+    const size_t at = t.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    t.replace(at, from.size(), to);
+    test::write_text(dir / "bad.json", t);
+    EXPECT_THROW(read_map_changes(dir / "bad.json"), ParseError) << to;
+  }
+  test::write_text(dir / "deep.json", std::string(100, '[') + std::string(100, ']'));
+  EXPECT_THROW(read_map_changes(dir / "deep.json"), ParseError);
+  fs::create_symlink("/dev/zero", dir / "zero.json");
+  EXPECT_THROW(read_map_changes(dir / "zero.json"), ParseError);
 }
 
 TEST(WorldChanges, MoreEditsThanTheWorldHoldsOrADayWithoutScenesAreRefusedByName) {

@@ -6,6 +6,7 @@
 // after every prior record's, so the prior map is byte-identical to the world without changes.
 #include <array>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,27 @@ struct ChangedWorld {
 
 // Edits are kept ≥ this far apart (their points), so each stays atomic in a tile's view.
 inline constexpr double kMinEditSpacingM = 40.0;
+
+// changes.json of a release (schemas/v1/synth-changes.schema.json): the one model of it.
+struct MapChanges {
+  std::string location;
+  int from_day = 1;
+  std::string date;         // YYYY-MM-DD: log.date_captured of the first changed scene
+  std::string prior_map;    // "maps/prior/expansion/<location>.json", relative to the release
+  std::string current_map;  // "maps/expansion/<location>.json"
+  std::vector<MapEdit> edits;
+};
+
+// What the format allows (the reader's limits): a release's changes are few.
+inline constexpr int64_t kMaxMapChangesBytes = int64_t{4} << 20;
+inline constexpr size_t kMaxMapEdits = 500;
+inline constexpr size_t kMaxTokensPerEdit = 64;
+
+// The one writer (`nsgraph synth`) and the one reader. The reader bounds the size before
+// reading, parses strictly and checks every field against the schema's rules; ParseError
+// naming the file, the JSON pointer and what was expected.
+std::string map_changes_text(const MapChanges& changes);
+MapChanges read_map_changes(const std::filesystem::path& file);
 
 // Builds the prior world and applies config.changes to a copy (deterministic in the seed).
 // ConfigError naming the key when the world has fewer places for an edit kind than asked.
