@@ -1,5 +1,6 @@
 // Dataset JSON members as nsgraph.Dataset, stats and the report read them: the strict
-// parser (nesting capped, repeated keys refused), the graph conversion and the checked
+// parser (nesting capped, repeated keys refused), the graph conversion (and a map-update
+// tile's prior graph) and the checked
 // meta.json reader. Whatever it accepts nests at most
 // kMaxJsonDepth deep, so the Python conversion that follows cannot recurse further.
 #include <cstdlib>
@@ -32,6 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         nsg::parse_json_strict(std::string_view(reinterpret_cast<const char*>(data), size), "k.meta.json");
     if (depth_of(doc) > nsg::kMaxJsonDepth) std::abort();
     nsg::fuzz::expect_only_input_errors([&] { (void)nsg::io::tile_graph_from_json(doc, "k.graph.json"); });
+    nsg::fuzz::expect_only_input_errors([&] { (void)nsg::io::tile_prior_graph_from_json(doc, "k.graph.json"); });
     (void)nsg::io::tile_meta_from_json(doc, "k.meta.json");
   });
   return 0;

@@ -108,6 +108,11 @@ def tile_jsons(out):
                                                          {"id": 1, "u": 9.0, "v": 2.0, "x": 1.8, "y": 0.4}],
              "edges": [{"source": 0, "target": 1, "lane_token": "t"}]}
     put(out, "tile_json", "graph", json.dumps(graph))
+    # A map-update tile's graph: change labels and the prior graph beside it.
+    labelled = json.loads(json.dumps(graph))
+    labelled["edges"][0]["change"] = "added"
+    prior = {"nodes": graph["nodes"], "edges": [{"source": 1, "target": 0, "lane_token": "p", "change": "removed"}]}
+    put(out, "tile_json", "graph-map-update", json.dumps(dict(labelled, prior=prior)))
     put(out, "tile_json", "meta", json.dumps({"key": "k", "bounds_m": [0, 0, 51.2, 51.2], "counts": {"nodes": 2}}))
     put(out, "tile_json", "meta-full", json.dumps({
         "schema_version": "1", "key": "a-test-000000", "location": "a", "split": "test", "region": "r",

@@ -23,7 +23,7 @@ except ImportError as _error:  # most often: another interpreter than the extens
         f"{_sys.version.split()[0]}): {_error}. The extension here is {', '.join(_built) or 'missing'}; it runs "
         f"with the interpreter it was built for (Debian's /usr/bin/python3 for `make`) — use that one, or "
         f"rebuild (cmake --build build --target nsgraph_python) with this one.") from _error
-from .dataset import JUNCTIONS, LAYERS, MODALITIES, SEMANTIC_CLASSES, SEMANTIC_VOID, TILE_MEMBERS, TURNS, Dataset
+from .dataset import JUNCTIONS, LAYERS, MAP_CHANGES, MODALITIES, SEMANTIC_CLASSES, SEMANTIC_VOID, TILE_MEMBERS, TURNS, Dataset
 from .errors import ConfigError, DataError, Error, InternalError, IoError, ParseError, SubmissionError
 from .graphify import graphify
 from .groundtruth import adaptive_ground_truth
@@ -34,7 +34,7 @@ from .scoring import HEADLINE_METRICS, METRICS, check_submission, graph_arrays, 
 __version__ = _nsgraph.__version__
 
 __all__ = [
-    "Dataset", "score_frames", "MODALITIES", "LAYERS", "TILE_MEMBERS", "SEMANTIC_CLASSES", "SEMANTIC_VOID", "TURNS", "JUNCTIONS", "METRICS", "HEADLINE_METRICS", "score", "evaluate", "score_tile", "write_submission",
+    "Dataset", "score_frames", "MODALITIES", "LAYERS", "TILE_MEMBERS", "SEMANTIC_CLASSES", "SEMANTIC_VOID", "TURNS", "JUNCTIONS", "MAP_CHANGES", "METRICS", "HEADLINE_METRICS", "score", "evaluate", "score_tile", "write_submission",
     "check_submission",
     "adaptive_ground_truth", "graphify", "graph_arrays", "Error", "ParseError", "DataError", "ConfigError", "IoError",
     "InternalError", "SubmissionError",

@@ -13,6 +13,8 @@ SEMANTIC_VOID = _nsgraph.SEMANTIC_VOID
 # The codes of a tile graph's turn and junction arrays, by their graph.json names.
 TURNS = _nsgraph.TURNS
 JUNCTIONS = _nsgraph.JUNCTIONS
+# A map-update dataset's edge labels (graph["change"] codes; 0 = "" outside such a dataset).
+MAP_CHANGES = _nsgraph.MAP_CHANGES
 LAYERS = {m["name"]: m for m in TILE_MEMBERS if m["raster"]}
 # The input layers (every raster but the coverage flags, which are always read).
 MODALITIES = tuple(name for name in LAYERS if name != "coverage")
@@ -40,7 +42,10 @@ class Dataset(collections.abc.Sequence):
                    edges (E, 2) int64 node indices;  lane_tokens [E str];  node_ids (N,) int64;
                    junction (N,) int64 into JUNCTIONS;  turn (E,) int64 into TURNS;
                    connector, in_intersection (E,) bool;  lane_changes (C, 2) int64 node
-                   indices;  lane_change_tokens [C (from, to)]}  (docs/dataset-format.md)
+                   indices;  lane_change_tokens [C (from, to)];  change (E,) int64 into
+                   MAP_CHANGES}  (docs/dataset-format.md)
+        prior_graph  a map-update dataset's (generate's splits.preset map-update): the prior
+                   map's graph of the tile, as graph
         meta      the tile's meta.json as a dict
 
     ``ds[i]`` by position or ``ds[key]`` / ``ds.get(key)`` by tile key (``ds.keys``).

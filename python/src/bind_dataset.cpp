@@ -2,6 +2,7 @@
 // decoders. Reading and decoding run without the GIL so DataLoader workers (and threads)
 // proceed in parallel; only the wrapping into numpy arrays and dicts holds it.
 #include <algorithm>
+#include <optional>
 #include <utility>
 
 #include "bindings.h"
@@ -10,6 +11,7 @@
 #include "nsg/core/semantic_classes.h"
 #include "nsg/core/strings.h"
 #include "nsg/graph/lane_attributes.h"
+#include "nsg/graph/map_changes.h"
 #include "nsg/io/tile_graph.h"
 #include "nsg/io/tile_members.h"
 #include "nsg/io/tile_index.h"
@@ -69,6 +71,7 @@ struct DecodedTile {
   std::vector<std::pair<std::string, io::Raster>> rasters;
   graph::TileGraph graph;
   bool has_graph = false;
+  std::optional<graph::TileGraph> prior;  // a map-update tile's prior graph
   nlohmann::json meta;
 };
 
@@ -79,9 +82,13 @@ DecodedTile decode(const io::SplitIndex& index, size_t i, const std::vector<std:
   if (graph) suffixes.push_back("graph.json");
   if (meta) suffixes.push_back("meta.json");
   const io::DatasetTile tile = index.read(i, suffixes);
-  DecodedTile out{tile.key, tile.shard, {}, {}, graph, {}};
+  DecodedTile out{tile.key, tile.shard, {}, {}, graph, {}, {}};
   for (const std::string& l : layers) out.rasters.emplace_back(l, decode_layer(tile, l, index.size_px()));
-  if (graph) out.graph = tile.graph();
+  if (graph) {
+    const nlohmann::json doc = tile.json("graph.json");
+    out.graph = io::tile_graph_from_json(doc, tile.key + ".graph.json");
+    out.prior = io::tile_prior_graph_from_json(doc, tile.key + ".graph.json");
+  }
   // Through the checked reader and back: Python sees exactly the fields the format defines.
   if (meta) out.meta = nlohmann::json(io::tile_meta_to_json(tile.meta()));
   return out;
@@ -92,7 +99,7 @@ DecodedTile decode(const io::SplitIndex& index, size_t i, const std::vector<std:
 py::dict graph_to_py(const graph::TileGraph& g) {
   std::vector<std::array<double, 2>> px, m;
   std::vector<std::array<int64_t, 2>> edges, lane_changes;
-  std::vector<int64_t> ids, junction, turn;
+  std::vector<int64_t> ids, junction, turn, change;
   std::vector<bool> connector, in_intersection;
   py::list tokens, change_tokens;
   for (const graph::TileNode& n : g.nodes) {
@@ -107,6 +114,7 @@ py::dict graph_to_py(const graph::TileGraph& g) {
     connector.push_back(e.is_connector);
     in_intersection.push_back(e.in_intersection);
     turn.push_back(static_cast<int64_t>(e.turn));
+    change.push_back(static_cast<int64_t>(e.change));
   }
   for (const graph::TileLaneChange& c : g.lane_changes) {
     lane_changes.push_back({c.source, c.target});
@@ -122,6 +130,7 @@ py::dict graph_to_py(const graph::TileGraph& g) {
   d["connector"] = bools_to_numpy(connector);
   d["in_intersection"] = bools_to_numpy(in_intersection);
   d["turn"] = ints_to_numpy(turn);
+  d["change"] = ints_to_numpy(change);
   d["lane_changes"] = pairs_to_numpy(lane_changes);
   d["lane_change_tokens"] = change_tokens;
   return d;
@@ -133,6 +142,7 @@ py::dict to_py(DecodedTile&& t) {
   d["shard"] = t.shard;
   for (auto& [name, raster] : t.rasters) d[py::str(name)] = raster_to_numpy(std::move(raster));
   if (t.has_graph) d["graph"] = graph_to_py(t.graph);
+  if (t.prior) d["prior_graph"] = graph_to_py(*t.prior);
   if (!t.meta.is_null()) d["meta"] = json_to_py(t.meta);
   return d;
 }
@@ -157,6 +167,10 @@ void bind_dataset(py::module_& m) {
   m.attr("SEMANTIC_CLASSES") = semantic_classes_to_py();
   m.attr("SEMANTIC_VOID") = static_cast<int>(kSemanticVoid);
   // The attribute codes of a tile's graph (graph_to_py), by their graph.json names.
+  m.attr("MAP_CHANGES") = py::make_tuple(
+      "", graph::map_change_name(graph::MapChange::kUnchanged), graph::map_change_name(graph::MapChange::kAdded),
+      graph::map_change_name(graph::MapChange::kRemoved), graph::map_change_name(graph::MapChange::kMoved),
+      graph::map_change_name(graph::MapChange::kRetyped));
   m.attr("TURNS") = py::make_tuple(graph::turn_name(graph::Turn::kStraight), graph::turn_name(graph::Turn::kLeft),
                                    graph::turn_name(graph::Turn::kRight), graph::turn_name(graph::Turn::kUTurn));
   m.attr("JUNCTIONS") =

@@ -4,6 +4,7 @@ import io
 import json
 import os
 import tarfile
+import tempfile
 import threading
 import unittest
 
@@ -223,6 +224,51 @@ class LadderTest(unittest.TestCase):
         self.assertEqual(nsgraph.Dataset(root, "test-r2").keys, nsgraph.Dataset(root, "test", rung=2).keys)
         with self.assertRaises(nsgraph.ConfigError):
             nsgraph.Dataset(root, "test", rung=0)
+
+
+class MapUpdateTest(unittest.TestCase):
+    """A map-update dataset (generate's splits.preset map-update) read by nsgraph.Dataset: each
+    tile's prior graph beside its graph, every edge's change code into MAP_CHANGES, equal to
+    the labels graph.json holds."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory(prefix="nsg-map-update-")
+        release = os.path.join(cls.tmp.name, "release")
+        fixtures.run_nsgraph("synth", "--quiet", "--config", os.path.join(fixtures.SOURCE_DIR, "samples/synth/tiny.json"),
+                             "--out", release, "--set", "scenes.count=6", "--set", "scenes.capture_days=2", "--set", "changes.from_day=1",
+                             "--set", "changes.lanes_closed=1", "--set", "changes.turns_removed=1")
+        date = fixtures.read_json(os.path.join(release, "changes.json"))["date"]
+        cls.root = os.path.join(cls.tmp.name, "dataset")
+        fixtures.run_nsgraph("generate", "--quiet", "--config", fixtures.GENERATE_CONFIG, "--dataroot", release,
+                             "--version", "v1.0-mini", "--out", cls.root, "--layout", "folder",
+                             "--set", "splits.preset=map-update", "--set", f"splits.before_after_date={date}")
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_prior_graph_and_change_codes_are_graph_jsons(self):
+        self.assertEqual(nsgraph.MAP_CHANGES, ("", "unchanged", "added", "removed", "moved", "retyped"))
+        counts = fixtures.read_json(os.path.join(self.root, "manifest.json"))["locations"][0]["counts"]
+        seen = set()
+        tiles = [(split, t) for split in ("train", "test") if counts[split] for t in nsgraph.Dataset(self.root, split)]
+        self.assertGreater(len(tiles), 0)
+        for split, t in tiles:
+            doc = fixtures.read_json(os.path.join(self.root, "tiles", split, t["key"], t["key"] + ".graph.json"))
+            for name, graph in (("graph", doc), ("prior_graph", doc["prior"])):
+                labels = [nsgraph.MAP_CHANGES[c] for c in t[name]["change"]]
+                self.assertEqual(labels, [e["change"] for e in graph["edges"]], t["key"])
+                self.assertEqual(len(t[name]["edges"]), len(graph["edges"]))
+                seen.update((name, label) for label in labels)
+        self.assertNotIn(("graph", "removed"), seen)
+        self.assertIn(("graph", "unchanged"), seen)
+        self.assertIn(("prior_graph", "removed"), seen)
+
+    def test_other_datasets_have_no_prior_graph(self):
+        t = nsgraph.Dataset(fixtures.e2e_dataset("tar"), "test")[0]
+        self.assertNotIn("prior_graph", t)
+        self.assertTrue((t["graph"]["change"] == 0).all())
 
 
 class SemanticClassesTest(unittest.TestCase):

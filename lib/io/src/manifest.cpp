@@ -341,6 +341,7 @@ ManifestLocation location_from_json(const ordered_json& j, const std::string& fi
                 count(counts, "test", kMaxManifestTiles, file, counts_at)};
   loc.shards = planned_shards(j, "shards", false, file, at);
   if (j.contains("time_split")) loc.time_split = j["time_split"];
+  if (j.contains("map_update")) loc.map_update = j["map_update"];
   if (j.contains("rung_shards")) loc.rung_shards = planned_shards(j, "rung_shards", true, file, at);
   return loc;
 }
@@ -572,6 +573,7 @@ ordered_json location_to_json(const ManifestLocation& l) {
   doc["counts"] = {{"train", l.counts.train}, {"val", l.counts.val}, {"test", l.counts.test}};
   doc["shards"] = std::move(shards);
   if (!l.time_split.is_null()) doc["time_split"] = l.time_split;
+  if (!l.map_update.is_null()) doc["map_update"] = l.map_update;
   if (l.rung_shards.empty()) return doc;
   ordered_json rung_shards = ordered_json::array();
   for (const PlannedShardEntry& s : l.rung_shards) rung_shards.push_back(planned_shard_json(s));

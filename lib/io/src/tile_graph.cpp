@@ -1,11 +1,13 @@
 #include "nsg/io/tile_graph.h"
 
 #include <cmath>
+#include <optional>
 #include <unordered_map>
 
 #include "nsg/core/error.h"
 #include "nsg/core/issues.h"
 #include "nsg/graph/lane_attributes.h"
+#include "nsg/graph/map_changes.h"
 
 namespace nsg::io {
 namespace {
@@ -57,15 +59,19 @@ bool read_edge_attributes(const nlohmann::json& e, const std::string& file, cons
   if (const auto turn = e.find("turn"); turn != e.end())
     NSG_CHECK(turn->is_string() && graph::turn_from_name(turn->get<std::string>(), &edge.turn), DataError, file,
               path + "/turn", "\"straight\", \"left\", \"right\" or \"u_turn\"");
+  if (const auto change = e.find("change"); change != e.end())
+    NSG_CHECK(change->is_string() && graph::map_change_from_name(change->get<std::string>(), &edge.change), DataError,
+              file, path + "/change", "\"unchanged\", \"added\", \"removed\", \"moved\" or \"retyped\"");
   return kind != e.end();
 }
 
-}  // namespace
-
-graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::string& file, Issues* problems) {
+// The graph object at `at` of the document ("" the document itself, "/prior" a map-update
+// tile's prior graph): its nodes, edges and lane changes.
+graph::TileGraph graph_object(const nlohmann::json& doc, const std::string& file, const std::string& at,
+                              Issues* problems) {
   NSG_CHECK(doc.is_object() && doc.contains("nodes") && doc["nodes"].is_array() && doc.contains("edges") &&
                 doc["edges"].is_array(),
-            DataError, file, "", "a graph object with arrays nodes and edges");
+            DataError, file, at, "a graph object with arrays nodes and edges");
   // A reference problem (a repeated id, an end that names no node) throws, or is listed
   // under its check when the caller collects them; the edge or lane change is then left out.
   const auto reference = [&](const char* check, const DataError& e) {
@@ -77,7 +83,7 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
   const nlohmann::json& nodes = doc["nodes"];
   g.nodes.reserve(nodes.size());
   for (size_t k = 0; k < nodes.size(); ++k) {
-    const std::string p = "/nodes/" + std::to_string(k);
+    const std::string p = at + "/nodes/" + std::to_string(k);
     const nlohmann::json& n = nodes[k];
     NSG_CHECK(n.is_object() && n.contains("id") && n["id"].is_number_integer(), DataError, file, p + "/id",
               "a node {id (integer), u, v, x, y}");
@@ -102,7 +108,7 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
   const nlohmann::json& edges = doc["edges"];
   g.edges.reserve(edges.size());
   for (size_t k = 0; k < edges.size(); ++k) {
-    const std::string p = "/edges/" + std::to_string(k);
+    const std::string p = at + "/edges/" + std::to_string(k);
     const nlohmann::json& e = edges[k];
     NSG_CHECK(e.is_object(), DataError, file, p, "an edge {source, target, lane_token}");
     graph::TileEdge edge;
@@ -113,10 +119,10 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
   }
   const auto changes = doc.find("lane_changes");
   if (changes == doc.end()) return g;
-  NSG_CHECK(changes->is_array(), DataError, file, "/lane_changes", "an array of lane changes");
+  NSG_CHECK(changes->is_array(), DataError, file, at + "/lane_changes", "an array of lane changes");
   g.lane_changes.reserve(changes->size());
   for (size_t k = 0; k < changes->size(); ++k) {
-    const std::string p = "/lane_changes/" + std::to_string(k);
+    const std::string p = at + "/lane_changes/" + std::to_string(k);
     const nlohmann::json& c = (*changes)[k];
     NSG_CHECK(c.is_object(), DataError, file, p, "a lane change {source, target, from_lane_token, to_lane_token}");
     graph::TileLaneChange change;
@@ -128,7 +134,22 @@ graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::stri
   return g;
 }
 
-std::string tile_graph_text(const std::string& key, const graph::TileGraph& graph) {
+}  // namespace
+
+graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::string& file, Issues* problems) {
+  return graph_object(doc, file, "", problems);
+}
+
+std::optional<graph::TileGraph> tile_prior_graph_from_json(const nlohmann::json& doc, const std::string& file,
+                                                           Issues* problems) {
+  if (!doc.is_object() || !doc.contains("prior")) return std::nullopt;
+  return graph_object(doc["prior"], file, "/prior", problems);
+}
+
+namespace {
+
+// {nodes, edges, lane_changes} of one graph, edges naming their nodes by TileNode::id.
+nlohmann::ordered_json graph_members(const graph::TileGraph& graph) {
   nlohmann::ordered_json nodes = nlohmann::ordered_json::array();
   for (const graph::TileNode& n : graph.nodes)
     nodes.push_back({{"id", n.id},
@@ -148,14 +169,25 @@ std::string tile_graph_text(const std::string& key, const graph::TileGraph& grap
                      {"kind", e.is_connector ? "connector" : "lane"},
                      {"in_intersection", e.in_intersection},
                      {"turn", graph::turn_name(e.turn)}});
+  for (size_t k = 0; k < graph.edges.size(); ++k)
+    if (graph.edges[k].change != graph::MapChange::kNone)
+      edges[k]["change"] = graph::map_change_name(graph.edges[k].change);
   nlohmann::ordered_json lane_changes = nlohmann::ordered_json::array();
   for (const graph::TileLaneChange& c : graph.lane_changes)
     lane_changes.push_back({{"source", id_of(c.source)},
                             {"target", id_of(c.target)},
                             {"from_lane_token", c.from_lane_token},
                             {"to_lane_token", c.to_lane_token}});
-  const nlohmann::ordered_json doc = {
-      {"schema_version", "1"}, {"key", key}, {"nodes", nodes}, {"edges", edges}, {"lane_changes", lane_changes}};
+  return {{"nodes", nodes}, {"edges", edges}, {"lane_changes", lane_changes}};
+}
+
+}  // namespace
+
+std::string tile_graph_text(const std::string& key, const graph::TileGraph& graph, const graph::TileGraph* prior) {
+  nlohmann::ordered_json doc = {{"schema_version", "1"}, {"key", key}};
+  const nlohmann::ordered_json members = graph_members(graph);
+  for (const auto& [name, value] : members.items()) doc[name] = value;
+  if (prior != nullptr) doc["prior"] = graph_members(*prior);
   return doc.dump() + "\n";
 }
 

@@ -46,9 +46,17 @@ void GenerateConfig::check_inputs() const {
 
 void GenerateConfig::check_split_preset() const {
   const bool date_ok = std::regex_match(split_date, std::regex(R"(\d{4}-\d{2}-\d{2})"));
+  if (split_preset != SplitPreset::kMapUpdate && !prior_maps.empty())
+    throw ConfigError("", "splits.prior_maps", "\"\" unless splits.preset is map-update");
   if (split_preset == SplitPreset::kRegions) {
     if (!split_date.empty())
-      throw ConfigError("", "splits.before_after_date", "\"\" unless splits.preset is before-after");
+      throw ConfigError("", "splits.before_after_date", "\"\" unless splits.preset is before-after or map-update");
+    return;
+  }
+  if (split_preset == SplitPreset::kMapUpdate) {
+    if (!date_ok)
+      throw ConfigError("", "splits.before_after_date",
+                        "a date YYYY-MM-DD for splits.preset map-update (the date of the release's changes.json)");
     return;
   }
   if (!date_ok) throw ConfigError("", "splits.before_after_date", "a date YYYY-MM-DD for splits.preset before-after");
@@ -156,12 +164,20 @@ const options::Table<OutputOptions>& output_option_table() {
 // splits.preset and its date (GenerateConfig::check_split_preset holds their relations).
 void add_split_preset_options(options::Table<GenerateConfig>& t) {
   t.choice("splits.preset", &GenerateConfig::split_preset,
-           {{"regions", SplitPreset::kRegions}, {"before-after", SplitPreset::kBeforeAfter}})
+           {{"regions", SplitPreset::kRegions},
+            {"before-after", SplitPreset::kBeforeAfter},
+            {"map-update", SplitPreset::kMapUpdate}})
       .help(
           "regions: splits by place (the regions above); before-after: train tiles from the scenes captured before "
-          "splits.before_after_date, test tiles from those on or after it, over the same streets");
+          "splits.before_after_date, test tiles from those on or after it, over the same streets; map-update: splits "
+          "by place, every tile from the scenes on or after splits.before_after_date, its graph the current map's and "
+          "beside it the prior map's (splits.prior_maps), every edge with its change label");
   t.text("splits.before_after_date", &GenerateConfig::split_date)
-      .help("The date of splits.preset before-after, YYYY-MM-DD as log.date_captured (\"\" otherwise)");
+      .help("The date of splits.preset before-after or map-update, YYYY-MM-DD as log.date_captured (\"\" otherwise)");
+  t.text("splits.prior_maps", &GenerateConfig::prior_maps)
+      .help(
+          "splits.preset map-update: the folder of the prior map expansion files, <location>.json (\"\": "
+          "<dataroot>/maps/prior/expansion, where a synthetic release with map changes has them)");
 }
 
 }  // namespace

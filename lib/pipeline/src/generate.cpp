@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -17,6 +18,7 @@
 #include "nsg/core/files.h"
 #include "nsg/core/log.h"
 #include "nsg/core/memory.h"
+#include "nsg/core/output_folder.h"
 #include "nsg/core/parallel.h"
 #include "nsg/core/progress.h"
 #include "nsg/core/rng.h"
@@ -25,6 +27,7 @@
 #include "nsg/geometry/georef.h"
 #include "nsg/graph/from_map.h"
 #include "nsg/graph/geojson.h"
+#include "nsg/graph/map_changes.h"
 #include "nsg/graph/segment_index.h"
 #include "nsg/io/manifest.h"
 #include "nsg/io/tar.h"
@@ -99,7 +102,19 @@ struct LocationState {
   graph::LaneGraph graph;
   std::unique_ptr<graph::SegmentIndex> index;
   std::vector<LayerSource> sources;  // the layers of every scene, or of each side of the split date
+  // splits.preset map-update: the prior map's graph, its index, every lane token's label.
+  graph::LaneGraph prior_graph;
+  std::unique_ptr<graph::SegmentIndex> prior_index;
+  std::map<std::string, graph::MapChange> changes;
 };
+
+// splits.prior_maps' file for `location` ("" = the release's maps/prior/expansion).
+std::filesystem::path prior_map_file(const GenerateConfig& config, const std::string& location) {
+  const std::filesystem::path dir = config.prior_maps.empty()
+                                        ? std::filesystem::path(config.dataroot) / "maps" / "prior" / "expansion"
+                                        : std::filesystem::path(config.prior_maps);
+  return dir / (safe_name(location, dir.string(), "location") + ".json");
+}
 
 std::vector<std::string> resolve_locations(const GenerateConfig& config, const nuscenes::Database& db) {
   if (!config.locations.empty()) {
@@ -281,6 +296,31 @@ void build_graph_stage(RunState& rs, LocationRun& lr) {
     const nuscenes::MapExpansion map = nuscenes::load_map_expansion(rs.config.dataroot, lr.location);
     st.graph = graph::build_lane_graph(map, rs.config.graph, &defects);
     st.plan.map_version = map.version();
+    if (rs.config.split_preset == SplitPreset::kMapUpdate) {
+      const std::filesystem::path file = prior_map_file(rs.config, lr.location);
+      NSG_CHECK(std::filesystem::is_regular_file(file), ConfigError, file.string(), "splits.prior_maps",
+                "the prior map expansion of " + lr.location +
+                    " (a synthetic release made with config changes has it; for two real map versions give their "
+                    "folder with --set splits.prior_maps=DIR)");
+      const nuscenes::MapExpansion prior = nuscenes::load_map_expansion_file(file);
+      Issues prior_defects;
+      st.prior_graph = graph::build_lane_graph(prior, rs.config.graph, &prior_defects);
+      st.prior_index = std::make_unique<graph::SegmentIndex>(st.prior_graph);
+      st.changes = graph::lane_changes_between(prior, map);
+      std::map<std::string, int64_t> lanes = {
+          {"unchanged", 0}, {"added", 0}, {"removed", 0}, {"moved", 0}, {"retyped", 0}};
+      for (const auto& [token, change] : st.changes) ++lanes[graph::map_change_name(change)];
+      nlohmann::ordered_json by_label = nlohmann::ordered_json::object();
+      for (const char* k : {"unchanged", "added", "removed", "moved", "retyped"}) by_label[k] = lanes[k];
+      st.plan.map_update = {
+          {"date", rs.config.split_date},
+          {"prior_map",
+           {{"file", rs.config.prior_maps.empty() ? "maps/prior/expansion/" + lr.location + ".json" : file.string()},
+            {"sha256", sha256_file(file)},
+            {"bytes", static_cast<int64_t>(std::filesystem::file_size(file))}}},
+          {"scenes", 0},
+          {"lanes", by_label}};
+    }
   }
   st.index = std::make_unique<graph::SegmentIndex>(st.graph);
   st.plan.graph_nodes = st.graph.nodes.size();
@@ -347,7 +387,7 @@ void plan_stage(RunState& rs, LocationRun& lr) {
   filter.location = lr.location;
   filter.scenes_used = st.plan.scenes_used;
   filter.scenes_excluded = st.plan.excluded_scenes.size();
-  if (rs.config.split_preset == SplitPreset::kRegions) {
+  if (rs.config.split_preset != SplitPreset::kBeforeAfter) {  // regions, map-update: by place
     const raster::LidarLayer& lidar = st.sources.front().layers.lidar;
     st.plan.regions = tiling::plan_regions(lidar, rs.config.split_options_for(lr.location), rs.config.crop_size_m(),
                                            seed, &filter.regions);
@@ -356,6 +396,8 @@ void plan_stage(RunState& rs, LocationRun& lr) {
     plan_time_split(st.sources, rs.config, seed, st.plan.regions, st.plan.crops, &filter.crops);
     filter.time_split = time_split_sides(rs.db, st.sources);
   }
+  if (!st.plan.map_update.is_null())
+    st.plan.map_update["scenes"] = static_cast<int64_t>(st.sources.front().scenes.size());
   assign_keys_and_shards(st.plan, rs.per_shard, rs.next_shard);
   if (rs.config.split_preset == SplitPreset::kBeforeAfter) log_time_split(rs, lr);
   st.plan.rung_shards = plan_rung_shards(st.plan, rs.config.ladder);
@@ -446,8 +488,14 @@ size_t camera_stage(RunState& rs, LocationRun& lr, const std::vector<WorkItem>& 
 // The layers the tiles of `split` are cut from.
 tiling::LocationRasters rasters_for(const RunState& rs, const LocationState& st, const std::string& split) {
   const LayerSource& src = source_for(st.sources, split);
-  return {&src.layers.lidar, rs.camera_setup.cameras ? &src.color : nullptr, &src.layers.vehicles, &st.graph,
-          st.index.get()};
+  tiling::LocationRasters out{&src.layers.lidar, rs.camera_setup.cameras ? &src.color : nullptr, &src.layers.vehicles,
+                              &st.graph, st.index.get()};
+  if (st.prior_index) {
+    out.prior_graph = &st.prior_graph;
+    out.prior_index = st.prior_index.get();
+    out.changes = &st.changes;
+  }
+  return out;
 }
 
 // A rung shard of the ladder: its tiles rebuilt from their first k scenes, written like a

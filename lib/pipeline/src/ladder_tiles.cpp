@@ -90,8 +90,12 @@ std::vector<std::vector<TileFile>> encode_rung_shard(const RungInputs& in, const
     }
     const raster::ColorLayer color = camera_layers(in.db, in.config, in.cameras, scenes, layers.lidar, rects,
                                                    in.threads, in.plan.location + " " + shard.name);
-    const tiling::LocationRasters rasters{&layers.lidar, in.cameras.cameras ? &color : nullptr, &layers.vehicles,
-                                          in.all_scenes.graph, in.all_scenes.graph_index};
+    // The rung's own layers; its graphs (and a map-update dataset's prior graph and labels)
+    // are the split's.
+    tiling::LocationRasters rasters = in.all_scenes;
+    rasters.lidar = &layers.lidar;
+    rasters.color = in.cameras.cameras ? &color : nullptr;
+    rasters.vehicles = &layers.vehicles;
     parallel_for(members.size(), in.threads, [&](size_t m) {
       const size_t k = members[m], i = shard.first + k;
       const tiling::Tile tile =

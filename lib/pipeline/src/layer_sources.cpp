@@ -22,6 +22,13 @@ std::vector<LayerSource> layer_sources(const nuscenes::Database& db, const Gener
     out.back().scenes = scenes;
     return out;
   }
+  if (config.split_preset == SplitPreset::kMapUpdate) {  // every split sees the world after the change
+    out.emplace_back();
+    out.back().name = "from " + config.split_date;
+    for (nuscenes::Index s : scenes)
+      if (db.log[db.scene[s].log].date_captured >= config.split_date) out.back().scenes.push_back(s);
+    return out;
+  }
   LayerSource before, after;
   before.name = "before " + config.split_date;
   before.splits = {"train"};

@@ -35,6 +35,7 @@ ordered_json plan_json(const LocationPlan& p) {
     loc.shards.push_back(
         {s.name, s.split, 0, static_cast<int64_t>(s.count), p.keys[s.first], p.keys[s.first + s.count - 1]});
   loc.time_split = p.time_split;
+  loc.map_update = p.map_update;
   for (const RungShard& r : p.rung_shards)
     loc.rung_shards.push_back({r.shard.name, r.shard.split, r.rung, static_cast<int64_t>(r.shard.count),
                                rung_key(p.keys[r.shard.first], r.rung),

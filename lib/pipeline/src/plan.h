@@ -41,6 +41,7 @@ struct LocationPlan {
   std::vector<PlannedShard> shards;
   std::vector<RungShard> rung_shards;  // after every split shard; empty without a ladder
   nlohmann::ordered_json time_split;   // splits.preset before-after: date, scenes, leakage; else null
+  nlohmann::ordered_json map_update;   // splits.preset map-update: date, prior map, lanes by label; else null
   size_t count(const std::string& split) const;
 };
 

@@ -83,7 +83,7 @@ std::vector<TileFile> encode_tile_files(const tiling::Tile& t, const TileFileOpt
       o.nodata = m.nodata;
       bytes = io::encode_geotiff(layer_raster(t.rasters, m), geo, o);
     } else if (m.name == "graph") {
-      bytes = bytes_of(io::tile_graph_text(t.key, t.graph));
+      bytes = bytes_of(io::tile_graph_text(t.key, t.graph, t.prior_graph ? &*t.prior_graph : nullptr));
     } else if (m.name == "meta") {
       bytes = bytes_of(io::tile_meta_text(tile_meta(t, options)));
     } else {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "nsg/graph/map_changes.h"
 #include "nsg/graph/segment_index.h"
 #include "nsg/raster/color_layer.h"
 #include "nsg/raster/lidar_layer.h"
@@ -97,10 +98,16 @@ Tile extract_tile(const LocationRasters& layers, const std::string& location, co
   t.coverage_semantic = static_cast<double>(counts.semantic) / n;
   t.vehicle_px = static_cast<int64_t>(counts.vehicle);
   t.sweeps = std::move(counts.sweeps);
+  const graph::TileBounds box{t.bounds.x_west_m, t.bounds.y_south_m, t.bounds.x_east_m, t.bounds.y_north_m};
   if (layers.graph != nullptr && layers.graph_index != nullptr)
-    t.graph = graph::clip_to_tile(*layers.graph, *layers.graph_index,
-                                  {t.bounds.x_west_m, t.bounds.y_south_m, t.bounds.x_east_m, t.bounds.y_north_m},
-                                  resolution_m);
+    t.graph = graph::clip_to_tile(*layers.graph, *layers.graph_index, box, resolution_m);
+  if (layers.prior_graph != nullptr && layers.prior_index != nullptr) {
+    t.prior_graph = graph::clip_to_tile(*layers.prior_graph, *layers.prior_index, box, resolution_m);
+    if (layers.changes != nullptr) {
+      graph::label_map_changes(t.graph, *layers.changes);
+      graph::label_map_changes(*t.prior_graph, *layers.changes);
+    }
+  }
   return t;
 }
 

@@ -30,6 +30,12 @@ struct TileNode {
   Junction junction = Junction::kNone;  // the lane graph's; kNone for a node made at the border
 };
 
+// What became of a lane between a prior map and the current one (generate's map-update
+// preset, map_changes.h): kNone outside such a dataset.
+enum class MapChange : uint8_t { kNone, kUnchanged, kAdded, kRemoved, kMoved, kRetyped };
+const char* map_change_name(MapChange change);  // "unchanged", "added", … ("" for kNone)
+bool map_change_from_name(const std::string& name, MapChange* change);
+
 // A successor edge with its lane's attributes (lane_attributes.h).
 struct TileEdge {
   int32_t source = 0;
@@ -38,6 +44,7 @@ struct TileEdge {
   bool is_connector = false;  // graph.json "kind": "connector" (else "lane")
   bool in_intersection = false;
   Turn turn = Turn::kStraight;
+  MapChange change = MapChange::kNone;  // graph.json "change" (map-update datasets)
 };
 
 // A lane change between two nodes of the tile (both ends inside it).

@@ -162,6 +162,9 @@ struct ManifestLocation {
   // splits.preset before-after only: the time split's figures, kept as written (no reader
   // of a dataset uses them; docs/generating.md).
   nlohmann::ordered_json time_split;
+  // splits.preset map-update only: its date, the prior map and the lanes by change label,
+  // kept as written (docs/generating.md "Map update").
+  nlohmann::ordered_json map_update;
 };
 
 enum class Layout { kTar, kFolder };

@@ -1,6 +1,7 @@
 #pragma once
 // A tile's <key>.graph.json (docs/dataset-format.md): its one writer (generate) and its one
 // reader, back into the graph module's type, node ids turned into indices.
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -23,8 +24,16 @@ namespace nsg::io {
 // (`validate` reads graphs this way, after the schema has checked their shape).
 graph::TileGraph tile_graph_from_json(const nlohmann::json& doc, const std::string& file, Issues* problems = nullptr);
 
+// A map-update tile's prior graph (the member "prior": {nodes, edges, lane_changes}, the
+// prior map clipped to the tile, docs/dataset-format.md), read as tile_graph_from_json reads
+// the graph (paths under "/prior"); nullopt when the document has none.
+std::optional<graph::TileGraph> tile_prior_graph_from_json(const nlohmann::json& doc, const std::string& file,
+                                                           Issues* problems = nullptr);
+
 // The document generate writes for tile `key` (compact, a final newline): edges name their
-// nodes by TileNode::id. Reading it back gives `graph` again.
-std::string tile_graph_text(const std::string& key, const graph::TileGraph& graph);
+// nodes by TileNode::id, an edge's "change" is written when it has one, and `prior` (a
+// map-update tile's) goes under "prior". Reading it back gives `graph` (and `prior`) again.
+std::string tile_graph_text(const std::string& key, const graph::TileGraph& graph,
+                            const graph::TileGraph* prior = nullptr);
 
 }  // namespace nsg::io

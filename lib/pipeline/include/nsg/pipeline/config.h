@@ -51,7 +51,10 @@ std::vector<ExcludedScene> default_excluded_scenes();
 // one split near another's), or by capture date (train from the scenes before
 // splits.before_after_date, test from those on or after it: the same streets in both, the
 // temporal question; docs/generating.md).
-enum class SplitPreset { kRegions, kBeforeAfter };
+// map-update: splits by region as `regions`, every tile's layers from the scenes captured on
+// or after splits.before_after_date, and beside each tile's graph (the current map) the
+// prior map's graph with every edge's change label (docs/generating.md "Map update").
+enum class SplitPreset { kRegions, kBeforeAfter, kMapUpdate };
 
 struct GenerateConfig {
   std::string dataroot;
@@ -65,7 +68,10 @@ struct GenerateConfig {
   tiling::SplitOptions splits;                                 // ratios, buffer, automatic blocks (regions: below)
   std::map<std::string, std::vector<tiling::Region>> regions;  // explicit regions per location
   SplitPreset split_preset = SplitPreset::kRegions;
-  std::string split_date;  // YYYY-MM-DD (log.date_captured) of splits.preset before-after
+  std::string split_date;  // YYYY-MM-DD (log.date_captured) of splits.preset before-after or map-update
+  // splits.prior_maps: the folder of the prior map expansion files (<location>.json) of
+  // splits.preset map-update; "" = <dataroot>/maps/prior/expansion (a synthetic release's).
+  std::string prior_maps;
   tiling::CropOptions crops;
   OutputOptions output;
   LadderOptions ladder;  // the observation ladder (nsg/pipeline/ladder.h)

@@ -2,6 +2,8 @@
 // One tile (docs/dataset-format.md): the five rasters of a crop, row 0 = north, column 0 = west,
 // its clipped lane graph and the figures of its meta file.
 #include <cstdint>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,7 +43,8 @@ struct Tile {
   double resolution_m = 0.2;
   TileRasters rasters;
   graph::TileGraph graph;
-  double coverage_lidar = 0.0;  // fractions of the tile's pixels
+  std::optional<graph::TileGraph> prior_graph;  // map-update datasets: the prior map clipped to the tile
+  double coverage_lidar = 0.0;                  // fractions of the tile's pixels
   double coverage_rgb = 0.0;
   double coverage_semantic = 0.0;
   int64_t vehicle_px = 0;
@@ -57,6 +60,11 @@ struct LocationRasters {
   const raster::VehicleLayer* vehicles = nullptr;
   const graph::LaneGraph* graph = nullptr;
   const graph::SegmentIndex* graph_index = nullptr;
+  // A map-update dataset's (generate's splits.preset map-update): the prior map's lane graph,
+  // and every lane token's change label, set on the edges of both tile graphs.
+  const graph::LaneGraph* prior_graph = nullptr;
+  const graph::SegmentIndex* prior_index = nullptr;
+  const std::map<std::string, graph::MapChange>* changes = nullptr;
 };
 
 // Counts of the pixels holding data, from extract_rasters.

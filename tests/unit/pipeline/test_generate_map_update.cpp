@@ -1,0 +1,204 @@
+// splits.preset map-update (issue 65 item 2): on a synthetic release with one map change of
+// every kind, every tile is cut from the scenes captured from the changes' date on, its graph
+// is the current map's and beside it the prior map's, every edge labelled with what became of
+// its lane — exactly the edits changes.json lists; the ladder works on it; and on the real
+// key frame with two hand-made versions of its map (the stand-in as the prior, the road-ahead
+// map as the current one) the lanes are labelled removed and added.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+
+#include "generate_fixture.h"
+#include "nsg/core/files.h"
+#include "nsg/core/sha256.h"
+#include "nsg/io/dataset.h"
+#include "nsg/io/tile_graph.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace nsg::test {
+namespace {
+
+// The e2e world over two capture days with one edit of every kind from day 1 on.
+fs::path changed_release() {
+  const fs::path config = source_dir() / "tests/data/synth/e2e.json";
+  const std::vector<std::string> settings = {
+      "scenes.capture_days=2", "changes.from_day=1",        "changes.lanes_closed=1",    "changes.turns_removed=1",
+      "changes.turns_added=1", "changes.crossings_added=1", "changes.dividers_retyped=1"};
+  return cached_folder("release_map_changes", nsgraph_build_key() + "-" + sha256_hex(read_file(config)).substr(0, 16),
+                       [&](const fs::path& dir) {
+                         std::vector<std::string> args = {"synth",         "--quiet", "--config",
+                                                          config.string(), "--out",   dir.string()};
+                         for (const std::string& s : settings) args.insert(args.end(), {"--set", s});
+                         const CommandResult r = run_nsgraph(args);
+                         if (r.exit_code != 0) throw std::runtime_error("synth failed: " + r.err);
+                       });
+}
+
+std::vector<std::string> map_update_args(const fs::path& release, const fs::path& out, const std::string& date) {
+  return {"generate",   "--quiet",
+          "--config",   (source_dir() / "tests/data/generate/e2e.json").string(),
+          "--dataroot", release.string(),
+          "--version",  "v1.0-mini",
+          "--out",      out.string(),
+          "--set",      "splits.preset=map-update",
+          "--set",      "splits.before_after_date=" + date};
+}
+
+std::map<std::string, std::string> scene_dates(const fs::path& release) {
+  std::map<std::string, std::string> log_date, out;
+  for (const json& l : read_json(release / "v1.0-mini" / "log.json")) log_date[l["token"]] = l["date_captured"];
+  for (const json& s : read_json(release / "v1.0-mini" / "scene.json")) out[s["name"]] = log_date.at(s["log_token"]);
+  return out;
+}
+
+TEST(GenerateMapUpdate, TilesAreFromAfterTheDateWithBothGraphsLabelledAsTheEditsSay) {
+  const fs::path release = changed_release();
+  const json changes = read_json(release / "changes.json");
+  const std::string date = changes["date"];
+  std::set<std::string> removed, added, retyped;
+  for (const json& e : changes["edits"]) {
+    for (const json& t : e["removed"]) removed.insert(t.get<std::string>());
+    for (const json& t : e["added"]) added.insert(t.get<std::string>());
+    // a retyped divider, then its lanes: the lanes are graph elements
+    for (size_t k = 1; k < e["retyped"].size(); ++k) retyped.insert(e["retyped"][k].get<std::string>());
+  }
+  for (const json& e : changes["edits"])  // a ped_crossing is no lane
+    if (e["kind"] == "crossing_added") added.erase(e["added"][0].get<std::string>());
+
+  TempDir out("map-update");
+  std::vector<std::string> args = map_update_args(release, out.path(), date);
+  args.insert(args.end(), {"--ladder"});
+  const CommandResult r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const io::Dataset ds = io::Dataset::open(out.path());
+  const nlohmann::ordered_json& mu = ds.manifest().locations.at(0).map_update;
+  EXPECT_EQ(mu["date"], date);
+  EXPECT_EQ(mu["prior_map"]["file"], "maps/prior/expansion/boston-seaport.json");
+  EXPECT_EQ(mu["prior_map"]["sha256"], sha256_file(release / "maps/prior/expansion/boston-seaport.json"));
+  EXPECT_EQ(mu["lanes"]["removed"], removed.size());
+  EXPECT_EQ(mu["lanes"]["added"], added.size());
+  EXPECT_EQ(mu["lanes"]["retyped"], retyped.size());
+  EXPECT_EQ(mu["lanes"]["moved"], 0);
+
+  const std::map<std::string, std::string> dates = scene_dates(release);
+  std::map<std::string, int> seen;  // label → edges, over every tile of both graphs
+  int tiles = 0;
+  for (const std::string& split : ds.splits()) {
+    ds.for_each_tile(split, [&](const io::DatasetTile& t) {
+      ++tiles;
+      for (const std::string& scene : t.meta().scenes) EXPECT_GE(dates.at(scene), date) << t.key << ": " << scene;
+      const json doc = t.json("graph.json");
+      const graph::TileGraph current = t.graph();
+      const std::optional<graph::TileGraph> prior = io::tile_prior_graph_from_json(doc, t.key);
+      EXPECT_TRUE(prior.has_value()) << t.key;
+      for (const graph::TileEdge& e : current.edges) {
+        const std::string label = graph::map_change_name(e.change);
+        ++seen["current " + label];
+        EXPECT_EQ(label == "added", added.count(e.lane_token) > 0) << t.key << " " << e.lane_token;
+        EXPECT_EQ(label == "retyped", retyped.count(e.lane_token) > 0) << t.key;
+        EXPECT_NE(label, "removed");
+        EXPECT_EQ(removed.count(e.lane_token), 0u) << t.key;
+      }
+      if (prior)
+        for (const graph::TileEdge& e : prior->edges) {
+          const std::string label = graph::map_change_name(e.change);
+          ++seen["prior " + label];
+          EXPECT_EQ(label == "removed", removed.count(e.lane_token) > 0) << t.key;
+          EXPECT_NE(label, "added");
+        }
+      return true;
+    });
+  }
+  EXPECT_GT(tiles, 0);
+  EXPECT_GT(seen["current unchanged"], 0);
+  EXPECT_GT(seen["prior removed"], 0) << "no tile holds the closed lane or the removed turn";
+  const CommandResult v = run_nsgraph({"validate", "--dataset", out.path().string(), "--quiet"});
+  EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+  // Deterministic at one thread.
+  TempDir one("map-update-1");
+  std::vector<std::string> one_args = map_update_args(release, one.path(), date);
+  one_args.insert(one_args.end(), {"--ladder", "--threads", "1"});
+  ASSERT_EQ(run_nsgraph(one_args).exit_code, 0);
+  EXPECT_EQ(tree_hashes(one.path()), tree_hashes(out.path()));
+}
+
+TEST(GenerateMapUpdate, OtherPresetsWriteNoPriorAndAMissingPriorMapIsNamed) {
+  const fs::path release = changed_release();
+  TempDir out("map-update-plain");
+  const CommandResult r =
+      run_nsgraph({"generate", "--quiet", "--config", (source_dir() / "tests/data/generate/e2e.json").string(),
+                   "--dataroot", release.string(), "--version", "v1.0-mini", "--out", (out / "regions").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const io::Dataset ds = io::Dataset::open(out / "regions");
+  EXPECT_TRUE(ds.manifest().locations.at(0).map_update.is_null());
+  ds.for_each_tile("test", [&](const io::DatasetTile& t) {
+    const json doc = t.json("graph.json");
+    EXPECT_FALSE(doc.contains("prior")) << t.key;
+    for (const json& e : doc["edges"]) EXPECT_FALSE(e.contains("change")) << t.key;
+    return true;
+  });
+  // A release without a prior map, and the keys' relations.
+  std::vector<std::string> args =
+      map_update_args(source_dir() / "tests/data/real/scene-0061-keyframe", out / "no-prior", "2018-07-24");
+  CommandResult bad = run_nsgraph(args);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("splits.prior_maps"), std::string::npos) << bad.err;
+  bad = run_nsgraph({"generate", "--quiet", "--config", (source_dir() / "tests/data/generate/e2e.json").string(),
+                     "--dataroot", release.string(), "--version", "v1.0-mini", "--out", (out / "x").string(), "--set",
+                     "splits.prior_maps=somewhere"});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("splits.prior_maps"), std::string::npos) << bad.err;
+  bad = run_nsgraph({"generate", "--quiet", "--config", (source_dir() / "tests/data/generate/e2e.json").string(),
+                     "--dataroot", release.string(), "--version", "v1.0-mini", "--out", (out / "y").string(), "--set",
+                     "splits.preset=map-update"});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("splits.before_after_date"), std::string::npos) << bad.err;
+}
+
+// Item 6: a real release and two versions of its map. The real key frame's stand-in map is
+// the prior; the road-ahead stand-in (tests/data/real/road-ahead) the current one.
+TEST(GenerateMapUpdate, TwoVersionsOfTheRealKeyFramesMapAreLabelled) {
+  TempDir tmp("map-update-real");
+  const fs::path release = tmp / "release";
+  fs::copy(source_dir() / "tests/data/real/scene-0061-keyframe", release, fs::copy_options::recursive);
+  fs::create_directories(tmp / "prior");
+  fs::copy_file(release / "maps/expansion/singapore-onenorth.json", tmp / "prior/singapore-onenorth.json");
+  fs::copy_file(source_dir() / "tests/data/real/road-ahead/singapore-onenorth.json",
+                release / "maps/expansion/singapore-onenorth.json", fs::copy_options::overwrite_existing);
+  const std::string prior_lane = read_json(tmp / "prior/singapore-onenorth.json")["lane"][0]["token"];
+  const std::string current_lane = read_json(release / "maps/expansion/singapore-onenorth.json")["lane"][0]["token"];
+  std::vector<std::string> args = real_keyframe_ladder_args(tmp / "dataset");
+  args.erase(std::find(args.begin(), args.end(), "--ladder"));
+  *(std::find(args.begin(), args.end(), "--dataroot") + 1) = release.string();
+  args.insert(args.end(), {"--set", "splits.preset=map-update", "--set", "splits.before_after_date=2018-07-24", "--set",
+                           "splits.prior_maps=" + (tmp / "prior").string()});
+  const CommandResult r = run_nsgraph(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const io::Dataset ds = io::Dataset::open(tmp / "dataset");
+  const nlohmann::ordered_json& mu = ds.manifest().locations.at(0).map_update;
+  EXPECT_EQ(mu["lanes"]["added"], 1);
+  EXPECT_EQ(mu["lanes"]["removed"], 1);
+  EXPECT_EQ(mu["prior_map"]["file"], (tmp / "prior/singapore-onenorth.json").string());
+  std::set<std::string> current_labels, prior_labels;
+  ds.for_each_tile("test", [&](const io::DatasetTile& t) {
+    for (const graph::TileEdge& e : t.graph().edges) {
+      EXPECT_EQ(e.lane_token, current_lane);
+      current_labels.insert(graph::map_change_name(e.change));
+    }
+    const std::optional<graph::TileGraph> prior = io::tile_prior_graph_from_json(t.json("graph.json"), t.key);
+    for (const graph::TileEdge& e : prior->edges) {
+      EXPECT_EQ(e.lane_token, prior_lane);
+      prior_labels.insert(graph::map_change_name(e.change));
+    }
+    return true;
+  });
+  EXPECT_EQ(current_labels, (std::set<std::string>{"added"}));
+  EXPECT_EQ(prior_labels, (std::set<std::string>{"removed"}));
+}
+
+}  // namespace
+}  // namespace nsg::test
