@@ -287,6 +287,35 @@ void log_excluded_scenes(const nuscenes::Database& db,
   log::info(strprintf("generate: leaving out %zu scene(s) (scenes.exclude): ", excluded.size()) + join(named, ", "));
 }
 
+// Stage 1 of splits.preset map-update: the prior map's lane graph and index, every lane
+// token's change label between it and the current map, and the manifest's map_update record.
+void prior_map_stage(RunState& rs, LocationRun& lr, const nuscenes::MapExpansion& map) {
+  LocationState& st = lr.st;
+  const std::filesystem::path file = prior_map_file(rs.config, lr.location);
+  NSG_CHECK(std::filesystem::is_regular_file(file), ConfigError, file.string(), "splits.prior_maps",
+            "the prior map expansion of " + lr.location +
+                " (a synthetic release made with config changes has it; for two real map versions give their "
+                "folder with --set splits.prior_maps=DIR)");
+  const nuscenes::MapExpansion prior = nuscenes::load_map_expansion_file(file);
+  Issues prior_defects;  // counted in the record, as the current map's are (never fatal)
+  st.prior_graph = graph::build_lane_graph(prior, rs.config.graph, &prior_defects);
+  st.prior_index = std::make_unique<graph::SegmentIndex>(st.prior_graph);
+  st.changes = graph::lane_changes_between(prior, map);
+  std::map<std::string, int64_t> lanes = {{"unchanged", 0}, {"added", 0}, {"removed", 0}, {"moved", 0}, {"retyped", 0}};
+  for (const auto& [token, change] : st.changes) ++lanes[graph::map_change_name(change)];
+  nlohmann::ordered_json by_label = nlohmann::ordered_json::object();
+  for (const char* k : {"unchanged", "added", "removed", "moved", "retyped"}) by_label[k] = lanes[k];
+  st.plan.map_update = {
+      {"date", rs.config.split_date},
+      {"prior_map",
+       {{"file", rs.config.prior_maps.empty() ? "maps/prior/expansion/" + lr.location + ".json" : file.string()},
+        {"sha256", sha256_file(file)},
+        {"bytes", static_cast<int64_t>(std::filesystem::file_size(file))},
+        {"map_defects", static_cast<int64_t>(prior_defects.items().size())}}},
+      {"scenes", 0},
+      {"lanes", by_label}};
+}
+
 // Stage 1: the location's lane graph and its segment index.
 void build_graph_stage(RunState& rs, LocationRun& lr) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -296,31 +325,7 @@ void build_graph_stage(RunState& rs, LocationRun& lr) {
     const nuscenes::MapExpansion map = nuscenes::load_map_expansion(rs.config.dataroot, lr.location);
     st.graph = graph::build_lane_graph(map, rs.config.graph, &defects);
     st.plan.map_version = map.version();
-    if (rs.config.split_preset == SplitPreset::kMapUpdate) {
-      const std::filesystem::path file = prior_map_file(rs.config, lr.location);
-      NSG_CHECK(std::filesystem::is_regular_file(file), ConfigError, file.string(), "splits.prior_maps",
-                "the prior map expansion of " + lr.location +
-                    " (a synthetic release made with config changes has it; for two real map versions give their "
-                    "folder with --set splits.prior_maps=DIR)");
-      const nuscenes::MapExpansion prior = nuscenes::load_map_expansion_file(file);
-      Issues prior_defects;
-      st.prior_graph = graph::build_lane_graph(prior, rs.config.graph, &prior_defects);
-      st.prior_index = std::make_unique<graph::SegmentIndex>(st.prior_graph);
-      st.changes = graph::lane_changes_between(prior, map);
-      std::map<std::string, int64_t> lanes = {
-          {"unchanged", 0}, {"added", 0}, {"removed", 0}, {"moved", 0}, {"retyped", 0}};
-      for (const auto& [token, change] : st.changes) ++lanes[graph::map_change_name(change)];
-      nlohmann::ordered_json by_label = nlohmann::ordered_json::object();
-      for (const char* k : {"unchanged", "added", "removed", "moved", "retyped"}) by_label[k] = lanes[k];
-      st.plan.map_update = {
-          {"date", rs.config.split_date},
-          {"prior_map",
-           {{"file", rs.config.prior_maps.empty() ? "maps/prior/expansion/" + lr.location + ".json" : file.string()},
-            {"sha256", sha256_file(file)},
-            {"bytes", static_cast<int64_t>(std::filesystem::file_size(file))}}},
-          {"scenes", 0},
-          {"lanes", by_label}};
-    }
+    if (rs.config.split_preset == SplitPreset::kMapUpdate) prior_map_stage(rs, lr, map);
   }
   st.index = std::make_unique<graph::SegmentIndex>(st.graph);
   st.plan.graph_nodes = st.graph.nodes.size();

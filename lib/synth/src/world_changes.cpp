@@ -157,7 +157,11 @@ void WorldBuilder::add_turns(Rng& rng, std::vector<MapEdit>& edits, std::vector<
     const ArclinePath& last = world_.lanes[static_cast<size_t>(a)].paths.back();
     const Pose2 end = geometry::arcline_pose_at(last, last.length_m());
     if (!far_from_edits(edits, {end.x, end.y})) return false;
-    add_connector(a, b);
+    try {
+      add_connector(a, b);  // throws before it adds anything when no Dubins path meets the lane
+    } catch (const InternalError&) {
+      return false;
+    }
     removed.push_back(false);
     const LaneInfo& turn = world_.lanes.back();
     const Eigen::Vector2d at = mid_point(turn);
