@@ -14,6 +14,7 @@
 #include "nsg/frames/from_tiles.h"
 #include "nsg/io/dataset.h"
 #include "nsg/metrics/io.h"
+#include "nsg/model/copy_prior.h"
 #include "nsg/model/model.h"
 #include "nsg/model/onnx_net.h"
 
@@ -39,6 +40,8 @@ struct PredictCliOptions {
 };
 
 bool is_onnx(const std::string& path) { return ends_with(path, ".onnx"); }
+// --model prior: the copy-the-prior baseline of a map-update dataset (no model file).
+bool is_copy_prior(const std::string& model) { return model == "prior"; }
 
 // --frames: the export's frames of the split, read (every record checked, a defect named by
 // file and JSON pointer) before the model runs, so a bad export costs no prediction.
@@ -92,7 +95,7 @@ std::vector<std::string> splits_to_predict(const PredictCliOptions& o, const io:
 int run_predict(const PredictCliOptions& o, const Context& ctx) {
   o.validate();
   std::optional<model::LaneModel> forest;
-  if (!is_onnx(o.model)) forest = model::LaneModel::load(o.model);
+  if (!is_onnx(o.model) && !is_copy_prior(o.model)) forest = model::LaneModel::load(o.model);
   const io::Dataset dataset = io::Dataset::open(o.dataset);
   std::optional<frames::ExportFrames> export_frames;
   if (!o.frames.empty()) export_frames = read_frames_of_dataset(o, dataset);
@@ -100,13 +103,16 @@ int run_predict(const PredictCliOptions& o, const Context& ctx) {
   metrics::GraphSet graphs;
   for (const std::string& split : splits_to_predict(o, dataset)) {
     metrics::GraphSet part = forest ? model::predict_dataset(*forest, dataset, split, o.threads, !ctx.quiet)
-                                    : model::predict_dataset_onnx(o.model, dataset, split, o.threads, !ctx.quiet);
+                             : is_copy_prior(o.model)
+                                 ? model::copy_prior_dataset(dataset, split)
+                                 : model::predict_dataset_onnx(o.model, dataset, split, o.threads, !ctx.quiet);
     graphs.merge(part);  // rung keys (<key>-r<k>) never equal a split's keys
   }
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (export_frames)
-    return write_frame_results(o, *export_frames, dataset, graphs,
-                               forest ? model::to_string(forest->options().variant) : "LaneGraphNet (ONNX)");
+  const std::string model_name = forest                   ? model::to_string(forest->options().variant)
+                                 : is_copy_prior(o.model) ? std::string("copy-the-prior")
+                                                          : std::string("LaneGraphNet (ONNX)");
+  if (export_frames) return write_frame_results(o, *export_frames, dataset, graphs, model_name);
   metrics::write_submission(graphs, o.out);
   size_t nodes = 0, edges = 0;
   for (const auto& [key, g] : graphs) {
@@ -116,9 +122,8 @@ int run_predict(const PredictCliOptions& o, const Context& ctx) {
   log::info(
       strprintf("predicted %zu tiles of '%s' with the %s model in %.1f s (%.1f tiles/s): %zu nodes, "
                 "%zu edges → %s",
-                graphs.size(), o.split.c_str(),
-                forest ? model::to_string(forest->options().variant).c_str() : "LaneGraphNet (ONNX)", s,
-                graphs.size() / std::max(s, 1e-9), nodes, edges, o.out.c_str()));
+                graphs.size(), o.split.c_str(), model_name.c_str(), s, graphs.size() / std::max(s, 1e-9), nodes, edges,
+                o.out.c_str()));
   return kExitOk;
 }
 
@@ -128,7 +133,8 @@ void add_predict_command(CLI::App& parent, Context& ctx) {
   auto opts = std::make_shared<PredictCliOptions>();
   CLI::App* cmd = parent.add_subcommand("predict", "Predict lane graphs for a dataset split with a trained model");
   cmd->add_option("--model", opts->model,
-                  "Model file from `nsgraph train`, or LaneGraphNet's M.onnx (M.pairs.onnx next to it)")
+                  "Model file from `nsgraph train`, LaneGraphNet's M.onnx (M.pairs.onnx next to it), or \"prior\": "
+                  "a map-update dataset's copy-the-prior baseline (each tile's prior graph)")
       ->required();
   cmd->add_option("--dataset", opts->dataset, "Dataset folder (manifest.json)")->required();
   cmd->add_option("--split", opts->split, "Split to predict")->capture_default_str();

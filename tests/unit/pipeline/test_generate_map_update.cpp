@@ -118,6 +118,49 @@ TEST(GenerateMapUpdate, TilesAreFromAfterTheDateWithBothGraphsLabelledAsTheEdits
   EXPECT_GT(seen["prior removed"], 0) << "no tile holds the closed lane or the removed turn";
   const CommandResult v = run_nsgraph({"validate", "--dataset", out.path().string(), "--quiet"});
   EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+
+  // The copy-the-prior baseline (predict --model prior): perfect where the map did not change,
+  // extra edges (precision < 1, recall 1) where the prior holds removed lanes.
+  std::map<std::string, std::set<std::string>> labels;  // key → the labels of both its graphs
+  for (const std::string& split : ds.splits())
+    ds.for_each_tile(split, [&](const io::DatasetTile& t) {
+      const json doc = t.json("graph.json");
+      for (const json* g : {&doc, &doc["prior"]})
+        for (const json& e : (*g)["edges"]) labels[t.key].insert(e["change"].get<std::string>());
+      return true;
+    });
+  int unchanged_tiles = 0, removed_tiles = 0;
+  TempDir scored("map-update-scored");  // not in the dataset: its bytes are compared below
+  for (const std::string& split : {"train", "test"}) {
+    if (ds.tile_count(split) == 0) continue;
+    const fs::path sub = scored / (split + "-prior.json"), report = scored / (split + "-report.json");
+    const CommandResult p = run_nsgraph({"predict", "--quiet", "--model", "prior", "--dataset", out.path().string(),
+                                         "--split", split, "--out", sub.string()});
+    ASSERT_EQ(p.exit_code, 0) << p.err;
+    const CommandResult sc = run_nsgraph({"score", "--quiet", "--ground-truth", out.path().string(), "--split", split,
+                                          "--submission", sub.string(), "--out", report.string()});
+    ASSERT_EQ(sc.exit_code, 0) << sc.err;
+    const json scores = read_json(report);
+    for (const auto& [key, tile] : scores["tiles"].items()) {
+      if (tile["apls"].is_null()) continue;  // an empty tile
+      if (labels[key] == std::set<std::string>{"unchanged"}) {
+        ++unchanged_tiles;
+        EXPECT_EQ(tile["apls"], 1.0) << key;
+        EXPECT_EQ(tile["f1"], 1.0) << key;
+      } else if (labels[key].count("removed") && !labels[key].count("added")) {
+        ++removed_tiles;
+        EXPECT_LT(tile["geo_precision"].get<double>(), 1.0) << key;
+        EXPECT_EQ(tile["geo_recall"], 1.0) << key;
+      }
+    }
+  }
+  EXPECT_GT(unchanged_tiles, 0);
+  EXPECT_GT(removed_tiles, 0);
+  const CommandResult not_map_update = run_nsgraph({"predict", "--quiet", "--model", "prior", "--dataset",
+                                                    e2e_dataset().string(), "--out", (scored / "x.json").string()});
+  EXPECT_EQ(not_map_update.exit_code, 2);
+  EXPECT_NE(not_map_update.err.find("splits.preset map-update"), std::string::npos) << not_map_update.err;
+
   // Deterministic at one thread.
   TempDir one("map-update-1");
   std::vector<std::string> one_args = map_update_args(release, one.path(), date);
