@@ -3,7 +3,7 @@ BUILD   ?= build
 JOBS    ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build test demo ablation baselines ladder bench fuzz clean format pretrained regen
+.PHONY: all deps configure build test demo ablation baselines ladder map-update bench fuzz clean format pretrained regen
 
 all: build
 
@@ -34,6 +34,10 @@ baselines: build
 
 ladder: build
 	@bash scripts/ladder.sh $(BUILD)
+
+# The demo world in map-update mode and its copy-the-prior baseline (scripts/map_update.sh).
+map-update: build
+	@bash scripts/map_update.sh $(BUILD)
 
 bench: build
 	@bash scripts/bench.sh $(BUILD)

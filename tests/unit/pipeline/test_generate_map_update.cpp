@@ -1,4 +1,4 @@
-// splits.preset map-update (issue 65 item 2): on a synthetic release with one map change of
+// splits.preset map-update: on a synthetic release with one map change of
 // every kind, every tile is cut from the scenes captured from the changes' date on, its graph
 // is the current map's and beside it the prior map's, every edge labelled with what became of
 // its lane — exactly the edits changes.json lists; the ladder works on it; and on the real
