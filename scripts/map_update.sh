@@ -6,7 +6,7 @@
 # the prior map's graph beside the current one, every edge labelled), and the copy-the-prior
 # baseline (predict --model prior) scored on the test split. Writes demo-out/map-update/
 # {release,dataset,prior.json,prior-report.json} and prints the manifest's lane labels and
-# the score table.
+# the score table; exits 1 when the figures docs/generating.md quotes change.
 #   usage: scripts/map_update.sh [build-dir]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -44,3 +44,17 @@ for loc in m["locations"]:
 PY
 "$exe" score -q --ground-truth "$dir/dataset" --split test --submission "$dir/prior.json" \
   --out "$dir/prior-report.json" --format md
+# The figures docs/generating.md and the README quote (the whole chain is deterministic): a
+# change of them fails the run.
+"$py" - "$dir/dataset/manifest.json" "$dir/prior-report.json" <<'PY'
+import json, sys
+lanes = json.load(open(sys.argv[1]))["locations"][0]["map_update"]["lanes"]
+mean = json.load(open(sys.argv[2]))["aggregate"]["mean"]
+want_lanes = {"unchanged": 291, "added": 3, "removed": 16, "moved": 0, "retyped": 6}
+want = {"apls": 0.962, "f1": 0.985, "topo_f1": 0.968}
+bad = [f"lanes {lanes} (expected {want_lanes})"] if lanes != want_lanes else []
+bad += [f"{k} {mean[k]:.4f} (expected {v} ± 0.002)" for k, v in want.items() if abs(mean[k] - v) > 0.002]
+if bad:
+    sys.exit("map-update: the figures docs/generating.md quotes changed: " + "; ".join(bad))
+print("map-update: the quoted figures hold")
+PY
