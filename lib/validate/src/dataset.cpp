@@ -367,6 +367,8 @@ class DatasetChecker {
     try {
       Issues references;
       ReadGraph out{io::tile_graph_from_json(doc, subject, &references), doc["edges"].size()};
+      // A map-update tile's prior graph: its references too (paths under /prior).
+      (void)io::tile_prior_graph_from_json(doc, subject, &references);
       for (const Issue& i : references.items()) error(i.check, i.subject, i.message);
       out.all_edges = out.graph.edges.size() == out.edges_in_file;
       out.all_lane_changes =

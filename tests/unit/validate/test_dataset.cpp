@@ -314,6 +314,24 @@ TEST(ValidateDataset, EveryReferenceProblemOfAGraphIsListed) {
   EXPECT_GE(found.count_check("graph.lane_changes"), 1u) << found.format();
 }
 
+// A map-update tile's prior graph is read as the graph is: an edge naming no node is listed
+// under its JSON path in /prior, a well-formed prior passes.
+TEST(ValidateDataset, AMapUpdateTilesPriorGraphIsCheckedToo) {
+  DatasetCopy d;
+  d.edit_tile(d.shard("test")["name"], "", [&](TileFiles& f) {
+    edit_json(f, "graph.json", [](json& g) {
+      json prior = {{"nodes", g["nodes"]}, {"edges", g["edges"]}, {"lane_changes", json::array()}};
+      for (json& e : prior["edges"]) e["change"] = "unchanged";
+      prior["edges"].push_back({{"source", 0}, {"target", 99999}, {"lane_token", "gone"}, {"change", "removed"}});
+      g["prior"] = prior;
+    });
+  });
+  const Issues found = d.validate();
+  expect_only(found, "graph.indices");
+  EXPECT_EQ(found.size(), 1u) << found.format();
+  EXPECT_NE(found.format().find("/prior/edges/"), std::string::npos) << found.format();
+}
+
 // A rule only the typed reader states (west < east) is reported once, under meta.schema,
 // and the checks that need the tile's bounds wait for it.
 TEST(ValidateDataset, MetaBoundsTheSchemaCannotOrder) {
