@@ -48,8 +48,9 @@ void pick(Rng& rng, std::vector<int> candidates, int count, const char* key, Acc
     taken += accept(c) ? 1 : 0;
   }
   NSG_CHECK(taken == count, ConfigError, "", key,
-            strprintf("at most %d for this world (it has room for %d such edits %.0f m or more from every other edit)",
-                      taken, taken, kMinEditSpacingM));
+            strprintf("at most %d for this world: it has room for no more such edits %.0f m or more from every "
+                      "other edit",
+                      taken, kMinEditSpacingM));
 }
 
 // World::lanes without the `removed` ones, every outgoing/incoming index renumbered.

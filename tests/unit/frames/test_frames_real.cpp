@@ -31,14 +31,7 @@ void expect_matrix_near(const json& got, const json& want, double tol, const std
 TEST(FramesReal, TheRecordCarriesTheDevkitsPoseAndCalibration) {
   TempDir tmp("frames-real");
   const fs::path release = source_dir() / "tests/data/real/scene-0061-keyframe";
-  const CommandResult g = run_nsgraph({"generate", "--quiet", "--config",
-                                       (source_dir() / "tests/data/frames/real-keyframe-generate.json").string(),
-                                       "--dataroot", release.string(), "--version", "v1.0-mini", "--no-semantic",
-                                       "--allow-empty", "--out", (tmp / "dataset").string()});
-  ASSERT_EQ(g.exit_code, 0) << g.err;
-  const CommandResult f =
-      run_nsgraph({"frames", "--quiet", "--dataset", (tmp / "dataset").string(), "--out", (tmp / "frames").string()});
-  ASSERT_EQ(f.exit_code, 0) << f.err;
+  export_real_keyframe_frames(release, tmp.path());
   const json golden = read_json(source_dir() / "tests/data/golden/real-keyframe/frame-calibration.json");
   const json record =
       read_json(tmp / "frames/test/scene-0061/info" / (std::to_string(golden["timestamp"].get<int64_t>()) + ".json"));

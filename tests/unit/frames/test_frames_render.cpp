@@ -28,15 +28,7 @@ class FramesRender : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     tmp_ = new TempDir("frames-render");
-    const fs::path release = source_dir() / "tests/data/real/scene-0061-keyframe";
-    const CommandResult g = run_nsgraph({"generate", "--quiet", "--config",
-                                         (source_dir() / "tests/data/frames/real-keyframe-generate.json").string(),
-                                         "--dataroot", release.string(), "--version", "v1.0-mini", "--no-semantic",
-                                         "--allow-empty", "--out", (*tmp_ / "dataset").string()});
-    ASSERT_EQ(g.exit_code, 0) << g.err;
-    const CommandResult f = run_nsgraph(
-        {"frames", "--quiet", "--dataset", (*tmp_ / "dataset").string(), "--out", (*tmp_ / "frames").string()});
-    ASSERT_EQ(f.exit_code, 0) << f.err;
+    export_real_keyframe_frames(source_dir() / "tests/data/real/scene-0061-keyframe", tmp_->path());
   }
   static void TearDownTestSuite() {
     delete tmp_;
@@ -181,14 +173,7 @@ TEST(FramesRenderRoadAhead, ALaneAheadLandsOnTheRoadInTheFrontCamera) {
   fs::copy(source_dir() / "tests/data/real/scene-0061-keyframe", release, fs::copy_options::recursive);
   fs::copy_file(source_dir() / "tests/data/real/road-ahead/singapore-onenorth.json",
                 release / "maps/expansion/singapore-onenorth.json", fs::copy_options::overwrite_existing);
-  const CommandResult g = run_nsgraph({"generate", "--quiet", "--config",
-                                       (source_dir() / "tests/data/frames/real-keyframe-generate.json").string(),
-                                       "--dataroot", release.string(), "--version", "v1.0-mini", "--no-semantic",
-                                       "--allow-empty", "--out", (tmp / "dataset").string()});
-  ASSERT_EQ(g.exit_code, 0) << g.err;
-  const CommandResult f =
-      run_nsgraph({"frames", "--quiet", "--dataset", (tmp / "dataset").string(), "--out", (tmp / "frames").string()});
-  ASSERT_EQ(f.exit_code, 0) << f.err;
+  export_real_keyframe_frames(release, tmp.path());
   const CommandResult c = run_nsgraph({"frames", "render", "--quiet", "--export", (tmp / "frames").string(), "--frame",
                                        "ca9a282c9e77460f8360f564131a8af5", "--out", (tmp / "render").string()});
   ASSERT_EQ(c.exit_code, 0) << c.err;

@@ -99,6 +99,26 @@ fs::path e2e_ladder_dataset() {
 
 nlohmann::json read_json(const fs::path& path) { return nlohmann::json::parse(read_file(path)); }
 
+std::map<std::string, std::string> scene_dates(const fs::path& release) {
+  std::map<std::string, std::string> log_date, out;
+  for (const nlohmann::json& l : read_json(release / "v1.0-mini" / "log.json"))
+    log_date[l["token"]] = l["date_captured"];
+  for (const nlohmann::json& s : read_json(release / "v1.0-mini" / "scene.json"))
+    out[s["name"]] = log_date.at(s["log_token"]);
+  return out;
+}
+
+void export_real_keyframe_frames(const fs::path& release, const fs::path& dir) {
+  const CommandResult g = run_nsgraph({"generate", "--quiet", "--config",
+                                       (source_dir() / "tests/data/frames/real-keyframe-generate.json").string(),
+                                       "--dataroot", release.string(), "--version", "v1.0-mini", "--no-semantic",
+                                       "--allow-empty", "--out", (dir / "dataset").string()});
+  if (g.exit_code != 0) throw std::runtime_error("generate of the real key frame failed: " + g.err);
+  const CommandResult f =
+      run_nsgraph({"frames", "--quiet", "--dataset", (dir / "dataset").string(), "--out", (dir / "frames").string()});
+  if (f.exit_code != 0) throw std::runtime_error("frames of the real key frame failed: " + f.err);
+}
+
 std::vector<std::pair<std::string, std::string>> tree_hashes(const fs::path& dir) {
   std::vector<std::pair<std::string, std::string>> out;
   for (const auto& e : fs::recursive_directory_iterator(dir)) {

@@ -2,6 +2,7 @@
 // The synthetic release of tests/data/synth/e2e.json and its dataset from
 // tests/data/generate/e2e.json, made once per build and shared by the test processes.
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -31,5 +32,11 @@ nlohmann::json read_json(const std::filesystem::path& path);
 // sha256 of every file under `dir` except parts/ (the run's bookkeeping), by relative path;
 // the manifest's inputs.dataroot counts as the folder it names (it is relative to `dir`).
 std::vector<std::pair<std::string, std::string>> tree_hashes(const std::filesystem::path& dir);
+// scene name → its log's date_captured, from a release's tables.
+std::map<std::string, std::string> scene_dates(const std::filesystem::path& release);
+// The real key frame's release (`release`: the repository's copy, or one with another map)
+// generated with tests/data/frames/real-keyframe-generate.json into dir/dataset and exported
+// by `nsgraph frames` into dir/frames; a failed step fails the test.
+void export_real_keyframe_frames(const std::filesystem::path& release, const std::filesystem::path& dir);
 
 }  // namespace nsg::test

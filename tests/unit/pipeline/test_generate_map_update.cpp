@@ -48,13 +48,6 @@ std::vector<std::string> map_update_args(const fs::path& release, const fs::path
           "--set",      "splits.before_after_date=" + date};
 }
 
-std::map<std::string, std::string> scene_dates(const fs::path& release) {
-  std::map<std::string, std::string> log_date, out;
-  for (const json& l : read_json(release / "v1.0-mini" / "log.json")) log_date[l["token"]] = l["date_captured"];
-  for (const json& s : read_json(release / "v1.0-mini" / "scene.json")) out[s["name"]] = log_date.at(s["log_token"]);
-  return out;
-}
-
 TEST(GenerateMapUpdate, TilesAreFromAfterTheDateWithBothGraphsLabelledAsTheEditsSay) {
   const fs::path release = changed_release();
   const json changes = read_json(release / "changes.json");

@@ -32,14 +32,6 @@ fs::path two_day_release() {
                        });
 }
 
-// scene name → its log's date_captured.
-std::map<std::string, std::string> scene_dates(const fs::path& release) {
-  std::map<std::string, std::string> log_date, out;
-  for (const json& l : read_json(release / "v1.0-mini" / "log.json")) log_date[l["token"]] = l["date_captured"];
-  for (const json& s : read_json(release / "v1.0-mini" / "scene.json")) out[s["name"]] = log_date.at(s["log_token"]);
-  return out;
-}
-
 std::vector<std::string> time_split_args(const fs::path& release, const fs::path& out, const std::string& date) {
   return {"generate",   "--quiet",
           "--config",   (source_dir() / "tests/data/generate/e2e.json").string(),

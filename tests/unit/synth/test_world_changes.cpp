@@ -71,6 +71,15 @@ const MapEdit& edit_of(const char* kind) {
   throw std::runtime_error(std::string("no edit ") + kind);
 }
 double distance_m(const std::array<double, 2>& a, double x, double y) { return std::hypot(a[0] - x, a[1] - y); }
+// Ground samples of `material` every `step_m` within ±half_m of `at` in world `w`.
+int material_near(const World& w, const std::array<double, 2>& at, double half_m, double step_m,
+                  GroundMaterial material) {
+  int n = 0;
+  for (double dx = -half_m; dx <= half_m; dx += step_m)
+    for (double dy = -half_m; dy <= half_m; dy += step_m)
+      n += w.ground->material(at[0] + dx, at[1] + dy) == material ? 1 : 0;
+  return n;
+}
 
 TEST(WorldChanges, ThePriorIsTheWorldAsBuilt) {
   const World built = build_world(changed_config(), 7);
@@ -171,13 +180,7 @@ TEST(WorldChanges, TheSensorsSeeTheChangedWorld) {
   // The crossing: stripes in the current ground where the prior has none, and the LiDAR of a
   // sensor above the road next to it sees them (crosswalk paint is the brightest ground).
   const std::array<double, 2> at = edit_of("crossing_added").at_m;
-  const auto stripes = [&](const World& w) {
-    int n = 0;
-    for (double dx = -2.0; dx <= 2.0; dx += 0.1)
-      for (double dy = -2.0; dy <= 2.0; dy += 0.1)
-        n += w.ground->material(at[0] + dx, at[1] + dy) == GroundMaterial::kCrosswalkPaint ? 1 : 0;
-    return n;
-  };
+  const auto stripes = [&](const World& w) { return material_near(w, at, 2.0, 0.1, GroundMaterial::kCrosswalkPaint); };
   EXPECT_EQ(stripes(changed().prior), 0);
   EXPECT_GT(stripes(changed().current), 200);
   const auto bright_returns = [&](const World& w) {
@@ -199,11 +202,7 @@ TEST(WorldChanges, TheSensorsSeeTheChangedWorld) {
   // The retyped divider: its gaps painted, so more of its line is paint in the current world.
   const std::array<double, 2> divider_at = edit_of("divider_retyped").at_m;
   const auto paint_near = [&](const World& w) {
-    int n = 0;
-    for (double dx = -6.0; dx <= 6.0; dx += 0.05)
-      for (double dy = -6.0; dy <= 6.0; dy += 0.05)
-        n += w.ground->material(divider_at[0] + dx, divider_at[1] + dy) == GroundMaterial::kPaintWhite ? 1 : 0;
-    return n;
+    return material_near(w, divider_at, 6.0, 0.05, GroundMaterial::kPaintWhite);
   };
   EXPECT_GT(paint_near(changed().current), paint_near(changed().prior) * 5 / 4);
 

@@ -75,6 +75,28 @@ def import_devkit(devkit, pyquaternion):
     return NuScenes, data_classes.LidarPointCloud, view_points, Quaternion
 
 
+def project_to_cameras(nusc, sample, glob, view_points, Quaternion):
+    """Global points (3 x N) into every camera of `sample` by the devkit's chain of
+    NuScenes.map_pointcloud_to_image from the global frame on (the camera's own ego pose, its
+    calibrated_sensor) and view_points(points, K, normalize=True): per channel, every point's
+    [u, v, depth], the depth the camera-frame z, in front of the camera or not."""
+    out = {}
+    for channel, token in sorted(sample['data'].items()):
+        sd = nusc.get('sample_data', token)
+        if sd['sensor_modality'] != 'camera':
+            continue
+        pose = nusc.get('ego_pose', sd['ego_pose_token'])
+        cs = nusc.get('calibrated_sensor', sd['calibrated_sensor_token'])
+        p = glob - np.array(pose['translation'])[:, None]
+        p = Quaternion(pose['rotation']).rotation_matrix.T @ p
+        p = p - np.array(cs['translation'])[:, None]
+        p = Quaternion(cs['rotation']).rotation_matrix.T @ p
+        depth = p[2, :].copy()
+        uv = view_points(p, np.array(cs['camera_intrinsic']), normalize=True)
+        out[channel] = [[float(uv[0, i]), float(uv[1, i]), float(depth[i])] for i in range(p.shape[1])]
+    return out
+
+
 def devkit_arguments(doc):
     """The arguments every golden maker of this folder takes: the devkit and pyquaternion
     source trees, the release (the real key frame) and the output folder (this one)."""

@@ -26,7 +26,7 @@ import os
 
 import numpy as np
 
-from make_golden import devkit_arguments, import_devkit
+from make_golden import devkit_arguments, import_devkit, project_to_cameras
 
 
 def ego_points():
@@ -50,19 +50,7 @@ def main():
     # ego (LIDAR_TOP key frame) -> global, as map_pointcloud_to_image's second step
     glob = Quaternion(lidar_pose['rotation']).rotation_matrix @ points + np.array(lidar_pose['translation'])[:, None]
     out = {'sample_token': sample['token'], 'ego_points': ego_points(), 'cameras': {}}
-    for channel, token in sorted(sample['data'].items()):
-        sd = nusc.get('sample_data', token)
-        if sd['sensor_modality'] != 'camera':
-            continue
-        pose = nusc.get('ego_pose', sd['ego_pose_token'])
-        cs = nusc.get('calibrated_sensor', sd['calibrated_sensor_token'])
-        p = glob - np.array(pose['translation'])[:, None]
-        p = Quaternion(pose['rotation']).rotation_matrix.T @ p
-        p = p - np.array(cs['translation'])[:, None]
-        p = Quaternion(cs['rotation']).rotation_matrix.T @ p
-        depth = p[2, :].copy()
-        uv = view_points(p, np.array(cs['camera_intrinsic']), normalize=True)
-        out['cameras'][channel] = [[float(uv[0, i]), float(uv[1, i]), float(depth[i])] for i in range(p.shape[1])]
+    out['cameras'] = project_to_cameras(nusc, sample, glob, view_points, Quaternion)
     with open(os.path.join(args.out, 'frame-projection.json'), 'w') as f:
         json.dump(out, f, indent=None)
         f.write('\n')
