@@ -241,7 +241,7 @@ def receipts(out):
         "ground_truth": {"kind": "dataset", "manifest_sha256": digest, "split": "test", "verification": "sha256"},
         "submission": {"sha256": digest, "bytes": 1234},
         "toolkit": {"name": "nsgraph", "version": "0.1.0", "git_commit": "unknown"},
-        "metrics_version": "3",
+        "metrics_version": "4",
         "limits": {"max_nodes_per_tile": 5000, "max_edges_per_tile": 10000, "max_edge_length_px_per_tile": 100000,
                    "max_path_work_per_tile": 10000000, "max_search_work_per_tile": 160000000,
                    "max_abs_coordinate_px": 100000, "max_file_bytes": 134217728, "max_json_values": 10000000,
@@ -251,7 +251,7 @@ def receipts(out):
         "results_sha256": digest,
     }
     put(out, "receipt", "receipt", json.dumps(receipt).encode())
-    report = {"schema_version": "1", "metrics_version": "3", "tiles": {"k": {"apls": 1.0}},
+    report = {"schema_version": "1", "metrics_version": "4", "tiles": {"k": {"apls": 1.0}},
               "aggregate": {"mean": {"apls": 1.0}, "n_tiles": 1}, "receipt": receipt}
     put(out, "receipt", "report", json.dumps(report).encode())
 

@@ -31,6 +31,9 @@ nlohmann::json DatasetTile::json(const std::string& suffix) const {
 TileMeta DatasetTile::meta() const { return tile_meta_from_json(json("meta.json"), key + ".meta.json"); }
 
 graph::TileGraph DatasetTile::graph() const { return tile_graph_from_json(json("graph.json"), key + ".graph.json"); }
+std::optional<graph::TileGraph> DatasetTile::prior_graph() const {
+  return tile_prior_graph_from_json(json("graph.json"), key + ".graph.json");
+}
 
 fs::path path_in_dataset(const fs::path& root, const std::string& relative, const std::string& record) {
   const fs::path rel(relative);

@@ -53,7 +53,10 @@ SampleGraph sample_graph(const CleanGraph& g, double step_px) {
   sg.chains.reserve(segs.size());
   sg.chain_offset.assign(sg.pos.size() + 1, 0);
   const bool classed = !g.edge_flags.empty();
-  if (classed) sg.classes.assign(sg.pos.size(), 0);
+  if (classed) {
+    sg.classes.assign(sg.pos.size(), 0);
+    sg.flags.assign(sg.pos.size(), 0);
+  }
   for (const Segment& s : segs) {
     const Point a = g.nodes[s.i], b = g.nodes[s.j];
     const double dx = b.u - a.u, dy = b.v - a.v;
@@ -67,12 +70,17 @@ SampleGraph sample_graph(const CleanGraph& g, double step_px) {
     if (classed) {
       sg.classes[sample_of[s.i]] |= s.classes;
       sg.classes[sample_of[s.j]] |= s.classes;
+      sg.flags[sample_of[s.i]] |= s.flags;
+      sg.flags[sample_of[s.j]] |= s.flags;
     }
     for (int s_idx = 1; s_idx < k; ++s_idx) {
       const double t = static_cast<double>(s_idx) / k;
       sg.pos.push_back({a.u + dx * t, a.v + dy * t});
       sg.chain_of_interior.push_back(chain);
-      if (classed) sg.classes.push_back(s.classes);
+      if (classed) {
+        sg.classes.push_back(s.classes);
+        sg.flags.push_back(s.flags);
+      }
     }
   }
   for (int32_t n = 0; n < sg.n_node_samples; ++n) sg.chain_offset[n + 1] += sg.chain_offset[n];

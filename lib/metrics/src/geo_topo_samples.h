@@ -33,6 +33,7 @@ struct SampleGraph {
   // EdgeClass bits of each sample (metrics v2): an interior sample's are its segment's, a
   // node sample's those of every segment at it. Empty when the graph has no edge flags.
   std::vector<uint8_t> classes;
+  std::vector<uint8_t> flags;  // EdgeFlag bits likewise (the change labels' kinds); empty likewise
 
   size_t size() const { return pos.size(); }
 };

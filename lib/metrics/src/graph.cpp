@@ -10,7 +10,10 @@ namespace nsg::metrics {
 uint8_t class_mask_of(uint8_t edge_flags) {
   const int kind = (edge_flags & kEdgeConnector) != 0 ? kClassConnector : kClassLane;
   const int place = (edge_flags & kEdgeInIntersection) != 0 ? kClassInIntersection : kClassOutsideIntersection;
-  return static_cast<uint8_t>((1u << kind) | (1u << place));
+  unsigned change = 0;
+  if ((edge_flags & kEdgeChangeLabels) != 0)
+    change = 1u << ((edge_flags & kEdgeChangeLabels) == kEdgeUnchanged ? kClassUnchanged : kClassChanged);
+  return static_cast<uint8_t>((1u << kind) | (1u << place) | change);
 }
 
 CleanGraph clean_graph(const Graph& graph) {
@@ -46,7 +49,10 @@ std::vector<Segment> segments_of(const CleanGraph& graph) {
   for (size_t k = 0; k < graph.edges.size(); ++k) {
     const auto [i, j] = graph.edges[k];
     Segment s;
-    if (!graph.edge_flags.empty()) s.classes = class_mask_of(graph.edge_flags[k]);
+    if (!graph.edge_flags.empty()) {
+      s.classes = class_mask_of(graph.edge_flags[k]);
+      s.flags = graph.edge_flags[k];
+    }
     s.i = std::min(i, j);
     s.j = std::max(i, j);
     s.fwd = i < j;
@@ -61,6 +67,7 @@ std::vector<Segment> segments_of(const CleanGraph& graph) {
       merged.back().fwd = merged.back().fwd || s.fwd;
       merged.back().bwd = merged.back().bwd || s.bwd;
       merged.back().classes |= s.classes;
+      merged.back().flags |= s.flags;
     } else {
       merged.push_back(s);
     }

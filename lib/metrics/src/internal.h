@@ -87,6 +87,22 @@ struct GeoTopoResult {
 GeoTopoResult compute_geo_topo(const CleanGraph& gt, const CleanGraph& pred, const MetricParams& params,
                                WorkMeter& meter);
 
+// A map-update tile's change metrics (change.cpp, docs/metrics.md "Map change"): counts of
+// GEO samples of the current map, its prior and the prediction, from which measure() makes
+// the values. Costs one unit of `meter` per pair of samples compared.
+struct ChangeResult {
+  struct Kind {
+    int64_t samples = 0, detected = 0;
+  };
+  Kind all, added, removed, moved;  // change samples, by the kind their edges are labelled
+  int64_t claims = 0, true_claims = 0;
+  int64_t prior_kept = 0, false_changes = 0;
+  int64_t unchanged_pred = 0, unchanged_pred_on_map = 0;
+  int64_t unchanged_gt = 0, unchanged_gt_found = 0;
+};
+ChangeResult compute_changes(const CleanGraph& current, const CleanGraph& prior, const CleanGraph& pred,
+                             const MetricParams& params, WorkMeter& meter);
+
 // Ratio helpers shared by the families.
 std::optional<double> ratio(double num, double den);  // undefined if den == 0
 // F1 from precision/recall as TOPO defines it (rule 7).

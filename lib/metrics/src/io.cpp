@@ -97,6 +97,23 @@ GraphSet graphs_from_submission(const nlohmann::json& doc, const std::string& fi
   return out;
 }
 
+namespace {
+
+// graph.json's "change" as its EdgeFlag bit (none for an edge without a label).
+uint8_t change_flag(graph::MapChange change) {
+  switch (change) {
+    case graph::MapChange::kUnchanged: return kEdgeUnchanged;
+    case graph::MapChange::kAdded: return kEdgeAdded;
+    case graph::MapChange::kRemoved: return kEdgeRemoved;
+    case graph::MapChange::kMoved: return kEdgeMoved;
+    case graph::MapChange::kRetyped: return kEdgeRetyped;
+    case graph::MapChange::kNone: break;
+  }
+  return 0;
+}
+
+}  // namespace
+
 Graph graph_of_tile(const graph::TileGraph& tile) {
   Graph g;
   g.nodes.reserve(tile.nodes.size());
@@ -106,13 +123,19 @@ Graph graph_of_tile(const graph::TileGraph& tile) {
   if (tile.has_edge_attributes) {
     g.edge_flags.reserve(tile.edges.size());
     for (const graph::TileEdge& e : tile.edges)
-      g.edge_flags.push_back(
-          static_cast<uint8_t>((e.is_connector ? kEdgeConnector : 0) | (e.in_intersection ? kEdgeInIntersection : 0)));
+      g.edge_flags.push_back(static_cast<uint8_t>((e.is_connector ? kEdgeConnector : 0) |
+                                                  (e.in_intersection ? kEdgeInIntersection : 0) |
+                                                  change_flag(e.change)));
   }
   return g;
 }
 
-Graph tile_graph(const io::DatasetTile& tile) { return graph_of_tile(tile.graph()); }
+Graph tile_graph(const io::DatasetTile& tile) {
+  Graph g = graph_of_tile(tile.graph());
+  if (const std::optional<graph::TileGraph> prior = tile.prior_graph())
+    g.prior = std::make_shared<const Graph>(graph_of_tile(*prior));
+  return g;
+}
 
 GraphSet load_dataset_split(const fs::path& dataset, const std::string& split, bool verify) {
   const io::Dataset ds = io::Dataset::open(dataset);

@@ -1,6 +1,7 @@
 #include "nsg/metrics/measure.h"
 
 #include <cmath>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -60,10 +61,24 @@ constexpr MetricInfo kMetrics[kMetricCount] = {
     {"geo_recall_connector", "", false, false, "GEO recall on the ground truth's connector edges"},
     {"geo_recall_in_intersection", "", false, false, "GEO recall on ground-truth edges inside intersections"},
     {"geo_recall_outside_intersection", "", false, false, "GEO recall on ground-truth edges outside intersections"},
+    {"geo_recall_changed", "", false, false, "GEO recall on a map-update tile's added, moved and retyped edges"},
+    {"geo_recall_unchanged", "", false, false, "GEO recall on a map-update tile's unchanged edges"},
     {"topo_recall_lane", "", false, false, "TOPO recall summed over the seeds on lane edges"},
     {"topo_recall_connector", "", false, false, "TOPO recall summed over the seeds on connector edges"},
     {"topo_recall_in_intersection", "", false, false, "TOPO recall over the seeds inside intersections"},
-    {"topo_recall_outside_intersection", "", false, false, "TOPO recall over the seeds outside intersections"}};
+    {"topo_recall_outside_intersection", "", false, false, "TOPO recall over the seeds outside intersections"},
+    {"topo_recall_changed", "", false, false, "TOPO recall over the seeds on changed edges"},
+    {"topo_recall_unchanged", "", false, false, "TOPO recall over the seeds on unchanged edges"},
+    {"change_recall", "", false, false,
+     "map change: samples where current and prior map differ that the prediction follows the current map at"},
+    {"change_recall_added", "", false, false, "change recall on added lanes' samples"},
+    {"change_recall_removed", "", false, false, "change recall on removed lanes' samples"},
+    {"change_recall_moved", "", false, false, "change recall on moved lanes' samples, old and new place"},
+    {"change_precision", "", false, false, "changes the prediction claims against the prior that are real"},
+    {"change_f1", "", false, false, "change F1"},
+    {"false_change_rate", "", true, false, "samples the prior and current map share that the prediction drops"},
+    {"unchanged_precision", "", false, false, "predicted samples away from every change that lie on the map"},
+    {"unchanged_recall", "", false, false, "map samples away from every change that the prediction has"}};
 constexpr const char* kCountNames[kCountCount] = {"missing_prediction",
                                                   "gt_self_loops_dropped",
                                                   "gt_duplicate_edges_dropped",
@@ -91,10 +106,30 @@ constexpr const char* kCountNames[kCountCount] = {"missing_prediction",
                                                   "geo_gt_samples_connector",
                                                   "geo_gt_samples_in_intersection",
                                                   "geo_gt_samples_outside_intersection",
+                                                  "geo_gt_samples_changed",
+                                                  "geo_gt_samples_unchanged",
                                                   "geo_matched_lane",
                                                   "geo_matched_connector",
                                                   "geo_matched_in_intersection",
-                                                  "geo_matched_outside_intersection"};
+                                                  "geo_matched_outside_intersection",
+                                                  "geo_matched_changed",
+                                                  "geo_matched_unchanged",
+                                                  "change_samples",
+                                                  "change_detected",
+                                                  "change_samples_added",
+                                                  "change_detected_added",
+                                                  "change_samples_removed",
+                                                  "change_detected_removed",
+                                                  "change_samples_moved",
+                                                  "change_detected_moved",
+                                                  "change_claims",
+                                                  "change_claims_true",
+                                                  "prior_kept_samples",
+                                                  "false_changes",
+                                                  "unchanged_pred_samples",
+                                                  "unchanged_pred_on_map",
+                                                  "unchanged_gt_samples",
+                                                  "unchanged_gt_found"};
 
 void set_apls(MetricValues& v, int first, const detail::AplsResult& r) {
   v[first] = r.apls;
@@ -139,6 +174,35 @@ void set_geo_topo_v2(const detail::GeoTopoResult& r, TileMeasurement& t) {
     t.counts[kGeoGtSamplesLane + k] = r.gt_samples_by_class[k];
     t.counts[kGeoMatchedLane + k] = r.matched_by_class[k];
   }
+}
+
+// The change metrics of a map-update tile (a ground truth with a prior graph; undefined on
+// every other tile), values from counts.
+void set_changes(const detail::ChangeResult& r, TileMeasurement& t) {
+  const auto as = [](int64_t n) { return static_cast<double>(n); };
+  const std::pair<const detail::ChangeResult::Kind*, std::array<int, 3>> kinds[] = {
+      {&r.all, {kChangeRecall, kChangeSamples, kChangeDetected}},
+      {&r.added, {kChangeRecallAdded, kChangeSamplesAdded, kChangeDetectedAdded}},
+      {&r.removed, {kChangeRecallRemoved, kChangeSamplesRemoved, kChangeDetectedRemoved}},
+      {&r.moved, {kChangeRecallMoved, kChangeSamplesMoved, kChangeDetectedMoved}}};
+  for (const auto& [kind, slots] : kinds) {
+    t.values[slots[0]] = detail::ratio(as(kind->detected), as(kind->samples));
+    t.counts[slots[1]] = kind->samples;
+    t.counts[slots[2]] = kind->detected;
+  }
+  t.values[kChangePrecision] = detail::ratio(as(r.true_claims), as(r.claims));
+  t.values[kChangeF1] = detail::f1_of(t.values[kChangePrecision], t.values[kChangeRecall]);
+  t.values[kFalseChangeRate] = detail::ratio(as(r.false_changes), as(r.prior_kept));
+  t.values[kUnchangedPrecision] = detail::ratio(as(r.unchanged_pred_on_map), as(r.unchanged_pred));
+  t.values[kUnchangedRecall] = detail::ratio(as(r.unchanged_gt_found), as(r.unchanged_gt));
+  t.counts[kChangeClaims] = r.claims;
+  t.counts[kChangeClaimsTrue] = r.true_claims;
+  t.counts[kPriorKeptSamples] = r.prior_kept;
+  t.counts[kFalseChanges] = r.false_changes;
+  t.counts[kUnchangedPredSamples] = r.unchanged_pred;
+  t.counts[kUnchangedPredOnMap] = r.unchanged_pred_on_map;
+  t.counts[kUnchangedGtSamples] = r.unchanged_gt;
+  t.counts[kUnchangedGtFound] = r.unchanged_gt_found;
 }
 
 // APLS and GEO/TOPO: the metrics whose searches the work meter bounds.
@@ -219,12 +283,14 @@ const char* count_name(int count) {
 
 TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pred, const MetricParams& params) {
   check_limits(gt, key, "ground truth");
+  if (gt.prior != nullptr) check_limits(*gt.prior, key, "prior ground truth");
   if (pred != nullptr) check_limits(*pred, key, "prediction");
   const Graph empty;
-  CleanGraph g, p;
+  CleanGraph g, p, prior;
   try {
     g = clean_graph(gt);
     p = clean_graph(pred != nullptr ? *pred : empty);
+    if (gt.prior != nullptr) prior = clean_graph(*gt.prior);
   } catch (const DataError& e) {
     throw DataError("", key + "/" + e.record(), e.expected());
   }
@@ -246,14 +312,20 @@ TileMeasurement measure(const std::string& key, const Graph& gt, const Graph* pr
     // into the searches' margin (docs/scoring-limits.md).
     detail::WorkMeter assignment_meter(work_limit);
     set_sda(g, p, assignment_meter, t);
+    // The change metrics' comparisons likewise (a prediction against two maps).
+    if (gt.prior != nullptr) {
+      detail::WorkMeter change_meter(work_limit);
+      set_changes(detail::compute_changes(g, prior, p, params, change_meter), t);
+    }
   } catch (const detail::OverBudget&) {
     throw SearchWorkExceeded(
         "", "prediction:/tiles/" + validate::json_pointer_token(key),
-        strprintf("a prediction whose APLS, TOPO and split-assignment searches against this tile's ground truth "
-                  "take at most %lld units of work (about 9 ns each); this one reached the "
-                  "limit before they ended: it is too large or too connected where the "
-                  "ground truth is connected (docs/scoring-limits.md)",
-                  static_cast<long long>(work_limit)));
+        strprintf(
+            "a prediction whose APLS, TOPO, split-assignment and map-change searches against this tile's ground truth "
+            "take at most %lld units of work (about 9 ns each); this one reached the "
+            "limit before they ended: it is too large or too connected where the "
+            "ground truth is connected (docs/scoring-limits.md)",
+            static_cast<long long>(work_limit)));
   }
   t.search_work = meter.used();
 
@@ -328,7 +400,21 @@ AggregateReport finalize(const Aggregate& a) {
   r.pooled_geo_precision = detail::ratio(s(kGeoMatched), s(kGeoPredSamples));
   r.pooled_geo_recall = detail::ratio(s(kGeoMatched), s(kGeoGtSamples));
   r.pooled_geo_f1 = detail::ratio(2.0 * s(kGeoMatched), s(kGeoGtSamples) + s(kGeoPredSamples));
+  r.pooled_change_recall = detail::ratio(s(kChangeDetected), s(kChangeSamples));
+  r.pooled_change_precision = detail::ratio(s(kChangeClaimsTrue), s(kChangeClaims));
+  r.pooled_false_change_rate = detail::ratio(s(kFalseChanges), s(kPriorKeptSamples));
   return r;
+}
+
+std::vector<std::pair<const char*, std::optional<double>>> pooled_values(const AggregateReport& a) {
+  return {{"f1", a.pooled_f1},
+          {"iou", a.pooled_iou},
+          {"geo_precision", a.pooled_geo_precision},
+          {"geo_recall", a.pooled_geo_recall},
+          {"geo_f1", a.pooled_geo_f1},
+          {"change_recall", a.pooled_change_recall},
+          {"change_precision", a.pooled_change_precision},
+          {"false_change_rate", a.pooled_false_change_rate}};
 }
 
 }  // namespace nsg::metrics

@@ -109,18 +109,15 @@ nlohmann::json aggregate_to_json(const AggregateReport& a) {
     undefined[metric_name(m)] = a.n_undefined[m];
   }
   for (int c = 0; c < kCountCount; ++c) sums[count_name(c)] = a.sums[c];
+  nlohmann::json pooled = nlohmann::json::object();
+  for (const auto& [name, value] : pooled_values(a)) pooled[name] = optional_json(value);
   return {{"n_tiles", a.n_tiles},
           {"n_missing_predictions", a.n_missing_predictions},
           {"n_extra_predictions", a.n_extra_predictions},
           {"mean", mean},
           {"n_defined", defined},
           {"n_undefined", undefined},
-          {"pooled",
-           {{"f1", optional_json(a.pooled_f1)},
-            {"iou", optional_json(a.pooled_iou)},
-            {"geo_precision", optional_json(a.pooled_geo_precision)},
-            {"geo_recall", optional_json(a.pooled_geo_recall)},
-            {"geo_f1", optional_json(a.pooled_geo_f1)}}},
+          {"pooled", pooled},
           {"sums", sums}};
 }
 

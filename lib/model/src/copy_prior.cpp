@@ -1,7 +1,6 @@
 #include "nsg/model/copy_prior.h"
 
 #include "nsg/core/error.h"
-#include "nsg/io/tile_graph.h"
 #include "nsg/metrics/io.h"
 
 namespace nsg::model {
@@ -10,7 +9,7 @@ metrics::GraphSet copy_prior_dataset(const io::Dataset& dataset, const std::stri
   metrics::GraphSet out;
   dataset.for_each_tile(split, [&](const io::DatasetTile& tile) {
     const std::string file = tile.key + ".graph.json";
-    const std::optional<graph::TileGraph> prior = io::tile_prior_graph_from_json(tile.json("graph.json"), file);
+    const std::optional<graph::TileGraph> prior = tile.prior_graph();
     NSG_CHECK(prior.has_value(), DataError, file, "/prior",
               "a prior graph (--model prior copies a map-update dataset's prior map: generate with splits.preset "
               "map-update)");

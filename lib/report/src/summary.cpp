@@ -132,18 +132,15 @@ nlohmann::ordered_json score_rows(const metrics::ScoreReport& s, const metrics::
 
 nlohmann::ordered_json score_facts(const metrics::ScoreReport& s) {
   const auto& a = s.aggregate;
+  nlohmann::ordered_json pooled = nlohmann::ordered_json::object();
+  for (const auto& [name, value] : metrics::pooled_values(a)) pooled[name] = rounded(value);
   return {{"submission", s.submission},
           {"n_tiles", a.n_tiles},
           {"n_missing_predictions", a.n_missing_predictions},
           {"n_extra_predictions", a.n_extra_predictions},
           {"missing_tiles", s.missing_tiles},
           {"extra_tiles", s.extra_tiles},
-          {"pooled",
-           {{"f1", rounded(a.pooled_f1)},
-            {"iou", rounded(a.pooled_iou)},
-            {"geo_precision", rounded(a.pooled_geo_precision)},
-            {"geo_recall", rounded(a.pooled_geo_recall)},
-            {"geo_f1", rounded(a.pooled_geo_f1)}}},
+          {"pooled", pooled},
           {"params", s.params.to_json()}};
 }
 

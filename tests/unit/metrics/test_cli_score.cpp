@@ -26,7 +26,7 @@ TEST(CliScore, ReportIsWrittenAndValidatesAgainstSchema) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json report = nsg::metrics::read_json_file(dir / "report.json");
   EXPECT_EQ(nlohmann::json::parse(r.out), report);
-  EXPECT_EQ(report["metrics_version"], "3");
+  EXPECT_EQ(report["metrics_version"], "4");
   EXPECT_EQ(report["aggregate"]["n_missing_predictions"], 1);
   const nsg::Issues issues = nsg::validate::validate_against_schema(
       fs::path(kSchemas) / "v1" / "score-report.schema.json", report, "report.json", "report.schema");

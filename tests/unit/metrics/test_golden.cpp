@@ -86,7 +86,7 @@ TEST_F(Golden, EveryAggregateValue) {
 
 TEST_F(Golden, MissingTileListed) {
   EXPECT_EQ((*report_)["missing_tiles"], nlohmann::json::array({"edge-missing-pred"}));
-  EXPECT_EQ((*report_)["metrics_version"], "3");
+  EXPECT_EQ((*report_)["metrics_version"], "4");
 }
 
 TEST_F(Golden, ThreadCountDoesNotChangeTheReport) {
@@ -118,6 +118,66 @@ TEST(GoldenSda, RadiiDisagreeAndTheAssignmentIsNotGreedy) {
   }
   EXPECT_EQ(cases.at("expected").size(), 7u);
   EXPECT_GE(radii_differ, 6u);
+}
+
+// A graph of change_cases.json: nodes, edges and, for the maps, edge_flags (EdgeFlag bytes).
+Graph case_graph(const nlohmann::json& doc) {
+  Graph g;
+  for (const auto& n : doc.at("nodes")) g.nodes.push_back({n.at(0).get<double>(), n.at(1).get<double>()});
+  for (const auto& e : doc.at("edges")) g.edges.push_back({e.at(0).get<int64_t>(), e.at(1).get<int64_t>()});
+  if (doc.contains("edge_flags")) g.edge_flags = doc.at("edge_flags").get<std::vector<uint8_t>>();
+  return g;
+}
+
+// change_cases.json (change_reference.py --write): a lane added, removed, moved, retyped and
+// a turn added, each against a prediction that follows the current map, one that copies the
+// prior and ones in between; every change metric, the changed/unchanged recalls and counts.
+TEST(GoldenChange, EveryCaseAsTheIndependentReferenceScoresIt) {
+  const nlohmann::json cases = read_json_file(kGolden / "change_cases.json");
+  GraphSet gt, pred;
+  for (const auto& [key, tile] : cases.at("tiles").items()) {
+    Graph current = case_graph(tile.at("gt"));
+    current.prior = std::make_shared<const Graph>(case_graph(tile.at("prior")));
+    gt.emplace(key, std::move(current));
+    pred.emplace(key, case_graph(tile.at("pred")));
+  }
+  const nlohmann::json report = report_to_json(score(gt, pred, ScoreOptions{}));
+  size_t compared = 0;
+  for (const auto& [key, tile] : cases.at("tiles").items()) {
+    const nlohmann::json& ours = report["tiles"][key];
+    for (const auto& [name, value] : tile.at("expect").items()) {
+      if (name == "counts") {
+        for (const auto& [count, n] : value.items()) EXPECT_EQ(n, ours["counts"][count]) << key << " counts." << count;
+      } else {
+        expect_close(value, ours[name], key + "." + name);
+        ++compared;
+      }
+    }
+  }
+  EXPECT_EQ(cases.at("tiles").size(), 13u);
+  EXPECT_GE(compared, 13u * 13u);
+  // Copying the prior detects no change and keeps every unchanged sample, on every case.
+  for (const auto& [key, tile] : cases.at("tiles").items()) {
+    if (key.find("copies-prior") == std::string::npos) continue;
+    const nlohmann::json& ours = report["tiles"][key];
+    if (!ours["change_recall"].is_null()) EXPECT_EQ(ours["change_recall"], 0.0) << key;
+    EXPECT_TRUE(ours["change_precision"].is_null()) << key << ": no change claimed";
+    EXPECT_EQ(ours["false_change_rate"], 0.0) << key;
+    EXPECT_EQ(ours["unchanged_precision"], 1.0) << key;
+  }
+}
+
+// A ground truth without a prior (every dataset not generated in map-update mode) has no
+// change metric: undefined, never 0.
+TEST(GoldenChange, UndefinedWithoutAPrior) {
+  const GraphSet gt = golden_ground_truth();
+  const GraphSet pred = graphs_from_submission(read_json_file(kGolden / "pred.json"), "pred.json");
+  const nlohmann::json report = report_to_json(score(gt, pred, ScoreOptions{}));
+  for (const char* name : {"change_recall", "change_precision", "false_change_rate", "unchanged_precision",
+                           "geo_recall_changed", "topo_recall_unchanged"}) {
+    EXPECT_EQ(report["aggregate"]["n_defined"][name], 0) << name;
+  }
+  EXPECT_TRUE(report["aggregate"]["pooled"]["change_recall"].is_null());
 }
 
 }  // namespace

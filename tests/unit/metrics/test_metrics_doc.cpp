@@ -3,7 +3,8 @@
 // values it states, so the document and the scorer cannot drift apart.
 //
 // Block shapes (graphs in the submission shape {"nodes": [[u, v], ...], "edges": [[i, j], ...]}):
-//   one tile:   {"example": name, "gt": graph, "pred": graph | null (missing), "expect": {...}}
+//   one tile:   {"example": name, "gt": graph, "pred": graph | null (missing), "expect": {...}},
+//               a map-update tile with "prior": graph (both maps' graphs with "edge_flags")
 //               "expect" is a subset of the tile's report row (metric names, "counts").
 //   a split:    {"example": name, "gt_tiles": {key: graph}, "pred_tiles": {key: graph},
 //                "expect_report": {...}}   a subset of the whole JSON report.
@@ -76,9 +77,15 @@ std::vector<Example> examples() {
   return out;
 }
 
+// A graph of an example; a map's may carry "edge_flags" (EdgeFlag bytes, the submission
+// format has none).
 Graph graph_of(const nlohmann::json& g) {
-  const nlohmann::json doc = {{"schema_version", "1"}, {"tiles", {{"t", g}}}};
-  return graphs_from_submission(doc, "docs/metrics.md").at("t");
+  nlohmann::json tile = g;
+  tile.erase("edge_flags");
+  const nlohmann::json doc = {{"schema_version", "1"}, {"tiles", {{"t", tile}}}};
+  Graph out = graphs_from_submission(doc, "docs/metrics.md").at("t");
+  if (g.contains("edge_flags")) out.edge_flags = g["edge_flags"].get<std::vector<uint8_t>>();
+  return out;
 }
 
 GraphSet graphs_of(const nlohmann::json& tiles) {
@@ -115,7 +122,8 @@ void check_example(const Example& e) {
   const MetricParams params;  // the examples use the benchmark's defaults
   if (e.doc.contains("gt")) {
     ASSERT_TRUE(e.doc.contains("pred") && e.doc.contains("expect")) << where << ": needs pred and expect";
-    const Graph gt = graph_of(e.doc["gt"]);
+    Graph gt = graph_of(e.doc["gt"]);
+    if (e.doc.contains("prior")) gt.prior = std::make_shared<const Graph>(graph_of(e.doc["prior"]));
     const bool missing = e.doc["pred"].is_null();
     const Graph pred = missing ? Graph{} : graph_of(e.doc["pred"]);
     const TileMeasurement t = measure(e.name, gt, missing ? nullptr : &pred, params);
@@ -171,8 +179,9 @@ TEST(MetricTable, ScoreReportSchemaAndDocsListEveryMetricInOrder) {
     const MetricInfo& info = metric_info(m);
     EXPECT_EQ(std::string(info.name), metric_name(m));
     EXPECT_GT(std::string(info.description).size(), 5u) << info.name;
-    // Only the distances grow with error, and they are the only metrics with a unit.
-    EXPECT_EQ(info.lower_is_better, std::string(info.unit) != "") << info.name;
+    // Only the distances (the only metrics with a unit) and the false-change rate grow with error.
+    EXPECT_EQ(info.lower_is_better, std::string(info.unit) != "" || std::string(info.name) == "false_change_rate")
+        << info.name;
     names.push_back(info.name);
   }
   const nlohmann::json schema =

@@ -113,7 +113,8 @@ TEST(GenerateMapUpdate, TilesAreFromAfterTheDateWithBothGraphsLabelledAsTheEdits
   EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
 
   // The copy-the-prior baseline (predict --model prior): perfect where the map did not change,
-  // extra edges (precision < 1, recall 1) where the prior holds removed lanes.
+  // extra edges (precision < 1, recall 1) where the prior holds removed lanes; and on the
+  // change metrics the floor: no change detected, none claimed, every unchanged sample kept.
   std::map<std::string, std::set<std::string>> labels;  // key → the labels of both its graphs
   for (const std::string& split : ds.splits())
     ds.for_each_tile(split, [&](const io::DatasetTile& t) {
@@ -123,6 +124,7 @@ TEST(GenerateMapUpdate, TilesAreFromAfterTheDateWithBothGraphsLabelledAsTheEdits
       return true;
     });
   int unchanged_tiles = 0, removed_tiles = 0;
+  int64_t change_samples = 0;           // over both splits: the edits leave samples where the two maps differ
   TempDir scored("map-update-scored");  // not in the dataset: its bytes are compared below
   for (const std::string& split : {"train", "test"}) {
     if (ds.tile_count(split) == 0) continue;
@@ -134,7 +136,15 @@ TEST(GenerateMapUpdate, TilesAreFromAfterTheDateWithBothGraphsLabelledAsTheEdits
                                           "--submission", sub.string(), "--out", report.string()});
     ASSERT_EQ(sc.exit_code, 0) << sc.err;
     const json scores = read_json(report);
+    const json& pooled = scores["aggregate"]["pooled"];
+    change_samples += scores["aggregate"]["sums"]["change_samples"].get<int64_t>();
+    if (!pooled["change_recall"].is_null()) EXPECT_EQ(pooled["change_recall"], 0.0) << split;
+    EXPECT_TRUE(pooled["change_precision"].is_null()) << split << ": copying the prior claims no change";
+    EXPECT_EQ(pooled["false_change_rate"], 0.0) << split;
     for (const auto& [key, tile] : scores["tiles"].items()) {
+      EXPECT_FALSE(tile["change_recall"].is_number() && tile["change_recall"] != 0.0) << key;
+      EXPECT_FALSE(tile["unchanged_precision"].is_number() && tile["unchanged_precision"] != 1.0) << key;
+      EXPECT_FALSE(tile["unchanged_recall"].is_number() && tile["unchanged_recall"] != 1.0) << key;
       if (tile["apls"].is_null()) continue;  // an empty tile
       if (labels[key] == std::set<std::string>{"unchanged"}) {
         ++unchanged_tiles;
@@ -149,6 +159,7 @@ TEST(GenerateMapUpdate, TilesAreFromAfterTheDateWithBothGraphsLabelledAsTheEdits
   }
   EXPECT_GT(unchanged_tiles, 0);
   EXPECT_GT(removed_tiles, 0);
+  EXPECT_GT(change_samples, 0);
   const CommandResult not_map_update = run_nsgraph({"predict", "--quiet", "--model", "prior", "--dataset",
                                                     e2e_dataset().string(), "--out", (scored / "x.json").string()});
   EXPECT_EQ(not_map_update.exit_code, 2);

@@ -276,7 +276,8 @@ def write_expected(expected, got, path):
             expected["aggregate"][group][k] = v
     if "topo_seeds" in expected["aggregate"]["sums"]:
         expected["aggregate"]["sums"]["topo_seeds"] = sum(v["counts"]["topo_seeds"] for v in got.values())
-    expected["metrics_version"] = "3"
+    # Version 4 added the map-change metrics and left every GEO/TOPO rule of version 3 as it was.
+    expected["metrics_version"] = "4"
     expected["params"]["tol_ceil"] = PIECE_TOLERANCE_STEPS_V3  # the file's record of rule 2's tolerance
     expected["params"]["tol_radius_px"] = RADIUS_TOLERANCE_PX_V3
     note = "; GEO/TOPO regenerated for metrics version 3 by geo_topo_reference.py --write"

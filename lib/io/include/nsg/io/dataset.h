@@ -32,6 +32,8 @@ struct DatasetTile {
   // "<key>.meta.json" / "<key>.graph.json" and the JSON path.
   TileMeta meta() const;
   graph::TileGraph graph() const;
+  // A map-update tile's prior graph (graph.json's "prior"); nullopt when it has none.
+  std::optional<graph::TileGraph> prior_graph() const;
 };
 
 // <root>/<relative> for a path the manifest gives (a shard's file or folder). ParseError

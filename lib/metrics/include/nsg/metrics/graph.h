@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,15 @@ struct Point {
 enum EdgeFlag : uint8_t {
   kEdgeConnector = 1,       // kind "connector" (else a lane)
   kEdgeInIntersection = 2,  // in_intersection
+  // A map-update tile's change label (graph.json's "change", docs/metrics.md "Map change"):
+  // at most one; none of them when the graph has no labels.
+  kEdgeUnchanged = 4,
+  kEdgeAdded = 8,
+  kEdgeRemoved = 16,  // on a prior graph's edges only: the lane is gone from the current map
+  kEdgeMoved = 32,
+  kEdgeRetyped = 64,
 };
+inline constexpr uint8_t kEdgeChangeLabels = kEdgeUnchanged | kEdgeAdded | kEdgeRemoved | kEdgeMoved | kEdgeRetyped;
 
 struct Graph {
   std::vector<Point> nodes;
@@ -28,6 +37,9 @@ struct Graph {
   std::vector<double> node_scores;            // optional, empty if absent
   std::vector<double> edge_scores;            // optional, empty if absent
   std::vector<uint8_t> edge_flags;            // optional, EdgeFlag bits per edge; empty if unknown
+  // A map-update ground truth's prior graph (the map before the change, clipped to the same
+  // tile, its edges labelled), which the change metrics compare with; null elsewhere.
+  std::shared_ptr<const Graph> prior;
 };
 
 // Tile key -> graph, sorted by key (the order of every reduction).
@@ -46,10 +58,20 @@ struct CleanGraph {
 // Throws DataError if an edge index is out of range (submissions are validated first).
 CleanGraph clean_graph(const Graph& graph);
 
-// The edge classes of the per-class recalls (docs/metrics.md "Metrics v2"), as bits of a
-// membership mask: a lane or a connector, inside or outside an intersection.
-enum EdgeClass : int { kClassLane, kClassConnector, kClassInIntersection, kClassOutsideIntersection, kEdgeClassCount };
-// The classes an edge with these EdgeFlag bits belongs to (one of each pair).
+// The edge classes of the per-class recalls (docs/metrics.md "Per-class recall"), as bits of a
+// membership mask: a lane or a connector, inside or outside an intersection, and on a
+// map-update tile changed (added, moved or retyped) or unchanged.
+enum EdgeClass : int {
+  kClassLane,
+  kClassConnector,
+  kClassInIntersection,
+  kClassOutsideIntersection,
+  kClassChanged,
+  kClassUnchanged,
+  kEdgeClassCount
+};
+// The classes an edge with these EdgeFlag bits belongs to (one of each pair; of the last
+// pair none when the edge has no change label).
 uint8_t class_mask_of(uint8_t edge_flags);
 
 // Undirected segment {i, j} (i < j) with the directions present (docs/metrics.md GEO/TOPO
@@ -60,6 +82,7 @@ struct Segment {
   bool fwd = false;     // edge i -> j exists
   bool bwd = false;     // edge j -> i exists
   uint8_t classes = 0;  // EdgeClass bits of the edges it merges; 0 when the graph has no flags
+  uint8_t flags = 0;    // EdgeFlag bits of the edges it merges (their union)
 };
 std::vector<Segment> segments_of(const CleanGraph& graph);
 

@@ -32,8 +32,9 @@ std::optional<nlohmann::json> read_submission_file(const std::filesystem::path& 
 void write_submission(const GraphSet& graphs, const std::filesystem::path& path);
 
 // A dataset tile's lane graph as the metrics take it: pixel (u, v) nodes, edges by node
-// index. tile_graph reads the tile's graph.json through its one reader
-// (io::DatasetTile::graph(): ParseError / DataError naming "<key>.graph.json" and the path).
+// index, the edge attributes and change labels as EdgeFlag bits. tile_graph reads the tile's
+// graph.json through its one reader (io::DatasetTile::graph(): ParseError / DataError naming
+// "<key>.graph.json" and the path), with a map-update tile's prior graph as Graph::prior.
 Graph graph_of_tile(const graph::TileGraph& tile);
 Graph tile_graph(const io::DatasetTile& tile);
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nsg/core/error.h"
@@ -56,10 +57,24 @@ enum Metric : int {
   kGeoRecallConnector,
   kGeoRecallInIntersection,
   kGeoRecallOutsideIntersection,
+  kGeoRecallChanged,
+  kGeoRecallUnchanged,
   kTopoRecallLane,
   kTopoRecallConnector,
   kTopoRecallInIntersection,
   kTopoRecallOutsideIntersection,
+  kTopoRecallChanged,
+  kTopoRecallUnchanged,
+  // Metrics v4, on a map-update tile (its ground truth has a prior graph): change detection.
+  kChangeRecall,
+  kChangeRecallAdded,
+  kChangeRecallRemoved,
+  kChangeRecallMoved,
+  kChangePrecision,
+  kChangeF1,
+  kFalseChangeRate,
+  kUnchangedPrecision,
+  kUnchangedRecall,
   kMetricCount
 };
 // Per-tile integer counts. Names: count_name().
@@ -91,10 +106,31 @@ enum Count : int {
   kGeoGtSamplesConnector,
   kGeoGtSamplesInIntersection,
   kGeoGtSamplesOutsideIntersection,
+  kGeoGtSamplesChanged,
+  kGeoGtSamplesUnchanged,
   kGeoMatchedLane,  // per EdgeClass, in its order
   kGeoMatchedConnector,
   kGeoMatchedInIntersection,
   kGeoMatchedOutsideIntersection,
+  kGeoMatchedChanged,
+  kGeoMatchedUnchanged,
+  // Map change (metrics v4): the change samples and those detected, in all and per kind.
+  kChangeSamples,
+  kChangeDetected,
+  kChangeSamplesAdded,
+  kChangeDetectedAdded,
+  kChangeSamplesRemoved,
+  kChangeDetectedRemoved,
+  kChangeSamplesMoved,
+  kChangeDetectedMoved,
+  kChangeClaims,
+  kChangeClaimsTrue,
+  kPriorKeptSamples,
+  kFalseChanges,
+  kUnchangedPredSamples,
+  kUnchangedPredOnMap,
+  kUnchangedGtSamples,
+  kUnchangedGtFound,
   kCountCount
 };
 // What a metric is, declared once (measure.cpp's table): its name in reports, its unit,
@@ -175,8 +211,14 @@ struct AggregateReport {
   std::array<int64_t, kMetricCount> n_defined{};
   std::array<int64_t, kMetricCount> n_undefined{};
   std::optional<double> pooled_f1, pooled_iou, pooled_geo_precision, pooled_geo_recall, pooled_geo_f1;
+  // Map change (metrics v4), from the summed counts: a tile holds few change samples, so
+  // these weigh every change sample once where the means weigh every tile once.
+  std::optional<double> pooled_change_recall, pooled_change_precision, pooled_false_change_rate;
   Counts sums{};
 };
 AggregateReport finalize(const Aggregate& aggregate);
+// The pooled values by their report names ("f1", "iou", "geo_precision", …), in report order:
+// the score report's and the HTML report's "pooled" read them from here.
+std::vector<std::pair<const char*, std::optional<double>>> pooled_values(const AggregateReport& aggregate);
 
 }  // namespace nsg::metrics

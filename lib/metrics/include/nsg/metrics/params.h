@@ -6,7 +6,7 @@
 
 namespace nsg::metrics {
 
-inline constexpr const char* kMetricsVersion = "3";
+inline constexpr const char* kMetricsVersion = "4";
 
 struct MetricParams {
   double resolution_m = 0.2;      // metres per pixel
