@@ -79,8 +79,8 @@ void add_train_command(CLI::App& parent, Context& ctx) {
   add_key_flag(cmd, opts->config, table, "--split", "split", nullptr,
                "Split to train on (config key split; default train)");
   add_key_flag(cmd, opts->config, table, "--modalities", "modalities", nullptr,
-               "Input layers: 'all' or a comma list of lidar, rgb, semantic, vehicle (the paper's ablation; config "
-               "key modalities)");
+               "Input layers: 'all' (the four sensor layers) or a comma list of lidar, rgb, semantic, vehicle, "
+               "prior (the paper's ablation; prior: a map-update tile's prior graph; config key modalities)");
   add_key_flag(cmd, opts->config, table, "--variant", "variant", nullptr,
                "Model (the paper's Table II): b1 skeletonized centrelines, b2 anchors joined to their two nearest "
                "neighbours, graph anchors joined by a trained has-connection classifier; recorded in the model file "

@@ -10,9 +10,11 @@ namespace nsg::metrics {
 uint8_t class_mask_of(uint8_t edge_flags) {
   const int kind = (edge_flags & kEdgeConnector) != 0 ? kClassConnector : kClassLane;
   const int place = (edge_flags & kEdgeInIntersection) != 0 ? kClassInIntersection : kClassOutsideIntersection;
+  // Changed = a centreline the prior did not have there (added, moved; removed on a prior
+  // graph); a retype changes the paint, not the centreline, so it is unchanged here.
   unsigned change = 0;
-  if ((edge_flags & kEdgeChangeLabels) != 0)
-    change = 1u << ((edge_flags & kEdgeChangeLabels) == kEdgeUnchanged ? kClassUnchanged : kClassChanged);
+  if ((edge_flags & (kEdgeAdded | kEdgeMoved | kEdgeRemoved)) != 0) change = 1u << kClassChanged;
+  else if ((edge_flags & (kEdgeUnchanged | kEdgeRetyped)) != 0) change = 1u << kClassUnchanged;
   return static_cast<uint8_t>((1u << kind) | (1u << place) | change);
 }
 

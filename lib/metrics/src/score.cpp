@@ -189,7 +189,12 @@ std::string report_to_markdown(const ScoreReport& r) {
       << " missing predictions scored as empty, " << a.n_extra_predictions << " extra keys ignored. Pooled: F1 "
       << md_value(a.pooled_f1) << ", IoU " << md_value(a.pooled_iou) << ", GEO P/R/F1 "
       << md_value(a.pooled_geo_precision) << " / " << md_value(a.pooled_geo_recall) << " / "
-      << md_value(a.pooled_geo_f1) << ".\n\n";
+      << md_value(a.pooled_geo_f1) << ".";
+  // A map-update ground truth (its tiles have a prior graph): the change values pooled too.
+  if (a.n_defined[kFalseChangeRate] > 0)
+    out << " Map change: recall " << md_value(a.pooled_change_recall) << ", precision "
+        << md_value(a.pooled_change_precision) << ", false-change rate " << md_value(a.pooled_false_change_rate) << ".";
+  out << "\n\n";
   out << "| metric | mean | defined | undefined |\n|---|---:|---:|---:|\n";
   for (int m = 0; m < kMetricCount; ++m)
     out << "| `" << metric_name(m) << "` | " << md_value(a.mean[m], 6) << " | " << a.n_defined[m] << " | "

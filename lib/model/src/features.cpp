@@ -303,6 +303,19 @@ void vehicle_features(const TileInput& t, FeatureSink& out) {
   }
 }
 
+// The prior map near each pixel: how far its nearest centreline is (clipped at 1 and 4 m of
+// 0.2 m px) and how much of it lies around (windows of 1.8 and 6.2 m).
+void prior_features(const TileInput& t, FeatureSink& out) {
+  NSG_CHECK(!t.prior.empty(), DataError, t.key + ".graph.json", "/prior",
+            "a prior graph (the modality prior needs a map-update dataset: generate with splits.preset map-update)");
+  const cv::Mat on_line = t.prior != 0;
+  out.add("prior.distance_5", clipped_distance(on_line, 5.0f));
+  out.add("prior.distance_20", clipped_distance(on_line, 20.0f));
+  const cv::Mat line_f = mask_float(on_line);
+  out.add("prior.density_9", density(line_f, 9));
+  out.add("prior.density_31", density(line_f, 31));
+}
+
 Shared shared_maps(const TileInput& t, const Modalities& m) {
   Shared s;
   cv::Mat structure = cv::Mat::zeros(t.lidar.size(), CV_32F);
@@ -345,6 +358,7 @@ cv::Mat support_mask(const TileInput& t, const Modalities& m) {
   if (m.rgb) any |= (t.coverage & 2);
   if (m.semantic) any |= (t.coverage & 4);
   if (m.vehicle) any |= (t.vehicle >= 0.0f);
+  if (m.prior && !t.prior.empty()) any |= t.prior;
   cv::Mat grown;
   cv::dilate(any != 0, grown, cv::getStructuringElement(cv::MORPH_RECT, {9, 9}));
   return grown != 0;
@@ -357,6 +371,7 @@ void collect(const TileInput& t, const Modalities& m, FeatureSink& out) {
   if (m.rgb) rgb_features(t, s, out);
   if (m.semantic) semantic_features(t, s, out);
   if (m.vehicle) vehicle_features(t, out);
+  if (m.prior) prior_features(t, out);
 }
 
 TileInput empty_tile(int size_px) {
@@ -366,25 +381,27 @@ TileInput empty_tile(int size_px) {
   t.semantic = cv::Mat(size_px, size_px, CV_8U, cv::Scalar(255));
   t.vehicle = cv::Mat(size_px, size_px, CV_32F, cv::Scalar(-1.0f));
   t.coverage = cv::Mat::zeros(size_px, size_px, CV_8U);
+  t.prior = cv::Mat::zeros(size_px, size_px, CV_8U);
   return t;
 }
 
 }  // namespace
 
 Modalities Modalities::parse(const std::string& list) {
-  Modalities m{false, false, false, false};
+  Modalities m{false, false, false, false, false};
   std::stringstream in(list);
   std::string item;
   while (std::getline(in, item, ',')) {
     item = std::string(trim(item));
-    if (item == "all") m = Modalities{};
+    if (item == "all") m.lidar = m.rgb = m.semantic = m.vehicle = true;
     else if (item == "lidar") m.lidar = true;
     else if (item == "rgb") m.rgb = true;
     else if (item == "semantic" || item == "semantics") m.semantic = true;
     else if (item == "vehicle" || item == "vehicles") m.vehicle = true;
+    else if (item == "prior") m.prior = true;
     else
       throw ConfigError("", "--modalities",
-                        "a comma-separated subset of lidar, rgb, semantic, vehicle (got '" + item + "')");
+                        "a comma-separated subset of lidar, rgb, semantic, vehicle, prior (got '" + item + "')");
   }
   m.validate();
   return m;
@@ -401,11 +418,12 @@ std::string Modalities::to_string() const {
   add(rgb, "rgb");
   add(semantic, "semantic");
   add(vehicle, "vehicle");
+  add(prior, "prior");
   return s;
 }
 
 void Modalities::validate() const {
-  NSG_CHECK(any(), ConfigError, "", "modalities", "at least one of lidar, rgb, semantic, vehicle");
+  NSG_CHECK(any(), ConfigError, "", "modalities", "at least one of lidar, rgb, semantic, vehicle, prior");
 }
 
 std::vector<std::string> feature_names(const Modalities& modalities) {

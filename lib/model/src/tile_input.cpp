@@ -1,6 +1,9 @@
 #include "nsg/model/tile_input.h"
 
+#include <cmath>
 #include <cstring>
+
+#include <opencv2/imgproc.hpp>
 
 #include "nsg/core/error.h"
 
@@ -32,7 +35,21 @@ TileInput tile_input_from_dataset(const io::DatasetTile& tile) {
   t.semantic = layer(tile, "semantic.tif", io::SampleType::kUInt8, 1, CV_8U, size);
   t.vehicle = layer(tile, "vehicle.tif", io::SampleType::kFloat32, 1, CV_32F, size);
   t.coverage = layer(tile, "coverage.tif", io::SampleType::kUInt8, 1, CV_8U, size);
+  if (const std::optional<graph::TileGraph> prior = tile.prior_graph()) t.prior = draw_graph_layer(*prior, size);
   return t;
+}
+
+cv::Mat draw_graph_layer(const graph::TileGraph& graph, int size_px) {
+  constexpr int kShiftBits = 4;  // cv::line's fixed point: 1/16 px
+  cv::Mat out = cv::Mat::zeros(size_px, size_px, CV_8U);
+  const auto fixed = [](double px) { return static_cast<int>(std::lround(px * (1 << kShiftBits))); };
+  for (const graph::TileEdge& e : graph.edges) {
+    const graph::TileNode& a = graph.nodes[static_cast<size_t>(e.source)];
+    const graph::TileNode& b = graph.nodes[static_cast<size_t>(e.target)];
+    cv::line(out, {fixed(a.u_px), fixed(a.v_px)}, {fixed(b.u_px), fixed(b.v_px)}, cv::Scalar(255), 1, cv::LINE_8,
+             kShiftBits);
+  }
+  return out;
 }
 
 }  // namespace nsg::model

@@ -123,7 +123,9 @@ const Table<ModelOptions>& model_option_table() {
             "Model (the paper's Table II): b1 skeletonized centrelines, b2 anchors joined to their nearest "
             "neighbours, graph anchors joined by a trained has-connection classifier");
     t.shape(
-         "modalities", "\"all\" or a comma list of lidar, rgb, semantic, vehicle",
+         "modalities",
+         "\"all\" (the four sensor layers) or a comma list of lidar, rgb, semantic, vehicle, prior (a map-update "
+         "tile's prior graph as a layer)",
          {{"type", "string"}, {"minLength", 1}},
          [](const ModelOptions& o) { return OrderedJson(o.modalities.to_string()); },
          [](ModelOptions& o, const Json& v, const Spec& s) {

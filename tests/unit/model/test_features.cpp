@@ -8,6 +8,7 @@
 
 #include "nsg/core/error.h"
 #include "nsg/model/features.h"
+#include "nsg/model/tile_input.h"
 
 namespace {
 
@@ -211,6 +212,43 @@ TEST(ModelFeatures, SupportFollowsCoverage) {
   EXPECT_EQ(f.support.at<uint8_t>(64, 100), 0);
   EXPECT_NEAR(at(f, "lidar.covered", 10, 64), 1.0, 1e-6);
   EXPECT_NEAR(at(f, "lidar.covered", 100, 64), 0.0, 1e-6);
+}
+
+// The prior modality: a map-update tile's prior graph drawn as a layer, never part of "all",
+// its features measured from the drawn centreline, and named missing on a tile without one.
+TEST(ModelFeatures, PriorLayerIsDrawnFromThePriorGraphAndMeasured) {
+  EXPECT_EQ(Modalities::parse("all").to_string(), "lidar,rgb,semantic,vehicle");
+  EXPECT_EQ(Modalities::parse("prior,all").to_string(), "lidar,rgb,semantic,vehicle,prior");
+  EXPECT_EQ(Modalities::parse("prior").to_string(), "prior");
+  nsg::graph::TileGraph prior;  // one lane along row 49 from column 10 to 110
+  prior.nodes.resize(2);
+  prior.nodes[0].u_px = 10.0;
+  prior.nodes[0].v_px = 49.0;
+  prior.nodes[1].u_px = 110.0;
+  prior.nodes[1].v_px = 49.0;
+  prior.edges.resize(1);
+  prior.edges[0].source = 0;
+  prior.edges[0].target = 1;
+  TileInput t = lidar_tile(true);
+  t.prior = nsg::model::draw_graph_layer(prior, kSize);
+  EXPECT_EQ(cv::countNonZero(t.prior), 101);
+  EXPECT_EQ(cv::countNonZero(t.prior.row(kCentre)), 101);
+  const Modalities m = Modalities::parse("lidar,prior");
+  const FeatureMaps f = compute_features(t, m);
+  EXPECT_EQ(f.names, feature_names(m));
+  EXPECT_EQ(at(f, "prior.distance_5", 64, kCentre), 0.0f);
+  EXPECT_NEAR(at(f, "prior.distance_5", 64, kCentre + 3), 3.0 / 5.0, 1e-5);
+  EXPECT_EQ(at(f, "prior.distance_20", 64, kCentre + 30), 1.0f);  // clipped
+  EXPECT_NEAR(at(f, "prior.density_9", 64, kCentre), 1.0 / 9.0, 1e-6);
+  const std::vector<std::string> without = feature_names(only_lidar());
+  EXPECT_EQ(f.names.size(), without.size() + 4);
+  t.prior.release();
+  try {
+    compute_features(t, m);
+    FAIL() << "a tile without a prior graph";
+  } catch (const nsg::DataError& e) {
+    EXPECT_NE(std::string(e.what()).find("map-update"), std::string::npos) << e.what();
+  }
 }
 
 TEST(ModelFeatures, Deterministic) {

@@ -165,6 +165,22 @@ TEST(GenerateMapUpdate, TilesAreFromAfterTheDateWithBothGraphsLabelledAsTheEdits
   EXPECT_EQ(not_map_update.exit_code, 2);
   EXPECT_NE(not_map_update.err.find("splits.preset map-update"), std::string::npos) << not_map_update.err;
 
+  // The forest with the prior graph as an input layer trains and predicts on map-update tiles
+  // (the e2e world has test tiles only: trained on them, a check of the mechanics);
+  // on tiles without a prior graph it names what it needs (exit 2).
+  const fs::path model = scored / "forest-prior.yml.gz";
+  const CommandResult tr = run_nsgraph({"train", "--quiet", "--dataset", out.path().string(), "--split", "test",
+                                        "--modalities", "lidar,prior", "--variant", "b1", "--model", model.string()});
+  ASSERT_EQ(tr.exit_code, 0) << tr.err;
+  const CommandResult pr = run_nsgraph({"predict", "--quiet", "--model", model.string(), "--dataset",
+                                        out.path().string(), "--split", "test", "--out", (scored / "f.json").string()});
+  EXPECT_EQ(pr.exit_code, 0) << pr.err;
+  const CommandResult no_prior = run_nsgraph({"predict", "--quiet", "--model", model.string(), "--dataset",
+                                              e2e_dataset().string(), "--out", (scored / "y.json").string()});
+  EXPECT_EQ(no_prior.exit_code, 2);
+  EXPECT_NE(no_prior.err.find("/prior"), std::string::npos) << no_prior.err;
+  EXPECT_NE(no_prior.err.find("map-update"), std::string::npos) << no_prior.err;
+
   // Deterministic at one thread.
   TempDir one("map-update-1");
   std::vector<std::string> one_args = map_update_args(release, one.path(), date);

@@ -158,8 +158,8 @@ def change_values(gt, prior, pred):
 
 
 def class_recalls(gt, pred, c, c_bits, x):
-    """GEO and TOPO recall on the changed (added, moved, retyped) and the unchanged edges of
-    the current map: the per-class recalls of docs/metrics.md with these two classes."""
+    """GEO and TOPO recall on the changed (added, moved) and the unchanged (unchanged,
+    retyped) edges of the current map: the per-class recalls of docs/metrics.md with these two classes."""
     piece_tol, radius_tol = ref.RULES["v3"]
     g_pos, g_und, _ = ref.sample_graph(gt, PARAMS["geo_step_px"], piece_tol)
     p_pos, p_und, _ = ref.sample_graph(pred, PARAMS["geo_step_px"], piece_tol)
@@ -190,11 +190,13 @@ def class_recalls(gt, pred, c, c_bits, x):
 
 
 def class_of(bits, name):
-    """A sample is changed when one of its segments carries a change label other than
-    unchanged, unchanged when one carries "unchanged" (both at a node between the two)."""
+    """A sample is changed when one of its segments is a centreline the prior did not have
+    (added, moved), unchanged when one is the same centreline (unchanged, retyped: a new
+    divider, the same lane); a node between the two is in both. Per segment the labels are
+    one edge's, or those of its two directions."""
     if name == "changed":
-        return bool(bits & (ADDED | MOVED | RETYPED | REMOVED))
-    return bool(bits & UNCHANGED)
+        return bool(bits & (ADDED | MOVED | REMOVED))
+    return bool(bits & (UNCHANGED | RETYPED))
 
 
 COUNT_KEYS = ["change_samples", "change_detected", "change_samples_added", "change_detected_added",

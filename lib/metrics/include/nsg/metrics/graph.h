@@ -60,7 +60,8 @@ CleanGraph clean_graph(const Graph& graph);
 
 // The edge classes of the per-class recalls (docs/metrics.md "Per-class recall"), as bits of a
 // membership mask: a lane or a connector, inside or outside an intersection, and on a
-// map-update tile changed (added, moved or retyped) or unchanged.
+// map-update tile changed (a centreline added or moved) or unchanged (unchanged or retyped:
+// the same centreline).
 enum EdgeClass : int {
   kClassLane,
   kClassConnector,

@@ -17,11 +17,15 @@ struct Modalities {
   bool rgb = true;
   bool semantic = true;
   bool vehicle = true;
+  // A map-update tile's prior map, drawn as a layer (TileInput::prior): an input the sensors
+  // do not give, so never part of "all"; a model trained with it needs map-update tiles.
+  bool prior = false;
 
-  // "lidar,rgb,semantic,vehicle" (any subset, any order; "all"); ConfigError otherwise.
+  // "lidar,rgb,semantic,vehicle,prior" (any subset, any order; "all" = the four sensor
+  // layers); ConfigError otherwise.
   static Modalities parse(const std::string& list);
   std::string to_string() const;  // canonical order, e.g. "lidar,rgb"
-  bool any() const { return lidar || rgb || semantic || vehicle; }
+  bool any() const { return lidar || rgb || semantic || vehicle || prior; }
   void validate() const;  // at least one
 };
 
