@@ -7,7 +7,7 @@
 # baseline (predict --model prior) and the reference forest without and with the prior as an
 # input layer scored on the test split with the change metrics (docs/metrics.md "Map
 # change"). Writes demo-out/map-update/{release,dataset,<row>.json,<row>-report.json,
-# forest*.yml.gz,table.md} and prints the manifest's lane labels and the table; exits 1 when
+# forest*.yml.gz,map-update.md} and prints the manifest's lane labels and the table; exits 1 when
 # the figures docs/generating.md quotes change.
 #   usage: scripts/map_update.sh [build-dir]
 set -euo pipefail
@@ -59,7 +59,7 @@ for row in "forest:all" "forest-prior:all,prior"; do
 done
 # The table docs/generating.md and the README give: mean ± s.e. over the test tiles where a
 # metric is defined, and the change values pooled over the split's change samples.
-"$py" - "$dir" <<'PY' | tee "$dir/table.md"
+"$py" - "$dir" <<'PY' | tee "$dir/map-update.md"
 import json, math, sys
 rows = [("copy the prior", "prior"), ("forest", "forest"), ("forest + prior layer", "forest-prior")]
 tile_metrics = [("APLS", "apls"), ("TOPO F1", "topo_f1"), ("unchanged precision", "unchanged_precision"),

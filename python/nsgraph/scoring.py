@@ -46,17 +46,28 @@ def as_pairs(values, dtype):
 
 
 def edge_flags(graph):
-    """The ground truth's edge classes as the scorer's flag bytes (1 connector, 2 inside an
-    intersection) from a dataset tile's graph (its ``connector`` and ``in_intersection``),
-    or an empty list when the graph has no edge attributes (the per-class recalls are then
-    undefined)."""
+    """The ground truth's edge classes as the scorer's flag bytes (_nsgraph.EDGE_FLAGS: 1
+    connector, 2 inside an intersection, and on a map-update tile its change label: 4
+    unchanged, 8 added, 16 removed, 32 moved, 64 retyped) from a dataset tile's graph (its
+    ``connector``, ``in_intersection`` and ``change``), or an empty list when the graph has no
+    edge attributes (the per-class recalls are then undefined)."""
     if isinstance(graph, dict) and "graph" in graph and isinstance(graph["graph"], dict):
         graph = graph["graph"]
     if not (isinstance(graph, dict) and "connector" in graph and "in_intersection" in graph):
         return []
+    bits = _nsgraph.EDGE_FLAGS
     connector = np.asarray(graph["connector"], dtype=bool)
     inside = np.asarray(graph["in_intersection"], dtype=bool)
-    return (connector.astype(np.uint8) | (inside.astype(np.uint8) << 1)).tolist()
+    flags = connector.astype(np.uint8) * bits["connector"] | inside.astype(np.uint8) * bits["in_intersection"]
+    if "change" in graph:
+        names = _nsgraph.MAP_CHANGES
+        change_bits = np.array([bits.get(name, 0) for name in names], dtype=np.uint8)
+        codes = np.asarray(graph["change"], dtype=np.int64)
+        if codes.size and (codes.min() < 0 or codes.max() >= len(names)):
+            from .errors import DataError
+            raise DataError(f"change: codes into MAP_CHANGES (0 … {len(names) - 1}) expected")
+        flags = flags | change_bits[codes]
+    return flags.astype(np.uint8).tolist()
 
 
 def _tile_document(graph):
@@ -116,19 +127,27 @@ def score(ground_truth, submission, split=None, threads=0, verify=True, max_seco
     return report
 
 
-def score_tile(gt, pred, key="tile", **params):
+def score_tile(gt, pred, key="tile", prior=None, **params):
     """Metrics of one tile (the report's per-tile entry: values and counts). gt, pred: any
     form graph_arrays takes; pred None = a missing prediction. A dataset tile's graph
-    brings its edge classes (the per-class recalls); other forms have none. The prediction gets a file's
+    brings its edge classes (the per-class recalls); other forms have none. A map-update
+    tile (``ds[i]``, whose ``prior_graph`` is taken unless ``prior`` is given) or a ``prior``
+    graph brings the change metrics (docs/metrics.md "Map change"). The prediction gets a file's
     checks first (finite coordinates, node indices in range, the scoring limits): problems
     raise SubmissionError (with .issues), a ground truth with them DataError."""
+    if prior is None and isinstance(gt, dict) and isinstance(gt.get("prior_graph"), dict):
+        prior = gt["prior_graph"]
     gt_nodes, gt_edges = graph_arrays(gt)
     if pred is None:
         pred_nodes = pred_edges = None
     else:
         pred_nodes, pred_edges = graph_arrays(pred)
+    prior_nodes = prior_edges = None
+    if prior is not None:
+        prior_nodes, prior_edges = graph_arrays(prior)
     values, issues, text = _nsgraph.score_tile(gt_nodes, gt_edges, edge_flags(gt), pred_nodes, pred_edges,
-                                               _params_json(params), key)
+                                               _params_json(params), key, prior_nodes, prior_edges,
+                                               edge_flags(prior) if prior is not None else [])
     if values is None:
         raise SubmissionError(f"{len(issues)} problem(s) in the prediction of tile {key}; not scored:\n{text}", issues)
     return values

@@ -75,16 +75,28 @@ py::tuple score(const std::string& gt, bool gt_is_path, const std::string& sub, 
 // such problems throws DataError.
 // gt_edge_flags: metrics::EdgeFlag bits per ground-truth edge (the per-class recalls), or
 // empty when the ground truth has no edge attributes.
+// A ground-truth graph (the map, or a map-update tile's prior map) with its EdgeFlag bytes,
+// checked as a file's graph would be; DataError naming `what` otherwise.
+metrics::Graph map_arg(const Points& nodes, const Pairs& edges, const std::vector<uint8_t>& flags,
+                       const std::string& key, const std::string& what) {
+  metrics::Graph g = graph_arg(nodes, edges, what);
+  NSG_CHECK(flags.empty() || flags.size() == g.edges.size(), DataError, what, key + "/edge_flags",
+            "one edge class flag per edge");
+  g.edge_flags = flags;
+  const Issues issues = metrics::check_graph(g, key, what);
+  NSG_CHECK(issues.empty(), DataError, what, key, "a graph a file could hold:\n" + issues.format());
+  return g;
+}
+
 py::tuple score_tile(const Points& gt_nodes, const Pairs& gt_edges, const std::vector<uint8_t>& gt_edge_flags,
                      std::optional<Points> pred_nodes, std::optional<Pairs> pred_edges, const std::string& params_json,
-                     const std::string& key) {
+                     const std::string& key, std::optional<Points> prior_nodes, std::optional<Pairs> prior_edges,
+                     const std::vector<uint8_t>& prior_edge_flags) {
   const metrics::ScoreOptions options = score_options(params_json, 1);
-  metrics::Graph gt = graph_arg(gt_nodes, gt_edges, "ground truth");
-  NSG_CHECK(gt_edge_flags.empty() || gt_edge_flags.size() == gt.edges.size(), DataError, "ground truth",
-            key + "/edge_flags", "one edge class flag per edge");
-  gt.edge_flags = gt_edge_flags;
-  const Issues gt_issues = metrics::check_graph(gt, key, "ground truth");
-  NSG_CHECK(gt_issues.empty(), DataError, "ground truth", key, "a graph a file could hold:\n" + gt_issues.format());
+  metrics::Graph gt = map_arg(gt_nodes, gt_edges, gt_edge_flags, key, "ground truth");
+  if (prior_nodes)
+    gt.prior = std::make_shared<const metrics::Graph>(
+        map_arg(*prior_nodes, prior_edges ? *prior_edges : Pairs(), prior_edge_flags, key, "prior ground truth"));
   std::optional<metrics::Graph> pred;
   if (pred_nodes) {
     pred = graph_arg(*pred_nodes, pred_edges ? *pred_edges : Pairs(), "prediction");
@@ -148,7 +160,19 @@ void bind_metrics(py::module_& m) {
         py::arg("schemas_dir"), py::arg("ground_truth_label"), py::arg("submission_label"), py::arg("verify") = true,
         py::arg("max_seconds") = metrics::ScoreOptions{}.max_seconds);
   m.def("score_tile", &score_tile, py::arg("gt_nodes"), py::arg("gt_edges"), py::arg("gt_edge_flags"),
-        py::arg("pred_nodes"), py::arg("pred_edges"), py::arg("params_json"), py::arg("key"));
+        py::arg("pred_nodes"), py::arg("pred_edges"), py::arg("params_json"), py::arg("key"),
+        py::arg("prior_nodes") = py::none(), py::arg("prior_edges") = py::none(),
+        py::arg("prior_edge_flags") = std::vector<uint8_t>());
+  // The scorer's EdgeFlag bits by the graph.json attribute or change label they stand for.
+  py::dict flags;
+  flags["connector"] = static_cast<int>(metrics::kEdgeConnector);
+  flags["in_intersection"] = static_cast<int>(metrics::kEdgeInIntersection);
+  flags["unchanged"] = static_cast<int>(metrics::kEdgeUnchanged);
+  flags["added"] = static_cast<int>(metrics::kEdgeAdded);
+  flags["removed"] = static_cast<int>(metrics::kEdgeRemoved);
+  flags["moved"] = static_cast<int>(metrics::kEdgeMoved);
+  flags["retyped"] = static_cast<int>(metrics::kEdgeRetyped);
+  m.attr("EDGE_FLAGS") = flags;
   m.def("write_submission", &write_submission, py::arg("path"), py::arg("keys"), py::arg("nodes"), py::arg("edges"),
         py::arg("schemas_dir"));
   m.def("check_submission", &check_submission, py::arg("source"), py::arg("is_path"), py::arg("label"),

@@ -265,6 +265,32 @@ class MapUpdateTest(unittest.TestCase):
         self.assertIn(("graph", "unchanged"), seen)
         self.assertIn(("prior_graph", "removed"), seen)
 
+    def test_score_tile_takes_the_prior_graph_and_agrees_with_the_cli(self):
+        # Per tile, nsgraph.score_tile on ds[i] scores the change metrics against its prior
+        # graph exactly as `nsgraph score` on the dataset does; copying the prior detects nothing.
+        counts = fixtures.read_json(os.path.join(self.root, "manifest.json"))["locations"][0]["counts"]
+        split = "test" if counts["test"] else "train"
+        tiles = list(nsgraph.Dataset(self.root, split))
+        submission = os.path.join(self.tmp.name, f"{split}-prior.json")
+        report = os.path.join(self.tmp.name, f"{split}-report.json")
+        fixtures.run_nsgraph("predict", "--quiet", "--model", "prior", "--dataset", self.root, "--split", split,
+                             "--out", submission)
+        fixtures.run_nsgraph("score", "--quiet", "--ground-truth", self.root, "--split", split, "--submission",
+                             submission, "--out", report)
+        cli = fixtures.read_json(report)["tiles"]
+        removed = 0
+        for t in tiles:
+            ours = nsgraph.score_tile(t, t["prior_graph"], key=t["key"])
+            for name in ("change_recall", "change_precision", "false_change_rate", "unchanged_precision",
+                         "geo_recall_changed", "geo_recall_unchanged"):
+                self.assertEqual(ours[name], cli[t["key"]][name], f"{t['key']} {name}")
+            self.assertIn(ours["change_recall"], (None, 0.0))
+            self.assertIsNone(ours["change_precision"])
+            removed += ours["counts"]["change_samples_removed"]
+            # without the prior the change metrics are undefined, never 0
+            self.assertIsNone(nsgraph.score_tile(t["graph"], t["prior_graph"], key=t["key"])["false_change_rate"])
+        self.assertGreater(removed, 0)
+
     def test_other_datasets_have_no_prior_graph(self):
         t = nsgraph.Dataset(fixtures.e2e_dataset("tar"), "test")[0]
         self.assertNotIn("prior_graph", t)

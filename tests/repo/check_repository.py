@@ -39,7 +39,7 @@ WORKBENCH = re.compile(re.escape("../" + "shared") + r"\b")
 MACHINE_PATH = re.compile(r"(?<![\w.~-])/(?:" + "|".join(["work", "root", "home", "Users"]) + r")/")
 MARKDOWN_NAME = re.compile(r"(?<![\w/.-])((?:[\w.-]+/)*[\w-]+\.md)\b")
 # Reports the project writes (make bench, make ablation, make baselines), not documents.
-GENERATED_MD = {"bench.md", "ablation.md", "baselines.md", "ladder.md"}
+GENERATED_MD = {"bench.md", "ablation.md", "baselines.md", "ladder.md", "map-update.md"}
 ISSUE_NUMBER = re.compile(r"\b[Ii]ssues? #?\d+|\b[Ii]ssues \d+ and \d+")
 CODE_SUFFIXES = (".cpp", ".h", ".hpp", ".py", ".sh", ".cmake", ".txt", ".toml", ".in")
 CODE_NAMES = ("Makefile", "CMakeLists.txt", "run")
