@@ -11,6 +11,7 @@
 #include "nsg/core/json.h"
 #include "nsg/core/strings.h"
 #include "nsg/io/dataset.h"
+#include "nsg/io/tile_graph.h"
 #include "nsg/validate/submission.h"
 
 namespace fs = std::filesystem;
@@ -131,8 +132,11 @@ Graph graph_of_tile(const graph::TileGraph& tile) {
 }
 
 Graph tile_graph(const io::DatasetTile& tile) {
-  Graph g = graph_of_tile(tile.graph());
-  if (const std::optional<graph::TileGraph> prior = tile.prior_graph())
+  // graph.json parsed once for both graphs (DatasetTile::graph() and prior_graph() would parse it twice).
+  const std::string file = tile.key + ".graph.json";
+  const nlohmann::json doc = tile.json("graph.json");
+  Graph g = graph_of_tile(io::tile_graph_from_json(doc, file));
+  if (const std::optional<graph::TileGraph> prior = io::tile_prior_graph_from_json(doc, file))
     g.prior = std::make_shared<const Graph>(graph_of_tile(*prior));
   return g;
 }

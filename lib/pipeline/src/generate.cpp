@@ -301,10 +301,12 @@ void prior_map_stage(RunState& rs, LocationRun& lr, const nuscenes::MapExpansion
   st.prior_graph = graph::build_lane_graph(prior, rs.config.graph, &prior_defects);
   st.prior_index = std::make_unique<graph::SegmentIndex>(st.prior_graph);
   st.changes = graph::lane_changes_between(prior, map);
-  std::map<std::string, int64_t> lanes = {{"unchanged", 0}, {"added", 0}, {"removed", 0}, {"moved", 0}, {"retyped", 0}};
-  for (const auto& [token, change] : st.changes) ++lanes[graph::map_change_name(change)];
-  nlohmann::ordered_json by_label = nlohmann::ordered_json::object();
-  for (const char* k : {"unchanged", "added", "removed", "moved", "retyped"}) by_label[k] = lanes[k];
+  std::map<graph::MapChange, int64_t> lanes;
+  for (const auto& [token, change] : st.changes) ++lanes[change];
+  nlohmann::ordered_json by_label = nlohmann::ordered_json::object();  // every label, in the enum's order
+  for (const graph::MapChange c : {graph::MapChange::kUnchanged, graph::MapChange::kAdded, graph::MapChange::kRemoved,
+                                   graph::MapChange::kMoved, graph::MapChange::kRetyped})
+    by_label[graph::map_change_name(c)] = lanes[c];
   st.plan.map_update = {
       {"date", rs.config.split_date},
       {"prior_map",

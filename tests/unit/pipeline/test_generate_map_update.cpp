@@ -261,6 +261,23 @@ TEST(GenerateMapUpdate, TwoVersionsOfTheRealKeyFramesMapAreLabelled) {
   });
   EXPECT_EQ(current_labels, (std::set<std::string>{"added"}));
   EXPECT_EQ(prior_labels, (std::set<std::string>{"removed"}));
+
+  // The change metrics on the real key frame: the prior's lane (under the ego) and the
+  // current one (the road ahead) differ, so copying the prior detects no change where it
+  // has samples of both kinds.
+  const fs::path sub = tmp / "prior.json", report = tmp / "report.json";
+  ASSERT_EQ(run_nsgraph({"predict", "--quiet", "--model", "prior", "--dataset", (tmp / "dataset").string(), "--split",
+                         "test", "--out", sub.string()})
+                .exit_code,
+            0);
+  const CommandResult sc = run_nsgraph({"score", "--quiet", "--ground-truth", (tmp / "dataset").string(), "--split",
+                                        "test", "--submission", sub.string(), "--out", report.string()});
+  ASSERT_EQ(sc.exit_code, 0) << sc.err;
+  const json scored = read_json(report)["aggregate"];
+  EXPECT_GT(scored["sums"]["change_samples_added"].get<int64_t>(), 0);
+  EXPECT_GT(scored["sums"]["change_samples_removed"].get<int64_t>(), 0);
+  EXPECT_EQ(scored["pooled"]["change_recall"], 0.0);
+  EXPECT_TRUE(scored["pooled"]["change_precision"].is_null());
 }
 
 }  // namespace
